@@ -1,0 +1,71 @@
+// forest render: one lit frame of a scene, written as a PNG (headless by default).
+#include <fmt/format.h>
+
+#include <iostream>
+
+#include "commands.hpp"
+#include "forest/core/error.hpp"
+#include "forest/core/image.hpp"
+#include "forest/core/log.hpp"
+#include "forest/core/resources.hpp"
+#include "forest/core/scene.hpp"
+#include "forest/gl/context.hpp"
+#include "forest/gl/debug.hpp"
+#include "forest/render/offscreen_target.hpp"
+#include "forest/render/prop_renderer.hpp"
+
+namespace forest::app {
+namespace {
+
+struct RenderOptions {
+  GlOptions gl;
+  std::string scene;
+  std::string out;
+  int width = 0;
+  int height = 0;
+};
+
+int runRender(const RenderOptions& options) {
+  const std::string scenePath =
+      options.scene.empty() ? (resourceDirectory("data") / "scenes" / "boxes.toml").string() : options.scene;
+  Scene scene = loadScene(scenePath);
+  if (options.width > 0) scene.render.width = options.width;
+  if (options.height > 0) scene.render.height = options.height;
+
+  gl::ContextOptions contextOptions;
+  contextOptions.backend = gl::parseBackend(options.gl.backend);
+  contextOptions.width = scene.render.width;
+  contextOptions.height = scene.render.height;
+  auto context = gl::createContext(contextOptions);
+  log::info("{}", gl::describe(context->info()));
+
+  render::OffscreenTarget target(scene.render.width, scene.render.height);
+  render::PropRenderer props(scene.props);
+  target.bind();
+  render::drawLitPropScene(props, scene.startCamera(), scene);
+  const Image8 image = target.readColor();
+  if (gl::debugErrorCount() > 0) {
+    throw Error(fmt::format("{} GL errors while rendering (first: {})", gl::debugErrorCount(),
+                            gl::debugErrorMessages().front()));
+  }
+  writeImage(options.out, image);
+  std::cout << fmt::format("wrote {} ({}x{}, {} props, {} triangles) from {}\n", options.out, image.width,
+                           image.height, scene.props.size(), props.triangleCount(), scenePath);
+  return 0;
+}
+
+}  // namespace
+
+Run addRenderCommand(CLI::App& app) {
+  auto options = std::make_shared<RenderOptions>();
+  CLI::App* command = app.add_subcommand("render", "Render one lit frame of a scene to an image (headless)");
+  options->gl.add(*command);
+  command->add_option("--scene", options->scene, "Scene file (TOML; default: data/scenes/boxes.toml)")
+      ->check(CLI::ExistingFile);
+  command->add_option("--out", options->out, "Output image (.png 8-bit, .exr float)")->required();
+  command->add_option("--width", options->width, "Override render.width")->check(CLI::Range(1, 16384));
+  command->add_option("--height", options->height, "Override render.height")->check(CLI::Range(1, 16384));
+  return [options] { return runRender(*options); };
+}
+
+}  // namespace forest::app

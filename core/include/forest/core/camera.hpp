@@ -1,0 +1,31 @@
+#pragma once
+// The eye camera, in double precision. Conventions (DESIGN §6, §4 clip control):
+// right-handed world, y up; yaw 0 looks along −z, positive yaw turns left (counter-clockwise seen
+// from above); pitch positive looks up. The engine's one depth convention is reversed-Z with a
+// zero-to-one clip range (glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE)): depth 1 at the near plane,
+// 0 at the far plane, and a GL_GREATER depth test.
+#include <glm/glm.hpp>
+
+namespace forest {
+
+struct Camera {
+  glm::dvec3 position{0.0};
+  double yaw = 0.0;    // radians
+  double pitch = 0.0;  // radians, within [−π/2, π/2]
+  double fovy = glm::radians(60.0);  // vertical field of view, radians
+  double aspect = 16.0 / 9.0;        // width / height
+  double near = 0.1;
+  double far = 70.0;
+
+  // Unit view direction.
+  glm::dvec3 forward() const;
+  // World → eye (right-handed, eye looks along −z).
+  glm::dmat4 view() const;
+  // Eye → clip, reversed-Z, zero-to-one depth.
+  glm::dmat4 projection() const;
+};
+
+// Unit direction for a yaw/pitch pair (radians), with the conventions above.
+glm::dvec3 directionFromYawPitch(double yaw, double pitch);
+
+}  // namespace forest

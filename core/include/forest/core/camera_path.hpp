@@ -1,0 +1,55 @@
+#pragma once
+// Camera paths: keys (time, position, yaw, pitch) interpolated with a Catmull-Rom spline.
+// File format (TOML), see docs/scene-format.md:
+//   [[key]]
+//   t = 0.0                 # seconds, strictly increasing
+//   position = [0, 2, 10]
+//   yaw_deg = 0.0           # 0 looks along −z, positive turns left
+//   pitch_deg = 0.0         # [−90, 90]
+#include <glm/glm.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace forest {
+
+struct CameraPose {
+  glm::dvec3 position{0.0};
+  double yaw_deg = 0.0;
+  double pitch_deg = 0.0;
+};
+
+struct PathKey {
+  double time = 0.0;
+  CameraPose pose;
+};
+
+class CameraPath {
+ public:
+  // Validates the keys (at least one; finite; times strictly increasing; pitch in [−90, 90]).
+  // `name` is used in error messages.
+  explicit CameraPath(std::vector<PathKey> keys, std::string name = "<path>");
+
+  static CameraPath load(const std::filesystem::path& file);
+  static CameraPath parse(const std::string& text, const std::string& name);
+  // TOML that parse() reads back to the same keys.
+  std::string toToml() const;
+
+  // Pose at `time`, clamped to [startTime, endTime]. Position, yaw and pitch each follow a
+  // Catmull-Rom spline through the keys: Hermite segments with tangents
+  // m_i = (p_{i+1} − p_{i−1}) / (t_{i+1} − t_{i−1}) (one-sided at the ends), so the path passes
+  // through every key, is C¹, and reproduces motion at constant velocity exactly.
+  // Yaw is unwrapped first, so 350° → 10° turns 20°, not 340°.
+  CameraPose at(double time) const;
+
+  double startTime() const { return keys_.front().time; }
+  double endTime() const { return keys_.back().time; }
+  const std::vector<PathKey>& keys() const { return keys_; }
+
+ private:
+  std::vector<PathKey> keys_;
+  std::vector<double> unwrappedYaw_;
+};
+
+}  // namespace forest

@@ -1,0 +1,65 @@
+#pragma once
+// The scene file: one TOML document that declares everything a run needs and nothing more
+// ("model only what a scene needs"). Schema and examples: docs/scene-format.md.
+// Unknown keys, wrong types and out-of-range values are rejected with file:line:column, the key,
+// the value and what was expected (InputError).
+#include <glm/glm.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "forest/core/camera.hpp"
+
+namespace forest {
+
+// [camera]: the eye's optics and its start pose (a path file overrides the pose).
+struct CameraSettings {
+  glm::dvec3 position{0.0, 2.0, 10.0};
+  double yaw_deg = 0.0;    // 0 looks along −z, positive turns left
+  double pitch_deg = 0.0;  // [−90, 90]
+  double fovy_deg = 60.0;  // (0, 180)
+  double near = 0.1;       // > 0
+  double far = 70.0;       // > near
+};
+
+// [sun]: a directional light.
+struct SunSettings {
+  glm::dvec3 direction{0.3, -0.8, 0.2};  // the way light travels (noon: (0, −1, 0)); unit after load
+  glm::dvec3 color{1.0, 0.97, 0.9};      // linear RGB, each >= 0
+  double ambient = 0.15;                 // weak global ambient (thesis §6.2), [0, 1]
+};
+
+// [render]: output image.
+struct RenderSettings {
+  int width = 1280;   // [1, 16384]
+  int height = 720;   // [1, 16384]
+  glm::dvec3 sky_color{0.55, 0.7, 0.9};
+};
+
+// [[props]]: simple solid objects (boxes) — test scenes, obstacles and moving objects.
+struct PropBox {
+  glm::dvec3 min{0.0};
+  glm::dvec3 max{1.0};
+  glm::dvec3 albedo{0.7};
+};
+
+struct Scene {
+  std::string source = "<built-in>";  // file the scene was read from
+  CameraSettings camera;
+  SunSettings sun;
+  RenderSettings render;
+  std::vector<PropBox> props;
+
+  // The eye camera at the scene's start pose, with the render aspect ratio.
+  Camera startCamera() const;
+};
+
+// Reads and validates a scene file (throws InputError).
+Scene loadScene(const std::filesystem::path& file);
+// Parses scene text; `name` is used in error messages.
+Scene parseScene(const std::string& text, const std::string& name);
+// Serialises to TOML that parseScene reads back to an equal scene.
+std::string sceneToToml(const Scene& scene);
+
+}  // namespace forest

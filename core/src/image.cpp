@@ -1,0 +1,51 @@
+#include "forest/core/image.hpp"
+
+#include <OpenImageIO/imageio.h>
+
+#include "forest/core/error.hpp"
+#include "forest/core/files.hpp"
+
+namespace forest {
+namespace fs = std::filesystem;
+namespace {
+
+template <typename T>
+void writeWithOiio(const fs::path& file, const Image<T>& image, OIIO::TypeDesc type) {
+  if (image.width <= 0 || image.height <= 0 || image.channels <= 0 ||
+      image.pixels.size() != static_cast<size_t>(image.width) * image.height * image.channels) {
+    throw Error(file.string() + ": cannot write an image with inconsistent size " +
+                std::to_string(image.width) + "x" + std::to_string(image.height) + "x" +
+                std::to_string(image.channels));
+  }
+  writeAtomicallyWith(file, [&](const fs::path& temporary) {
+    auto out = OIIO::ImageOutput::create(temporary.string());
+    if (!out) throw Error(file.string() + ": no image writer for this extension: " + OIIO::geterror());
+    OIIO::ImageSpec spec(image.width, image.height, image.channels, type);
+    if (!out->open(temporary.string(), spec) || !out->write_image(type, image.pixels.data()) ||
+        !out->close()) {
+      throw Error(file.string() + ": writing the image failed: " + out->geterror());
+    }
+  });
+}
+
+template <typename T>
+Image<T> readWithOiio(const fs::path& file, OIIO::TypeDesc type) {
+  if (!fs::exists(file)) throw InputError(file.string() + ": no such file");
+  auto in = OIIO::ImageInput::open(file.string());
+  if (!in) throw InputError(file.string() + ": not a readable image: " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  Image<T> image(spec.width, spec.height, spec.nchannels);
+  if (!in->read_image(0, 0, 0, spec.nchannels, type, image.pixels.data())) {
+    throw InputError(file.string() + ": reading the image failed: " + in->geterror());
+  }
+  return image;
+}
+
+}  // namespace
+
+void writeImage(const fs::path& file, const Image8& image) { writeWithOiio(file, image, OIIO::TypeDesc::UINT8); }
+void writeImage(const fs::path& file, const ImageF& image) { writeWithOiio(file, image, OIIO::TypeDesc::FLOAT); }
+Image8 readImage8(const fs::path& file) { return readWithOiio<std::uint8_t>(file, OIIO::TypeDesc::UINT8); }
+ImageF readImageF(const fs::path& file) { return readWithOiio<float>(file, OIIO::TypeDesc::FLOAT); }
+
+}  // namespace forest

@@ -1,0 +1,121 @@
+#include "forest/core/scene.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "forest/core/error.hpp"
+#include "forest/core/files.hpp"
+#include "toml_schema.hpp"
+
+namespace forest {
+using detail::TomlSection;
+
+namespace {
+
+constexpr int kMaxImageSide = 16384;  // larger targets are refused before allocating
+
+void readCamera(TomlSection& s, CameraSettings& c) {
+  c.position = s.vec3("position", c.position, detail::anyFinite());
+  c.yaw_deg = s.number("yaw_deg", c.yaw_deg, detail::anyFinite());
+  c.pitch_deg = s.number("pitch_deg", c.pitch_deg, detail::closed(-90.0, 90.0));
+  c.fovy_deg = s.number("fovy_deg", c.fovy_deg, detail::open(0.0, 180.0));
+  c.near = s.number("near", c.near, detail::positive());
+  c.far = s.number("far", c.far, detail::positive());
+  if (!(c.far > c.near)) {
+    s.fail(nullptr, "far", "must be greater than camera.near = " + std::to_string(c.near));
+  }
+  s.finish();
+}
+
+void readSun(TomlSection& s, SunSettings& sun) {
+  sun.direction = s.vec3("direction", sun.direction, detail::anyFinite());
+  const double length = glm::length(sun.direction);
+  if (!(length > 1e-12) || !std::isfinite(length)) {
+    s.fail(nullptr, "direction", "must be a non-zero vector (the way sunlight travels)");
+  }
+  sun.direction /= length;
+  sun.color = s.vec3("color", sun.color, detail::nonNegative());
+  sun.ambient = s.number("ambient", sun.ambient, detail::closed(0.0, 1.0));
+  s.finish();
+}
+
+void readRender(TomlSection& s, RenderSettings& r) {
+  r.width = static_cast<int>(s.integer("width", r.width, 1, kMaxImageSide));
+  r.height = static_cast<int>(s.integer("height", r.height, 1, kMaxImageSide));
+  r.sky_color = s.vec3("sky_color", r.sky_color, detail::closed(0.0, 1.0));
+  s.finish();
+}
+
+PropBox readProp(TomlSection& s) {
+  s.oneOf("shape", "box", {"box"});
+  PropBox box;
+  box.min = s.vec3("min", std::nullopt, detail::anyFinite());
+  box.max = s.vec3("max", std::nullopt, detail::anyFinite());
+  for (int i = 0; i < 3; ++i) {
+    if (!(box.max[i] > box.min[i])) s.fail(nullptr, "max", "must be greater than min on every axis");
+  }
+  box.albedo = s.vec3("albedo", box.albedo, detail::closed(0.0, 1.0));
+  s.finish();
+  return box;
+}
+
+}  // namespace
+
+Camera Scene::startCamera() const {
+  Camera c;
+  c.position = camera.position;
+  c.yaw = glm::radians(camera.yaw_deg);
+  c.pitch = glm::radians(camera.pitch_deg);
+  c.fovy = glm::radians(camera.fovy_deg);
+  c.aspect = static_cast<double>(render.width) / render.height;
+  c.near = camera.near;
+  c.far = camera.far;
+  return c;
+}
+
+Scene parseScene(const std::string& text, const std::string& name) {
+  const toml::table document = detail::parseToml(text, name);
+  TomlSection root(document, name, "");
+  Scene scene;
+  scene.source = name;
+  if (auto s = root.table("camera")) readCamera(*s, scene.camera);
+  if (auto s = root.table("sun")) readSun(*s, scene.sun);
+  if (auto s = root.table("render")) readRender(*s, scene.render);
+  for (auto& s : root.tables("props")) scene.props.push_back(readProp(s));
+  root.finish();
+  return scene;
+}
+
+Scene loadScene(const std::filesystem::path& file) {
+  return parseScene(readTextFile(file), file.string());
+}
+
+std::string sceneToToml(const Scene& scene) {
+  using detail::tomlArray;
+  toml::table camera{{"position", tomlArray(scene.camera.position)},
+                     {"yaw_deg", scene.camera.yaw_deg},
+                     {"pitch_deg", scene.camera.pitch_deg},
+                     {"fovy_deg", scene.camera.fovy_deg},
+                     {"near", scene.camera.near},
+                     {"far", scene.camera.far}};
+  toml::table sun{{"direction", tomlArray(scene.sun.direction)},
+                  {"color", tomlArray(scene.sun.color)},
+                  {"ambient", scene.sun.ambient}};
+  toml::table render{{"width", scene.render.width},
+                     {"height", scene.render.height},
+                     {"sky_color", tomlArray(scene.render.sky_color)}};
+  toml::array props;
+  for (const PropBox& p : scene.props) {
+    props.push_back(toml::table{{"shape", "box"},
+                                {"min", tomlArray(p.min)},
+                                {"max", tomlArray(p.max)},
+                                {"albedo", tomlArray(p.albedo)}});
+  }
+  toml::table document{{"camera", camera}, {"sun", sun}, {"render", render}};
+  if (!props.empty()) document.insert("props", props);
+  std::ostringstream out;
+  out << document << "\n";
+  return out.str();
+}
+
+}  // namespace forest

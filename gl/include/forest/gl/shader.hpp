@@ -1,0 +1,52 @@
+#pragma once
+// GLSL programs from files in shaders/. The stage comes from the extension (.vert, .frag, .geom,
+// .comp). Compile and link errors are reported as "file:line: message", one per line.
+#include <glm/glm.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "forest/gl/objects.hpp"
+
+namespace forest::gl {
+
+struct ShaderSource {
+  GLenum stage = 0;
+  std::string name;  // used in error messages (usually the file path)
+  std::string text;
+};
+
+class Program {
+ public:
+  Program() = default;
+  explicit Program(GLuint id) : name_(id) {}
+  GLuint id() const { return name_.id(); }
+  void use() const { glUseProgram(id()); }
+
+  // Uniform setters (glProgramUniform*); a name the linker removed is ignored.
+  void set(const char* uniform, int v) const;
+  void set(const char* uniform, float v) const;
+  void set(const char* uniform, const glm::vec3& v) const;
+  void set(const char* uniform, const glm::vec4& v) const;
+  void set(const char* uniform, const glm::mat4& v) const;
+
+ private:
+  UniqueName<ProgramDeleter> name_;
+};
+
+// Folder the shaders are read from (core/resources.hpp: $FOREST_SHADER_DIR, installed, source tree).
+std::filesystem::path shaderDirectory();
+
+// Compiles and links; throws forest::Error with "name:line: message" lines.
+Program compileProgram(const std::vector<ShaderSource>& sources);
+
+// Reads `files` (relative to shaderDirectory() unless absolute) and compiles them. `defines` are
+// inserted after the #version line ("#define A 1\n..."), keeping line numbers right.
+Program loadProgram(const std::vector<std::string>& files, const std::string& defines = "");
+
+// Rewrites a driver info log (Mesa "0:12(5): error: ...", NVIDIA "0(12) : error C...") into
+// "name:12: error: ..." lines. Lines it does not recognise are kept, prefixed by "name: ".
+std::string formatShaderLog(const std::string& name, const std::string& log);
+
+}  // namespace forest::gl

@@ -1,0 +1,86 @@
+#pragma once
+// Per-pass frame timing. Two modes (DESIGN §5, "Speed"):
+//   GpuQueries — GL_TIMESTAMP queries around each pass, read back `latency` frames later so the
+//                CPU never waits (for GPUs; llvmpipe's timer results are unreliable);
+//   Profiling  — glFinish + steady clock around each pass (for llvmpipe; serialises the pipeline).
+// Usage per frame: beginFrame(); { auto s = timer.scope("shadow"); ... } endFrame(); then
+// takeCompleted() returns the frames whose times are known.
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <string>
+#include <vector>
+
+#include "forest/gl/objects.hpp"
+
+namespace forest::gl {
+
+enum class TimingMode { GpuQueries, Profiling };
+
+struct PassTime {
+  std::string pass;
+  double ms = 0.0;
+};
+
+struct FrameTiming {
+  std::uint64_t frame = 0;
+  double cpuFrameMs = 0.0;  // wall time from beginFrame to endFrame (includes glFinish in Profiling)
+  std::vector<PassTime> passes;
+};
+
+class PassTimer {
+ public:
+  explicit PassTimer(TimingMode mode, int latency = 3);
+
+  class Scope {
+   public:
+    explicit Scope(PassTimer& timer) : timer_(&timer) {}
+    ~Scope() { timer_->end(); }
+    Scope(const Scope&) = delete;
+    Scope& operator=(const Scope&) = delete;
+
+   private:
+    PassTimer* timer_;
+  };
+
+  void beginFrame();
+  void begin(const std::string& pass);
+  void end();
+  Scope scope(const std::string& pass) {
+    begin(pass);
+    return Scope(*this);
+  }
+  void endFrame();
+
+  // Frames whose pass times are all known, oldest first; each is returned once.
+  std::vector<FrameTiming> takeCompleted();
+  // Waits for every frame still in flight (end of a run), then returns all of them.
+  std::vector<FrameTiming> drain();
+  TimingMode mode() const { return mode_; }
+
+ private:
+  struct OpenPass {
+    std::string name;
+    size_t recordIndex;
+    std::chrono::steady_clock::time_point start;
+  };
+  struct PendingFrame {
+    FrameTiming timing;
+    std::vector<std::pair<Query, Query>> queries;  // per pass: start and end timestamps
+  };
+
+  TimingMode mode_;
+  int latency_;
+  std::uint64_t frameNumber_ = 0;
+  std::chrono::steady_clock::time_point frameStart_;
+  PendingFrame current_;
+  std::vector<OpenPass> open_;
+  std::deque<PendingFrame> pending_;
+  std::vector<FrameTiming> completed_;
+  std::vector<Query> spareQueries_;
+
+  Query takeQuery();
+  void collect(bool wait);
+};
+
+}  // namespace forest::gl

@@ -1,0 +1,131 @@
+#include "forest/gl/shader.hpp"
+
+#include <fmt/format.h>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <regex>
+#include <sstream>
+#include <cstring>
+
+#include "forest/core/error.hpp"
+#include "forest/core/files.hpp"
+#include "forest/core/resources.hpp"
+
+namespace forest::gl {
+namespace fs = std::filesystem;
+namespace {
+
+GLenum stageFromExtension(const fs::path& file) {
+  const std::string ext = file.extension().string();
+  if (ext == ".vert") return GL_VERTEX_SHADER;
+  if (ext == ".frag") return GL_FRAGMENT_SHADER;
+  if (ext == ".geom") return GL_GEOMETRY_SHADER;
+  if (ext == ".comp") return GL_COMPUTE_SHADER;
+  throw InputError(file.string() + ": unknown shader stage; expected .vert, .frag, .geom or .comp");
+}
+
+std::string infoLog(GLuint object, bool isProgram) {
+  GLint length = 0;
+  isProgram ? glGetProgramiv(object, GL_INFO_LOG_LENGTH, &length) : glGetShaderiv(object, GL_INFO_LOG_LENGTH, &length);
+  std::string log(static_cast<size_t>(std::max(length, 1)), '\0');
+  isProgram ? glGetProgramInfoLog(object, length, nullptr, log.data())
+            : glGetShaderInfoLog(object, length, nullptr, log.data());
+  log.resize(std::strlen(log.c_str()));
+  return log;
+}
+
+// Inserts `defines` after the #version line and resets the line count with #line.
+std::string withDefines(const std::string& text, const std::string& defines) {
+  if (defines.empty()) return text;
+  const size_t versionAt = text.find("#version");
+  if (versionAt == std::string::npos) return defines + "\n#line 1\n" + text;
+  const size_t lineEnd = text.find('\n', versionAt);
+  if (lineEnd == std::string::npos) return text + "\n" + defines;
+  const int versionLine = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(lineEnd), '\n'));
+  return text.substr(0, lineEnd + 1) + defines + "\n#line " + std::to_string(versionLine + 1) + "\n" +
+         text.substr(lineEnd + 1);
+}
+
+}  // namespace
+
+void Program::set(const char* uniform, int v) const { glProgramUniform1i(id(), glGetUniformLocation(id(), uniform), v); }
+void Program::set(const char* uniform, float v) const { glProgramUniform1f(id(), glGetUniformLocation(id(), uniform), v); }
+void Program::set(const char* uniform, const glm::vec3& v) const {
+  glProgramUniform3fv(id(), glGetUniformLocation(id(), uniform), 1, glm::value_ptr(v));
+}
+void Program::set(const char* uniform, const glm::vec4& v) const {
+  glProgramUniform4fv(id(), glGetUniformLocation(id(), uniform), 1, glm::value_ptr(v));
+}
+void Program::set(const char* uniform, const glm::mat4& v) const {
+  glProgramUniformMatrix4fv(id(), glGetUniformLocation(id(), uniform), 1, GL_FALSE, glm::value_ptr(v));
+}
+
+std::string formatShaderLog(const std::string& name, const std::string& log) {
+  static const std::regex mesa(R"(^\s*\d+:(\d+)\(\d+\):\s*(.*)$)");       // 0:12(5): error: ...
+  static const std::regex nvidia(R"(^\s*\d+\((\d+)\)\s*:\s*(.*)$)");       // 0(12) : error C...
+  std::istringstream lines(log);
+  std::string line, out;
+  while (std::getline(lines, line)) {
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    std::smatch m;
+    if (std::regex_match(line, m, mesa) || std::regex_match(line, m, nvidia)) {
+      out += fmt::format("{}:{}: {}\n", name, m[1].str(), m[2].str());
+    } else {
+      out += fmt::format("{}: {}\n", name, line);
+    }
+  }
+  if (!out.empty() && out.back() == '\n') out.pop_back();
+  return out;
+}
+
+fs::path shaderDirectory() { return resourceDirectory("shaders"); }
+
+Program compileProgram(const std::vector<ShaderSource>& sources) {
+  if (sources.empty()) throw Error("compileProgram: no shader sources");
+  Program program(glCreateProgram());
+  std::vector<GLuint> shaders;
+  std::string errors;
+  for (const ShaderSource& source : sources) {
+    const GLuint shader = glCreateShader(source.stage);
+    const char* text = source.text.c_str();
+    glShaderSource(shader, 1, &text, nullptr);
+    glCompileShader(shader);
+    GLint ok = GL_FALSE;
+    glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    if (!ok) errors += (errors.empty() ? "" : "\n") + formatShaderLog(source.name, infoLog(shader, false));
+    shaders.push_back(shader);
+  }
+  if (errors.empty()) {
+    for (GLuint shader : shaders) glAttachShader(program.id(), shader);
+    glLinkProgram(program.id());
+    GLint ok = GL_FALSE;
+    glGetProgramiv(program.id(), GL_LINK_STATUS, &ok);
+    if (!ok) {
+      std::string names;
+      for (const auto& s : sources) names += (names.empty() ? "" : "+") + s.name;
+      errors = formatShaderLog(names, infoLog(program.id(), true));
+    }
+  }
+  for (GLuint shader : shaders) glDeleteShader(shader);
+  if (!errors.empty()) throw Error("shader error:\n" + errors);
+  return program;
+}
+
+Program loadProgram(const std::vector<std::string>& files, const std::string& defines) {
+  std::vector<ShaderSource> sources;
+  const fs::path folder = shaderDirectory();
+  for (const std::string& file : files) {
+    const fs::path path = fs::path(file).is_absolute() ? fs::path(file) : folder / file;
+    std::string text;
+    try {
+      text = readTextFile(path);
+    } catch (const InputError& e) {
+      throw Error(fmt::format("shader {}: {} (shader folder: {}; set FOREST_SHADER_DIR to change it)", file,
+                              e.what(), folder.string()));
+    }
+    sources.push_back({stageFromExtension(path), path.string(), withDefines(text, defines)});
+  }
+  return compileProgram(sources);
+}
+
+}  // namespace forest::gl

@@ -1,0 +1,33 @@
+#pragma once
+// Draws the scene's props (boxes) with one instanced draw, lit by the sun: Lambert diffuse plus a
+// weak global ambient (thesis §6.2, without shadows yet).
+#include <vector>
+
+#include "forest/core/camera.hpp"
+#include "forest/core/scene.hpp"
+#include "forest/gl/objects.hpp"
+#include "forest/gl/shader.hpp"
+
+namespace forest::render {
+
+class PropRenderer {
+ public:
+  explicit PropRenderer(const std::vector<PropBox>& props);
+
+  // Draws into the bound framebuffer (depth test GL_GREATER: reversed-Z).
+  void draw(const Camera& camera, const SunSettings& sun) const;
+  int triangleCount() const { return 12 * instanceCount_; }
+
+ private:
+  gl::Program program_;
+  gl::VertexArray vertexArray_;
+  gl::Buffer vertices_;
+  gl::Buffer indices_;
+  gl::Buffer instances_;
+  int instanceCount_ = 0;
+};
+
+// Clears the bound framebuffer to `sky` with reversed-Z depth 0 and draws the props.
+void drawLitPropScene(const PropRenderer& props, const Camera& camera, const Scene& scene);
+
+}  // namespace forest::render

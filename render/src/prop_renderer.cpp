@@ -1,0 +1,114 @@
+#include "forest/render/prop_renderer.hpp"
+
+#include <array>
+
+namespace forest::render {
+namespace {
+
+struct CubeVertex {
+  float position[3];  // unit cube [0, 1]³
+  float normal[3];
+};
+
+struct PropInstance {
+  float min[4];
+  float max[4];
+  float albedo[4];
+};
+
+// 6 faces × 4 vertices, outward normals, counter-clockwise seen from outside.
+std::array<CubeVertex, 24> unitCubeVertices() {
+  std::array<CubeVertex, 24> v{};
+  const float n[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  const float p[6][4][3] = {
+      {{1, 0, 1}, {1, 0, 0}, {1, 1, 0}, {1, 1, 1}}, {{0, 0, 0}, {0, 0, 1}, {0, 1, 1}, {0, 1, 0}},
+      {{0, 1, 1}, {1, 1, 1}, {1, 1, 0}, {0, 1, 0}}, {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}},
+      {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}}, {{1, 0, 0}, {0, 0, 0}, {0, 1, 0}, {1, 1, 0}}};
+  for (int f = 0; f < 6; ++f) {
+    for (int k = 0; k < 4; ++k) {
+      CubeVertex& c = v[static_cast<size_t>(f * 4 + k)];
+      for (int a = 0; a < 3; ++a) {
+        c.position[a] = p[f][k][a];
+        c.normal[a] = n[f][a];
+      }
+    }
+  }
+  return v;
+}
+
+std::array<unsigned, 36> unitCubeIndices() {
+  std::array<unsigned, 36> idx{};
+  for (unsigned f = 0; f < 6; ++f) {
+    const unsigned b = f * 4;
+    const unsigned quad[6] = {b, b + 1, b + 2, b, b + 2, b + 3};
+    for (unsigned k = 0; k < 6; ++k) idx[f * 6 + k] = quad[k];
+  }
+  return idx;
+}
+
+}  // namespace
+
+PropRenderer::PropRenderer(const std::vector<PropBox>& props)
+    : program_(gl::loadProgram({"props.vert", "props.frag"})) {
+  const auto vertices = unitCubeVertices();
+  const auto indices = unitCubeIndices();
+  vertices_ = gl::Buffer(sizeof(vertices), vertices.data(), 0);
+  indices_ = gl::Buffer(sizeof(indices), indices.data(), 0);
+  std::vector<PropInstance> instances;
+  for (const PropBox& p : props) {
+    instances.push_back({{float(p.min.x), float(p.min.y), float(p.min.z), 1.f},
+                         {float(p.max.x), float(p.max.y), float(p.max.z), 1.f},
+                         {float(p.albedo.x), float(p.albedo.y), float(p.albedo.z), 1.f}});
+  }
+  instanceCount_ = static_cast<int>(instances.size());
+  if (!instances.empty()) {
+    instances_ = gl::Buffer(instances.size() * sizeof(PropInstance), instances.data(), 0);
+  }
+
+  const GLuint vao = vertexArray_.id();
+  glVertexArrayVertexBuffer(vao, 0, vertices_.id(), 0, sizeof(CubeVertex));
+  glVertexArrayElementBuffer(vao, indices_.id());
+  glEnableVertexArrayAttrib(vao, 0);
+  glVertexArrayAttribFormat(vao, 0, 3, GL_FLOAT, GL_FALSE, offsetof(CubeVertex, position));
+  glVertexArrayAttribBinding(vao, 0, 0);
+  glEnableVertexArrayAttrib(vao, 1);
+  glVertexArrayAttribFormat(vao, 1, 3, GL_FLOAT, GL_FALSE, offsetof(CubeVertex, normal));
+  glVertexArrayAttribBinding(vao, 1, 0);
+  if (instances_.id() != 0) {
+    glVertexArrayVertexBuffer(vao, 1, instances_.id(), 0, sizeof(PropInstance));
+    glVertexArrayBindingDivisor(vao, 1, 1);
+    for (GLuint attribute = 2; attribute <= 4; ++attribute) {
+      glEnableVertexArrayAttrib(vao, attribute);
+      glVertexArrayAttribFormat(vao, attribute, 4, GL_FLOAT, GL_FALSE, (attribute - 2) * 4 * sizeof(float));
+      glVertexArrayAttribBinding(vao, attribute, 1);
+    }
+  }
+}
+
+void PropRenderer::draw(const Camera& camera, const SunSettings& sun) const {
+  if (instanceCount_ == 0) return;
+  // Composed in double, converted once (DESIGN §4: matrix chains in double).
+  const glm::mat4 viewProjection(camera.projection() * camera.view());
+  program_.set("uViewProjection", viewProjection);
+  program_.set("uToSun", glm::vec3(-sun.direction));
+  program_.set("uSunColor", glm::vec3(sun.color));
+  program_.set("uAmbient", static_cast<float>(sun.ambient));
+  program_.use();
+  glBindVertexArray(vertexArray_.id());
+  glDrawElementsInstanced(GL_TRIANGLES, 36, GL_UNSIGNED_INT, nullptr, instanceCount_);
+  glBindVertexArray(0);
+}
+
+void drawLitPropScene(const PropRenderer& props, const Camera& camera, const Scene& scene) {
+  const glm::vec3 sky(scene.render.sky_color);
+  glClearColor(sky.r, sky.g, sky.b, 1.0f);
+  glClearDepth(0.0);  // reversed-Z: far = 0
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_GREATER);
+  glEnable(GL_CULL_FACE);
+  glCullFace(GL_BACK);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  props.draw(camera, scene.sun);
+}
+
+}  // namespace forest::render
