@@ -60,8 +60,7 @@ Run addRenderCommand(CLI::App& app) {
   auto options = std::make_shared<RenderOptions>();
   CLI::App* command = app.add_subcommand("render", "Render one lit frame of a scene to an image (headless)");
   options->gl.add(*command);
-  command->add_option("--scene", options->scene, "Scene file (TOML; default: data/scenes/boxes.toml)")
-      ->check(CLI::ExistingFile);
+  command->add_option("--scene", options->scene, "Scene file (TOML; default: data/scenes/boxes.toml)");
   command->add_option("--out", options->out, "Output image (.png 8-bit, .exr float)")->required();
   command->add_option("--width", options->width, "Override render.width")->check(CLI::Range(1, 16384));
   command->add_option("--height", options->height, "Override render.height")->check(CLI::Range(1, 16384));

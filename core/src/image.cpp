@@ -21,6 +21,7 @@ void writeWithOiio(const fs::path& file, const Image<T>& image, OIIO::TypeDesc t
     auto out = OIIO::ImageOutput::create(temporary.string());
     if (!out) throw Error(file.string() + ": no image writer for this extension: " + OIIO::geterror());
     OIIO::ImageSpec spec(image.width, image.height, image.channels, type);
+    spec.attribute("oiio:UnassociatedAlpha", 1);  // pixels are stored as given, never premultiplied
     if (!out->open(temporary.string(), spec) || !out->write_image(type, image.pixels.data()) ||
         !out->close()) {
       throw Error(file.string() + ": writing the image failed: " + out->geterror());
@@ -31,7 +32,9 @@ void writeWithOiio(const fs::path& file, const Image<T>& image, OIIO::TypeDesc t
 template <typename T>
 Image<T> readWithOiio(const fs::path& file, OIIO::TypeDesc type) {
   if (!fs::exists(file)) throw InputError(file.string() + ": no such file");
-  auto in = OIIO::ImageInput::open(file.string());
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);  // return the file's pixels, not premultiplied ones
+  auto in = OIIO::ImageInput::open(file.string(), &config);
   if (!in) throw InputError(file.string() + ": not a readable image: " + OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();
   Image<T> image(spec.width, spec.height, spec.nchannels);

@@ -1,6 +1,7 @@
 #include "forest/core/scene.hpp"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "forest/core/error.hpp"
@@ -33,7 +34,8 @@ void readSun(TomlSection& s, SunSettings& sun) {
   if (!(length > 1e-12) || !std::isfinite(length)) {
     s.fail(nullptr, "direction", "must be a non-zero vector (the way sunlight travels)");
   }
-  sun.direction /= length;
+  // Normalised unless already unit to double precision, so a saved scene reads back bit-exact.
+  if (std::abs(length - 1.0) > 4.0 * std::numeric_limits<double>::epsilon()) sun.direction /= length;
   sun.color = s.vec3("color", sun.color, detail::nonNegative());
   sun.ambient = s.number("ambient", sun.ambient, detail::closed(0.0, 1.0));
   s.finish();

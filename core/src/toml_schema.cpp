@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -16,10 +17,21 @@ std::string location(const std::string& file, const toml::source_region& source)
   return fmt::format("{}:{}:{}", file, source.begin.line, source.begin.column);
 }
 
+// The value as one short line (arrays inline: "[ 0.0, nan, 0.0 ]").
 std::string render(const toml::node& node) {
-  std::ostringstream out;
-  node.visit([&](const auto& n) { out << n; });
-  std::string text = out.str();
+  std::string text;
+  if (const toml::array* array = node.as_array()) {
+    text = "[ ";
+    for (size_t i = 0; i < array->size(); ++i) text += (i ? ", " : "") + render(*array->get(i));
+    text += " ]";
+  } else if (node.is_table()) {
+    text = "{ ... }";
+  } else {
+    std::ostringstream out;
+    node.visit([&](const auto& n) { out << n; });
+    text = out.str();
+  }
+  std::replace(text.begin(), text.end(), '\n', ' ');
   if (text.size() > 60) text = text.substr(0, 57) + "...";
   return text;
 }

@@ -36,11 +36,16 @@ const char* typeName(GLenum type) {
   }
 }
 
-void GLAPIENTRY onDebugMessage(GLenum /*source*/, GLenum type, GLuint id, GLenum severity, GLsizei length,
+void GLAPIENTRY onDebugMessage(GLenum source, GLenum type, GLuint id, GLenum severity, GLsizei length,
                                const GLchar* message, const void* /*user*/) {
   const std::string text = fmt::format("GL {} #{}: {}", typeName(type), id,
                                        length >= 0 ? std::string(message, static_cast<size_t>(length))
                                                    : std::string(message));
+  // Compiler diagnostics reach the caller as a ShaderError with file:line; they are not GL errors.
+  if (source == GL_DEBUG_SOURCE_SHADER_COMPILER) {
+    log::debug("{}", text);
+    return;
+  }
   const bool isError = type == GL_DEBUG_TYPE_ERROR || severity == GL_DEBUG_SEVERITY_HIGH;
   if (isError) {
     DebugState& s = state();

@@ -115,7 +115,9 @@ class EglContext final : public Context {
     if (display_ != EGL_NO_DISPLAY) {
       eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
       if (context_ != EGL_NO_CONTEXT) eglDestroyContext(display_, context_);
-      eglTerminate(display_);
+      // No eglTerminate: the platform display is one per process and shared by every context on
+      // it, so terminating it here would pull it from under another live context (and Mesa 22.3
+      // leaks JIT state when the driver is unloaded by it).
     }
   }
 

@@ -3,7 +3,7 @@
 #include <fmt/format.h>
 #include <glm/gtc/type_ptr.hpp>
 
-#include <regex>
+#include <cstdio>
 #include <sstream>
 #include <cstring>
 
@@ -46,6 +46,20 @@ std::string withDefines(const std::string& text, const std::string& defines) {
          text.substr(lineEnd + 1);
 }
 
+// Line number and message of one info-log line in the Mesa ("0:12(5): error: ...") or NVIDIA
+// ("0(12) : error C0000: ...") format; line 0 when the line has neither form.
+std::pair<int, std::string> parseLogLine(const std::string& line) {
+  int source = 0, lineNumber = 0, column = 0, consumed = 0;
+  if (std::sscanf(line.c_str(), " %d:%d(%d):%n", &source, &lineNumber, &column, &consumed) == 3 && consumed > 0) {
+    return {lineNumber, line.substr(static_cast<size_t>(consumed))};
+  }
+  consumed = 0;
+  if (std::sscanf(line.c_str(), " %d(%d) :%n", &source, &lineNumber, &consumed) == 2 && consumed > 0) {
+    return {lineNumber, line.substr(static_cast<size_t>(consumed))};
+  }
+  return {0, line};
+}
+
 }  // namespace
 
 void Program::set(const char* uniform, int v) const { glProgramUniform1i(id(), glGetUniformLocation(id(), uniform), v); }
@@ -61,18 +75,14 @@ void Program::set(const char* uniform, const glm::mat4& v) const {
 }
 
 std::string formatShaderLog(const std::string& name, const std::string& log) {
-  static const std::regex mesa(R"(^\s*\d+:(\d+)\(\d+\):\s*(.*)$)");       // 0:12(5): error: ...
-  static const std::regex nvidia(R"(^\s*\d+\((\d+)\)\s*:\s*(.*)$)");       // 0(12) : error C...
   std::istringstream lines(log);
   std::string line, out;
   while (std::getline(lines, line)) {
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    std::smatch m;
-    if (std::regex_match(line, m, mesa) || std::regex_match(line, m, nvidia)) {
-      out += fmt::format("{}:{}: {}\n", name, m[1].str(), m[2].str());
-    } else {
-      out += fmt::format("{}: {}\n", name, line);
-    }
+    auto [lineNumber, message] = parseLogLine(line);
+    message.erase(0, message.find_first_not_of(' '));
+    out += lineNumber > 0 ? fmt::format("{}:{}: {}\n", name, lineNumber, message)
+                          : fmt::format("{}: {}\n", name, message);
   }
   if (!out.empty() && out.back() == '\n') out.pop_back();
   return out;

@@ -1,0 +1,117 @@
+// The forest command line: bad input gives exactly one clear line naming file and key, and a
+// non-zero exit code; `forest render` writes a lit image headless.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "forest/core/files.hpp"
+#include "forest/core/image.hpp"
+
+namespace forest {
+namespace {
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+using ::testing::StartsWith;
+
+struct Result {
+  int exitCode = -1;
+  std::string out;
+  std::string err;
+};
+
+Result runForest(const std::string& arguments) {
+  const fs::path folder = fs::path(FOREST_TEST_OUTPUT) / "cli";
+  fs::create_directories(folder);
+  const fs::path out = folder / "stdout.txt", err = folder / "stderr.txt";
+  const std::string command =
+      std::string(FOREST_EXE) + " " + arguments + " > " + out.string() + " 2> " + err.string() + " < /dev/null";
+  const int status = std::system(command.c_str());
+  Result r;
+  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = readTextFile(out);
+  r.err = readTextFile(err);
+  return r;
+}
+
+std::string bad(const std::string& name) { return std::string(FOREST_TEST_DATA) + "/bad/" + name; }
+
+void expectOneLineError(const Result& r, const std::string& file, const std::string& key) {
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_THAT(r.err, StartsWith("forest: error: " + file));
+  EXPECT_THAT(r.err, HasSubstr(key));
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+TEST(ForestCli, UnknownKey) {
+  const std::string file = bad("unknown-key.toml");
+  const Result r = runForest("render --scene " + file + " --out /tmp/never.png");
+  expectOneLineError(r, file + ":3:1", "unknown key 'camera.fov'");
+}
+
+TEST(ForestCli, WrongType) {
+  const std::string file = bad("wrong-type.toml");
+  expectOneLineError(runForest("render --scene " + file + " --out /tmp/never.png"), file + ":2:8",
+                     "camera.near = 'close': expected a finite number > 0");
+}
+
+TEST(ForestCli, NegativeSize) {
+  const std::string file = bad("negative-size.toml");
+  expectOneLineError(runForest("render --scene " + file + " --out /tmp/never.png"), file + ":2:9",
+                     "render.width = -640: expected an integer in [1, 16384]");
+}
+
+TEST(ForestCli, NaN) {
+  const std::string file = bad("nan.toml");
+  expectOneLineError(runForest("render --scene " + file + " --out /tmp/never.png"), file + ":2:13",
+                     "sun.direction = [ 0.0, nan, 0.0 ]");
+}
+
+TEST(ForestCli, MissingFile) {
+  expectOneLineError(runForest("render --scene /nonexistent/scene.toml --out /tmp/never.png"),
+                     "/nonexistent/scene.toml", "no such file");
+}
+
+TEST(ForestCli, BadBackendIsRejected) {
+  const Result r = runForest("info --gl=vulkan");
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_THAT(r.err, HasSubstr("--gl"));
+}
+
+TEST(ForestCli, HelpExplainsEveryCommand) {
+  const Result r = runForest("--help");
+  EXPECT_EQ(r.exitCode, 0);
+  EXPECT_THAT(r.out, HasSubstr("info"));
+  EXPECT_THAT(r.out, HasSubstr("render"));
+  const Result renderHelp = runForest("render --help");
+  EXPECT_THAT(renderHelp.out, HasSubstr("--scene"));
+  EXPECT_THAT(renderHelp.out, HasSubstr("--gl"));
+}
+
+TEST(ForestCli, RenderWritesALitImageHeadless) {
+  const fs::path image = fs::path(FOREST_TEST_OUTPUT) / "cli" / "boxes.png";
+  fs::remove(image);
+  const Result r = runForest("render --out " + image.string() + " --width 320 --height 180");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const Image8 png = readImage8(image);
+  ASSERT_EQ(png.width, 320);
+  ASSERT_EQ(png.height, 180);
+  // Top-left is sky (clear colour 0.55, 0.7, 0.9), bottom-centre is the lit ground slab.
+  EXPECT_EQ(png.at(0, 0, 0), 140);
+  EXPECT_EQ(png.at(0, 0, 2), 230);
+  EXPECT_NE(png.at(160, 175, 2), 230);
+  EXPECT_GT(png.at(160, 175, 1), png.at(160, 175, 2));  // green ground
+}
+
+TEST(ForestCli, InfoNamesBackendAndRenderer) {
+  const Result r = runForest("info --json");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("\"gl_version\""));
+  EXPECT_THAT(r.out, HasSubstr("\"renderer\""));
+}
+
+}  // namespace
+}  // namespace forest

@@ -1,0 +1,122 @@
+// Scene files: a valid file round-trips; every kind of bad input gives one line naming the file,
+// the key (with line:column) and what was expected.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "forest/core/error.hpp"
+#include "forest/core/scene.hpp"
+
+namespace forest {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::Not;
+
+std::string errorOf(const std::string& text) {
+  try {
+    parseScene(text, "bad.toml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "<no error>";
+}
+
+TEST(SceneFile, RepositorySceneLoadsWithItsValues) {
+  const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/boxes.toml");
+  EXPECT_EQ(scene.render.width, 640);
+  EXPECT_EQ(scene.render.height, 360);
+  EXPECT_DOUBLE_EQ(scene.camera.pitch_deg, -12.0);
+  ASSERT_EQ(scene.props.size(), 4u);
+  EXPECT_DOUBLE_EQ(scene.props[2].max.y, 5.0);
+  EXPECT_NEAR(glm::length(scene.sun.direction), 1.0, 1e-15);  // normalised on load
+}
+
+TEST(SceneFile, RoundTripsThroughToml) {
+  Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/boxes.toml");
+  scene.camera.near = 0.123456789012345;  // needs all 17 digits to survive
+  scene.camera.position = {1e6 + 0.1, -3.0, 1.0 / 3.0};
+  const Scene back = parseScene(sceneToToml(scene), "roundtrip.toml");
+  EXPECT_EQ(back.camera.position, scene.camera.position);
+  EXPECT_EQ(back.camera.near, scene.camera.near);
+  EXPECT_EQ(back.camera.far, scene.camera.far);
+  EXPECT_EQ(back.camera.fovy_deg, scene.camera.fovy_deg);
+  EXPECT_EQ(back.camera.yaw_deg, scene.camera.yaw_deg);
+  EXPECT_EQ(back.camera.pitch_deg, scene.camera.pitch_deg);
+  EXPECT_EQ(back.sun.direction, scene.sun.direction);
+  EXPECT_EQ(back.sun.color, scene.sun.color);
+  EXPECT_EQ(back.sun.ambient, scene.sun.ambient);
+  EXPECT_EQ(back.render.width, scene.render.width);
+  EXPECT_EQ(back.render.sky_color, scene.render.sky_color);
+  ASSERT_EQ(back.props.size(), scene.props.size());
+  for (size_t i = 0; i < scene.props.size(); ++i) {
+    EXPECT_EQ(back.props[i].min, scene.props[i].min);
+    EXPECT_EQ(back.props[i].max, scene.props[i].max);
+    EXPECT_EQ(back.props[i].albedo, scene.props[i].albedo);
+  }
+}
+
+TEST(SceneFile, EmptyFileGivesDefaults) {
+  const Scene scene = parseScene("", "empty.toml");
+  EXPECT_EQ(scene.render.width, RenderSettings{}.width);
+  EXPECT_TRUE(scene.props.empty());
+}
+
+TEST(SceneFile, UnknownKeyNamesFileLineAndKey) {
+  const std::string e = errorOf("[camera]\nfovy_deg = 50\nfvoy_deg = 60\n");
+  EXPECT_THAT(e, HasSubstr("bad.toml:3:1"));
+  EXPECT_THAT(e, HasSubstr("unknown key 'camera.fvoy_deg'"));
+  EXPECT_THAT(errorOf("[camras]\n"), HasSubstr("unknown key 'camras'"));
+}
+
+TEST(SceneFile, WrongTypeNamesKeyValueAndExpectation) {
+  const std::string e = errorOf("[camera]\nnear = \"close\"\n");
+  EXPECT_THAT(e, HasSubstr("bad.toml:2:8"));
+  EXPECT_THAT(e, HasSubstr("camera.near = 'close'"));
+  EXPECT_THAT(e, HasSubstr("expected a finite number > 0"));
+  EXPECT_THAT(errorOf("[render]\nwidth = 12.5\n"), HasSubstr("render.width = 12.5: expected an integer"));
+  EXPECT_THAT(errorOf("camera = 3\n"), HasSubstr("camera = 3: expected a table"));
+  EXPECT_THAT(errorOf("[sun]\ndirection = [1, 2]\n"), HasSubstr("expected an array of 3 numbers"));
+}
+
+TEST(SceneFile, OutOfRangeValuesAreRejectedNotClamped) {
+  EXPECT_THAT(errorOf("[render]\nwidth = -640\n"), HasSubstr("render.width = -640: expected an integer in [1, 16384]"));
+  EXPECT_THAT(errorOf("[render]\nheight = 1000000\n"), HasSubstr("render.height = 1000000"));
+  EXPECT_THAT(errorOf("[camera]\nfovy_deg = 180\n"), HasSubstr("expected a number in (0, 180)"));
+  EXPECT_THAT(errorOf("[camera]\nnear = 5.0\nfar = 1.0\n"), HasSubstr("camera.far: must be greater than camera.near"));
+  EXPECT_THAT(errorOf("[sun]\ndirection = [0, 0, 0]\n"), HasSubstr("sun.direction: must be a non-zero vector"));
+  EXPECT_THAT(errorOf("[[props]]\nmin = [0, 0, 0]\nmax = [1, 0, 1]\n"),
+              HasSubstr("props[0].max: must be greater than min"));
+}
+
+TEST(SceneFile, NanAndInfinityAreRejected) {
+  EXPECT_THAT(errorOf("[camera]\nfar = nan\n"), HasSubstr("camera.far = nan"));
+  EXPECT_THAT(errorOf("[camera]\nposition = [0, inf, 0]\n"), HasSubstr("camera.position"));
+  EXPECT_THAT(errorOf("[sun]\nambient = -nan\n"), HasSubstr("sun.ambient"));
+}
+
+TEST(SceneFile, MissingRequiredKeyIsNamed) {
+  EXPECT_THAT(errorOf("[[props]]\nmin = [0, 0, 0]\n"), HasSubstr("props[0].max: missing"));
+}
+
+TEST(SceneFile, SyntaxErrorHasLineAndColumn) {
+  EXPECT_THAT(errorOf("[camera\nnear = 1\n"), HasSubstr("bad.toml:1:"));
+  EXPECT_THAT(errorOf("[camera\nnear = 1\n"), HasSubstr("TOML syntax error"));
+}
+
+TEST(SceneFile, MissingFileIsNamed) {
+  try {
+    loadScene("/nonexistent/forest.toml");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(std::string(e.what()), HasSubstr("/nonexistent/forest.toml: no such file"));
+  }
+}
+
+TEST(SceneFile, ErrorsAreOneLine) {
+  for (const char* text : {"[camera]\nfvoy = 1\n", "[camera]\nnear = \"x\"\n", "[render]\nwidth = -1\n"}) {
+    EXPECT_THAT(errorOf(text), Not(HasSubstr("\n"))) << text;
+  }
+}
+
+}  // namespace
+}  // namespace forest
