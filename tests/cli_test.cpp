@@ -75,6 +75,23 @@ TEST(ForestCli, MissingFile) {
                      "/nonexistent/scene.toml", "no such file");
 }
 
+TEST(ForestCli, CheckAcceptsTheRepositoryScene) {
+  const Result r = runForest("check --scene " + std::string(FOREST_REPO_DATA) + "/scenes/boxes.toml");
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("ok — 640x360"));
+}
+
+TEST(ForestCli, BadPathFilesAreNamed) {
+  const std::string unordered = bad("path-unordered.toml");
+  expectOneLineError(runForest("check --path " + unordered), unordered,
+                     "key[1].t = 1: expected a time greater than key[0].t = 2");
+  const std::string typo = bad("path-unknown-key.toml");
+  expectOneLineError(runForest("check --path " + typo), typo + ":4:1", "unknown key 'key[0].yaw'");
+  const std::string nan = bad("path-nan.toml");
+  expectOneLineError(runForest("check --path " + nan), nan + ":3:12", "key[0].position = [ 0.0, nan, 0.0 ]");
+  expectOneLineError(runForest("check --path /nonexistent/path.toml"), "/nonexistent/path.toml", "no such file");
+}
+
 TEST(ForestCli, BadBackendIsRejected) {
   const Result r = runForest("info --gl=vulkan");
   EXPECT_NE(r.exitCode, 0);

@@ -18,5 +18,6 @@ struct GlOptions {
 
 Run addInfoCommand(CLI::App& app);
 Run addRenderCommand(CLI::App& app);
+Run addCheckCommand(CLI::App& app);
 
 }  // namespace forest::app

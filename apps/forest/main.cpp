@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
   };
   add(forest::app::addInfoCommand);
   add(forest::app::addRenderCommand);
+  add(forest::app::addCheckCommand);
 
   try {
     app.parse(argc, argv);
