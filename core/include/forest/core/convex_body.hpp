@@ -1,0 +1,73 @@
+#pragma once
+// Convex polyhedra as lists of convex polygons (thesis §9.2.2): built from a box or from a
+// frustum's inverse view-projection, clipped by planes, boxes and other bodies (holes closed),
+// hulled with a point, extruded along a direction up to a box. Empty and flat results are
+// represented: an empty body has no polygons; a flat one is a single polygon.
+//
+// Tolerances are relative to the body (kRelativeTolerance × its size, but never below the
+// rounding error of its coordinates), so a body far from the origin or very small behaves the same.
+// Intersection points are computed from the lexicographically smaller endpoint of an edge, so the
+// two polygons sharing an edge get bit-identical vertices and the topology stays exact.
+#include <glm/glm.hpp>
+
+#include <array>
+#include <vector>
+
+#include "forest/core/bounds.hpp"
+
+namespace forest {
+
+using Polygon = std::vector<glm::dvec3>;  // convex, counter-clockwise seen from outside
+
+class ConvexBody {
+ public:
+  static constexpr double kRelativeTolerance = 1e-9;
+
+  ConvexBody() = default;
+  explicit ConvexBody(std::vector<Polygon> polygons) : polygons_(std::move(polygons)) {}
+
+  static ConvexBody fromBox(const Aabb& box);
+  // The 8 corners: bit 0 selects x, bit 1 y, bit 2 z (0 = low, 1 = high), any orientation.
+  static ConvexBody fromCorners(const std::array<glm::dvec3, 8>& corners);
+  // A view frustum in world space from inverse(projection · view), for the engine's clip
+  // convention: NDC x, y ∈ [−1, 1], z ∈ [0, 1].
+  static ConvexBody fromInverseViewProjection(const glm::dmat4& inverseViewProjection);
+
+  const std::vector<Polygon>& polygons() const { return polygons_; }
+  bool empty() const { return polygons_.empty(); }
+  // Distinct vertices (exact duplicates removed).
+  std::vector<glm::dvec3> vertices() const;
+  Aabb bounds() const;
+  // The comparison tolerance for this body (world units).
+  double tolerance() const;
+  // Enclosed volume (divergence theorem over the faces); 0 for empty and flat bodies.
+  double volume() const;
+  // True when every directed edge has its reverse in another polygon (a closed 2-manifold).
+  bool isClosed() const;
+  // True when every vertex lies within tolerance of one plane (a polygon, a segment or a point).
+  bool isFlat() const;
+
+  // Keeps the part with plane.signedDistance ≤ 0 and closes the hole with a polygon on the plane.
+  void clip(const Plane& plane);
+  void clip(const Aabb& box);
+  // Intersection with another convex body (clipped by each of its face planes).
+  void clip(const ConvexBody& other);
+  // Convex hull of the body and a point (thesis convexHullWithPoint): faces that see the point
+  // are removed and the silhouette is joined to the point with triangles.
+  void hullWithPoint(const glm::dvec3& point);
+  // Sweeps the body along `direction` until it has left `until` (thesis
+  // convexHullWithDirection): faces facing `direction` move, silhouette edges become quads.
+  // Clip by `until` afterwards to keep the part inside.
+  void extrude(const glm::dvec3& direction, const Aabb& until);
+
+  // Every vertex through a homogeneous transform (divided by w; w must stay positive).
+  ConvexBody transformed(const glm::dmat4& m) const;
+
+ private:
+  std::vector<Polygon> polygons_;
+};
+
+// Outward unit normal of a convex polygon (Newell's method); zero for a degenerate polygon.
+glm::dvec3 polygonNormal(const Polygon& polygon);
+
+}  // namespace forest

@@ -1,0 +1,339 @@
+#include "forest/core/convex_body.hpp"
+
+#include <glm/gtx/component_wise.hpp>
+
+#include <algorithm>
+#include <limits>
+#include <array>
+#include <cmath>
+#include <map>
+
+namespace forest {
+namespace {
+
+using glm::dvec3;
+
+bool lexLess(const dvec3& a, const dvec3& b) {
+  if (a.x != b.x) return a.x < b.x;
+  if (a.y != b.y) return a.y < b.y;
+  return a.z < b.z;
+}
+
+struct LexLess {
+  bool operator()(const dvec3& a, const dvec3& b) const { return lexLess(a, b); }
+  bool operator()(const std::pair<dvec3, dvec3>& a, const std::pair<dvec3, dvec3>& b) const {
+    if (a.first != b.first) return lexLess(a.first, b.first);
+    return lexLess(a.second, b.second);
+  }
+};
+
+// The point where edge a–b crosses the plane, computed from the lexicographically smaller end so
+// that both polygons sharing the edge get the same bits.
+dvec3 crossing(dvec3 a, double da, dvec3 b, double db) {
+  if (lexLess(b, a)) {
+    std::swap(a, b);
+    std::swap(da, db);
+  }
+  const double t = da / (da - db);
+  return a + t * (b - a);
+}
+
+dvec3 centroidOf(const std::vector<dvec3>& points) {
+  dvec3 sum(0.0);
+  for (const dvec3& p : points) sum += p;
+  return points.empty() ? sum : sum / static_cast<double>(points.size());
+}
+
+// Removes exact duplicates, keeping the first occurrence order irrelevant.
+std::vector<dvec3> distinct(std::vector<dvec3> points) {
+  std::sort(points.begin(), points.end(), lexLess);
+  points.erase(std::unique(points.begin(), points.end()), points.end());
+  return points;
+}
+
+// Orders coplanar points counter-clockwise about `normal`; empty if they span no area.
+Polygon polygonFromCoplanarPoints(const std::vector<dvec3>& pointsIn, const dvec3& normal, double tolerance) {
+  const std::vector<dvec3> points = distinct(pointsIn);
+  if (points.size() < 3) return {};
+  const dvec3 c = centroidOf(points);
+  const dvec3 helper = std::abs(normal.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0);
+  const dvec3 u = glm::normalize(glm::cross(normal, helper));
+  const dvec3 v = glm::cross(normal, u);
+  std::vector<std::pair<double, dvec3>> byAngle;
+  for (const dvec3& p : points) byAngle.emplace_back(std::atan2(glm::dot(p - c, v), glm::dot(p - c, u)), p);
+  std::sort(byAngle.begin(), byAngle.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  Polygon polygon;
+  for (const auto& [angle, p] : byAngle) polygon.push_back(p);
+  // Twice the area must exceed a sliver of tolerance × size.
+  dvec3 newell(0.0);
+  for (size_t i = 0; i < polygon.size(); ++i) newell += glm::cross(polygon[i], polygon[(i + 1) % polygon.size()]);
+  if (glm::length(newell) <= tolerance * tolerance) return {};
+  return polygon;
+}
+
+// Reverses polygons whose normal points towards the body's centroid (convex bodies only).
+void orientOutward(std::vector<Polygon>& polygons) {
+  std::vector<dvec3> all;
+  for (const Polygon& p : polygons) all.insert(all.end(), p.begin(), p.end());
+  const dvec3 c = centroidOf(distinct(all));
+  for (Polygon& p : polygons) {
+    if (glm::dot(polygonNormal(p), centroidOf(p) - c) < 0.0) std::reverse(p.begin(), p.end());
+  }
+}
+
+void dropDegenerate(std::vector<Polygon>& polygons) {
+  for (Polygon& p : polygons) p.erase(std::unique(p.begin(), p.end()), p.end());
+  for (Polygon& p : polygons) {
+    if (p.size() > 1 && p.front() == p.back()) p.pop_back();
+  }
+  std::erase_if(polygons, [](const Polygon& p) { return p.size() < 3 || polygonNormal(p) == dvec3(0.0); });
+}
+
+// A flat body (one polygon) becomes two-sided so that every edge has a twin.
+void makeTwoSidedIfFlat(std::vector<Polygon>& polygons) {
+  if (polygons.size() != 1) return;
+  Polygon back(polygons[0].rbegin(), polygons[0].rend());
+  polygons.push_back(std::move(back));
+}
+
+using EdgeOwners = std::map<std::pair<dvec3, dvec3>, size_t, LexLess>;
+
+EdgeOwners directedEdges(const std::vector<Polygon>& polygons) {
+  EdgeOwners owners;
+  for (size_t i = 0; i < polygons.size(); ++i) {
+    const Polygon& p = polygons[i];
+    for (size_t k = 0; k < p.size(); ++k) owners[{p[k], p[(k + 1) % p.size()]}] = i;
+  }
+  return owners;
+}
+
+}  // namespace
+
+dvec3 polygonNormal(const Polygon& polygon) {
+  dvec3 n(0.0);
+  const dvec3 c = centroidOf(polygon);  // relative to the centroid: exact far from the origin
+  for (size_t i = 0; i < polygon.size(); ++i) {
+    n += glm::cross(polygon[i] - c, polygon[(i + 1) % polygon.size()] - c);
+  }
+  const double length = glm::length(n);
+  return length > 0.0 ? n / length : dvec3(0.0);
+}
+
+ConvexBody ConvexBody::fromCorners(const std::array<dvec3, 8>& c) {
+  // Faces by corner index (bit 0 = x, bit 1 = y, bit 2 = z).
+  constexpr int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  std::vector<Polygon> polygons;
+  for (const auto& f : faces) polygons.push_back({c[f[0]], c[f[1]], c[f[2]], c[f[3]]});
+  dropDegenerate(polygons);
+  orientOutward(polygons);
+  return ConvexBody(std::move(polygons));
+}
+
+ConvexBody ConvexBody::fromBox(const Aabb& box) {
+  std::array<dvec3, 8> corners;
+  for (int i = 0; i < 8; ++i) corners[i] = box.corner(i);
+  ConvexBody body = fromCorners(corners);
+  if (body.polygons_.empty() && box.valid()) {  // flat box: its largest face
+    const dvec3 e = box.extent();
+    Polygon face;
+    if (e.x > 0 && e.z > 0) face = {box.corner(0), box.corner(1), box.corner(5), box.corner(4)};
+    else if (e.x > 0 && e.y > 0) face = {box.corner(0), box.corner(1), box.corner(3), box.corner(2)};
+    else if (e.y > 0 && e.z > 0) face = {box.corner(0), box.corner(2), box.corner(6), box.corner(4)};
+    if (!face.empty()) body.polygons_.push_back(face);
+  }
+  return body;
+}
+
+ConvexBody ConvexBody::fromInverseViewProjection(const glm::dmat4& inverseViewProjection) {
+  std::array<dvec3, 8> corners;
+  for (int i = 0; i < 8; ++i) {
+    const glm::dvec4 ndc(i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? 1.0 : 0.0, 1.0);
+    const glm::dvec4 world = inverseViewProjection * ndc;
+    corners[i] = dvec3(world) / world.w;
+  }
+  return fromCorners(corners);
+}
+
+std::vector<dvec3> ConvexBody::vertices() const {
+  std::vector<dvec3> all;
+  for (const Polygon& p : polygons_) all.insert(all.end(), p.begin(), p.end());
+  return distinct(std::move(all));
+}
+
+Aabb ConvexBody::bounds() const {
+  Aabb box;
+  for (const Polygon& p : polygons_)
+    for (const dvec3& v : p) box.extend(v);
+  return box;
+}
+
+double ConvexBody::tolerance() const {
+  const Aabb box = bounds();
+  if (!box.valid()) return 0.0;
+  const double magnitude = glm::compMax(glm::max(glm::abs(box.min), glm::abs(box.max)));
+  return std::max(kRelativeTolerance * box.diagonal(), 64.0 * std::numeric_limits<double>::epsilon() * magnitude);
+}
+
+double ConvexBody::volume() const {
+  if (polygons_.size() < 4) return 0.0;
+  const dvec3 c = centroidOf(vertices());  // relative coordinates keep far-away bodies exact
+  double sixVolume = 0.0;
+  for (const Polygon& p : polygons_) {
+    for (size_t i = 1; i + 1 < p.size(); ++i) sixVolume += glm::dot(p[0] - c, glm::cross(p[i] - c, p[i + 1] - c));
+  }
+  return sixVolume / 6.0;
+}
+
+bool ConvexBody::isClosed() const {
+  if (polygons_.empty()) return false;
+  const EdgeOwners owners = directedEdges(polygons_);
+  for (const auto& [edge, polygon] : owners) {
+    const auto twin = owners.find({edge.second, edge.first});
+    if (twin == owners.end() || twin->second == polygon) return false;
+  }
+  return true;
+}
+
+bool ConvexBody::isFlat() const {
+  if (polygons_.empty()) return false;
+  const dvec3 n = polygonNormal(polygons_.front());
+  const Plane plane = Plane::through(polygons_.front().front(), n);
+  const double eps = tolerance();
+  for (const dvec3& v : vertices()) {
+    if (std::abs(plane.signedDistance(v)) > eps) return false;
+  }
+  return true;
+}
+
+void ConvexBody::clip(const Plane& plane) {
+  if (polygons_.empty()) return;
+  const double eps = tolerance();
+  std::vector<Polygon> kept;
+  std::vector<dvec3> onPlane;
+  for (const Polygon& polygon : polygons_) {
+    std::vector<double> d(polygon.size());
+    bool allOnPlane = true;
+    for (size_t i = 0; i < polygon.size(); ++i) {
+      d[i] = plane.signedDistance(polygon[i]);
+      allOnPlane = allOnPlane && std::abs(d[i]) <= eps;
+    }
+    if (allOnPlane) {  // rebuilt as part of the cap
+      onPlane.insert(onPlane.end(), polygon.begin(), polygon.end());
+      continue;
+    }
+    Polygon clipped;
+    for (size_t i = 0; i < polygon.size(); ++i) {
+      const size_t j = (i + 1) % polygon.size();
+      if (d[i] <= eps) {
+        clipped.push_back(polygon[i]);
+        if (std::abs(d[i]) <= eps) onPlane.push_back(polygon[i]);
+      }
+      if ((d[i] < -eps && d[j] > eps) || (d[i] > eps && d[j] < -eps)) {
+        const dvec3 p = crossing(polygon[i], d[i], polygon[j], d[j]);
+        clipped.push_back(p);
+        onPlane.push_back(p);
+      }
+    }
+    if (clipped.size() >= 3) kept.push_back(std::move(clipped));
+  }
+  dropDegenerate(kept);
+  Polygon cap = polygonFromCoplanarPoints(onPlane, glm::normalize(plane.normal), eps);
+  if (!cap.empty()) kept.push_back(std::move(cap));
+  polygons_ = std::move(kept);
+}
+
+void ConvexBody::clip(const Aabb& box) {
+  clip(Plane{{-1, 0, 0}, box.min.x});
+  clip(Plane{{1, 0, 0}, -box.max.x});
+  clip(Plane{{0, -1, 0}, box.min.y});
+  clip(Plane{{0, 1, 0}, -box.max.y});
+  clip(Plane{{0, 0, -1}, box.min.z});
+  clip(Plane{{0, 0, 1}, -box.max.z});
+}
+
+void ConvexBody::clip(const ConvexBody& other) {
+  std::vector<Plane> planes;
+  for (const Polygon& p : other.polygons_) planes.push_back(Plane::through(centroidOf(p), polygonNormal(p)));
+  if (other.polygons_.empty()) {
+    polygons_.clear();
+    return;
+  }
+  for (const Plane& plane : planes) clip(plane);
+}
+
+void ConvexBody::hullWithPoint(const dvec3& point) {
+  if (polygons_.empty()) {
+    return;
+  }
+  makeTwoSidedIfFlat(polygons_);
+  const double eps = tolerance();
+  std::vector<bool> sees(polygons_.size());
+  bool any = false;
+  for (size_t i = 0; i < polygons_.size(); ++i) {
+    sees[i] = Plane::through(polygons_[i].front(), polygonNormal(polygons_[i])).signedDistance(point) > eps;
+    any = any || sees[i];
+  }
+  if (!any) return;  // the point is inside
+  const EdgeOwners owners = directedEdges(polygons_);
+  std::vector<Polygon> result;
+  for (size_t i = 0; i < polygons_.size(); ++i) {
+    if (sees[i]) continue;
+    const Polygon& p = polygons_[i];
+    result.push_back(p);
+    for (size_t k = 0; k < p.size(); ++k) {
+      const dvec3& a = p[k];
+      const dvec3& b = p[(k + 1) % p.size()];
+      const auto twin = owners.find({b, a});
+      if (twin == owners.end() || sees[twin->second]) result.push_back({a, b, point});
+    }
+  }
+  dropDegenerate(result);
+  orientOutward(result);
+  polygons_ = std::move(result);
+}
+
+void ConvexBody::extrude(const dvec3& direction, const Aabb& until) {
+  if (polygons_.empty() || glm::length(direction) == 0.0) return;
+  const dvec3 d = glm::normalize(direction);
+  Aabb reach = bounds();
+  if (until.valid()) reach.extend(until);
+  const dvec3 offset = (2.0 * reach.diagonal() + 1.0) * d;
+
+  makeTwoSidedIfFlat(polygons_);
+  std::vector<bool> facing(polygons_.size());
+  for (size_t i = 0; i < polygons_.size(); ++i) facing[i] = glm::dot(polygonNormal(polygons_[i]), d) > 1e-12;
+  const EdgeOwners owners = directedEdges(polygons_);
+  std::vector<Polygon> result;
+  for (size_t i = 0; i < polygons_.size(); ++i) {
+    Polygon p = polygons_[i];
+    for (size_t k = 0; k < p.size(); ++k) {
+      const dvec3& a = p[k];
+      const dvec3& b = p[(k + 1) % p.size()];
+      const auto twin = owners.find({b, a});
+      // A silhouette edge (one side facing, one not) becomes a quad along the sweep; an edge
+      // without a twin is treated as silhouette so that no hole is left.
+      const bool silhouette = twin == owners.end() ? true : (facing[i] != facing[twin->second]);
+      if (silhouette && (!facing[i] || twin == owners.end())) result.push_back({a, b, b + offset, a + offset});
+    }
+    if (facing[i]) {
+      for (dvec3& v : p) v += offset;
+    }
+    result.push_back(std::move(p));
+  }
+  dropDegenerate(result);
+  orientOutward(result);
+  polygons_ = std::move(result);
+}
+
+ConvexBody ConvexBody::transformed(const glm::dmat4& m) const {
+  std::vector<Polygon> out = polygons_;
+  for (Polygon& p : out) {
+    for (dvec3& v : p) {
+      const glm::dvec4 h = m * glm::dvec4(v, 1.0);
+      v = dvec3(h) / h.w;
+    }
+  }
+  return ConvexBody(std::move(out));
+}
+
+}  // namespace forest
