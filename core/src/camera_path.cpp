@@ -56,6 +56,11 @@ CameraPath::CameraPath(std::vector<PathKey> keys, std::string name) : keys_(std:
     double delta = std::remainder(keys_[i].pose.yaw_deg - keys_[i - 1].pose.yaw_deg, 360.0);
     unwrappedYaw_[i] = unwrappedYaw_[i - 1] + delta;
   }
+  for (const PathKey& k : keys_) {
+    times_.push_back(k.time);
+    positions_.push_back(k.pose.position);
+    pitches_.push_back(k.pose.pitch_deg);
+  }
 }
 
 CameraPath CameraPath::parse(const std::string& text, const std::string& name) {
@@ -98,25 +103,18 @@ CameraPose CameraPath::at(double time) const {
   }
   if (time >= endTime()) return {keys_.back().pose.position, unwrappedYaw_.back(), keys_.back().pose.pitch_deg};
 
-  std::vector<double> t(keys_.size());
-  std::vector<glm::dvec3> position(keys_.size());
-  std::vector<double> pitch(keys_.size());
-  for (size_t i = 0; i < keys_.size(); ++i) {
-    t[i] = keys_[i].time;
-    position[i] = keys_[i].pose.position;
-    pitch[i] = keys_[i].pose.pitch_deg;
-  }
+  const std::vector<double>& t = times_;
   const size_t i = static_cast<size_t>(std::upper_bound(t.begin(), t.end(), time) - t.begin()) - 1;
   const double dt = t[i + 1] - t[i];
   const double s = (time - t[i]) / dt;
   CameraPose pose;
-  pose.position = hermite(position[i], tangentAt(t, position, i), position[i + 1],
-                          tangentAt(t, position, i + 1), dt, s);
+  pose.position = hermite(positions_[i], tangentAt(t, positions_, i), positions_[i + 1],
+                          tangentAt(t, positions_, i + 1), dt, s);
   pose.yaw_deg = hermite(unwrappedYaw_[i], tangentAt(t, unwrappedYaw_, i), unwrappedYaw_[i + 1],
                          tangentAt(t, unwrappedYaw_, i + 1), dt, s);
   // The spline may overshoot between keys; pitch stays a valid elevation.
-  pose.pitch_deg = std::clamp(hermite(pitch[i], tangentAt(t, pitch, i), pitch[i + 1],
-                                      tangentAt(t, pitch, i + 1), dt, s),
+  pose.pitch_deg = std::clamp(hermite(pitches_[i], tangentAt(t, pitches_, i), pitches_[i + 1],
+                                      tangentAt(t, pitches_, i + 1), dt, s),
                               -90.0, 90.0);
   return pose;
 }

@@ -252,12 +252,12 @@ void ConvexBody::clip(const Aabb& box) {
 }
 
 void ConvexBody::clip(const ConvexBody& other) {
-  std::vector<Plane> planes;
-  for (const Polygon& p : other.polygons_) planes.push_back(Plane::through(centroidOf(p), polygonNormal(p)));
   if (other.polygons_.empty()) {
     polygons_.clear();
     return;
   }
+  std::vector<Plane> planes;  // copied first: `other` may be this body
+  for (const Polygon& p : other.polygons_) planes.push_back(Plane::through(centroidOf(p), polygonNormal(p)));
   for (const Plane& plane : planes) clip(plane);
 }
 

@@ -214,8 +214,7 @@ ShadowSetup computeShadowSetup(const ShadowInput& in, ShadowMethod method) {
     // World-fixed in-plane axes (the world axis least parallel to the light), extent from V's
     // bounding sphere (independent of the camera's rotation), origin snapped to texels.
     const dvec3 axis = std::abs(l.z) < 0.9 ? dvec3(0, 0, 1) : dvec3(1, 0, 0);
-    Camera fixedUp = camera;
-    const dmat4 frame = computeLightFrame(toLight, axis, fixedUp, dvec3(0.0));
+    const dmat4 frame = computeLightFrame(toLight, axis, camera, dvec3(0.0));
     const ConvexBody frustum = viewFrustumBody(camera);
     const std::vector<dvec3> corners = frustum.vertices();
     dvec3 centre(0.0);

@@ -49,7 +49,11 @@ class CameraPath {
 
  private:
   std::vector<PathKey> keys_;
+  // The keys split per channel once, for at(): times, positions, unwrapped yaw, pitch.
+  std::vector<double> times_;
+  std::vector<glm::dvec3> positions_;
   std::vector<double> unwrappedYaw_;
+  std::vector<double> pitches_;
 };
 
 }  // namespace forest
