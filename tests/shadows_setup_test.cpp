@@ -3,12 +3,9 @@
 // float32 matrix the GPU gets.
 #include <gtest/gtest.h>
 
-
-
-
 #include "forest/core/error.hpp"
-
 #include "forest/shadows/shadow_setup.hpp"
+#include "forest/shadows/stability.hpp"
 
 namespace forest::shadows {
 namespace {
@@ -16,8 +13,6 @@ namespace {
 using glm::dvec3;
 
 constexpr ShadowMethod kMethods[] = {ShadowMethod::Uniform, ShadowMethod::UniformStable, ShadowMethod::Lispsm};
-// A vertex of B may sit this far outside [−1, 1]³ after the float32 matrix (rounding only).
-constexpr double kCubeTolerance = 1e-4;
 
 Camera makeCamera(dvec3 position, double yawDeg, double pitchDeg, double fovyDeg, double aspect, double near,
                   double far) {
@@ -96,21 +91,11 @@ TEST(LispsmN, MonotoneInGammaAndFadesContinuously) {
 void expectInvariants(const ShadowInput& in, const std::string& name) {
   for (ShadowMethod method : kMethods) {
     const ShadowSetup s = computeShadowSetup(in, method);
-    const std::string where = name + " / " + std::string(shadowMethodName(method));
-    for (int i = 0; i < 4; ++i)
-      for (int j = 0; j < 4; ++j) ASSERT_TRUE(std::isfinite(s.eyeRelativeToShadowClipF[i][j])) << where;
-    if (s.empty) continue;
-    EXPECT_GT(s.diagnostics.bodyVertices, 0u) << where;
-    const glm::dmat4 gpu(s.eyeRelativeToShadowClipF);
-    for (const dvec3& v : s.body.vertices()) {
-      const glm::dvec4 h = gpu * glm::dvec4(glm::vec3(v - in.camera.position), 1.0);  // as the GPU sees it
-      ASSERT_GT(h.w, 0.0) << where;
-      const dvec3 p = dvec3(h) / h.w;
-      ASSERT_LE(std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}), 1.0 + kCubeTolerance) << where << " vertex at " << p.x << " " << p.y << " " << p.z;
-    }
-    if (method == ShadowMethod::Lispsm) {
-      EXPECT_GT(s.diagnostics.n, 0.0) << where;
-      EXPECT_TRUE(std::isfinite(s.diagnostics.n)) << where;
+    const StabilityReport report = checkSetupInvariants(in, method, s);
+    for (const InvariantCheck& check : report.checks)
+      EXPECT_TRUE(check.passed) << name << " / " << shadowMethodName(method) << ": " << check.name << ": " << check.detail;
+    if (!s.empty) {
+      EXPECT_GT(s.diagnostics.bodyVertices, 0u) << name;
     }
   }
 }

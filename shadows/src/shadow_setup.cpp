@@ -24,6 +24,8 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr double kParallelSin = 1e-9;
 // Vertices of V ∩ S within this share of its depth range of the nearest one are averaged into e.
 constexpr double kNearVertexShare = 1e-3;
+// B is flat across the light when its depth along the warp axis is below this share of its size.
+constexpr double kFlatShare = 1e-12;
 
 dvec3 transformPoint(const dmat4& m, const dvec3& p) {
   const dvec4 h = m * dvec4(p, 1.0);
@@ -52,7 +54,7 @@ dmat4 computeLightFrame(const dvec3& toLight, const dvec3& bodyVector, const Cam
   const dvec3 y = toLight;
   dvec3 x = glm::cross(bodyVector, y);
   if (glm::length(x) < kParallelSin) {
-    const dvec3 cameraUp = directionFromYawPitch(camera.yaw, camera.pitch + std::numbers::pi / 2.0);
+    const dvec3 cameraUp = camera.up();
     x = glm::cross(cameraUp, y);
   }
   x = glm::normalize(x);
@@ -121,37 +123,61 @@ dmat4 computeWarp(double u, const dvec3& eLs, double bZnear) {
   return m;
 }
 
-// Share of [−1, 1] kept free at each border: the float32 matrix of a strong warp rounds B's
-// vertices by up to ~2e-4 (measured over 10⁴ random setups); this keeps them inside the map.
-constexpr double kGuardBand = 1e-3;
+// Scale and translate so that the box fills [−1 + m, 1 − m] in x and y and [−1, 1] in z: m is
+// the border kept free for the filter footprint (DESIGN §4: PCF and blur at B's border must read
+// valid depth).
+// An axis along which B is flat (a flat scene under a noon sun) is given a thickness of
+// kMinExtentShare of B's largest extent, so the scale stays finite and float32-friendly.
+constexpr double kMinExtentShare = 1e-3;
 
-// Scale and translate so that the points' bounds fill [−1 + g, 1 − g]³.
-dmat4 fitToUnitCube(const Aabb& box) {
-  const dvec3 extent = glm::max(box.extent(), dvec3(1e-300));
-  const double scale = 1.0 - kGuardBand;
+dmat4 fitToUnitCube(const Aabb& box, double borderXY) {
+  const dvec3 size = box.extent();
+  const double largest = std::max({size.x, size.y, size.z});
+  const dvec3 extent = glm::max(size, dvec3(largest > 0.0 ? kMinExtentShare * largest : 1.0));
   dmat4 m(1.0);
   for (int i = 0; i < 3; ++i) {
+    const double scale = i < 2 ? 1.0 - borderXY : 1.0;
     m[i][i] = scale * 2.0 / extent[i];
     m[3][i] = -scale * (box.max[i] + box.min[i]) / extent[i];
   }
   return m;
 }
 
+double clipBorder(const ShadowInput& in) { return 2.0 * in.borderTexels / in.mapSize; }
+
 // Fits an orthographic map to B in the given light frame.
-dmat4 fitUniform(const dmat4& lightFrame, const std::vector<dvec3>& bodyVertices) {
+dmat4 fitUniform(const dmat4& lightFrame, const std::vector<dvec3>& bodyVertices, double borderXY) {
   const dmat4 warp = computeWarp(0.0, dvec3(0.0), 0.0);
   const dmat4 toMap = warp * lightFrame;
-  return fitToUnitCube(boundsIn(toMap, bodyVertices)) * toMap;
+  return fitToUnitCube(boundsIn(toMap, bodyVertices), borderXY) * toMap;
 }
 
 double angleDeg(const dvec3& a, const dvec3& b) {
   return glm::degrees(std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b)));
 }
 
+// The float32 matrices, with B kept inside [−1, 1]³ as the GPU computes it: a fit exact in
+// double can leave B's vertices outside by ~1e-3 after float32 rounding when B is 10⁴ times
+// longer than wide (camera-relative positions of 1e5 m keep only ~6 mm). Each shadow-clip axis
+// is shrunk about 0 until the worst case (float matrix, float positions, plus the bound on the
+// GPU's rounding) is inside: see mapCoordinateBound.
 ShadowSetup finish(ShadowSetup setup, const dvec3& eye) {
+  const std::vector<dvec3> vertices = setup.body.vertices();
+  for (int attempt = 0;; ++attempt) {
+    setup.eyeRelativeToShadowClipF = glm::mat4(setup.worldToShadowClip * glm::translate(dmat4(1.0), eye));
+    dvec3 worst(0.0);
+    for (const dvec3& v : vertices) worst = glm::max(worst, mapCoordinateBound(setup.eyeRelativeToShadowClipF, v - eye));
+    if (worst.x <= 1.0 && worst.y <= 1.0 && worst.z <= 1.0) break;
+    if (attempt == 8) throw Error("shadow setup: cannot keep the focus body inside the map in float32");
+    for (int axis = 0; axis < 3; ++axis) {
+      if (worst[axis] <= 1.0) continue;
+      const double shrink = (1.0 - 4.0 * kFloatUnitRoundoff) / worst[axis];
+      for (int c = 0; c < 4; ++c) setup.worldToShadowClip[c][axis] *= shrink;
+      setup.diagnostics.floatShrink = std::max(setup.diagnostics.floatShrink, 1.0 - shrink);
+    }
+  }
   setup.worldToShadowClipF = glm::mat4(setup.worldToShadowClip);
-  setup.eyeRelativeToShadowClipF = glm::mat4(setup.worldToShadowClip * glm::translate(dmat4(1.0), eye));
-  setup.diagnostics.bodyVertices = setup.body.vertices().size();
+  setup.diagnostics.bodyVertices = vertices.size();
   return setup;
 }
 
@@ -173,6 +199,25 @@ std::string_view shadowMethodName(ShadowMethod method) {
   return "?";
 }
 
+dvec3 mapCoordinateBound(const glm::mat4& eyeRelativeToShadowClip, const dvec3& eyeRelativePosition) {
+  // Rounding of a float dot product of 4 terms, in any order or with FMA: |error| ≤ γ₄ Σ|aᵢbᵢ|,
+  // γ₄ = 4u / (1 − 4u) (Higham, Accuracy and Stability, §3.1); the divide by w adds u.
+  constexpr double u = kFloatUnitRoundoff, gamma4 = 4.0 * u / (1.0 - 4.0 * u);
+  const glm::dvec4 p(glm::dvec3(glm::vec3(eyeRelativePosition)), 1.0);  // what the GPU gets
+  const glm::dmat4 m(eyeRelativeToShadowClip);
+  glm::dvec4 h(0.0), magnitude(0.0);
+  for (int c = 0; c < 4; ++c) {
+    h += m[c] * p[c];
+    magnitude += glm::abs(m[c] * p[c]);
+  }
+  const glm::dvec4 error = gamma4 * magnitude;
+  const double w = h.w - error.w;
+  if (!(w > 0.0)) return dvec3(kInfinity);
+  dvec3 bound;
+  for (int i = 0; i < 3; ++i) bound[i] = ((std::abs(h[i]) + error[i]) / w) * (1.0 + u);
+  return bound;
+}
+
 double lispsmNearDistance(double d, double z0, double z1) {
   const double ratio = z1 / z0;
   if (!(ratio > 1.0) || !std::isfinite(ratio)) return kInfinity;
@@ -183,7 +228,7 @@ void validateShadowInput(const ShadowInput& in) {
   const Camera& c = in.camera;
   const double sun = glm::length(in.sunDirection);
   if (!std::isfinite(sun) || sun < 1e-300) throw InputError("sun_dir: expected a finite non-zero vector");
-  for (double v : {c.position.x, c.position.y, c.position.z, c.yaw, c.pitch, c.fovy, c.aspect, c.near, c.far}) {
+  for (double v : {c.position.x, c.position.y, c.position.z, c.yaw, c.pitch, c.roll, c.fovy, c.aspect, c.near, c.far}) {
     if (!std::isfinite(v)) throw InputError("camera: values must be finite");
   }
   if (!(c.near > 0.0) || !(c.far > c.near)) throw InputError("camera: expected 0 < near < far");
@@ -191,6 +236,10 @@ void validateShadowInput(const ShadowInput& in) {
   if (!(c.aspect > 0.0)) throw InputError("camera: expected aspect > 0");
   if (!in.scene.valid() || !std::isfinite(in.scene.diagonal())) throw InputError("scene box: expected finite min <= max");
   if (in.nFar && !(*in.nFar > c.near)) throw InputError("n_far: expected a distance greater than near");
+  if (in.mapSize < 16 || in.mapSize > kMaxMapSize)
+    throw InputError(fmt::format("map size {}: expected 16 to {} texels", in.mapSize, kMaxMapSize));
+  if (in.borderTexels < 0 || 4 * in.borderTexels >= in.mapSize)
+    throw InputError(fmt::format("border {} texels: expected 0 to a quarter of the map size", in.borderTexels));
 }
 
 ShadowSetup computeShadowSetup(const ShadowInput& in, ShadowMethod method) {
@@ -224,13 +273,15 @@ ShadowSetup computeShadowSetup(const ShadowInput& in, ShadowMethod method) {
     for (const dvec3& p : corners) radius = std::max(radius, glm::distance(p, centre));
     const dmat4 toMap = computeWarp(0.0, dvec3(0.0), 0.0) * frame;
     const dvec3 centreMap = transformPoint(toMap, centre);
-    const double texel = 2.0 * radius / in.mapSize;
+    // mapSize texels of equal size cover the sphere's square plus one texel of snapping slack
+    // plus the filter border on each side; the map's origin sits on a whole texel.
+    const double texel = 2.0 * radius / (in.mapSize - 1 - 2 * in.borderTexels);
     Aabb box = boundsIn(toMap, bodyVertices);
-    box.min.x = std::floor((centreMap.x - radius) / texel) * texel;
-    box.min.y = std::floor((centreMap.y - radius) / texel) * texel;
-    box.max.x = box.min.x + 2.0 * radius + texel;
-    box.max.y = box.min.y + 2.0 * radius + texel;
-    setup.worldToShadowClip = fitToUnitCube(box) * toMap;
+    for (int a = 0; a < 2; ++a) {
+      box.min[a] = (std::floor((centreMap[a] - radius) / texel) - in.borderTexels) * texel;
+      box.max[a] = box.min[a] + in.mapSize * texel;
+    }
+    setup.worldToShadowClip = fitToUnitCube(box, 0.0) * toMap;
     return finish(setup, camera.position);
   }
 
@@ -238,7 +289,7 @@ ShadowSetup computeShadowSetup(const ShadowInput& in, ShadowMethod method) {
   // points "up" the map), rooted at the eye.
   const dmat4 lightFrame = computeLightFrame(toLight, bodyVector, camera, camera.position);
   if (method == ShadowMethod::Uniform) {
-    setup.worldToShadowClip = fitUniform(lightFrame, bodyVertices);
+    setup.worldToShadowClip = fitUniform(lightFrame, bodyVertices, clipBorder(in));
     return finish(setup, camera.position);
   }
 
@@ -261,19 +312,24 @@ ShadowSetup computeShadowSetup(const ShadowInput& in, ShadowMethod method) {
   const double d = nBox.max.z - nBox.min.z;
   const auto [z0, z1] = computeZ0Z1(lightFrame, camera, eWorld, nBox.max.z, nBox.min.z);
   const double nOpt = lispsmNearDistance(d, z0, z1);
-  const double cap = kLispsmCapFactor * std::max(d, bLs.max.z - bLs.min.z);
   ShadowDiagnostics& diag = setup.diagnostics;
   diag.z0 = z0;
   diag.z1 = z1;
   diag.d = d;
-  diag.n = std::min(nOpt, cap);
+  // The cap scales with B's depth along the warp axis; a B flat across the light has none, and
+  // then nothing to warp: the cap falls back to B's size.
+  const double depthScale = std::max(d, bLs.max.z - bLs.min.z);
+  const bool flatAcrossLight = !(depthScale > kFlatShare * bLs.diagonal());
+  diag.nCap = kLispsmCapFactor * (flatAcrossLight ? bLs.diagonal() : depthScale);
+  diag.n = flatAcrossLight ? diag.nCap : std::min(nOpt, diag.nCap);
   // Fade: the warp strength 1/n falls linearly to 0 as n reaches the cap.
-  const double u = std::isfinite(nOpt) && nOpt > 0.0 ? std::max(0.0, 1.0 / nOpt - 1.0 / cap) : 0.0;
+  const double u = !flatAcrossLight && std::isfinite(nOpt) && nOpt > 0.0 ? std::max(0.0, 1.0 / nOpt - 1.0 / diag.nCap) : 0.0;
   diag.warp = u;
-  if (u == 0.0) diag.fallback = "n at cap: uniform";
+  if (flatAcrossLight) diag.fallback = "B flat across the light: uniform";
+  else if (u == 0.0) diag.fallback = "n at cap: uniform";
 
   const dmat4 toMap = computeWarp(u, eLs, bLs.max.z) * lightFrame;
-  setup.worldToShadowClip = fitToUnitCube(boundsIn(toMap, bodyVertices)) * toMap;
+  setup.worldToShadowClip = fitToUnitCube(boundsIn(toMap, bodyVertices), clipBorder(in)) * toMap;
   return finish(setup, camera.position);
 }
 

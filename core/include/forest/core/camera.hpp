@@ -12,13 +12,22 @@ struct Camera {
   glm::dvec3 position{0.0};
   double yaw = 0.0;    // radians
   double pitch = 0.0;  // radians, within [−π/2, π/2]
+  double roll = 0.0;   // radians about the view axis; positive turns the image clockwise
   double fovy = glm::radians(60.0);  // vertical field of view, radians
   double aspect = 16.0 / 9.0;        // width / height
   double near = 0.1;
   double far = 70.0;
 
-  // Unit view direction.
+  // Unit view direction, and the image's up and right directions in the world.
   glm::dvec3 forward() const;
+  glm::dvec3 up() const;
+  glm::dvec3 right() const;
+  // World-from-camera rotation R_y(yaw) · R_x(pitch) · R_z(roll).
+  glm::dmat4 rotation() const;
+  // Sets yaw, pitch and roll so that the camera looks along `viewDirection` with the image's up
+  // as close to `upHint` as possible (neither needs to be unit). Throws InputError when either is
+  // zero or not finite, or when they are parallel.
+  void orient(const glm::dvec3& viewDirection, const glm::dvec3& upHint);
   // World → eye (right-handed, eye looks along −z).
   glm::dmat4 view() const;
   // Eye → clip, reversed-Z, zero-to-one depth.

@@ -25,6 +25,8 @@ std::string_view shadowMethodName(ShadowMethod method);
 // Past n > kLispsmCapFactor · d the warp is gone (thesis §8.3: LiSPSM converges to uniform as
 // γ → 0); the warp strength 1/n fades linearly to 0 at the cap, so there is no jump.
 constexpr double kLispsmCapFactor = 1e3;
+constexpr int kMaxMapSize = 16384;  // texels per side; larger maps are refused (DESIGN §7)
+constexpr double kFloatUnitRoundoff = 0x1p-24;  // u of IEEE binary32
 
 struct ShadowInput {
   Camera camera;
@@ -32,11 +34,13 @@ struct ShadowInput {
   Aabb scene;                               // S
   std::optional<Aabb> receivers;            // bounds of the visible receivers (tighter B)
   std::optional<double> nFar;               // (smoothed) far distance of the visible set, for n only (§9.2.5)
-  int mapSize = 2048;                       // texels per side (uniform-stable snapping)
+  int mapSize = 2048;                       // texels per side
+  int borderTexels = 2;                     // kept free around B for the PCF and blur footprint
 };
 
 struct ShadowDiagnostics {
   double n = 0.0;          // LiSPSM near distance (eq. 8.13), clamped to the cap; 0 for uniform
+  double nCap = 0.0;       // kLispsmCapFactor × B's depth along the warp axis (lispsm)
   double warp = 0.0;       // 1/n actually used after the fade (0 = no warp)
   double gammaDeg = 0.0;   // angle between the body vector and the light direction
   double z0 = 0.0;         // eye-space z of z0_ls and z1_ls (§9.2.5), negative in front
@@ -44,6 +48,7 @@ struct ShadowDiagnostics {
   double d = 0.0;          // light-space depth extent of B along the warp axis
   size_t bodyVertices = 0;
   std::string fallback;    // "" or why the method fell back ("empty focus body", "n at cap", ...)
+  double floatShrink = 0.0;  // share of the map given up to keep B inside it in float32 (usually 0)
 };
 
 struct ShadowSetup {
@@ -60,6 +65,11 @@ struct ShadowSetup {
 // Validates the input (throws InputError: zero or non-finite sun, near ≥ far, ...).
 void validateShadowInput(const ShadowInput& input);
 ShadowSetup computeShadowSetup(const ShadowInput& input, ShadowMethod method);
+
+// Upper bound on |x|, |y|, |z| of the shadow-clip coordinates the GPU computes for a
+// camera-relative position (rounded to float32) with the float32 matrix, whatever the order of
+// its float operations: the exact result plus the rounding bound. +∞ when w may be ≤ 0.
+glm::dvec3 mapCoordinateBound(const glm::mat4& eyeRelativeToShadowClip, const glm::dvec3& eyeRelativePosition);
 
 // Eq. 8.13 with the misprint fixed (DESIGN §4): n = d / (√(z1/z0) − 1); z0, z1 negative eye-space
 // depths, |z1| > |z0|. Returns +∞ when z1/z0 ≤ 1.

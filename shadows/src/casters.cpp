@@ -1,0 +1,126 @@
+#include "forest/shadows/casters.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "forest/core/error.hpp"
+
+namespace forest::shadows {
+namespace {
+
+using glm::dvec2;
+using glm::dvec3;
+
+constexpr int kMaxGridCellsPerSide = 256;
+
+}  // namespace
+
+bool sweptBoxMeetsBox(const Aabb& caster, const dvec3& l, const Aabb& receiver) {
+  // Slab test of the ray t·l, t ≥ 0, against D = R ⊖ C.
+  const dvec3 dMin = receiver.min - caster.max, dMax = receiver.max - caster.min;
+  double tEnter = 0.0, tLeave = std::numeric_limits<double>::infinity();
+  for (int axis = 0; axis < 3; ++axis) {
+    if (l[axis] == 0.0) {
+      if (dMin[axis] > 0.0 || dMax[axis] < 0.0) return false;  // the ray's line misses the slab
+      continue;
+    }
+    double t0 = dMin[axis] / l[axis], t1 = dMax[axis] / l[axis];
+    if (t0 > t1) std::swap(t0, t1);
+    tEnter = std::max(tEnter, t0);
+    tLeave = std::min(tLeave, t1);
+    if (tEnter > tLeave) return false;
+  }
+  return true;
+}
+
+CasterSelector::CasterSelector(const dvec3& lightDirection, std::span<const Aabb> receivers)
+    : receivers_(receivers.begin(), receivers.end()) {
+  const double length = glm::length(lightDirection);
+  if (!std::isfinite(length) || length == 0.0) throw InputError("light direction: expected a finite non-zero vector");
+  light_ = lightDirection / length;
+  const dvec3 helper = std::abs(light_.y) < 0.9 ? dvec3(0, 1, 0) : dvec3(1, 0, 0);
+  across_[0] = glm::normalize(glm::cross(helper, light_));
+  across_[1] = glm::cross(light_, across_[0]);
+  if (receivers_.empty()) return;
+
+  std::vector<Footprint> footprints;
+  footprints.reserve(receivers_.size());
+  dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  for (const Aabb& r : receivers_) {
+    const Footprint f = footprint(r);
+    footprints.push_back(f);
+    lo = glm::min(lo, f.min);
+    hi = glm::max(hi, f.max);
+  }
+  // About one receiver per cell.
+  const int side = std::clamp(static_cast<int>(std::ceil(std::sqrt(static_cast<double>(receivers_.size())))), 1,
+                              kMaxGridCellsPerSide);
+  gridCells_ = glm::ivec2(side);
+  gridMin_ = lo;
+  cellSize_ = glm::max((hi - lo) / static_cast<double>(side), dvec2(1e-300));
+  cells_.resize(static_cast<size_t>(side) * side);
+  for (std::uint32_t i = 0; i < footprints.size(); ++i) {
+    const glm::ivec2 a = cellOf(footprints[i].min), b = cellOf(footprints[i].max);
+    for (int y = a.y; y <= b.y; ++y)
+      for (int x = a.x; x <= b.x; ++x) cells_[static_cast<size_t>(y) * side + x].push_back(i);
+  }
+}
+
+CasterSelector::Footprint CasterSelector::footprint(const Aabb& box) const {
+  // Projection of the box onto the plane across the light: centre ± the projected half extent.
+  const dvec3 centre = box.centre(), half = 0.5 * box.extent();
+  Footprint f;
+  for (int i = 0; i < 2; ++i) {
+    const double c = glm::dot(across_[i], centre);
+    const double r = glm::dot(glm::abs(across_[i]), half);
+    f.min[i] = c - r;
+    f.max[i] = c + r;
+  }
+  return f;
+}
+
+glm::ivec2 CasterSelector::cellOf(const dvec2& p) const {
+  const dvec2 cell = glm::floor((p - gridMin_) / cellSize_);
+  return glm::clamp(glm::ivec2(glm::clamp(cell, dvec2(-1.0), dvec2(gridCells_))), glm::ivec2(0), gridCells_ - 1);
+}
+
+bool CasterSelector::needed(const Aabb& caster) const {
+  if (receivers_.empty()) return false;
+  const Footprint f = footprint(caster);
+  // Footprints entirely outside the grid meet no receiver.
+  const dvec2 gridMax = gridMin_ + cellSize_ * dvec2(gridCells_);
+  if (f.max.x < gridMin_.x || f.max.y < gridMin_.y || f.min.x > gridMax.x || f.min.y > gridMax.y) return false;
+  const glm::ivec2 a = cellOf(f.min), b = cellOf(f.max);
+  for (int y = a.y; y <= b.y; ++y)
+    for (int x = a.x; x <= b.x; ++x)
+      for (std::uint32_t i : cells_[static_cast<size_t>(y) * gridCells_.x + x])
+        if (sweptBoxMeetsBox(caster, light_, receivers_[i])) return true;
+  return false;
+}
+
+std::vector<std::uint32_t> CasterSelector::select(std::span<const Aabb> casters) const {
+  std::vector<std::uint32_t> selected;
+  for (std::uint32_t i = 0; i < casters.size(); ++i)
+    if (needed(casters[i])) selected.push_back(i);
+  return selected;
+}
+
+bool mayIntersect(const ConvexBody& body, const Aabb& box) {
+  if (body.empty()) return false;
+  const Aabb bodyBox = body.bounds();
+  for (int axis = 0; axis < 3; ++axis)
+    if (bodyBox.max[axis] < box.min[axis] || bodyBox.min[axis] > box.max[axis]) return false;
+  const double tolerance = body.tolerance();
+  for (const Polygon& face : body.polygons()) {
+    const dvec3 normal = polygonNormal(face);
+    if (normal == dvec3(0.0)) continue;
+    // The box corner farthest against the normal: if even it is outside, the box is.
+    const dvec3 nearest(normal.x > 0 ? box.min.x : box.max.x, normal.y > 0 ? box.min.y : box.max.y,
+                        normal.z > 0 ? box.min.z : box.max.z);
+    if (glm::dot(normal, nearest - face[0]) > tolerance) return false;
+  }
+  return true;
+}
+
+}  // namespace forest::shadows

@@ -1,0 +1,184 @@
+// The stability suite: the hard cases shipped in data/stability/hard-cases.json and 10 000 random
+// configurations keep every invariant with the float32 matrix the GPU gets; small camera moves
+// move the shadow map's content continuously; case files give clear errors.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "forest/core/error.hpp"
+#include "forest/shadows/focus_body.hpp"
+#include "forest/shadows/stability.hpp"
+
+namespace forest::shadows {
+namespace {
+
+using glm::dvec3;
+
+constexpr ShadowMethod kMethods[] = {ShadowMethod::Uniform, ShadowMethod::UniformStable, ShadowMethod::Lispsm};
+
+std::string failures(const StabilityCase& c, ShadowMethod method, const StabilityReport& report) {
+  std::string text;
+  for (const InvariantCheck& check : report.checks)
+    if (!check.passed) text += c.name + " / " + std::string(shadowMethodName(method)) + ": " + check.name + ": " + check.detail + "\n";
+  return text;
+}
+
+TEST(StabilitySuite, HardCasesKeepEveryInvariant) {
+  const std::vector<StabilityCase> cases = loadStabilityCases(FOREST_REPO_DATA "/stability/hard-cases.json");
+  ASSERT_GE(cases.size(), 25u);
+  int empty = 0;
+  for (const StabilityCase& c : cases) {
+    for (ShadowMethod method : kMethods) {
+      const ShadowSetup setup = computeShadowSetup(c.input, method);
+      const StabilityReport report = checkSetupInvariants(c.input, method, setup);
+      EXPECT_TRUE(report.passed()) << failures(c, method, report);
+      empty += setup.empty ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(empty, 2 * 3);  // camera outside S looking away; receivers behind the camera
+  // The oracle case through the file: view ⟂ light, V ⊂ S, z_n 0.1, z_f 70 → n = 0.1 + √7.
+  const auto oracle = std::find_if(cases.begin(), cases.end(), [](const StabilityCase& c) {
+    return c.name.find("oracle") != std::string::npos;
+  });
+  ASSERT_NE(oracle, cases.end());
+  EXPECT_NEAR(computeShadowSetup(oracle->input, ShadowMethod::Lispsm).diagnostics.n, 0.1 + std::sqrt(7.0), 1e-3);
+}
+
+TEST(StabilitySuite, TenThousandRandomConfigurationsKeepEveryInvariant) {
+  constexpr std::uint64_t kSeed = 20061125;
+  int failed = 0, warped = 0, empty = 0;
+  double largest = 0.0, largestShrink = 0.0;
+  for (std::uint64_t i = 0; i < 10000; ++i) {
+    const StabilityCase c = randomStabilityCase(kSeed, i);
+    for (ShadowMethod method : kMethods) {
+      const ShadowSetup setup = computeShadowSetup(c.input, method);
+      const StabilityReport report = checkSetupInvariants(c.input, method, setup);
+      if (!report.passed() && ++failed <= 10) ADD_FAILURE() << failures(c, method, report);
+      largest = std::max(largest, report.maxMapCoordinate);
+      largestShrink = std::max(largestShrink, setup.diagnostics.floatShrink);
+      warped += setup.diagnostics.warp > 0.0 ? 1 : 0;
+      empty += setup.empty ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(failed, 0);
+  EXPECT_LE(largest, 1.0);
+  // The stream does reach the cases the suite exists for: fits that float32 rounding pushes out
+  // of the map by more than a fixed 1e-4 guard band would absorb, real warps, and empty bodies.
+  EXPECT_GT(largestShrink, 1e-4);
+  EXPECT_GT(warped, 1000);
+  EXPECT_GT(empty, 100);
+  std::printf("10000 random configurations x 3 methods: largest |coordinate| %.9f, largest float32 shrink %.2e, %d warped, %d empty\n",
+              largest, largestShrink, warped, empty);
+}
+
+TEST(StabilitySuite, RandomCasesAreReproducibleByIndex) {
+  const StabilityCase a = randomStabilityCase(7, 123), b = randomStabilityCase(7, 123), c = randomStabilityCase(7, 124);
+  EXPECT_EQ(a.input.camera.position, b.input.camera.position);
+  EXPECT_EQ(a.input.sunDirection, b.input.sunDirection);
+  EXPECT_NE(a.input.camera.position, c.input.camera.position);
+}
+
+// Largest shift, in texels, of the visible points common to two frames (V ∩ V' ∩ S): a caster
+// and the receiver point it shadows share their map position, so this is how far shadows swim.
+double visibleShiftTexels(const ShadowInput& a, const ShadowInput& b, ShadowMethod method) {
+  const ShadowSetup sa = computeShadowSetup(a, method), sb = computeShadowSetup(b, method);
+  ConvexBody common = viewFrustumBody(a.camera);
+  common.clip(viewFrustumBody(b.camera));
+  common.clip(a.scene);
+  double worst = 0.0;
+  for (const dvec3& p : common.vertices()) {
+    const glm::dvec4 ha = sa.worldToShadowClip * glm::dvec4(p, 1.0), hb = sb.worldToShadowClip * glm::dvec4(p, 1.0);
+    const dvec3 qa = dvec3(ha) / ha.w, qb = dvec3(hb) / hb.w;
+    worst = std::max({worst, std::abs(qa.x - qb.x), std::abs(qa.y - qb.y)});
+  }
+  return worst * a.mapSize / 2.0;
+}
+
+enum class Move { Forward, Sideways, Yaw, Pitch };
+
+ShadowInput moved(ShadowInput in, Move move, double scale) {
+  Camera& c = in.camera;
+  switch (move) {
+    case Move::Forward: c.position += 0.01 * scale * c.forward(); break;
+    case Move::Sideways: c.position += 0.01 * scale * c.right(); break;
+    case Move::Yaw: c.yaw += glm::radians(0.1 * scale); break;
+    case Move::Pitch: c.pitch += glm::radians(0.1 * scale); break;
+  }
+  return in;
+}
+
+TEST(StabilitySuite, SmallCameraMovesMoveShadowsContinuously) {
+  // A walker 2 m above ground, 2048² map, far 300 m in a 2 km scene; suns from 60° to 2°, views
+  // from 20° up to 85° down. Stated bounds for a 1 cm / 0.1° move (texels, visible points):
+  //   uniform-stable: whole-texel snaps only, at most 1;  uniform: 16;  lispsm: 128
+  // (LiSPSM re-fits its warp to B every frame; measured worst 100 texels for a 0.1° yaw with
+  // a 10° sun). Continuity: a 10× smaller move shifts 10× less (ratio 5…20), so nothing jumps.
+  const double bound[] = {16.0, 1.0, 128.0};
+  for (double elevation : {60.0, 30.0, 10.0, 2.0}) {
+    for (double pitch : {-10.0, -45.0, -85.0, 20.0}) {
+      ShadowInput in;
+      in.scene = {dvec3(-1000, -10, -1000), dvec3(1000, 60, 1000)};
+      in.camera.position = {3, 2, 7};
+      in.camera.yaw = glm::radians(20.0);
+      in.camera.pitch = glm::radians(pitch);
+      in.camera.far = 300.0;
+      const double e = glm::radians(elevation);
+      in.sunDirection = {0.6 * std::cos(e), -std::sin(e), 0.8 * std::cos(e)};
+      for (int m = 0; m < 3; ++m) {
+        for (Move move : {Move::Forward, Move::Sideways, Move::Yaw, Move::Pitch}) {
+          const double shift = visibleShiftTexels(in, moved(in, move, 1.0), kMethods[m]);
+          const std::string where = std::string(shadowMethodName(kMethods[m])) + " sun " + std::to_string(elevation) +
+                                    "° pitch " + std::to_string(pitch) + "° move " + std::to_string(static_cast<int>(move));
+          if (kMethods[m] == ShadowMethod::UniformStable) {
+            EXPECT_LE(std::round(shift), bound[m]) << where;
+            EXPECT_NEAR(shift, std::round(shift), 1e-6) << where;  // whole texels only: no swimming
+            continue;
+          }
+          EXPECT_LE(shift, bound[m]) << where;
+          if (shift > 0.05) {
+            const double small = visibleShiftTexels(in, moved(in, move, 0.1), kMethods[m]);
+            EXPECT_GT(shift / small, 5.0) << where;
+            EXPECT_LT(shift / small, 20.0) << where;
+          }
+        }
+      }
+    }
+  }
+}
+
+TEST(StabilityCases, ErrorsNameTheCaseAndTheField) {
+  const std::string good =
+      R"({"name": "ok", "eye": [0, 5, 0], "view_dir": [0, 0, -1], "up": [0, 1, 0], "fovy_deg": 60, "aspect": 1.5,
+          "near": 0.1, "far": 70, "sun_dir": [0.3, -0.8, 0.2], "scene_min": [-100, 0, -100], "scene_max": [100, 20, 100]})";
+  EXPECT_EQ(parseStabilityCases("[" + good + "]", "t.json").size(), 1u);
+  auto expectError = [&](const std::string& text, const std::string& expected) {
+    try {
+      parseStabilityCases(text, "t.json");
+      ADD_FAILURE() << "no error for " << text;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  };
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string text = good;
+    text.replace(text.find(from), from.size(), to);
+    return "[" + text + "]";
+  };
+  expectError(with("\"sun_dir\": [0.3, -0.8, 0.2]", "\"sun_dir\": [0, 0, 0]"), "t.json: case 1 ('ok'): sun_dir: expected a non-zero direction");
+  expectError(with("\"near\": 0.1", "\"near\": 80"), "far: expected far > near (80), got 70");
+  expectError(with("\"near\": 0.1", "\"near\": -1"), "near: expected a number > 0, got -1");
+  expectError(with("\"fovy_deg\": 60", "\"fovy_deg\": 180"), "fovy_deg: expected 0 < fovy_deg < 180");
+  expectError(with("\"eye\": [0, 5, 0]", "\"eye\": [0, 5]"), "eye: expected [x, y, z], got [0,5]");
+  expectError(with("\"aspect\": 1.5", "\"aspect\": \"wide\""), "aspect: expected a number, got \"wide\"");
+  expectError(with("\"up\": [0, 1, 0]", "\"up\": [0, 0, -2]"), "view_dir, up: up vector: expected a direction not parallel");
+  expectError(with("\"aspect\": 1.5", "\"aspect\": 1.5, \"fov\": 3"), "fov: unknown field");
+  expectError(with("\"far\": 70,", ""), "far: missing");
+  expectError("[" + good, "t.json: invalid JSON at byte");
+  expectError("{\"cases\": 3}", "expected an array of cases");
+  // NaN cannot be written in JSON; a huge exponent overflows to a non-finite number.
+  expectError(with("\"near\": 0.1", "\"near\": 1e999"), "t.json: invalid JSON: ");
+}
+
+}  // namespace
+}  // namespace forest::shadows
