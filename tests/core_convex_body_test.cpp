@@ -111,6 +111,29 @@ TEST(ConvexBody, FrustumCornersComeFromTheInverseViewProjection) {
   for (const Polygon& p : v.polygons()) EXPECT_LT(Plane::through(p[0], polygonNormal(p)).signedDistance(inside), 0.0);
 }
 
+TEST(ConvexBody, ClipToleranceFollowsTheKeptPartNotTheCutAway) {
+  // A frustum 4e4 m deep clipped to a scene box 5 mm thin (random stability case #750732): with a
+  // tolerance relative to the frustum (4e-5 m) vertices 5e-5 m outside the box survived.
+  Camera c;
+  c.position = {-612.81292016380007, -40.377139250636532, -316.40969753122613};
+  c.yaw = 0.27169414726098501;
+  c.pitch = -0.91481377968368349;
+  c.roll = -0.74094473506611869;
+  c.fovy = 0.50112810276411868;
+  c.aspect = 1.2690583380324187;
+  c.near = 0.20507990453695593;
+  c.far = 40047.909135164235;
+  const Aabb scene = box({-612.81542526569058, -44.023263843664829, -320.84713184499054},
+                         {-612.81046984503712, -38.229919773378008, -304.8104914997985});
+  ConvexBody v = ConvexBody::fromInverseViewProjection(glm::inverse(c.projection() * c.view()));
+  v.clip(scene);
+  ASSERT_FALSE(v.empty());
+  EXPECT_TRUE(v.isClosed());
+  const double tolerance = v.tolerance();
+  EXPECT_LT(tolerance, 1e-7);
+  for (const dvec3& p : v.vertices()) EXPECT_TRUE(scene.contains(p, tolerance)) << p.x << " " << p.y << " " << p.z;
+}
+
 TEST(ConvexBody, SameResultFarFromTheOrigin) {
   std::vector<double> volumes;
   for (double origin : {0.0, 1e6}) {

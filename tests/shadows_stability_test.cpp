@@ -72,6 +72,21 @@ TEST(StabilitySuite, TenThousandRandomConfigurationsKeepEveryInvariant) {
               largest, largestShrink, warped, empty);
 }
 
+TEST(StabilitySuite, CasesOnceFoundInAMillionStayFixed) {
+  // Seed 20061125: #307775 and #750732 (scene boxes 0.3 m and 5 mm thin: the clip tolerance was
+  // relative to the 4e5 m frustum, so V ∩ S stuck out of S and of B), #274972 (flat scene, eye
+  // in its plane: B vanished in the last clip). Found by `forest stability --random 1000000`.
+  for (std::uint64_t index : {307775u, 750732u, 274972u}) {
+    const StabilityCase c = randomStabilityCase(20061125, index);
+    for (ShadowMethod method : kMethods) {
+      const ShadowSetup setup = computeShadowSetup(c.input, method);
+      const StabilityReport report = checkSetupInvariants(c.input, method, setup);
+      EXPECT_TRUE(report.passed()) << failures(c, method, report);
+      EXPECT_FALSE(setup.empty) << c.name;
+    }
+  }
+}
+
 TEST(StabilitySuite, RandomCasesAreReproducibleByIndex) {
   const StabilityCase a = randomStabilityCase(7, 123), b = randomStabilityCase(7, 123), c = randomStabilityCase(7, 124);
   EXPECT_EQ(a.input.camera.position, b.input.camera.position);

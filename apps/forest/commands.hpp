@@ -19,5 +19,6 @@ struct GlOptions {
 Run addInfoCommand(CLI::App& app);
 Run addRenderCommand(CLI::App& app);
 Run addCheckCommand(CLI::App& app);
+Run addStabilityCommand(CLI::App& app);
 
 }  // namespace forest::app

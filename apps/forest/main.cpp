@@ -32,6 +32,7 @@ int main(int argc, char** argv) {
   add(forest::app::addInfoCommand);
   add(forest::app::addRenderCommand);
   add(forest::app::addCheckCommand);
+  add(forest::app::addStabilityCommand);
 
   try {
     app.parse(argc, argv);

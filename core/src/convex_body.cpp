@@ -205,9 +205,44 @@ bool ConvexBody::isFlat() const {
   return true;
 }
 
-void ConvexBody::clip(const Plane& plane) {
+// The tolerance of a clip is relative to the size of what is kept, not of what is cut away: a
+// frustum 4e5 m long clipped to a 0.3 m thin scene box must not treat vertices 1e-4 m from the
+// plane as on it (the thin result would be non-planar at 1e-3 of its size). `within` bounds the
+// final result when the plane is one of several (a box's or a body's faces). Never below the
+// rounding error of the input's coordinates.
+double ConvexBody::clipTolerance(const Plane& plane, const Aabb& within) const {
+  const Aabb box = bounds();
+  const double magnitude = glm::compMax(glm::max(glm::abs(box.min), glm::abs(box.max)));
+  const double roundingFloor = 64.0 * std::numeric_limits<double>::epsilon() * magnitude;
+  Aabb kept;
+  for (const Polygon& polygon : polygons_) {
+    for (size_t i = 0; i < polygon.size(); ++i) {
+      const dvec3& a = polygon[i];
+      const dvec3& b = polygon[(i + 1) % polygon.size()];
+      const double da = plane.signedDistance(a), db = plane.signedDistance(b);
+      if (da <= 0.0) kept.extend(a);
+      if ((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0)) kept.extend(crossing(a, da, b, db));
+    }
+  }
+  if (within.valid()) {
+    kept.min = glm::max(kept.min, within.min);
+    kept.max = glm::min(kept.max, within.max);
+  }
+  return kept.valid() ? std::max(kRelativeTolerance * kept.diagonal(), roundingFloor) : roundingFloor;
+}
+
+void ConvexBody::clip(const Plane& plane) { clipWithin(plane, Aabb{}); }
+
+void ConvexBody::clipWithin(const Plane& plane, const Aabb& within) {
   if (polygons_.empty()) return;
-  const double eps = tolerance();
+  const double eps = clipTolerance(plane, within);
+  // Vertices within eps of the plane are moved onto it (every polygon moves its copy the same
+  // way), so the body lies in the half-space exactly: a later, tighter clip by the same plane
+  // (a flat scene box) cannot cut it away.
+  const double normalSquared = glm::dot(plane.normal, plane.normal);
+  auto ontoPlane = [&](const dvec3& v, double distance) {
+    return distance == 0.0 ? v : v - (distance / normalSquared) * plane.normal;
+  };
   std::vector<Polygon> kept;
   std::vector<dvec3> onPlane;
   for (const Polygon& polygon : polygons_) {
@@ -218,15 +253,18 @@ void ConvexBody::clip(const Plane& plane) {
       allOnPlane = allOnPlane && std::abs(d[i]) <= eps;
     }
     if (allOnPlane) {  // rebuilt as part of the cap
-      onPlane.insert(onPlane.end(), polygon.begin(), polygon.end());
+      for (size_t i = 0; i < polygon.size(); ++i) onPlane.push_back(ontoPlane(polygon[i], d[i]));
       continue;
     }
     Polygon clipped;
     for (size_t i = 0; i < polygon.size(); ++i) {
       const size_t j = (i + 1) % polygon.size();
-      if (d[i] <= eps) {
+      if (std::abs(d[i]) <= eps) {
+        const dvec3 v = ontoPlane(polygon[i], d[i]);
+        clipped.push_back(v);
+        onPlane.push_back(v);
+      } else if (d[i] < 0.0) {
         clipped.push_back(polygon[i]);
-        if (std::abs(d[i]) <= eps) onPlane.push_back(polygon[i]);
       }
       if ((d[i] < -eps && d[j] > eps) || (d[i] > eps && d[j] < -eps)) {
         const dvec3 p = crossing(polygon[i], d[i], polygon[j], d[j]);
@@ -243,12 +281,12 @@ void ConvexBody::clip(const Plane& plane) {
 }
 
 void ConvexBody::clip(const Aabb& box) {
-  clip(Plane{{-1, 0, 0}, box.min.x});
-  clip(Plane{{1, 0, 0}, -box.max.x});
-  clip(Plane{{0, -1, 0}, box.min.y});
-  clip(Plane{{0, 1, 0}, -box.max.y});
-  clip(Plane{{0, 0, -1}, box.min.z});
-  clip(Plane{{0, 0, 1}, -box.max.z});
+  clipWithin(Plane{{-1, 0, 0}, box.min.x}, box);
+  clipWithin(Plane{{1, 0, 0}, -box.max.x}, box);
+  clipWithin(Plane{{0, -1, 0}, box.min.y}, box);
+  clipWithin(Plane{{0, 1, 0}, -box.max.y}, box);
+  clipWithin(Plane{{0, 0, -1}, box.min.z}, box);
+  clipWithin(Plane{{0, 0, 1}, -box.max.z}, box);
 }
 
 void ConvexBody::clip(const ConvexBody& other) {
@@ -258,7 +296,8 @@ void ConvexBody::clip(const ConvexBody& other) {
   }
   std::vector<Plane> planes;  // copied first: `other` may be this body
   for (const Polygon& p : other.polygons_) planes.push_back(Plane::through(centroidOf(p), polygonNormal(p)));
-  for (const Plane& plane : planes) clip(plane);
+  const Aabb within = other.bounds();
+  for (const Plane& plane : planes) clipWithin(plane, within);
 }
 
 void ConvexBody::hullWithPoint(const dvec3& point) {

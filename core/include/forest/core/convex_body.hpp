@@ -64,6 +64,8 @@ class ConvexBody {
   ConvexBody transformed(const glm::dmat4& m) const;
 
  private:
+  double clipTolerance(const Plane& plane, const Aabb& within) const;
+  void clipWithin(const Plane& plane, const Aabb& within);
   std::vector<Polygon> polygons_;
 };
 

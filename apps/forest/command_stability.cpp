@@ -1,0 +1,203 @@
+// forest stability: every shadow method on hard and random configurations, with the invariants
+// of issue "Shadow math I" checked on the float32 matrices the GPU gets. One JSON record per case
+// and method (JSON Lines) for tools that check the matrices independently.
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <fstream>
+#include <iostream>
+#include <optional>
+
+#include "commands.hpp"
+#include "forest/core/error.hpp"
+#include "forest/core/files.hpp"
+#include "forest/shadows/stability.hpp"
+
+namespace forest::app {
+namespace {
+
+using nlohmann::ordered_json;
+using shadows::ShadowMethod;
+
+struct StabilityOptions {
+  std::string cases;
+  std::uint64_t random = 0;
+  std::uint64_t seed = 20061125;
+  std::vector<std::string> methods{"uniform", "uniform-stable", "lispsm"};
+  std::string out;
+  bool json = false;
+};
+
+ordered_json vec3(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
+
+ordered_json matrix(const glm::mat4& m) {
+  ordered_json column_major = ordered_json::array();
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) column_major.push_back(m[c][r]);
+  return column_major;
+}
+
+// The case in the case-file schema, so a failing random case can be saved and rerun alone.
+ordered_json caseJson(const shadows::StabilityCase& c) {
+  const shadows::ShadowInput& in = c.input;
+  ordered_json j;
+  j["name"] = c.name;
+  j["eye"] = vec3(in.camera.position);
+  j["view_dir"] = vec3(in.camera.forward());
+  j["up"] = vec3(in.camera.up());
+  j["fovy_deg"] = glm::degrees(in.camera.fovy);
+  j["aspect"] = in.camera.aspect;
+  j["near"] = in.camera.near;
+  j["far"] = in.camera.far;
+  j["sun_dir"] = vec3(in.sunDirection);
+  j["scene_min"] = vec3(in.scene.min);
+  j["scene_max"] = vec3(in.scene.max);
+  if (in.receivers) j["receivers"] = ordered_json::array({{{"min", vec3(in.receivers->min)}, {"max", vec3(in.receivers->max)}}});
+  if (in.nFar) j["n_far"] = *in.nFar;
+  j["map_size"] = in.mapSize;
+  j["border_texels"] = in.borderTexels;
+  return j;
+}
+
+ordered_json recordJson(const shadows::StabilityCase& c, ShadowMethod method, const shadows::ShadowSetup& setup,
+                        const shadows::StabilityReport& report) {
+  const shadows::ShadowDiagnostics& d = setup.diagnostics;
+  ordered_json j;
+  j["case"] = c.name;
+  j["method"] = shadows::shadowMethodName(method);
+  j["passed"] = report.passed();
+  ordered_json invariants;
+  for (const shadows::InvariantCheck& check : report.checks) invariants[check.name] = check.passed;
+  j["invariants"] = invariants;
+  for (const shadows::InvariantCheck& check : report.checks)
+    if (!check.passed) j["failures"][check.name] = check.detail;
+  j["empty"] = setup.empty;
+  j["n"] = d.n;
+  j["n_cap"] = d.nCap;
+  j["warp"] = d.warp;
+  j["gamma_deg"] = d.gammaDeg;
+  j["z0"] = d.z0;
+  j["z1"] = d.z1;
+  j["d"] = d.d;
+  j["fallback"] = d.fallback;
+  j["body_vertices"] = d.bodyVertices;
+  j["float_shrink"] = d.floatShrink;
+  j["max_map_coordinate"] = report.maxMapCoordinate;
+  // world → [−1, 1]³ (x, y: map, z: depth away from the light), float32, column-major; and the
+  // camera-relative form the GPU gets: clip = M · (p − eye, 1).
+  j["world_to_shadow_clip"] = matrix(setup.worldToShadowClipF);
+  j["eye_relative_to_shadow_clip"] = matrix(setup.eyeRelativeToShadowClipF);
+  j["input"] = caseJson(c);
+  return j;
+}
+
+struct Tally {
+  std::uint64_t records = 0, failed = 0, empty = 0, warped = 0;
+  double largestCoordinate = 0.0, largestShrink = 0.0, setupSeconds = 0.0;
+  std::vector<std::string> firstFailures;
+};
+
+int runStability(const StabilityOptions& options) {
+  if (options.cases.empty() && options.random == 0)
+    throw InputError("stability: give --cases FILE and/or --random N");
+  std::vector<ShadowMethod> methods;
+  for (const std::string& name : options.methods) methods.push_back(shadows::parseShadowMethod(name));
+  const std::vector<shadows::StabilityCase> fileCases =
+      options.cases.empty() ? std::vector<shadows::StabilityCase>{} : shadows::loadStabilityCases(options.cases);
+
+  Tally tally;
+  auto evaluate = [&](const shadows::StabilityCase& c, std::ostream* out) {
+    for (ShadowMethod method : methods) {
+      const auto start = std::chrono::steady_clock::now();
+      const shadows::ShadowSetup setup = shadows::computeShadowSetup(c.input, method);
+      tally.setupSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const shadows::StabilityReport report = shadows::checkSetupInvariants(c.input, method, setup);
+      ++tally.records;
+      tally.empty += setup.empty ? 1 : 0;
+      tally.warped += setup.diagnostics.warp > 0.0 ? 1 : 0;
+      tally.largestCoordinate = std::max(tally.largestCoordinate, report.maxMapCoordinate);
+      tally.largestShrink = std::max(tally.largestShrink, setup.diagnostics.floatShrink);
+      if (!report.passed()) {
+        ++tally.failed;
+        if (tally.firstFailures.size() < 10) {
+          for (const shadows::InvariantCheck& check : report.checks)
+            if (!check.passed)
+              tally.firstFailures.push_back(fmt::format("{} / {}: {}: {}", c.name, shadows::shadowMethodName(method),
+                                                        check.name, check.detail));
+        }
+      }
+      if (out) *out << recordJson(c, method, setup, report).dump() << '\n';
+    }
+  };
+
+  auto runAll = [&](std::ostream* out) {
+    for (const shadows::StabilityCase& c : fileCases) evaluate(c, out);
+    const std::uint64_t step = std::max<std::uint64_t>(1, options.random / 10);
+    for (std::uint64_t i = 0; i < options.random; ++i) {
+      evaluate(shadows::randomStabilityCase(options.seed, i), out);
+      if (options.random >= 10000 && (i + 1) % step == 0)
+        std::cerr << fmt::format("stability: {}/{} random configurations, {} failed\n", i + 1, options.random, tally.failed);
+    }
+  };
+  if (options.out.empty()) {
+    runAll(nullptr);
+  } else {
+    writeAtomicallyWith(options.out, [&](const std::filesystem::path& temporary) {
+      std::ofstream out(temporary);
+      if (!out) throw Error(systemErrorMessage("cannot write " + temporary.string()));
+      runAll(&out);
+      out.close();
+      if (!out) throw Error(systemErrorMessage("cannot write " + temporary.string()));
+    });
+  }
+
+  const double microseconds = tally.records ? 1e6 * tally.setupSeconds / static_cast<double>(tally.records) : 0.0;
+  if (options.json) {
+    ordered_json summary;
+    summary["records"] = tally.records;
+    summary["failed"] = tally.failed;
+    summary["empty"] = tally.empty;
+    summary["warped"] = tally.warped;
+    summary["largest_map_coordinate"] = tally.largestCoordinate;
+    summary["largest_float_shrink"] = tally.largestShrink;
+    summary["microseconds_per_setup"] = microseconds;
+    summary["failures"] = tally.firstFailures;
+    std::cout << summary.dump(2) << '\n';
+  } else {
+    std::cout << fmt::format(
+        "{} setups ({} case(s) from file, {} random, seed {}, methods {}): {} failed\n"
+        "  largest |map coordinate| of B on the float32 path {:.9f}, largest float32 shrink {:.2e}\n"
+        "  {} empty focus bodies, {} warped (lispsm), {:.1f} µs per setup\n",
+        tally.records, fileCases.size(), options.random, options.seed, fmt::join(options.methods, ","), tally.failed,
+        tally.largestCoordinate, tally.largestShrink, tally.empty, tally.warped, microseconds);
+    if (!options.out.empty()) std::cout << fmt::format("  records: {}\n", options.out);
+  }
+  for (const std::string& failure : tally.firstFailures) std::cerr << "stability: FAILED " << failure << '\n';
+  return tally.failed == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+Run addStabilityCommand(CLI::App& app) {
+  auto options = std::make_shared<StabilityOptions>();
+  CLI::App* command = app.add_subcommand(
+      "stability",
+      "Evaluate every shadow method on hard and random configurations and check the invariants\n"
+      "(B inside the map with the float32 matrix, V ∩ S inside the map, 0 < n ≤ cap). Exit 1 if any\n"
+      "fails, 2 for an invalid case file.");
+  command->add_option("--cases", options->cases, "Case file (JSON), e.g. data/stability/hard-cases.json")
+      ->check(CLI::ExistingFile);
+  command->add_option("--random", options->random, "Number of random configurations to add");
+  command->add_option("--seed", options->seed, "Seed of the random configurations")->capture_default_str();
+  command->add_option("--methods", options->methods, "Methods to evaluate")
+      ->check(CLI::IsMember({"uniform", "uniform-stable", "lispsm"}))
+      ->capture_default_str();
+  command->add_option("--out", options->out,
+                      "Write one JSON record per case and method (JSON Lines): diagnostics, invariants, the\n"
+                      "float32 world → shadow-clip matrix (16 numbers, column-major) and the case itself");
+  command->add_flag("--json", options->json, "Print the summary as JSON");
+  return [options] { return runStability(*options); };
+}
+
+}  // namespace forest::app
