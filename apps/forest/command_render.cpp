@@ -1,5 +1,6 @@
 // forest render: one lit frame of a scene, written as a PNG (headless by default).
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <iostream>
 
@@ -12,7 +13,7 @@
 #include "forest/gl/context.hpp"
 #include "forest/gl/debug.hpp"
 #include "forest/render/offscreen_target.hpp"
-#include "forest/render/prop_renderer.hpp"
+#include "forest/render/scene_view.hpp"
 
 namespace forest::app {
 namespace {
@@ -40,17 +41,23 @@ int runRender(const RenderOptions& options) {
   log::info("{}", gl::describe(context->info()));
 
   render::OffscreenTarget target(scene.render.width, scene.render.height);
-  render::PropRenderer props(scene.props);
+  const render::SceneView view(scene);
   target.bind();
-  render::drawLitPropScene(props, scene.startCamera(), scene);
+  const render::SceneView::Stats stats = view.draw(scene.startCamera(), scene.render.height);
   const Image8 image = target.readColor();
   if (gl::debugErrorCount() > 0) {
     throw Error(fmt::format("{} GL errors while rendering (first: {})", gl::debugErrorCount(),
                             gl::debugErrorMessages().front()));
   }
   writeImage(options.out, image);
-  std::cout << fmt::format("wrote {} ({}x{}, {} props, {} triangles) from {}\n", options.out, image.width,
-                           image.height, scene.props.size(), props.triangleCount(), scenePath);
+  std::cout << fmt::format("wrote {} ({}x{}, {} props, {} prop triangles", options.out, image.width, image.height,
+                           scene.props.size(), stats.propTriangles);
+  if (view.terrain()) {
+    std::cout << fmt::format(", terrain {} tiles (per level {}), {} triangles, {:.1f} MiB on the GPU",
+                             stats.terrain.tiles, fmt::join(stats.terrain.tilesPerLevel, "/"), stats.terrain.triangles,
+                             static_cast<double>(view.terrain()->gpuBytes()) / (1 << 20));
+  }
+  std::cout << fmt::format(") from {}\n", scenePath);
   return 0;
 }
 

@@ -61,6 +61,23 @@ PropBox readProp(TomlSection& s) {
   return box;
 }
 
+void readTerrain(TomlSection& s, TerrainSettings& t) {
+  t.size = s.number("size", t.size, detail::closed(64.0, 65536.0));
+  t.samples = static_cast<int>(s.integer("samples", t.samples, 65, 8193));
+  if ((t.samples - 1) % 64 != 0) s.fail(nullptr, "samples", "samples - 1 must be a multiple of 64 (tiles of 64 quads), e.g. 1025");
+  t.height_min = s.number("height_min", t.height_min, detail::closed(-1e4, 1e4));
+  t.height_max = s.number("height_max", t.height_max, detail::closed(-1e4, 1e4));
+  if (!(t.height_max > t.height_min)) s.fail(nullptr, "height_max", "must be greater than terrain.height_min");
+  t.feature_size = s.number("feature_size", t.feature_size, detail::positive());
+  t.octaves = static_cast<int>(s.integer("octaves", t.octaves, 1, 16));
+  t.ridged = s.number("ridged", t.ridged, detail::closed(0.0, 1.0));
+  t.seed = static_cast<std::uint64_t>(
+      s.integer("seed", static_cast<std::int64_t>(t.seed), 0, std::numeric_limits<std::int64_t>::max()));
+  t.lod_error_pixels = s.number("lod_error_pixels", t.lod_error_pixels, detail::NumberRange{0.0, 64.0, true, false});
+  t.albedo = s.vec3("albedo", t.albedo, detail::closed(0.0, 1.0));
+  s.finish();
+}
+
 }  // namespace
 
 Camera Scene::startCamera() const {
@@ -84,6 +101,7 @@ Scene parseScene(const std::string& text, const std::string& name) {
   if (auto s = root.table("sun")) readSun(*s, scene.sun);
   if (auto s = root.table("render")) readRender(*s, scene.render);
   for (auto& s : root.tables("props")) scene.props.push_back(readProp(s));
+  if (auto s = root.table("terrain")) readTerrain(*s, scene.terrain.emplace());
   root.finish();
   return scene;
 }
@@ -115,6 +133,19 @@ std::string sceneToToml(const Scene& scene) {
   }
   toml::table document{{"camera", camera}, {"sun", sun}, {"render", render}};
   if (!props.empty()) document.insert("props", props);
+  if (scene.terrain) {
+    const TerrainSettings& t = *scene.terrain;
+    document.insert("terrain", toml::table{{"size", t.size},
+                                           {"samples", t.samples},
+                                           {"height_min", t.height_min},
+                                           {"height_max", t.height_max},
+                                           {"feature_size", t.feature_size},
+                                           {"octaves", t.octaves},
+                                           {"ridged", t.ridged},
+                                           {"seed", static_cast<std::int64_t>(t.seed)},
+                                           {"lod_error_pixels", t.lod_error_pixels},
+                                           {"albedo", tomlArray(t.albedo)}});
+  }
   std::ostringstream out;
   out << document << "\n";
   return out.str();

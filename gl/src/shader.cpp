@@ -64,6 +64,9 @@ std::pair<int, std::string> parseLogLine(const std::string& line) {
 
 void Program::set(const char* uniform, int v) const { glProgramUniform1i(id(), glGetUniformLocation(id(), uniform), v); }
 void Program::set(const char* uniform, float v) const { glProgramUniform1f(id(), glGetUniformLocation(id(), uniform), v); }
+void Program::set(const char* uniform, const glm::vec2& v) const {
+  glProgramUniform2fv(id(), glGetUniformLocation(id(), uniform), 1, glm::value_ptr(v));
+}
 void Program::set(const char* uniform, const glm::vec3& v) const {
   glProgramUniform3fv(id(), glGetUniformLocation(id(), uniform), 1, glm::value_ptr(v));
 }

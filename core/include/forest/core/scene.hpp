@@ -5,7 +5,9 @@
 // the value and what was expected (InputError).
 #include <glm/glm.hpp>
 
+#include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -44,12 +46,27 @@ struct PropBox {
   glm::dvec3 albedo{0.7};
 };
 
+// [terrain]: the procedural ground (module terrain/). Absent = no terrain.
+struct TerrainSettings {
+  double size = 2000.0;          // metres per side, [64, 65536]; centred on the origin
+  int samples = 1025;            // height samples per side, 65…8193, (samples − 1) a multiple of 64
+  double height_min = 0.0;       // the heights fill [height_min, height_max] exactly
+  double height_max = 150.0;     // > height_min
+  double feature_size = 800.0;   // metres, wavelength of the lowest noise octave, > 0
+  int octaves = 8;               // [1, 16]
+  double ridged = 0.4;           // share of ridged noise in the blend with fBm, [0, 1]
+  std::uint64_t seed = 1;        // same seed → bit-identical heights
+  double lod_error_pixels = 1.0; // screen-space error bound of the LOD, (0, 64] pixels
+  glm::dvec3 albedo{0.32, 0.42, 0.2};  // grass; steep slopes blend to rock
+};
+
 struct Scene {
   std::string source = "<built-in>";  // file the scene was read from
   CameraSettings camera;
   SunSettings sun;
   RenderSettings render;
   std::vector<PropBox> props;
+  std::optional<TerrainSettings> terrain;
 
   // The eye camera at the scene's start pose, with the render aspect ratio.
   Camera startCamera() const;

@@ -27,6 +27,7 @@ class Program {
   // Uniform setters (glProgramUniform*); a name the linker removed is ignored.
   void set(const char* uniform, int v) const;
   void set(const char* uniform, float v) const;
+  void set(const char* uniform, const glm::vec2& v) const;
   void set(const char* uniform, const glm::vec3& v) const;
   void set(const char* uniform, const glm::vec4& v) const;
   void set(const char* uniform, const glm::mat4& v) const;

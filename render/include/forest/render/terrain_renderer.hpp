@@ -1,0 +1,51 @@
+#pragma once
+// Draws the terrain (module terrain/) on the GPU: one R32F height texture, one shared local grid
+// of (kTileQuads + 1)² vertices, one index range per LOD level, and per level one instanced draw
+// of the tiles at that level. terrain.vert places and morphs each vertex exactly as
+// Terrain::drawnVertex does on the CPU (camera-relative float positions).
+#include <array>
+#include <span>
+#include <vector>
+
+#include "forest/core/camera.hpp"
+#include "forest/core/scene.hpp"
+#include "forest/gl/objects.hpp"
+#include "forest/gl/shader.hpp"
+#include "forest/terrain/terrain.hpp"
+
+namespace forest::render {
+
+class TerrainRenderer {
+ public:
+  // Lit: Lambert + ambient, grass blending to rock on steep slopes. WorldHeight: writes the
+  // world-space height of the drawn surface to colour channel 0 (tests, ground truth).
+  enum class Output { Lit, WorldHeight };
+
+  explicit TerrainRenderer(const terrain::Terrain& terrain, Output output = Output::Lit);
+
+  struct Stats {
+    int tiles = 0;
+    long long triangles = 0;
+    std::array<int, terrain::kLevels> tilesPerLevel{};
+  };
+  // Draws `tiles` (indices into the terrain's tiles) into the bound framebuffer, each at the
+  // level the LOD gives it (depth test GL_GREATER: reversed-Z).
+  Stats draw(const Camera& camera, const terrain::TerrainLod& lod, const SunSettings& sun,
+             std::span<const int> tiles) const;
+  // Tiles whose boxes meet the camera's frustum.
+  std::vector<int> tilesInFrustum(const Camera& camera) const;
+
+  std::size_t gpuBytes() const;
+
+ private:
+  const terrain::Terrain& terrain_;
+  gl::Program program_;
+  gl::Texture heights_;
+  gl::VertexArray vertexArray_;
+  gl::Buffer grid_;
+  gl::Buffer indices_;
+  mutable gl::Buffer instances_;
+  std::array<int, terrain::kLevels> indexOffset_{}, indexCount_{};
+};
+
+}  // namespace forest::render

@@ -1,0 +1,123 @@
+#include "forest/render/terrain_renderer.hpp"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+
+#include "forest/core/frustum.hpp"
+
+namespace forest::render {
+namespace {
+
+using terrain::kLevels;
+using terrain::kTileQuads;
+
+constexpr double kMorphSlack = 1e-3;  // the same as TerrainLod::morphFactor
+
+}  // namespace
+
+TerrainRenderer::TerrainRenderer(const terrain::Terrain& terrain, Output output)
+    : terrain_(terrain),
+      program_(gl::loadProgram({"terrain.vert", "terrain.frag"},
+                               output == Output::WorldHeight ? "#define TERRAIN_OUTPUT_HEIGHT 1\n" : "")) {
+  const terrain::Heightfield& h = terrain.heightfield();
+  heights_ = gl::Texture(GL_R32F, h.samples(), h.samples());
+  glTextureSubImage2D(heights_.id(), 0, 0, 0, h.samples(), h.samples(), GL_RED, GL_FLOAT, h.heights().data());
+  glTextureParameteri(heights_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(heights_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+
+  std::vector<glm::ivec2> local;
+  for (int j = 0; j <= kTileQuads; ++j)
+    for (int i = 0; i <= kTileQuads; ++i) local.emplace_back(i, j);
+  grid_ = gl::Buffer(local.size() * sizeof(glm::ivec2), local.data(), 0);
+  std::vector<std::uint32_t> indices;
+  for (int level = 0; level < kLevels; ++level) {
+    const std::vector<std::uint32_t> levelIndices = terrain::tileGridIndices(level);
+    indexOffset_[level] = static_cast<int>(indices.size());
+    indexCount_[level] = static_cast<int>(levelIndices.size());
+    indices.insert(indices.end(), levelIndices.begin(), levelIndices.end());
+  }
+  indices_ = gl::Buffer(indices.size() * sizeof(std::uint32_t), indices.data(), 0);
+  instances_ = gl::Buffer(static_cast<size_t>(terrain.tileCount()) * sizeof(glm::ivec2), nullptr);
+
+  const GLuint vao = vertexArray_.id();
+  glVertexArrayVertexBuffer(vao, 0, grid_.id(), 0, sizeof(glm::ivec2));
+  glVertexArrayElementBuffer(vao, indices_.id());
+  glEnableVertexArrayAttrib(vao, 0);
+  glVertexArrayAttribIFormat(vao, 0, 2, GL_INT, 0);
+  glVertexArrayAttribBinding(vao, 0, 0);
+  glVertexArrayVertexBuffer(vao, 1, instances_.id(), 0, sizeof(glm::ivec2));
+  glVertexArrayBindingDivisor(vao, 1, 1);
+  glEnableVertexArrayAttrib(vao, 1);
+  glVertexArrayAttribIFormat(vao, 1, 2, GL_INT, 0);
+  glVertexArrayAttribBinding(vao, 1, 1);
+}
+
+std::vector<int> TerrainRenderer::tilesInFrustum(const Camera& camera) const {
+  const Frustum frustum(camera);
+  std::vector<int> tiles;
+  for (int t = 0; t < terrain_.tileCount(); ++t)
+    if (frustum.mayIntersect(terrain_.tileBox(t))) tiles.push_back(t);
+  return tiles;
+}
+
+TerrainRenderer::Stats TerrainRenderer::draw(const Camera& camera, const terrain::TerrainLod& lod,
+                                             const SunSettings& sun, std::span<const int> tiles) const {
+  Stats stats;
+  if (tiles.empty()) return stats;
+  // Tiles grouped by level, uploaded at once; one instanced draw per level.
+  std::array<std::vector<glm::ivec2>, kLevels> byLevel;
+  for (int t : tiles) {
+    const int level = terrain_.tileLevel(t, lod);
+    byLevel[level].emplace_back(t % terrain_.tilesPerSide(), t / terrain_.tilesPerSide());
+  }
+  std::vector<glm::ivec2> packed;
+  std::array<int, kLevels> first{};
+  for (int level = 0; level < kLevels; ++level) {
+    first[level] = static_cast<int>(packed.size());
+    packed.insert(packed.end(), byLevel[level].begin(), byLevel[level].end());
+  }
+  instances_.upload(0, packed.size() * sizeof(glm::ivec2), packed.data());
+
+  const terrain::Heightfield& h = terrain_.heightfield();
+  const glm::dvec3 eye = camera.position;
+  // (p − eye) → clip, composed in double (DESIGN §4), converted once.
+  program_.set("uViewProjectionRelative",
+               glm::mat4(camera.projection() * camera.view() * glm::translate(glm::dmat4(1.0), eye)));
+  program_.set("uOriginRelative", glm::vec2(h.origin().x - eye.x, h.origin().y - eye.z));
+  program_.set("uEyeY", static_cast<float>(eye.y));
+  program_.set("uSpacing", static_cast<float>(h.spacing()));
+  program_.set("uTileQuads", kTileQuads);
+  program_.set("uMorphSlack", static_cast<float>(kMorphSlack));
+  program_.set("uHeights", 0);
+  program_.set("uToSun", glm::vec3(-sun.direction));
+  program_.set("uSunColor", glm::vec3(sun.color));
+  program_.set("uAmbient", static_cast<float>(sun.ambient));
+  program_.set("uAlbedo", glm::vec3(terrain_.settings().albedo));
+  program_.use();
+  glBindTextureUnit(0, heights_.id());
+  glBindVertexArray(vertexArray_.id());
+  for (int level = 0; level < kLevels; ++level) {
+    const int count = static_cast<int>(byLevel[level].size());
+    if (count == 0) continue;
+    program_.set("uLevel", level);
+    const bool last = level == kLevels - 1;
+    program_.set("uMorphStart", last ? 1e30f : static_cast<float>(lod.morphStart[level]));
+    program_.set("uMorphEnd", last ? 2e30f : static_cast<float>(lod.morphEnd[level]));
+    glDrawElementsInstancedBaseInstance(
+        GL_TRIANGLES, indexCount_[level], GL_UNSIGNED_INT,
+        reinterpret_cast<const void*>(static_cast<std::uintptr_t>(indexOffset_[level]) * sizeof(std::uint32_t)), count,
+        static_cast<GLuint>(first[level]));
+    stats.tiles += count;
+    stats.tilesPerLevel[level] = count;
+    stats.triangles += static_cast<long long>(count) * indexCount_[level] / 3;
+  }
+  glBindVertexArray(0);
+  return stats;
+}
+
+std::size_t TerrainRenderer::gpuBytes() const {
+  return heights_.bytes() + grid_.size() + indices_.size() + instances_.size();
+}
+
+}  // namespace forest::render

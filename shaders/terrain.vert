@@ -1,0 +1,50 @@
+#version 450 core
+// Terrain tile vertex (module terrain/): the CPU twin is Terrain::drawnVertex. A vertex odd at
+// level uLevel slides toward its lower-index even neighbour by the morph factor k of its distance
+// to the eye (CDLOD-style), so at k = 1 the tile is exactly level uLevel + 1.
+layout(location = 0) in ivec2 aLocal;   // (i, j) in the tile, 0…kTileQuads
+layout(location = 1) in ivec2 iTile;    // (tx, tz)
+
+uniform sampler2D uHeights;   // R32F, one texel per sample, fetched exactly
+uniform int uTileQuads;
+uniform int uLevel;
+uniform float uMorphStart;    // metres; the morph toward uLevel + 1 ramps between these
+uniform float uMorphEnd;
+uniform float uMorphSlack;    // the ramp reaches 0 and 1 this share of its width early
+uniform vec2 uOriginRelative; // world (x, z) of sample (0, 0) minus the eye's (x, z)
+uniform float uEyeY;
+uniform float uSpacing;
+uniform mat4 uViewProjectionRelative;  // (p − eye) → clip, composed in double
+
+out vec3 vNormal;
+out float vWorldHeight;
+
+// Camera-relative position of sample s.
+vec3 samplePosition(ivec2 s) {
+  float h = texelFetch(uHeights, s, 0).r;
+  return vec3(uOriginRelative.x + float(s.x) * uSpacing, h - uEyeY, uOriginRelative.y + float(s.y) * uSpacing);
+}
+
+// Central differences, one-sided at the border (Heightfield::sampleNormal).
+vec3 sampleNormal(ivec2 s) {
+  ivec2 last = textureSize(uHeights, 0) - 1;
+  ivec2 a = max(s - 1, ivec2(0)), b = min(s + 1, last);
+  float dhdx = (texelFetch(uHeights, ivec2(b.x, s.y), 0).r - texelFetch(uHeights, ivec2(a.x, s.y), 0).r) / (float(b.x - a.x) * uSpacing);
+  float dhdz = (texelFetch(uHeights, ivec2(s.x, b.y), 0).r - texelFetch(uHeights, ivec2(s.x, a.y), 0).r) / (float(b.y - a.y) * uSpacing);
+  return normalize(vec3(-dhdx, 1.0, -dhdz));
+}
+
+void main() {
+  int step = 1 << uLevel;
+  ivec2 target = aLocal - step * ((aLocal / step) & 1);  // odd at this level → one step lower
+  ivec2 base = iTile * uTileQuads;
+  vec3 fine = samplePosition(base + aLocal);
+  vec3 coarse = samplePosition(base + target);
+  float t = (length(fine) - uMorphStart) / (uMorphEnd - uMorphStart);
+  float k = clamp(t * (1.0 + 2.0 * uMorphSlack) - uMorphSlack, 0.0, 1.0);
+  // a·(1 − k) + b·k: exactly b at k = 1 (with or without FMA), so edge vertices meet.
+  vec3 p = fine * (1.0 - k) + coarse * k;
+  vNormal = normalize(sampleNormal(base + aLocal) * (1.0 - k) + sampleNormal(base + target) * k);
+  vWorldHeight = p.y + uEyeY;
+  gl_Position = uViewProjectionRelative * vec4(p, 1.0);
+}
