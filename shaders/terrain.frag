@@ -1,9 +1,9 @@
 #version 450 core
 // Terrain shading: Lambert diffuse from the sun plus a weak global ambient (thesis §6.2; no
-// shadows yet); grass on gentle slopes, rock on steep ones. With TERRAIN_OUTPUT_HEIGHT the
-// fragment's world-space height is written instead (tests compare it with the CPU twin).
+// shadows yet); grass on gentle slopes, rock on steep ones. With TERRAIN_OUTPUT_POSITION the
+// fragment's world-space position is written instead (tests compare it with the CPU twin).
 in vec3 vNormal;
-in float vWorldHeight;
+in vec3 vWorldPosition;
 
 uniform vec3 uToSun;
 uniform vec3 uSunColor;
@@ -13,8 +13,8 @@ uniform vec3 uAlbedo;
 out vec4 fragColor;
 
 void main() {
-#ifdef TERRAIN_OUTPUT_HEIGHT
-  fragColor = vec4(vWorldHeight, 0.0, 0.0, 1.0);
+#ifdef TERRAIN_OUTPUT_POSITION
+  fragColor = vec4(vWorldPosition, 1.0);
 #else
   vec3 n = normalize(vNormal);
   vec3 rock = vec3(0.42, 0.40, 0.37);

@@ -13,11 +13,14 @@ uniform float uMorphEnd;
 uniform float uMorphSlack;    // the ramp reaches 0 and 1 this share of its width early
 uniform vec2 uOriginRelative; // world (x, z) of sample (0, 0) minus the eye's (x, z)
 uniform float uEyeY;
+uniform vec3 uLodEyeRelative; // the LOD's eye minus this view's eye (zero for the eye pass; the
+                              // shadow pass draws the eye's LOD from the light)
+uniform vec3 uEye;            // this view's eye, world
 uniform float uSpacing;
 uniform mat4 uViewProjectionRelative;  // (p − eye) → clip, composed in double
 
 out vec3 vNormal;
-out float vWorldHeight;
+out vec3 vWorldPosition;
 
 // Camera-relative position of sample s.
 vec3 samplePosition(ivec2 s) {
@@ -40,11 +43,11 @@ void main() {
   ivec2 base = iTile * uTileQuads;
   vec3 fine = samplePosition(base + aLocal);
   vec3 coarse = samplePosition(base + target);
-  float t = (length(fine) - uMorphStart) / (uMorphEnd - uMorphStart);
+  float t = (length(fine - uLodEyeRelative) - uMorphStart) / (uMorphEnd - uMorphStart);
   float k = clamp(t * (1.0 + 2.0 * uMorphSlack) - uMorphSlack, 0.0, 1.0);
   // a·(1 − k) + b·k: exactly b at k = 1 (with or without FMA), so edge vertices meet.
   vec3 p = fine * (1.0 - k) + coarse * k;
   vNormal = normalize(sampleNormal(base + aLocal) * (1.0 - k) + sampleNormal(base + target) * k);
-  vWorldHeight = p.y + uEyeY;
+  vWorldPosition = p + uEye;
   gl_Position = uViewProjectionRelative * vec4(p, 1.0);
 }

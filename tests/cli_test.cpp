@@ -129,6 +129,22 @@ TEST(ForestCli, RenderWritesALitImageHeadless) {
   EXPECT_GT(png.at(160, 175, 1), png.at(160, 175, 2));  // green ground
 }
 
+TEST(ForestCli, RenderDrawsTheTerrainScene) {
+  const fs::path image = fs::path(FOREST_TEST_OUTPUT) / "cli" / "terrain.png";
+  fs::remove(image);
+  const Result r = runForest("render --scene " + std::string(FOREST_REPO_DATA) + "/scenes/terrain.toml --out " +
+                             image.string() + " --width 320 --height 180");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("terrain "));
+  const Image8 png = readImage8(image);
+  // Top row: sky (0.55, 0.7, 0.9 → 140, 178, 230); bottom row: lit terrain, greener than blue.
+  EXPECT_EQ(png.at(160, 0, 2), 230);
+  EXPECT_GT(png.at(160, 179, 1), png.at(160, 179, 2));
+  const std::string file = bad("terrain-octaves.toml");
+  expectOneLineError(runForest("render --scene " + file + " --out /tmp/never.png"), file + ":3:11",
+                     "terrain.octaves = 17: expected an integer in [1, 16]");
+}
+
 TEST(ForestCli, InfoNamesBackendAndRenderer) {
   const Result r = runForest("info --json");
   ASSERT_EQ(r.exitCode, 0) << r.err;

@@ -55,6 +55,34 @@ TEST(SceneFile, RoundTripsThroughToml) {
   }
 }
 
+TEST(SceneFile, TerrainSectionLoadsAndRoundTrips) {
+  Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/terrain.toml");
+  ASSERT_TRUE(scene.terrain.has_value());
+  EXPECT_EQ(scene.terrain->samples, 1025);
+  EXPECT_DOUBLE_EQ(scene.terrain->size, 2000.0);
+  scene.terrain->seed = 9007199254740993ull;  // above 2^53: must survive as an integer
+  scene.terrain->ridged = 1.0 / 3.0;
+  const Scene back = parseScene(sceneToToml(scene), "roundtrip.toml");
+  ASSERT_TRUE(back.terrain.has_value());
+  EXPECT_EQ(back.terrain->seed, scene.terrain->seed);
+  EXPECT_EQ(back.terrain->ridged, scene.terrain->ridged);
+  EXPECT_EQ(back.terrain->samples, scene.terrain->samples);
+  EXPECT_EQ(back.terrain->albedo, scene.terrain->albedo);
+  EXPECT_FALSE(parseScene("", "empty.toml").terrain.has_value());  // no section, no terrain
+}
+
+TEST(SceneFile, BadTerrainValuesNameTheKey) {
+  EXPECT_THAT(errorOf("[terrain]\nsize = -2000\n"), HasSubstr("bad.toml:2:8: terrain.size = -2000: expected a number in [64, 65536]"));
+  EXPECT_THAT(errorOf("[terrain]\nsamples = 0\n"), HasSubstr("terrain.samples = 0: expected an integer in [65, 8193]"));
+  EXPECT_THAT(errorOf("[terrain]\nsamples = 1000\n"), HasSubstr("terrain.samples: samples - 1 must be a multiple of 64"));
+  EXPECT_THAT(errorOf("[terrain]\noctaves = 17\n"), HasSubstr("terrain.octaves = 17: expected an integer in [1, 16]"));
+  EXPECT_THAT(errorOf("[terrain]\nheight_min = 10\nheight_max = 5\n"), HasSubstr("terrain.height_max: must be greater"));
+  EXPECT_THAT(errorOf("[terrain]\nlod_error_pixels = 0\n"), HasSubstr("terrain.lod_error_pixels = 0"));
+  EXPECT_THAT(errorOf("[terrain]\nseed = -1\n"), HasSubstr("terrain.seed = -1"));
+  EXPECT_THAT(errorOf("[terrain]\nsize = nan\n"), HasSubstr("terrain.size = nan"));
+  EXPECT_THAT(errorOf("[terrain]\nocatves = 3\n"), HasSubstr("unknown key 'terrain.ocatves'"));
+}
+
 TEST(SceneFile, EmptyFileGivesDefaults) {
   const Scene scene = parseScene("", "empty.toml");
   EXPECT_EQ(scene.render.width, RenderSettings{}.width);

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Sets up a fresh Debian 12 machine (as root), builds the engine and runs the main job headless.
-# For now the main job is one lit frame (forest render); the 5000-tree walkthrough replaces it
-# when it lands. Extra arguments go to `forest render` (e.g. --gl=osmesa, --scene FILE).
+# For now the main job is one lit frame of the default terrain (forest render); the 5000-tree
+# walkthrough replaces it when it lands. Extra arguments go to `forest render` (e.g. --gl=osmesa,
+# --scene FILE overrides the scene).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/setup.sh
@@ -9,4 +10,6 @@ cmake --preset release >/dev/null
 cmake --build --preset release --target forest >/dev/null
 mkdir -p out
 ./build/release/apps/forest info
-./build/release/apps/forest render --out out/render.png "$@"
+scene=(--scene data/scenes/terrain.toml)
+for argument in "$@"; do [[ $argument == --scene* ]] && scene=(); done
+./build/release/apps/forest render "${scene[@]}" --out out/render.png "$@"

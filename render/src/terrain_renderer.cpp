@@ -19,7 +19,7 @@ constexpr double kMorphSlack = 1e-3;  // the same as TerrainLod::morphFactor
 TerrainRenderer::TerrainRenderer(const terrain::Terrain& terrain, Output output)
     : terrain_(terrain),
       program_(gl::loadProgram({"terrain.vert", "terrain.frag"},
-                               output == Output::WorldHeight ? "#define TERRAIN_OUTPUT_HEIGHT 1\n" : "")) {
+                               output == Output::WorldPosition ? "#define TERRAIN_OUTPUT_POSITION 1\n" : "")) {
   const terrain::Heightfield& h = terrain.heightfield();
   heights_ = gl::Texture(GL_R32F, h.samples(), h.samples());
   glTextureSubImage2D(heights_.id(), 0, 0, 0, h.samples(), h.samples(), GL_RED, GL_FLOAT, h.heights().data());
@@ -86,6 +86,8 @@ TerrainRenderer::Stats TerrainRenderer::draw(const Camera& camera, const terrain
                glm::mat4(camera.projection() * camera.view() * glm::translate(glm::dmat4(1.0), eye)));
   program_.set("uOriginRelative", glm::vec2(h.origin().x - eye.x, h.origin().y - eye.z));
   program_.set("uEyeY", static_cast<float>(eye.y));
+  program_.set("uEye", glm::vec3(eye));
+  program_.set("uLodEyeRelative", glm::vec3(lod.eye - eye));
   program_.set("uSpacing", static_cast<float>(h.spacing()));
   program_.set("uTileQuads", kTileQuads);
   program_.set("uMorphSlack", static_cast<float>(kMorphSlack));

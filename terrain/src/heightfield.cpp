@@ -22,6 +22,11 @@ std::uint64_t splitMix(std::uint64_t& state) {
   return z ^ (z >> 31);
 }
 
+// Ridged noise takes 1 − |n|; |n| is rounded to √(n² + r²) so ridge crests are smooth at the
+// sample spacing instead of cusps (cusps make every LOD level's error large; thesis-scale
+// terrain has no knife edges at 2 m).
+constexpr double kRidgeRounding = 0.1;
+
 double fade(double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0); }  // 6t⁵ − 15t⁴ + 10t³
 
 double gradient(int hash, double x, double z) {
@@ -91,7 +96,7 @@ Heightfield::Heightfield(const TerrainSettings& settings) {
     for (int o = 0; o < settings.octaves; ++o) {
       const double n = noise(x * frequency + offsets[o].x, z * frequency + offsets[o].y);
       fbm += amplitude * n;
-      double signal = 1.0 - std::abs(n);
+      double signal = 1.0 - std::sqrt(n * n + kRidgeRounding * kRidgeRounding);
       signal *= signal * weight;
       weight = std::clamp(2.0 * signal, 0.0, 1.0);
       ridged += amplitude * signal;

@@ -52,11 +52,11 @@ struct TerrainSettings {
   int samples = 1025;            // height samples per side, 65…8193, (samples − 1) a multiple of 64
   double height_min = 0.0;       // the heights fill [height_min, height_max] exactly
   double height_max = 150.0;     // > height_min
-  double feature_size = 800.0;   // metres, wavelength of the lowest noise octave, > 0
-  int octaves = 8;               // [1, 16]
+  double feature_size = 1000.0;  // metres, wavelength of the lowest noise octave, > 0
+  int octaves = 7;               // [1, 16]
   double ridged = 0.4;           // share of ridged noise in the blend with fBm, [0, 1]
   std::uint64_t seed = 1;        // same seed → bit-identical heights
-  double lod_error_pixels = 1.0; // screen-space error bound of the LOD, (0, 64] pixels
+  double lod_error_pixels = 2.0; // screen-space error bound of the LOD, (0, 64] pixels
   glm::dvec3 albedo{0.32, 0.42, 0.2};  // grass; steep slopes blend to rock
 };
 

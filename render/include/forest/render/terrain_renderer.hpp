@@ -17,9 +17,9 @@ namespace forest::render {
 
 class TerrainRenderer {
  public:
-  // Lit: Lambert + ambient, grass blending to rock on steep slopes. WorldHeight: writes the
-  // world-space height of the drawn surface to colour channel 0 (tests, ground truth).
-  enum class Output { Lit, WorldHeight };
+  // Lit: Lambert + ambient, grass blending to rock on steep slopes. WorldPosition: writes the
+  // world-space position of the drawn surface to colour (a float target; tests, ground truth).
+  enum class Output { Lit, WorldPosition };
 
   explicit TerrainRenderer(const terrain::Terrain& terrain, Output output = Output::Lit);
 
@@ -28,8 +28,9 @@ class TerrainRenderer {
     long long triangles = 0;
     std::array<int, terrain::kLevels> tilesPerLevel{};
   };
-  // Draws `tiles` (indices into the terrain's tiles) into the bound framebuffer, each at the
-  // level the LOD gives it (depth test GL_GREATER: reversed-Z).
+  // Draws `tiles` (indices into the terrain's tiles) into the bound framebuffer as `camera`
+  // sees them, each at the level and morph the LOD gives it — the LOD may belong to another
+  // camera (depth test GL_GREATER: reversed-Z).
   Stats draw(const Camera& camera, const terrain::TerrainLod& lod, const SunSettings& sun,
              std::span<const int> tiles) const;
   // Tiles whose boxes meet the camera's frustum.
