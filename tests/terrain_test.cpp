@@ -63,6 +63,18 @@ TEST(Heightfield, InvalidSettingsAreRefused) {
   EXPECT_THROW(Heightfield{s}, InputError);
 }
 
+TEST(Terrain, SixteenKilometresAreConfigurable) {
+  TerrainSettings s = smallTerrain();
+  s.size = 16000.0;
+  s.samples = 513;  // 31.25 m spacing, 8 × 8 tiles of 2 km
+  const Terrain t(s);
+  EXPECT_EQ(t.tilesPerSide(), 8);
+  EXPECT_DOUBLE_EQ(t.bounds().min.x, -8000.0);
+  EXPECT_DOUBLE_EQ(t.bounds().max.z, 8000.0);
+  EXPECT_GE(t.heightAt(1234.5, -777.0), s.height_min);
+  EXPECT_LE(t.heightAt(1234.5, -777.0), s.height_max);
+}
+
 TEST(Terrain, TileBoxesAreExactOverTheirSamples) {
   const Terrain& t = sharedTerrain();
   ASSERT_EQ(t.tilesPerSide(), 4);

@@ -63,6 +63,13 @@ std::vector<int> TerrainRenderer::tilesInFrustum(const Camera& camera) const {
 
 TerrainRenderer::Stats TerrainRenderer::draw(const Camera& camera, const terrain::TerrainLod& lod,
                                              const SunSettings& sun, std::span<const int> tiles) const {
+  return draw(camera.projection() * camera.view() * glm::translate(glm::dmat4(1.0), camera.position), camera.position,
+              lod, sun, tiles);
+}
+
+TerrainRenderer::Stats TerrainRenderer::draw(const glm::dmat4& viewProjectionRelative, const glm::dvec3& eye,
+                                             const terrain::TerrainLod& lod, const SunSettings& sun,
+                                             std::span<const int> tiles) const {
   Stats stats;
   if (tiles.empty()) return stats;
   // Tiles grouped by level, uploaded at once; one instanced draw per level.
@@ -80,10 +87,8 @@ TerrainRenderer::Stats TerrainRenderer::draw(const Camera& camera, const terrain
   instances_.upload(0, packed.size() * sizeof(glm::ivec2), packed.data());
 
   const terrain::Heightfield& h = terrain_.heightfield();
-  const glm::dvec3 eye = camera.position;
   // (p − eye) → clip, composed in double (DESIGN §4), converted once.
-  program_.set("uViewProjectionRelative",
-               glm::mat4(camera.projection() * camera.view() * glm::translate(glm::dmat4(1.0), eye)));
+  program_.set("uViewProjectionRelative", glm::mat4(viewProjectionRelative));
   program_.set("uOriginRelative", glm::vec2(h.origin().x - eye.x, h.origin().y - eye.z));
   program_.set("uEyeY", static_cast<float>(eye.y));
   program_.set("uEye", glm::vec3(eye));

@@ -116,7 +116,7 @@ Heightfield::Heightfield(const TerrainSettings& settings) {
         heights_[static_cast<size_t>(j) * samples_ + i] =
             static_cast<float>(raw(origin_.x + i * spacing_, origin_.y + j * spacing_));
       const int quarter = 4 * ++rowsDone / samples_;
-      if (reportsProgress && large && quarter > reported) {
+      if (reportsProgress && large && quarter > reported && quarter < 4) {
         reported = quarter;
         log::info("terrain: {}% of {}x{} heights", 25 * quarter, samples_, samples_);
       }
@@ -126,6 +126,7 @@ Heightfield::Heightfield(const TerrainSettings& settings) {
   for (int t = 1; t < threads; ++t) pool.emplace_back(work, false);
   work(true);
   for (std::thread& t : pool) t.join();
+  if (large) log::info("terrain: {}x{} heights done", samples_, samples_);
 
   // Rescale to fill [height_min, height_max] exactly.
   const auto [lo, hi] = std::minmax_element(heights_.begin(), heights_.end());

@@ -33,6 +33,10 @@ class TerrainRenderer {
   // camera (depth test GL_GREATER: reversed-Z).
   Stats draw(const Camera& camera, const terrain::TerrainLod& lod, const SunSettings& sun,
              std::span<const int> tiles) const;
+  // The same from any view: `viewProjectionRelative` maps (p − viewOrigin) to clip space, composed
+  // in double — e.g. the light's matrix in the shadow pass, which draws the eye's LOD.
+  Stats draw(const glm::dmat4& viewProjectionRelative, const glm::dvec3& viewOrigin, const terrain::TerrainLod& lod,
+             const SunSettings& sun, std::span<const int> tiles) const;
   // Tiles whose boxes meet the camera's frustum.
   std::vector<int> tilesInFrustum(const Camera& camera) const;
 
