@@ -1,0 +1,413 @@
+#include "forest/vegetation/species.hpp"
+
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Tools/Decimater/DecimaterT.hh>
+#include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
+#include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+
+#include "forest/core/error.hpp"
+
+namespace forest::vegetation {
+namespace {
+
+using glm::dvec3;
+
+struct TreeTraits : public OpenMesh::DefaultTraits {
+  using Point = OpenMesh::Vec3d;
+  using Normal = OpenMesh::Vec3d;
+  using Color = OpenMesh::Vec3f;
+  VertexAttributes(OpenMesh::Attributes::Normal | OpenMesh::Attributes::Color | OpenMesh::Attributes::Status);
+  FaceAttributes(OpenMesh::Attributes::Normal | OpenMesh::Attributes::Status);
+  EdgeAttributes(OpenMesh::Attributes::Status);
+  HalfedgeAttributes(OpenMesh::Attributes::PrevHalfedge);
+};
+using OMesh = OpenMesh::TriMesh_ArrayKernelT<TreeTraits>;
+using VertexHandle = OMesh::VertexHandle;
+
+const OpenMesh::Vec3f kBark(0.30f, 0.21f, 0.13f);
+const OpenMesh::Vec3f kNeedles(0.10f, 0.26f, 0.12f);
+const OpenMesh::Vec3f kLeaves(0.20f, 0.40f, 0.12f);
+
+OpenMesh::Vec3d om(const dvec3& p) { return {p.x, p.y, p.z}; }
+
+// SplitMix64: the species layout stream.
+class Random {
+ public:
+  explicit Random(std::uint64_t seed) : state_(seed) {}
+  double unit() {
+    std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1p-53;
+  }
+  double uniform(double a, double b) { return a + (b - a) * unit(); }
+
+ private:
+  std::uint64_t state_;
+};
+
+// Adds closed components to one OpenMesh mesh, tagging each face with its component.
+class ComponentBuilder {
+ public:
+  explicit ComponentBuilder(OMesh& mesh) : mesh_(mesh) { mesh_.add_property(component_, "component"); }
+  OpenMesh::FPropHandleT<int> componentProperty() const { return component_; }
+
+  // A tube through `centres` with `radii` (one per centre), closed at both ends: a fan cap, or a
+  // single apex vertex where the radius is 0. Rings use parallel-transported frames with
+  // u × v = tangent, so faces (a, b, c) below are counter-clockwise seen from outside.
+  void tube(const std::vector<dvec3>& centres, const std::vector<double>& radii, int segments,
+            const OpenMesh::Vec3f& color) {
+    const size_t n = centres.size();
+    std::vector<std::vector<VertexHandle>> rings(n);
+    dvec3 u(0.0);
+    for (size_t k = 0; k < n; ++k) {
+      const dvec3 tangent = glm::normalize(centres[std::min(k + 1, n - 1)] - centres[k > 0 ? k - 1 : 0]);
+      if (k == 0) {
+        const dvec3 helper = std::abs(tangent.y) < 0.9 ? dvec3(0, 1, 0) : dvec3(1, 0, 0);
+        u = glm::normalize(glm::cross(helper, tangent));
+      } else {
+        u = glm::normalize(u - glm::dot(u, tangent) * tangent);  // parallel transport
+      }
+      const dvec3 v = glm::cross(tangent, u);
+      if (radii[k] <= 0.0) {
+        rings[k].push_back(vertex(centres[k], color));
+        continue;
+      }
+      for (int j = 0; j < segments; ++j) {
+        const double angle = 2.0 * std::numbers::pi * j / segments;
+        rings[k].push_back(vertex(centres[k] + radii[k] * (std::cos(angle) * u + std::sin(angle) * v), color));
+      }
+    }
+    for (size_t k = 0; k + 1 < n; ++k) {
+      const auto& a = rings[k];
+      const auto& b = rings[k + 1];
+      for (int j = 0; j < segments; ++j) {
+        const int next = (j + 1) % segments;
+        if (a.size() == 1) {
+          face(a[0], b[next], b[j]);
+        } else if (b.size() == 1) {
+          face(a[j], a[next], b[0]);
+        } else {
+          face(a[j], a[next], b[next]);
+          face(a[j], b[next], b[j]);
+        }
+      }
+    }
+    if (rings.front().size() > 1) {  // bottom cap, facing −tangent
+      const VertexHandle centre = vertex(centres.front(), color);
+      for (int j = 0; j < segments; ++j) face(centre, rings.front()[(j + 1) % segments], rings.front()[j]);
+    }
+    if (rings.back().size() > 1) {  // top cap, facing +tangent
+      const VertexHandle centre = vertex(centres.back(), color);
+      for (int j = 0; j < segments; ++j) face(centre, rings.back()[j], rings.back()[(j + 1) % segments]);
+    }
+    ++current_;
+  }
+
+  // A closed lumpy blob: a latitude-longitude sphere (poles as single vertices) with radii
+  // `radii` (ellipsoid) and a smooth radial bump of relative size `lumpiness`. Radial
+  // displacement of a star-shaped surface cannot make it intersect itself.
+  void blob(const dvec3& centre, const dvec3& radii, double lumpiness, int longitudes, int latitudes, double phase,
+            const OpenMesh::Vec3f& color) {
+    auto point = [&](double polar, double azimuth) {
+      const dvec3 d(std::sin(polar) * std::cos(azimuth), std::cos(polar), std::sin(polar) * std::sin(azimuth));
+      const double bump = 1.0 + lumpiness * (std::sin(3.0 * azimuth + phase) * std::sin(2.0 * polar + 0.7 * phase) +
+                                             0.5 * std::sin(5.0 * azimuth - 1.3 * phase) * std::sin(4.0 * polar));
+      return centre + bump * radii * d;
+    };
+    const VertexHandle top = vertex(point(0.0, 0.0), color);
+    std::vector<std::vector<VertexHandle>> rings;
+    for (int i = 1; i < latitudes; ++i) {
+      std::vector<VertexHandle>& ring = rings.emplace_back();
+      const double polar = std::numbers::pi * i / latitudes;
+      for (int j = 0; j < longitudes; ++j) ring.push_back(vertex(point(polar, 2.0 * std::numbers::pi * j / longitudes), color));
+    }
+    const VertexHandle bottom = vertex(point(std::numbers::pi, 0.0), color);
+    // Azimuth grows from +x toward +z; seen from outside (above at the top pole) that is clockwise,
+    // so the winding below runs against it.
+    for (int j = 0; j < longitudes; ++j) face(top, rings.front()[(j + 1) % longitudes], rings.front()[j]);
+    for (size_t i = 0; i + 1 < rings.size(); ++i)
+      for (int j = 0; j < longitudes; ++j) {
+        const int next = (j + 1) % longitudes;
+        face(rings[i][j], rings[i][next], rings[i + 1][next]);
+        face(rings[i][j], rings[i + 1][next], rings[i + 1][j]);
+      }
+    for (int j = 0; j < longitudes; ++j) face(bottom, rings.back()[j], rings.back()[(j + 1) % longitudes]);
+    ++current_;
+  }
+
+ private:
+  VertexHandle vertex(const dvec3& p, const OpenMesh::Vec3f& color) {
+    const VertexHandle v = mesh_.add_vertex(om(p));
+    mesh_.set_color(v, color);
+    return v;
+  }
+  void face(VertexHandle a, VertexHandle b, VertexHandle c) {
+    const auto f = mesh_.add_face(a, b, c);
+    if (!f.is_valid()) throw Error("vegetation: OpenMesh refused a face (non-manifold component)");
+    mesh_.property(component_, f) = current_;
+  }
+
+  OMesh& mesh_;
+  OpenMesh::FPropHandleT<int> component_;
+  int current_ = 0;
+};
+
+// Conifer, 12 m: a tapering trunk through five drooping cones.
+void buildConifer(ComponentBuilder& b, double quality, Random& random) {
+  const double height = 12.0;
+  const int trunkSegments = std::max(4, static_cast<int>(std::lround(6 * quality)));
+  std::vector<dvec3> trunk;
+  std::vector<double> trunkRadii;
+  const int trunkRings = std::max(2, static_cast<int>(std::lround(4 * quality)));
+  for (int k = 0; k <= trunkRings; ++k) {
+    const double t = static_cast<double>(k) / trunkRings;
+    trunk.emplace_back(0.0, 0.92 * height * t, 0.0);
+    trunkRadii.push_back(0.28 * (1.0 - t) + 0.06 * t);
+  }
+  b.tube(trunk, trunkRadii, trunkSegments, kBark);
+  const int coneSegments = std::max(5, static_cast<int>(std::lround(14 * quality)));
+  const int coneRings = std::max(1, static_cast<int>(std::lround(3 * quality)));
+  for (int layer = 0; layer < 5; ++layer) {
+    const double base = height * (0.18 + 0.15 * layer) + random.uniform(-0.2, 0.2);
+    const double coneHeight = height * (0.34 - 0.035 * layer);
+    const double radius = height * (0.25 - 0.038 * layer) * random.uniform(0.92, 1.08);
+    const dvec3 lean(random.uniform(-0.15, 0.15), 0.0, random.uniform(-0.15, 0.15));
+    std::vector<dvec3> centres;
+    std::vector<double> radii;
+    for (int k = 0; k <= coneRings; ++k) {
+      const double t = static_cast<double>(k) / (coneRings + 1);
+      centres.push_back(dvec3(0.0, base + coneHeight * t, 0.0) + lean * t);
+      radii.push_back(radius * (1.0 - t) * (1.0 - 0.15 * t));  // slightly concave flanks
+    }
+    centres.push_back(dvec3(0.0, base + coneHeight, 0.0) + lean);
+    radii.push_back(0.0);
+    b.tube(centres, radii, coneSegments, kNeedles);
+  }
+}
+
+// Broadleaf, 10 m: a leaning trunk that forks into three branches under a crown of lumpy blobs.
+void buildBroadleaf(ComponentBuilder& b, double quality, Random& random) {
+  const double height = 10.0;
+  const int segments = std::max(4, static_cast<int>(std::lround(7 * quality)));
+  const int rings = std::max(2, static_cast<int>(std::lround(4 * quality)));
+  const dvec3 lean(random.uniform(-0.4, 0.4), 0.0, random.uniform(-0.4, 0.4));
+  std::vector<dvec3> trunk;
+  std::vector<double> trunkRadii;
+  for (int k = 0; k <= rings; ++k) {
+    const double t = static_cast<double>(k) / rings;
+    trunk.push_back(dvec3(0.0, 0.5 * height * t, 0.0) + lean * (t * t));
+    trunkRadii.push_back(0.32 * (1.0 - t) + 0.2 * t);
+  }
+  b.tube(trunk, trunkRadii, segments, kBark);
+  const dvec3 fork = trunk.back() - dvec3(0.0, 0.4, 0.0);
+  std::vector<dvec3> crownCentres;
+  for (int branch = 0; branch < 3; ++branch) {
+    const double azimuth = 2.0 * std::numbers::pi * (branch + random.uniform(-0.15, 0.15)) / 3.0;
+    const dvec3 out(std::cos(azimuth), 0.0, std::sin(azimuth));
+    const dvec3 tip = fork + dvec3(0.0, 0.25 * height, 0.0) + 0.22 * height * out;
+    std::vector<dvec3> centres;
+    std::vector<double> radii;
+    for (int k = 0; k <= rings; ++k) {
+      const double t = static_cast<double>(k) / rings;
+      centres.push_back(fork + (tip - fork) * t + dvec3(0.0, 0.08 * height * std::sin(std::numbers::pi * t), 0.0));
+      radii.push_back(0.16 * (1.0 - t) + 0.07 * t);
+    }
+    b.tube(centres, radii, segments, kBark);
+    crownCentres.push_back(tip);
+  }
+  const int longitudes = std::max(6, static_cast<int>(std::lround(14 * quality)));
+  const int latitudes = std::max(4, static_cast<int>(std::lround(8 * quality)));
+  const dvec3 crown(lean.x, 0.76 * height, lean.z);
+  crownCentres.push_back(crown);
+  for (int extra = 0; extra < 3; ++extra) {
+    const double azimuth = 2.0 * std::numbers::pi * (extra + 0.5) / 3.0;
+    crownCentres.push_back(crown + dvec3(0.16 * height * std::cos(azimuth), random.uniform(-0.6, 0.8), 0.16 * height * std::sin(azimuth)));
+  }
+  for (size_t k = 0; k < crownCentres.size(); ++k) {
+    const double r = height * random.uniform(0.17, 0.23);
+    b.blob(crownCentres[k], dvec3(r, 0.8 * r, r), 0.12, longitudes, latitudes, random.uniform(0.0, 6.28), kLeaves);
+  }
+}
+
+void buildAt(OMesh& mesh, Species species, double quality, std::uint64_t seed) {
+  mesh = OMesh();  // fresh, with one "component" property
+  ComponentBuilder builder(mesh);
+  Random random(seed ^ (species == Species::Conifer ? 0xC0F1ull : 0xB70Aull));
+  if (species == Species::Conifer) buildConifer(builder, quality, random);
+  else buildBroadleaf(builder, quality, random);
+}
+
+// Quadric edge collapses (Garland & Heckbert 1997) down to `faces`, refusing collapses that flip
+// a face normal by more than 60°. Edge collapses that OpenMesh accepts keep a closed 2-manifold
+// closed and 2-manifold.
+void decimate(OMesh& mesh, int faces, double maxNormalDeviationDeg) {
+  if (static_cast<int>(mesh.n_faces()) <= faces) return;
+  mesh.update_face_normals();
+  OpenMesh::Decimater::DecimaterT<OMesh> decimater(mesh);
+  OpenMesh::Decimater::ModQuadricT<OMesh>::Handle quadric;
+  OpenMesh::Decimater::ModNormalFlippingT<OMesh>::Handle flipping;
+  decimater.add(quadric);
+  decimater.add(flipping);
+  decimater.module(quadric).unset_max_err();
+  decimater.module(flipping).set_max_normal_deviation(maxNormalDeviationDeg);
+  if (!decimater.initialize()) throw Error("vegetation: cannot initialise the OpenMesh decimater");
+  decimater.decimate_to_faces(0, static_cast<size_t>(faces));
+  mesh.garbage_collection();
+}
+
+TreeMesh exportMesh(OMesh& mesh, OpenMesh::FPropHandleT<int> component) {
+  mesh.update_face_normals();
+  mesh.update_vertex_normals();
+  TreeMesh out;
+  for (const auto v : mesh.vertices()) {
+    const auto p = mesh.point(v);
+    const auto n = mesh.normal(v);
+    const auto c = mesh.color(v);
+    out.positions.emplace_back(p[0], p[1], p[2]);
+    out.normals.emplace_back(n[0], n[1], n[2]);
+    out.albedo.emplace_back(c[0], c[1], c[2]);
+    out.bounds.extend(dvec3(p[0], p[1], p[2]));
+  }
+  int components = 0;
+  for (const auto f : mesh.faces()) {
+    for (const auto v : mesh.fv_range(f)) out.indices.push_back(static_cast<std::uint32_t>(v.idx()));
+    const int c = mesh.property(component, f);
+    out.faceComponent.push_back(static_cast<std::uint32_t>(c));
+    components = std::max(components, c + 1);
+  }
+  out.components = components;
+  return out;
+}
+
+}  // namespace
+
+std::string_view speciesName(Species species) { return species == Species::Conifer ? "conifer" : "broadleaf"; }
+
+std::array<int, kTreeLods> lodTriangleTargets(int lod0Triangles) {
+  return {lod0Triangles, std::max(120, lod0Triangles / 4), std::max(120, lod0Triangles / 16)};
+}
+
+SpeciesModel buildSpecies(Species species, int lod0Triangles, std::uint64_t seed) {
+  if (lod0Triangles < kMinLod0Triangles || lod0Triangles > kMaxLod0Triangles)
+    throw InputError(fmt::format("vegetation.lod0_triangles = {}: expected [{}, {}]", lod0Triangles, kMinLod0Triangles,
+                                 kMaxLod0Triangles));
+  SpeciesModel model;
+  model.species = species;
+  model.targetTriangles = lodTriangleTargets(lod0Triangles);
+  // Generate finer than LOD0 (≥ 1.3×), then simplify to each target.
+  OMesh mesh;
+  double quality = 1.0;
+  for (int attempt = 0; attempt < 8; ++attempt) {
+    buildAt(mesh, species, quality, seed);
+    const double faces = static_cast<double>(mesh.n_faces());
+    if (faces >= 1.3 * lod0Triangles) break;
+    quality *= std::sqrt(1.5 * lod0Triangles / faces);
+  }
+  OpenMesh::FPropHandleT<int> component;
+  mesh.get_property_handle(component, "component");
+  // Each LOD from the previous one. A collapse can push a vertex through the far side of a thin
+  // tube (a fold the local normal test cannot see): such a LOD is redone from the previous one with
+  // a stricter normal-deviation limit.
+  for (int lod = 0; lod < kTreeLods; ++lod) {
+    OMesh attempt;
+    for (double deviation : {45.0, 30.0, 20.0, 10.0}) {
+      attempt = mesh;
+      decimate(attempt, model.targetTriangles[lod], deviation);
+      model.lods[lod] = exportMesh(attempt, component);
+      bool folded = false;
+      for (int c = 0; c < model.lods[lod].components && !folded; ++c) folded = componentIntersectsItself(model.lods[lod], c);
+      if (!folded) break;
+    }
+    mesh = attempt;
+  }
+  return model;
+}
+
+namespace {
+
+// Does segment pq cross triangle abc (interior or boundary)? Möller–Trumbore on the segment.
+bool segmentCrossesTriangle(const dvec3& p, const dvec3& q, const dvec3& a, const dvec3& b, const dvec3& c) {
+  const dvec3 d = q - p, e1 = b - a, e2 = c - a;
+  const dvec3 h = glm::cross(d, e2);
+  const double det = glm::dot(e1, h);
+  const double scale = glm::length(d) * glm::length(e1) * glm::length(e2);
+  if (std::abs(det) <= 1e-12 * scale) return false;  // parallel or coplanar: not a crossing
+  const dvec3 s = p - a;
+  const double u = glm::dot(s, h) / det;
+  if (u < 0.0 || u > 1.0) return false;
+  const dvec3 qv = glm::cross(s, e1);
+  const double v = glm::dot(d, qv) / det;
+  if (v < 0.0 || u + v > 1.0) return false;
+  const double t = glm::dot(e2, qv) / det;
+  return t > 0.0 && t < 1.0;
+}
+
+}  // namespace
+
+bool componentIntersectsItself(const TreeMesh& mesh, int component) {
+  std::vector<std::array<std::uint32_t, 3>> faces;
+  std::vector<Aabb> boxes;
+  for (size_t f = 0; f < mesh.faceComponent.size(); ++f) {
+    if (mesh.faceComponent[f] != static_cast<std::uint32_t>(component)) continue;
+    faces.push_back({mesh.indices[3 * f], mesh.indices[3 * f + 1], mesh.indices[3 * f + 2]});
+    Aabb box;
+    for (std::uint32_t v : faces.back()) box.extend(dvec3(mesh.positions[v]));
+    boxes.push_back(box);
+  }
+  auto shares = [](const std::array<std::uint32_t, 3>& x, const std::array<std::uint32_t, 3>& y) {
+    for (std::uint32_t a : x)
+      for (std::uint32_t b : y)
+        if (a == b) return true;
+    return false;
+  };
+  for (size_t i = 0; i < faces.size(); ++i) {
+    for (size_t j = i + 1; j < faces.size(); ++j) {
+      const Aabb& a = boxes[i];
+      const Aabb& b = boxes[j];
+      if (a.max.x < b.min.x || b.max.x < a.min.x || a.max.y < b.min.y || b.max.y < a.min.y || a.max.z < b.min.z ||
+          b.max.z < a.min.z)
+        continue;
+      if (shares(faces[i], faces[j])) continue;  // neighbours meet at their shared vertex or edge
+      const auto& x = faces[i];
+      const auto& y = faces[j];
+      const dvec3 x0(mesh.positions[x[0]]), x1(mesh.positions[x[1]]), x2(mesh.positions[x[2]]);
+      const dvec3 y0(mesh.positions[y[0]]), y1(mesh.positions[y[1]]), y2(mesh.positions[y[2]]);
+      if (segmentCrossesTriangle(x0, x1, y0, y1, y2) || segmentCrossesTriangle(x1, x2, y0, y1, y2) ||
+          segmentCrossesTriangle(x2, x0, y0, y1, y2) || segmentCrossesTriangle(y0, y1, x0, x1, x2) ||
+          segmentCrossesTriangle(y1, y2, x0, x1, x2) || segmentCrossesTriangle(y2, y0, x0, x1, x2))
+        return true;
+    }
+  }
+  return false;
+}
+
+MeshTopology inspectMesh(const TreeMesh& mesh) {
+  MeshTopology t;
+  // Every directed edge once, and its reverse once: closed, 2-manifold, consistently oriented.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+  for (size_t f = 0; f < mesh.indices.size(); f += 3)
+    for (int k = 0; k < 3; ++k) ++directed[{mesh.indices[f + k], mesh.indices[f + (k + 1) % 3]}];
+  for (const auto& [edge, count] : directed) {
+    const auto reverse = directed.find({edge.second, edge.first});
+    if (reverse == directed.end()) ++t.boundaryEdges;
+    else if (count != 1 || reverse->second != 1) ++t.nonManifoldEdges;
+  }
+  // Signed volume by the divergence theorem, per component and in all.
+  t.componentVolumes.assign(static_cast<size_t>(mesh.components), 0.0);
+  for (size_t f = 0; f < mesh.indices.size(); f += 3) {
+    const dvec3 a(mesh.positions[mesh.indices[f]]), b(mesh.positions[mesh.indices[f + 1]]), c(mesh.positions[mesh.indices[f + 2]]);
+    const double v = glm::dot(a, glm::cross(b, c)) / 6.0;
+    t.signedVolume += v;
+    t.componentVolumes[mesh.faceComponent[f / 3]] += v;
+  }
+  return t;
+}
+
+}  // namespace forest::vegetation
