@@ -83,6 +83,35 @@ TEST(SceneFile, BadTerrainValuesNameTheKey) {
   EXPECT_THAT(errorOf("[terrain]\nocatves = 3\n"), HasSubstr("unknown key 'terrain.ocatves'"));
 }
 
+TEST(SceneFile, VegetationSectionLoadsRoundTripsAndNeedsTerrain) {
+  const std::string text =
+      "[terrain]\n[vegetation]\ncount = 300\nlod_distances = [40.0, 90.0]\nwind_direction = [0.0, 2.0]\n"
+      "[vegetation.broadleaf]\nshare = 0.25\nmax_slope_deg = 20.0\n";
+  const Scene scene = parseScene(text, "v.toml");
+  ASSERT_TRUE(scene.vegetation.has_value());
+  EXPECT_EQ(scene.vegetation->count, 300);
+  EXPECT_EQ(scene.vegetation->lod_distances, glm::dvec2(40.0, 90.0));
+  EXPECT_EQ(scene.vegetation->wind_direction, glm::dvec2(0.0, 1.0));  // normalised
+  EXPECT_EQ(scene.vegetation->broadleaf.share, 0.25);
+  EXPECT_EQ(scene.vegetation->conifer.share, VegetationSettings{}.conifer.share);
+  const Scene back = parseScene(sceneToToml(scene), "roundtrip.toml");
+  ASSERT_TRUE(back.vegetation.has_value());
+  EXPECT_EQ(back.vegetation->broadleaf.max_slope_deg, 20.0);
+  EXPECT_EQ(back.vegetation->lod_distances, scene.vegetation->lod_distances);
+  EXPECT_EQ(back.vegetation->wind_direction, scene.vegetation->wind_direction);
+  EXPECT_THAT(errorOf("[vegetation]\ncount = 10\n"), HasSubstr("vegetation: needs a [terrain] section"));
+}
+
+TEST(SceneFile, BadVegetationValuesNameTheKey) {
+  EXPECT_THAT(errorOf("[terrain]\n[vegetation]\ncount = -5\n"), HasSubstr("vegetation.count = -5: expected an integer in [0, 1000000]"));
+  EXPECT_THAT(errorOf("[terrain]\n[vegetation]\nlod0_triangles = 50000\n"), HasSubstr("vegetation.lod0_triangles = 50000"));
+  EXPECT_THAT(errorOf("[terrain]\n[vegetation]\nlod_distances = [90.0, 40.0]\n"), HasSubstr("vegetation.lod_distances: the second distance"));
+  EXPECT_THAT(errorOf("[terrain]\n[vegetation]\nwind_direction = [0.0, 0.0]\n"), HasSubstr("vegetation.wind_direction: must be a non-zero"));
+  EXPECT_THAT(errorOf("[terrain]\n[vegetation.conifer]\nspacing = 0.1\n"), HasSubstr("vegetation.conifer.spacing = 0.1"));
+  EXPECT_THAT(errorOf("[terrain]\n[vegetation.oak]\nshare = 1.0\n"), HasSubstr("unknown key 'vegetation.oak'"));
+  EXPECT_THAT(errorOf("[terrain]\n[vegetation]\nforce_lod0 = 1\n"), HasSubstr("vegetation.force_lod0 = 1: expected true or false"));
+}
+
 TEST(SceneFile, EmptyFileGivesDefaults) {
   const Scene scene = parseScene("", "empty.toml");
   EXPECT_EQ(scene.render.width, RenderSettings{}.width);

@@ -78,6 +78,36 @@ void readTerrain(TomlSection& s, TerrainSettings& t) {
   s.finish();
 }
 
+void readSpeciesPlacement(TomlSection& s, SpeciesPlacementSettings& p) {
+  p.share = s.number("share", p.share, detail::closed(0.0, 1.0));
+  p.spacing = s.number("spacing", p.spacing, detail::closed(0.5, 100.0));
+  p.max_slope_deg = s.number("max_slope_deg", p.max_slope_deg, detail::closed(0.0, 90.0));
+  p.min_height = s.number("min_height", p.min_height, detail::closed(-1e4, 1e4));
+  p.max_height = s.number("max_height", p.max_height, detail::closed(-1e4, 1e4));
+  if (!(p.max_height >= p.min_height)) s.fail(nullptr, "max_height", "must be at least min_height");
+  s.finish();
+}
+
+void readVegetation(TomlSection& s, VegetationSettings& v) {
+  v.count = static_cast<int>(s.integer("count", v.count, 0, 1000000));
+  v.seed = static_cast<std::uint64_t>(
+      s.integer("seed", static_cast<std::int64_t>(v.seed), 0, std::numeric_limits<std::int64_t>::max()));
+  v.lod0_triangles = static_cast<int>(s.integer("lod0_triangles", v.lod0_triangles, 1000, 20000));
+  v.force_lod0 = s.boolean("force_lod0", v.force_lod0);
+  v.lod_distances = s.vec2("lod_distances", v.lod_distances, detail::positive());
+  if (!(v.lod_distances.y > v.lod_distances.x)) s.fail(nullptr, "lod_distances", "the second distance must be greater than the first");
+  v.wind_strength = s.number("wind_strength", v.wind_strength, detail::closed(0.0, 0.2));
+  v.wind_period = s.number("wind_period", v.wind_period, detail::positive());
+  v.wind_direction = s.vec2("wind_direction", v.wind_direction, detail::anyFinite());
+  if (!(glm::length(v.wind_direction) > 1e-9)) s.fail(nullptr, "wind_direction", "must be a non-zero (x, z) vector");
+  const double windLength = glm::length(v.wind_direction);  // normalised unless already unit (round trips)
+  if (std::abs(windLength - 1.0) > 4.0 * std::numeric_limits<double>::epsilon()) v.wind_direction /= windLength;
+  if (auto t = s.table("conifer")) readSpeciesPlacement(*t, v.conifer);
+  if (auto t = s.table("broadleaf")) readSpeciesPlacement(*t, v.broadleaf);
+  if (!(v.conifer.share + v.broadleaf.share > 0.0)) s.fail(nullptr, "conifer.share", "the species shares must not both be 0");
+  s.finish();
+}
+
 }  // namespace
 
 Camera Scene::startCamera() const {
@@ -102,6 +132,10 @@ Scene parseScene(const std::string& text, const std::string& name) {
   if (auto s = root.table("render")) readRender(*s, scene.render);
   for (auto& s : root.tables("props")) scene.props.push_back(readProp(s));
   if (auto s = root.table("terrain")) readTerrain(*s, scene.terrain.emplace());
+  if (auto s = root.table("vegetation")) {
+    readVegetation(*s, scene.vegetation.emplace());
+    if (!scene.terrain) s->fail(nullptr, "vegetation", "needs a [terrain] section to grow on");
+  }
   root.finish();
   return scene;
 }
@@ -145,6 +179,26 @@ std::string sceneToToml(const Scene& scene) {
                                            {"seed", static_cast<std::int64_t>(t.seed)},
                                            {"lod_error_pixels", t.lod_error_pixels},
                                            {"albedo", tomlArray(t.albedo)}});
+  }
+  if (scene.vegetation) {
+    const VegetationSettings& v = *scene.vegetation;
+    auto species = [](const SpeciesPlacementSettings& p) {
+      return toml::table{{"share", p.share},
+                         {"spacing", p.spacing},
+                         {"max_slope_deg", p.max_slope_deg},
+                         {"min_height", p.min_height},
+                         {"max_height", p.max_height}};
+    };
+    document.insert("vegetation", toml::table{{"count", v.count},
+                                              {"seed", static_cast<std::int64_t>(v.seed)},
+                                              {"lod0_triangles", v.lod0_triangles},
+                                              {"force_lod0", v.force_lod0},
+                                              {"lod_distances", tomlArray(v.lod_distances)},
+                                              {"wind_strength", v.wind_strength},
+                                              {"wind_period", v.wind_period},
+                                              {"wind_direction", tomlArray(v.wind_direction)},
+                                              {"conifer", species(v.conifer)},
+                                              {"broadleaf", species(v.broadleaf)}});
   }
   std::ostringstream out;
   out << document << "\n";

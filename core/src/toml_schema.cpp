@@ -106,24 +106,36 @@ std::int64_t TomlSection::integer(std::string_view key, std::optional<std::int64
   return v;
 }
 
-glm::dvec3 TomlSection::vec3(std::string_view key, std::optional<glm::dvec3> fallback,
-                             const NumberRange& range) {
-  const std::string expected = "expected an array of 3 numbers, each " + range.describe();
+std::vector<double> TomlSection::numbers(std::string_view key, const std::vector<double>* fallback, size_t count,
+                                         const NumberRange& range) {
+  const std::string expected = "expected an array of " + std::to_string(count) + " numbers, each " + range.describe();
   const toml::node* node = find(key);
   if (node == nullptr) {
     if (fallback) return *fallback;
     fail(nullptr, key, "missing; " + expected);
   }
   const toml::array* array = node->as_array();
-  if (array == nullptr || array->size() != 3) fail(node, key, expected);
-  glm::dvec3 v;
-  for (int i = 0; i < 3; ++i) {
-    const toml::node& element = *array->get(static_cast<size_t>(i));
+  if (array == nullptr || array->size() != count) fail(node, key, expected);
+  std::vector<double> v(count);
+  for (size_t i = 0; i < count; ++i) {
+    const toml::node& element = *array->get(i);
     if (!element.is_number()) fail(node, key, expected);
     v[i] = element.value<double>().value();
     if (!range.contains(v[i])) fail(node, key, expected);
   }
   return v;
+}
+
+glm::dvec3 TomlSection::vec3(std::string_view key, std::optional<glm::dvec3> fallback, const NumberRange& range) {
+  const std::vector<double> f = fallback ? std::vector<double>{fallback->x, fallback->y, fallback->z} : std::vector<double>{};
+  const std::vector<double> v = numbers(key, fallback ? &f : nullptr, 3, range);
+  return {v[0], v[1], v[2]};
+}
+
+glm::dvec2 TomlSection::vec2(std::string_view key, std::optional<glm::dvec2> fallback, const NumberRange& range) {
+  const std::vector<double> f = fallback ? std::vector<double>{fallback->x, fallback->y} : std::vector<double>{};
+  const std::vector<double> v = numbers(key, fallback ? &f : nullptr, 2, range);
+  return {v[0], v[1]};
 }
 
 bool TomlSection::boolean(std::string_view key, std::optional<bool> fallback) {
@@ -194,5 +206,6 @@ toml::table parseToml(const std::string& text, const std::string& file) {
 toml::table parseTomlFile(const std::string& file) { return parseToml(readTextFile(file), file); }
 
 toml::array tomlArray(const glm::dvec3& v) { return toml::array{v.x, v.y, v.z}; }
+toml::array tomlArray(const glm::dvec2& v) { return toml::array{v.x, v.y}; }
 
 }  // namespace forest::detail

@@ -40,6 +40,7 @@ class TomlSection {
   std::int64_t integer(std::string_view key, std::optional<std::int64_t> fallback, std::int64_t min,
                        std::int64_t max);
   glm::dvec3 vec3(std::string_view key, std::optional<glm::dvec3> fallback, const NumberRange& range);
+  glm::dvec2 vec2(std::string_view key, std::optional<glm::dvec2> fallback, const NumberRange& range);
   bool boolean(std::string_view key, std::optional<bool> fallback);
   std::string oneOf(std::string_view key, std::optional<std::string> fallback,
                     const std::vector<std::string>& allowed);
@@ -58,6 +59,8 @@ class TomlSection {
 
  private:
   const toml::node* find(std::string_view key);
+  std::vector<double> numbers(std::string_view key, const std::vector<double>* fallback, size_t count,
+                              const NumberRange& range);
 
   const toml::table* table_;
   std::string file_;
@@ -72,5 +75,6 @@ toml::table parseTomlFile(const std::string& file);
 
 // Writers used to serialise documents back to TOML.
 toml::array tomlArray(const glm::dvec3& v);
+toml::array tomlArray(const glm::dvec2& v);
 
 }  // namespace forest::detail

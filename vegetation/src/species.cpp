@@ -30,6 +30,9 @@ struct TreeTraits : public OpenMesh::DefaultTraits {
 using OMesh = OpenMesh::TriMesh_ArrayKernelT<TreeTraits>;
 using VertexHandle = OMesh::VertexHandle;
 
+// Trunks start this far below the base (y = 0) so that on sloped ground no gap shows under them.
+constexpr double kRootDepth = 0.6;
+
 const OpenMesh::Vec3f kBark(0.30f, 0.21f, 0.13f);
 const OpenMesh::Vec3f kNeedles(0.10f, 0.26f, 0.12f);
 const OpenMesh::Vec3f kLeaves(0.20f, 0.40f, 0.12f);
@@ -168,7 +171,7 @@ void buildConifer(ComponentBuilder& b, double quality, Random& random) {
   const int trunkRings = std::max(2, static_cast<int>(std::lround(4 * quality)));
   for (int k = 0; k <= trunkRings; ++k) {
     const double t = static_cast<double>(k) / trunkRings;
-    trunk.emplace_back(0.0, 0.92 * height * t, 0.0);
+    trunk.emplace_back(0.0, -kRootDepth + (0.92 * height + kRootDepth) * t, 0.0);
     trunkRadii.push_back(0.28 * (1.0 - t) + 0.06 * t);
   }
   b.tube(trunk, trunkRadii, trunkSegments, kBark);
@@ -202,7 +205,7 @@ void buildBroadleaf(ComponentBuilder& b, double quality, Random& random) {
   std::vector<double> trunkRadii;
   for (int k = 0; k <= rings; ++k) {
     const double t = static_cast<double>(k) / rings;
-    trunk.push_back(dvec3(0.0, 0.5 * height * t, 0.0) + lean * (t * t));
+    trunk.push_back(dvec3(0.0, -kRootDepth + (0.5 * height + kRootDepth) * t, 0.0) + lean * (t * t));
     trunkRadii.push_back(0.32 * (1.0 - t) + 0.2 * t);
   }
   b.tube(trunk, trunkRadii, segments, kBark);
@@ -273,7 +276,7 @@ TreeMesh exportMesh(OMesh& mesh, OpenMesh::FPropHandleT<int> component) {
     out.positions.emplace_back(p[0], p[1], p[2]);
     out.normals.emplace_back(n[0], n[1], n[2]);
     out.albedo.emplace_back(c[0], c[1], c[2]);
-    out.bounds.extend(dvec3(p[0], p[1], p[2]));
+    out.bounds.extend(dvec3(out.positions.back()));  // of the float positions that are drawn
   }
   int components = 0;
   for (const auto f : mesh.faces()) {

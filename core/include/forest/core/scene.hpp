@@ -60,6 +60,29 @@ struct TerrainSettings {
   glm::dvec3 albedo{0.32, 0.42, 0.2};  // grass; steep slopes blend to rock
 };
 
+// [vegetation.conifer] / [vegetation.broadleaf]: where a species grows.
+struct SpeciesPlacementSettings {
+  double share = 0.5;             // share of the trees, [0, 1] (the shares are normalised)
+  double spacing = 4.0;           // metres, minimum distance to any other tree, [0.5, 100]
+  double max_slope_deg = 35.0;    // steepest ground it grows on, [0, 90]
+  double min_height = -1e4;       // world height band of its bases
+  double max_height = 1e4;
+};
+
+// [vegetation]: procedural trees on the terrain (module vegetation/; needs [terrain]).
+struct VegetationSettings {
+  int count = 5000;               // trees requested, [0, 1000000]; fewer when they do not fit (reported)
+  std::uint64_t seed = 1;         // placement, species shapes, instance variation
+  int lod0_triangles = 2000;      // LOD0 budget per tree, [1000, 20000]; LOD1/LOD2 a quarter/sixteenth
+  bool force_lod0 = false;        // every tree at LOD0 (stress runs)
+  glm::dvec2 lod_distances{60.0, 180.0};  // metres: LOD0 below the first, LOD1 below the second, then LOD2
+  double wind_strength = 0.02;    // largest sway: horizontal shift per metre of height, [0, 0.2]
+  double wind_period = 4.0;       // seconds, > 0
+  glm::dvec2 wind_direction{1.0, 0.3};    // (x, z), non-zero; normalised on load
+  SpeciesPlacementSettings conifer{0.6, 4.0, 35.0, -1e4, 1e4};
+  SpeciesPlacementSettings broadleaf{0.4, 6.0, 25.0, -1e4, 1e4};
+};
+
 struct Scene {
   std::string source = "<built-in>";  // file the scene was read from
   CameraSettings camera;
@@ -67,6 +90,7 @@ struct Scene {
   RenderSettings render;
   std::vector<PropBox> props;
   std::optional<TerrainSettings> terrain;
+  std::optional<VegetationSettings> vegetation;
 
   // The eye camera at the scene's start pose, with the render aspect ratio.
   Camera startCamera() const;

@@ -1,0 +1,172 @@
+// The forest: Poisson-disk placement on the terrain (count, spacing, slope, height band, bases on
+// the ground), determinism, clusters of 16–64 trees with their boxes, sway inside the inflated
+// boxes at any time, moves reporting the changed clusters, LOD by distance bands.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <set>
+
+#include "forest/vegetation/forest.hpp"
+
+namespace forest::vegetation {
+namespace {
+
+using glm::dvec3;
+
+const terrain::Terrain& testTerrain() {
+  static const terrain::Terrain terrain([] {
+    TerrainSettings s;
+    s.size = 500.0;
+    s.samples = 257;
+    s.height_min = 0.0;
+    s.height_max = 60.0;
+    s.feature_size = 400.0;
+    s.octaves = 6;
+    s.seed = 3;
+    return s;
+  }());
+  return terrain;
+}
+
+VegetationSettings testVegetation(int count, std::uint64_t seed = 1) {
+  VegetationSettings v;
+  v.count = count;
+  v.seed = seed;
+  v.lod0_triangles = 1000;
+  v.conifer = {0.6, 4.0, 30.0, -1e4, 1e4};
+  v.broadleaf = {0.4, 6.0, 20.0, 10.0, 45.0};  // a height band
+  return v;
+}
+
+const Forest& sharedForest() {
+  static const Forest forest(testVegetation(2000), testTerrain());
+  return forest;
+}
+
+TEST(TreePlacement, HonoursCountSpacingSlopeHeightAndGround) {
+  const Forest& f = sharedForest();
+  const terrain::Terrain& t = testTerrain();
+  ASSERT_EQ(f.trees().size(), 2000u);
+  int conifers = 0;
+  for (size_t i = 0; i < f.trees().size(); ++i) {
+    const TreeInstance& a = f.trees()[i];
+    const SpeciesPlacementSettings& rule = a.species == Species::Conifer ? f.settings().conifer : f.settings().broadleaf;
+    conifers += a.species == Species::Conifer ? 1 : 0;
+    EXPECT_NEAR(a.position.y, t.heightAt(a.position.x, a.position.z), 0.01) << i;  // base on the ground
+    const double slope = glm::degrees(std::acos(t.normalAt(a.position.x, a.position.z).y));
+    EXPECT_LE(slope, rule.max_slope_deg + 1e-9) << i;
+    EXPECT_GE(a.position.y, rule.min_height) << i;
+    EXPECT_LE(a.position.y, rule.max_height) << i;
+    for (size_t j = i + 1; j < f.trees().size(); ++j) {
+      const TreeInstance& b = f.trees()[j];
+      const double spacing = std::max(rule.spacing, (b.species == Species::Conifer ? f.settings().conifer : f.settings().broadleaf).spacing);
+      ASSERT_GE(glm::distance(glm::dvec2(a.position.x, a.position.z), glm::dvec2(b.position.x, b.position.z)), spacing)
+          << i << ", " << j;
+    }
+  }
+  EXPECT_GT(conifers, 1000);  // broadleaves are limited to a height band and gentler slopes
+  EXPECT_LT(conifers, 2000);
+}
+
+TEST(TreePlacement, SharesWithoutLimits) {
+  VegetationSettings v = testVegetation(1000);
+  v.conifer = {0.6, 4.0, 90.0, -1e4, 1e4};
+  v.broadleaf = {0.4, 4.0, 90.0, -1e4, 1e4};
+  const Forest f(v, testTerrain());
+  ASSERT_EQ(f.trees().size(), 1000u);
+  const auto conifers = std::count_if(f.trees().begin(), f.trees().end(), [](const TreeInstance& t) { return t.species == Species::Conifer; });
+  EXPECT_NEAR(static_cast<double>(conifers) / 1000.0, 0.6, 0.05);
+}
+
+TEST(TreePlacement, ReportsTheMostThatFit) {
+  VegetationSettings v = testVegetation(100000);
+  v.conifer.spacing = v.broadleaf.spacing = 12.0;
+  const Forest f(v, testTerrain());
+  EXPECT_LT(f.trees().size(), 100000u);
+  EXPECT_GT(f.trees().size(), 500u);  // 0.25 km² at 12 m spacing holds well over 500
+  EXPECT_EQ(f.requestedCount(), 100000);
+}
+
+TEST(TreePlacement, SameSeedIdenticalOtherSeedDiffers) {
+  const Forest a(testVegetation(300, 9), testTerrain()), b(testVegetation(300, 9), testTerrain());
+  const Forest c(testVegetation(300, 10), testTerrain());
+  ASSERT_EQ(a.trees().size(), b.trees().size());
+  for (size_t i = 0; i < a.trees().size(); ++i) {
+    EXPECT_EQ(a.trees()[i].position, b.trees()[i].position);
+    EXPECT_EQ(a.trees()[i].yaw, b.trees()[i].yaw);
+  }
+  EXPECT_NE(a.trees()[0].position, c.trees()[0].position);
+}
+
+TEST(TreeClusters, HoldSixteenToSixtyFourTreesInsideTheirBoxes) {
+  const Forest& f = sharedForest();
+  std::vector<int> seen(f.trees().size(), 0);
+  for (const TreeCluster& c : f.clusters()) {
+    EXPECT_GE(c.trees.size(), static_cast<size_t>(kMinClusterSize));
+    EXPECT_LE(c.trees.size(), static_cast<size_t>(kMaxClusterSize));
+    for (std::uint32_t t : c.trees) {
+      ++seen[t];
+      const Aabb box = f.treeBounds(t);
+      EXPECT_TRUE(c.bounds.contains(box.min) && c.bounds.contains(box.max));
+    }
+  }
+  for (int s : seen) EXPECT_EQ(s, 1);
+}
+
+TEST(TreeWind, EveryVertexOfASwayingTreeStaysInItsBox) {
+  const Forest& f = sharedForest();
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<double> time(0.0, 1000.0);
+  std::uniform_int_distribution<std::uint32_t> pick(0, static_cast<std::uint32_t>(f.trees().size() - 1));
+  double largestShift = 0.0;
+  for (int k = 0; k < 200; ++k) {
+    const std::uint32_t tree = pick(rng);
+    const double t = time(rng);
+    const glm::dmat4 m = f.treeTransform(tree, t), still = f.treeTransform(tree, -1e9);
+    const Aabb box = f.treeBounds(tree);
+    for (int lod = 0; lod < kTreeLods; ++lod)
+      for (const glm::vec3& p : f.model(f.trees()[tree].species).lods[lod].positions) {
+        const dvec3 world(m * glm::dvec4(dvec3(p), 1.0));
+        ASSERT_TRUE(box.contains(world, 1e-9)) << "tree " << tree << " at t = " << t;
+        largestShift = std::max(largestShift, glm::distance(world, dvec3(still * glm::dvec4(dvec3(p), 1.0))));
+      }
+    // Same (tree, time) → same transform: the sway is a pure function.
+    EXPECT_EQ(f.treeTransform(tree, t), m);
+  }
+  EXPECT_GT(largestShift, 0.1);  // the trees do sway
+}
+
+TEST(TreeMoves, ReportTheClustersWhoseBoxesChanged) {
+  Forest f(testVegetation(500), testTerrain());
+  const std::uint32_t a = 3, b = 250;
+  const std::vector<Forest::Move> moves = {{a, {10.0, -20.0}, 0.5}, {b, {-100.0, 80.0}, 1.0}};
+  const std::vector<std::uint32_t> changed = f.moveTrees(moves);
+  std::set<std::uint32_t> expected;
+  for (std::uint32_t c = 0; c < f.clusters().size(); ++c)
+    for (std::uint32_t t : f.clusters()[c].trees)
+      if (t == a || t == b) expected.insert(c);
+  EXPECT_EQ(std::set<std::uint32_t>(changed.begin(), changed.end()), expected);
+  for (std::uint32_t c : changed) {
+    for (std::uint32_t t : f.clusters()[c].trees) {
+      const Aabb box = f.treeBounds(t);
+      EXPECT_TRUE(f.clusters()[c].bounds.contains(box.min) && f.clusters()[c].bounds.contains(box.max));
+    }
+  }
+  EXPECT_NEAR(f.trees()[a].position.y, testTerrain().heightAt(10.0, -20.0), 1e-12);
+}
+
+TEST(TreeLod, DistanceBandsFromTheEyeOnly) {
+  const Forest& f = sharedForest();
+  const dvec3 base = f.trees()[0].position;
+  EXPECT_EQ(f.lodFor(0, base + dvec3(0, 2, 10)), 0);
+  EXPECT_EQ(f.lodFor(0, base + dvec3(100, 2, 0)), 1);
+  EXPECT_EQ(f.lodFor(0, base + dvec3(0, 2, 500)), 2);
+  VegetationSettings v = testVegetation(50);
+  v.force_lod0 = true;
+  const Forest forced(v, testTerrain());
+  EXPECT_EQ(forced.lodFor(0, forced.trees()[0].position + dvec3(0, 2, 5000)), 0);
+}
+
+}  // namespace
+}  // namespace forest::vegetation

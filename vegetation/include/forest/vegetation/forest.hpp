@@ -1,0 +1,85 @@
+#pragma once
+// The trees of a scene (DESIGN §4 vegetation/): Poisson-disk placement on the terrain, per-tree
+// variation, spatial clusters of 16–64 trees (the culling hierarchy's leaves), the LOD as a pure
+// function of the camera, wind sway as a pure function of (tree, time), and moves between frames.
+#include <glm/glm.hpp>
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "forest/core/bounds.hpp"
+#include "forest/core/scene.hpp"
+#include "forest/terrain/terrain.hpp"
+#include "forest/vegetation/species.hpp"
+
+namespace forest::vegetation {
+
+struct TreeInstance {
+  Species species = Species::Conifer;
+  glm::dvec3 position{0.0};   // base, on the terrain
+  double yaw = 0.0;           // radians about +y
+  double scale = 1.0;
+  glm::vec3 tint{1.0f};       // albedo multiplier
+  double swayPhase = 0.0;     // radians
+};
+
+struct TreeCluster {
+  std::vector<std::uint32_t> trees;  // indices into Forest::trees()
+  Aabb bounds;                       // union of the trees' boxes, sway included
+};
+
+constexpr int kMinClusterSize = 16;
+constexpr int kMaxClusterSize = 64;
+
+// Wind sway (a shear about the tree's base: x += s.x · h, z += s.y · h at height h above it):
+// s = strength · direction · (sin(ωt + φ) + 0.3 sin(2.7ωt + 1.7φ)) / 1.3, ω = 2π / period, so
+// |s| ≤ strength. The same formula runs in trees.vert; being affine, it keeps instancing exact
+// for ray tracing too.
+glm::dvec2 windShear(const VegetationSettings& settings, double swayPhase, double time);
+
+class Forest {
+ public:
+  // Builds the species meshes and places the trees (log reports when fewer fit than requested).
+  Forest(const VegetationSettings& settings, const terrain::Terrain& terrain);
+
+  const VegetationSettings& settings() const { return settings_; }
+  const std::array<SpeciesModel, kSpeciesCount>& species() const { return species_; }
+  const SpeciesModel& model(Species s) const { return species_[static_cast<size_t>(s)]; }
+  const std::vector<TreeInstance>& trees() const { return trees_; }
+  const std::vector<TreeCluster>& clusters() const { return clusters_; }
+  int requestedCount() const { return settings_.count; }
+
+  // Object → world at `time`: translate · windShear · rotateY(yaw) · scale.
+  glm::dmat4 treeTransform(std::uint32_t tree, double time) const;
+  // World box of a tree over all times (sway inflated by the largest shear) and all LODs.
+  Aabb treeBounds(std::uint32_t tree) const;
+  // LOD by distance bands from the eye to the tree's base (force_lod0 → 0): a pure function of the
+  // camera, so culling never changes what is drawn.
+  int lodFor(std::uint32_t tree, const glm::dvec3& eye) const;
+
+  // Moves trees between frames (base snapped to the terrain); returns the clusters whose boxes
+  // changed, in increasing order.
+  struct Move {
+    std::uint32_t tree;
+    glm::dvec2 xz;
+    double yaw;
+  };
+  std::vector<std::uint32_t> moveTrees(std::span<const Move> moves);
+
+ private:
+  void place();
+  void buildClusters();
+  Aabb clusterBounds(const TreeCluster& cluster) const;
+
+  VegetationSettings settings_;
+  const terrain::Terrain& terrain_;
+  std::array<SpeciesModel, kSpeciesCount> species_;
+  std::array<Aabb, kSpeciesCount> speciesBounds_;  // object space, all LODs
+  std::vector<TreeInstance> trees_;
+  std::vector<TreeCluster> clusters_;
+  std::vector<std::uint32_t> clusterOf_;
+};
+
+}  // namespace forest::vegetation

@@ -1,0 +1,203 @@
+#include "forest/vegetation/forest.hpp"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <unordered_map>
+
+#include "forest/core/error.hpp"
+#include "forest/core/log.hpp"
+
+namespace forest::vegetation {
+namespace {
+
+using glm::dvec2;
+using glm::dvec3;
+
+// SplitMix64: placement and per-tree variation.
+class Random {
+ public:
+  explicit Random(std::uint64_t seed) : state_(seed) {}
+  double unit() {
+    std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1p-53;
+  }
+
+ private:
+  std::uint64_t state_;
+};
+
+const SpeciesPlacementSettings& placementOf(const VegetationSettings& s, Species species) {
+  return species == Species::Conifer ? s.conifer : s.broadleaf;
+}
+
+// Darts per requested tree before placement gives up (the rest do not fit).
+constexpr int kDartsPerTree = 30;
+
+}  // namespace
+
+glm::dvec2 windShear(const VegetationSettings& s, double swayPhase, double time) {
+  const double omega = 2.0 * std::numbers::pi / s.wind_period;
+  const double sway = (std::sin(omega * time + swayPhase) + 0.3 * std::sin(2.7 * omega * time + 1.7 * swayPhase)) / 1.3;
+  return s.wind_strength * sway * s.wind_direction;
+}
+
+Forest::Forest(const VegetationSettings& settings, const terrain::Terrain& terrain) : settings_(settings), terrain_(terrain) {
+  for (Species s : {Species::Conifer, Species::Broadleaf}) {
+    const size_t i = static_cast<size_t>(s);
+    species_[i] = buildSpecies(s, settings.lod0_triangles, settings.seed);
+    for (const TreeMesh& lod : species_[i].lods) speciesBounds_[i].extend(lod.bounds);
+  }
+  place();
+  buildClusters();
+}
+
+void Forest::place() {
+  const terrain::Heightfield& h = terrain_.heightfield();
+  const double inset = 1.0;
+  const dvec2 lo(h.origin().x + inset, h.origin().y + inset), hi(h.origin().x + h.size() - inset, h.origin().y + h.size() - inset);
+  const double shares = settings_.conifer.share + settings_.broadleaf.share;
+  const double coniferShare = settings_.conifer.share / shares;
+  const double cell = std::max(settings_.conifer.spacing, settings_.broadleaf.spacing);
+  const int cellsX = std::max(1, static_cast<int>(std::ceil((hi.x - lo.x) / cell)));
+  const int cellsZ = std::max(1, static_cast<int>(std::ceil((hi.y - lo.y) / cell)));
+  std::unordered_map<std::int64_t, std::vector<std::uint32_t>> grid;
+  auto key = [&](int x, int z) { return static_cast<std::int64_t>(z) * cellsX + x; };
+  auto cellOf = [&](const dvec2& p) {
+    return glm::ivec2(std::clamp(static_cast<int>((p.x - lo.x) / cell), 0, cellsX - 1),
+                      std::clamp(static_cast<int>((p.y - lo.y) / cell), 0, cellsZ - 1));
+  };
+
+  Random random(settings_.seed * 0x9e3779b97f4a7c15ull + 0x7ee5ull);
+  const std::int64_t darts = static_cast<std::int64_t>(kDartsPerTree) * settings_.count + 1000;
+  for (std::int64_t dart = 0; dart < darts && static_cast<int>(trees_.size()) < settings_.count; ++dart) {
+    const dvec2 p(lo.x + (hi.x - lo.x) * random.unit(), lo.y + (hi.y - lo.y) * random.unit());
+    const Species species = random.unit() < coniferShare ? Species::Conifer : Species::Broadleaf;
+    const double variation[5] = {random.unit(), random.unit(), random.unit(), random.unit(), random.unit()};
+    const SpeciesPlacementSettings& rule = placementOf(settings_, species);
+    const double ground = terrain_.heightAt(p.x, p.y);
+    if (ground < rule.min_height || ground > rule.max_height) continue;
+    const double slope = glm::degrees(std::acos(std::clamp(terrain_.normalAt(p.x, p.y).y, -1.0, 1.0)));
+    if (slope > rule.max_slope_deg) continue;
+    // Poisson-disk condition: no tree closer than the larger of the two species' spacings.
+    const glm::ivec2 c = cellOf(p);
+    bool free = true;
+    for (int z = c.y - 1; z <= c.y + 1 && free; ++z)
+      for (int x = c.x - 1; x <= c.x + 1 && free; ++x) {
+        const auto found = grid.find(key(x, z));
+        if (found == grid.end()) continue;
+        for (std::uint32_t other : found->second) {
+          const TreeInstance& o = trees_[other];
+          const double spacing = std::max(rule.spacing, placementOf(settings_, o.species).spacing);
+          if (glm::distance(dvec2(o.position.x, o.position.z), p) < spacing) {
+            free = false;
+            break;
+          }
+        }
+      }
+    if (!free) continue;
+    TreeInstance tree;
+    tree.species = species;
+    tree.position = {p.x, ground, p.y};
+    tree.yaw = 2.0 * std::numbers::pi * variation[0];
+    tree.scale = 0.8 + 0.45 * variation[1];
+    tree.tint = glm::vec3(static_cast<float>(0.9 + 0.2 * variation[2]), static_cast<float>(0.9 + 0.2 * variation[3]),
+                          static_cast<float>(0.9 + 0.2 * variation[2] * variation[3]));
+    tree.swayPhase = 2.0 * std::numbers::pi * variation[4];
+    grid[key(c.x, c.y)].push_back(static_cast<std::uint32_t>(trees_.size()));
+    trees_.push_back(tree);
+  }
+  if (static_cast<int>(trees_.size()) < settings_.count)
+    log::warn("vegetation: {} of {} trees fit the terrain (spacing, slope and height limits)", trees_.size(), settings_.count);
+}
+
+void Forest::buildClusters() {
+  clusters_.clear();
+  clusterOf_.assign(trees_.size(), 0);
+  std::vector<std::uint32_t> all(trees_.size());
+  for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+  // Median splits along the longer side until at most kMaxClusterSize trees: halves of more than
+  // 32 trees each, so every cluster has 33–64 (unless the forest itself is smaller).
+  std::vector<std::vector<std::uint32_t>> stack{std::move(all)};
+  while (!stack.empty()) {
+    std::vector<std::uint32_t> group = std::move(stack.back());
+    stack.pop_back();
+    if (group.empty()) continue;
+    if (group.size() <= kMaxClusterSize) {
+      TreeCluster cluster;
+      cluster.trees = std::move(group);
+      std::sort(cluster.trees.begin(), cluster.trees.end());
+      for (std::uint32_t t : cluster.trees) clusterOf_[t] = static_cast<std::uint32_t>(clusters_.size());
+      cluster.bounds = clusterBounds(cluster);
+      clusters_.push_back(std::move(cluster));
+      continue;
+    }
+    Aabb box;
+    for (std::uint32_t t : group) box.extend(trees_[t].position);
+    const int axis = box.extent().x >= box.extent().z ? 0 : 2;
+    const auto middle = group.begin() + static_cast<std::ptrdiff_t>(group.size() / 2);
+    std::nth_element(group.begin(), middle, group.end(), [&](std::uint32_t a, std::uint32_t b) {
+      return trees_[a].position[axis] < trees_[b].position[axis] || (trees_[a].position[axis] == trees_[b].position[axis] && a < b);
+    });
+    stack.emplace_back(group.begin(), middle);
+    stack.emplace_back(middle, group.end());
+  }
+}
+
+glm::dmat4 Forest::treeTransform(std::uint32_t index, double time) const {
+  const TreeInstance& t = trees_[index];
+  const dvec2 shear = windShear(settings_, t.swayPhase, time);
+  glm::dmat4 m = glm::translate(glm::dmat4(1.0), t.position);
+  glm::dmat4 s(1.0);  // x += shear.x · y, z += shear.y · y
+  s[1][0] = shear.x;
+  s[1][2] = shear.y;
+  m = m * s;
+  m = glm::rotate(m, t.yaw, dvec3(0.0, 1.0, 0.0));
+  return glm::scale(m, dvec3(t.scale));
+}
+
+Aabb Forest::treeBounds(std::uint32_t index) const {
+  const TreeInstance& t = trees_[index];
+  const Aabb& object = speciesBounds_[static_cast<size_t>(t.species)];
+  const glm::dmat4 still = glm::scale(glm::rotate(glm::dmat4(1.0), t.yaw, dvec3(0.0, 1.0, 0.0)), dvec3(t.scale));
+  Aabb box;
+  for (int c = 0; c < 8; ++c) box.extend(dvec3(still * glm::dvec4(object.corner(c), 1.0)));
+  // The shear moves a point at height h by at most strength · |h| horizontally.
+  const double reach = settings_.wind_strength * t.scale * std::max(std::abs(object.max.y), std::abs(object.min.y));
+  box.min += t.position - dvec3(reach, 0.0, reach);
+  box.max += t.position + dvec3(reach, 0.0, reach);
+  return box;
+}
+
+int Forest::lodFor(std::uint32_t tree, const glm::dvec3& eye) const {
+  if (settings_.force_lod0) return 0;
+  const double distance = glm::distance(eye, trees_[tree].position);
+  return distance < settings_.lod_distances.x ? 0 : distance < settings_.lod_distances.y ? 1 : 2;
+}
+
+Aabb Forest::clusterBounds(const TreeCluster& cluster) const {
+  Aabb box;
+  for (std::uint32_t t : cluster.trees) box.extend(treeBounds(t));
+  return box;
+}
+
+std::vector<std::uint32_t> Forest::moveTrees(std::span<const Move> moves) {
+  std::vector<std::uint32_t> changed;
+  for (const Move& move : moves) {
+    if (move.tree >= trees_.size()) throw Error("Forest::moveTrees: no tree " + std::to_string(move.tree));
+    TreeInstance& t = trees_[move.tree];
+    t.position = {move.xz.x, terrain_.heightAt(move.xz.x, move.xz.y), move.xz.y};
+    t.yaw = move.yaw;
+    changed.push_back(clusterOf_[move.tree]);
+  }
+  std::sort(changed.begin(), changed.end());
+  changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+  for (std::uint32_t c : changed) clusters_[c].bounds = clusterBounds(clusters_[c]);
+  return changed;
+}
+
+}  // namespace forest::vegetation
