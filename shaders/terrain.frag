@@ -1,19 +1,27 @@
 #version 450 core
 // Terrain shading: Lambert diffuse from the sun plus a weak global ambient (thesis §6.2; no
 // shadows yet); grass on gentle slopes, rock on steep ones. With TERRAIN_OUTPUT_POSITION the
-// fragment's world-space position is written instead (tests compare it with the CPU twin).
+// fragment's world-space position is written instead (tests compare it with the CPU twin); with
+// TERRAIN_OUTPUT_ID the tile's object ID (geometry pass).
 in vec3 vNormal;
 in vec3 vWorldPosition;
+flat in uint vObjectId;
 
 uniform vec3 uToSun;
 uniform vec3 uSunColor;
 uniform float uAmbient;
 uniform vec3 uAlbedo;
 
+#ifdef TERRAIN_OUTPUT_ID
+out uint fragId;
+#else
 out vec4 fragColor;
+#endif
 
 void main() {
-#ifdef TERRAIN_OUTPUT_POSITION
+#if defined(TERRAIN_OUTPUT_ID)
+  fragId = vObjectId;
+#elif defined(TERRAIN_OUTPUT_POSITION)
   fragColor = vec4(vWorldPosition, 1.0);
 #else
   vec3 n = normalize(vNormal);

@@ -19,8 +19,12 @@ uniform vec3 uEye;            // this view's eye, world
 uniform float uSpacing;
 uniform mat4 uViewProjectionRelative;  // (p − eye) → clip, composed in double
 
+uniform int uTilesPerSide;
+uniform uint uObjectIdBase;
+
 out vec3 vNormal;
 out vec3 vWorldPosition;
+flat out uint vObjectId;     // uObjectIdBase + tile index
 
 // Camera-relative position of sample s.
 vec3 samplePosition(ivec2 s) {
@@ -49,5 +53,6 @@ void main() {
   vec3 p = fine * (1.0 - k) + coarse * k;
   vNormal = normalize(sampleNormal(base + aLocal) * (1.0 - k) + sampleNormal(base + target) * k);
   vWorldPosition = p + uEye;
+  vObjectId = uObjectIdBase + uint(iTile.y * uTilesPerSide + iTile.x);
   gl_Position = uViewProjectionRelative * vec4(p, 1.0);
 }

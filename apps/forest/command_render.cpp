@@ -24,6 +24,7 @@ struct RenderOptions {
   std::string out;
   int width = 0;
   int height = 0;
+  double time = 0.0;
 };
 
 int runRender(const RenderOptions& options) {
@@ -43,7 +44,7 @@ int runRender(const RenderOptions& options) {
   render::OffscreenTarget target(scene.render.width, scene.render.height);
   const render::SceneView view(scene);
   target.bind();
-  const render::SceneView::Stats stats = view.draw(scene.startCamera(), scene.render.height);
+  const render::SceneView::Stats stats = view.draw(view.startCamera(), scene.render.height, options.time);
   const Image8 image = target.readColor();
   if (gl::debugErrorCount() > 0) {
     throw Error(fmt::format("{} GL errors while rendering (first: {})", gl::debugErrorCount(),
@@ -56,6 +57,11 @@ int runRender(const RenderOptions& options) {
     std::cout << fmt::format(", terrain {} tiles (per level {}), {} triangles, {:.1f} MiB on the GPU",
                              stats.terrain.tiles, fmt::join(stats.terrain.tilesPerLevel, "/"), stats.terrain.triangles,
                              static_cast<double>(view.terrain()->gpuBytes()) / (1 << 20));
+  }
+  if (view.forest()) {
+    std::cout << fmt::format(", {} of {} trees drawn (per LOD {}), {} tree triangles in {} draws", stats.trees.trees,
+                             view.forest()->trees().size(), fmt::join(stats.trees.treesPerLod, "/"),
+                             stats.trees.triangles, stats.trees.draws);
   }
   std::cout << fmt::format(") from {}\n", scenePath);
   return 0;
@@ -71,6 +77,7 @@ Run addRenderCommand(CLI::App& app) {
   command->add_option("--out", options->out, "Output image (.png 8-bit, .exr float)")->required();
   command->add_option("--width", options->width, "Override render.width")->check(CLI::Range(1, 16384));
   command->add_option("--height", options->height, "Override render.height")->check(CLI::Range(1, 16384));
+  command->add_option("--time", options->time, "Seconds since the start (wind sway)")->capture_default_str();
   return [options] { return runRender(*options); };
 }
 

@@ -25,6 +25,7 @@ void readCamera(TomlSection& s, CameraSettings& c) {
   if (!(c.far > c.near)) {
     s.fail(nullptr, "far", "must be greater than camera.near = " + std::to_string(c.near));
   }
+  if (s.has("above_ground")) c.above_ground = s.number("above_ground", std::nullopt, detail::closed(0.0, 1e4));
   s.finish();
 }
 
@@ -132,6 +133,8 @@ Scene parseScene(const std::string& text, const std::string& name) {
   if (auto s = root.table("render")) readRender(*s, scene.render);
   for (auto& s : root.tables("props")) scene.props.push_back(readProp(s));
   if (auto s = root.table("terrain")) readTerrain(*s, scene.terrain.emplace());
+  if (scene.camera.above_ground && !scene.terrain)
+    throw InputError(name + ": camera.above_ground: needs a [terrain] section to stand on");
   if (auto s = root.table("vegetation")) {
     readVegetation(*s, scene.vegetation.emplace());
     if (!scene.terrain) s->fail(nullptr, "vegetation", "needs a [terrain] section to grow on");
@@ -152,6 +155,7 @@ std::string sceneToToml(const Scene& scene) {
                      {"fovy_deg", scene.camera.fovy_deg},
                      {"near", scene.camera.near},
                      {"far", scene.camera.far}};
+  if (scene.camera.above_ground) camera.insert("above_ground", *scene.camera.above_ground);
   toml::table sun{{"direction", tomlArray(scene.sun.direction)},
                   {"color", tomlArray(scene.sun.color)},
                   {"ambient", scene.sun.ambient}};

@@ -49,6 +49,7 @@ class TomlSection {
   // Array of tables ([[key]]); empty when absent.
   std::vector<TomlSection> tables(std::string_view key);
 
+  bool has(std::string_view key) const { return table_->contains(key); }
   // Throws for the first key of this table that no reader asked for.
   void finish() const;
 

@@ -63,6 +63,9 @@ std::pair<int, std::string> parseLogLine(const std::string& line) {
 }  // namespace
 
 void Program::set(const char* uniform, int v) const { glProgramUniform1i(id(), glGetUniformLocation(id(), uniform), v); }
+void Program::set(const char* uniform, std::uint32_t v) const {
+  glProgramUniform1ui(id(), glGetUniformLocation(id(), uniform), v);
+}
 void Program::set(const char* uniform, float v) const { glProgramUniform1f(id(), glGetUniformLocation(id(), uniform), v); }
 void Program::set(const char* uniform, const glm::vec2& v) const {
   glProgramUniform2fv(id(), glGetUniformLocation(id(), uniform), 1, glm::value_ptr(v));

@@ -16,10 +16,21 @@ constexpr double kMorphSlack = 1e-3;  // the same as TerrainLod::morphFactor
 
 }  // namespace
 
-TerrainRenderer::TerrainRenderer(const terrain::Terrain& terrain, Output output)
+namespace {
+const char* outputDefine(TerrainRenderer::Output output) {
+  switch (output) {
+    case TerrainRenderer::Output::WorldPosition: return "#define TERRAIN_OUTPUT_POSITION 1\n";
+    case TerrainRenderer::Output::ObjectId: return "#define TERRAIN_OUTPUT_ID 1\n";
+    case TerrainRenderer::Output::Lit: break;
+  }
+  return "";
+}
+}  // namespace
+
+TerrainRenderer::TerrainRenderer(const terrain::Terrain& terrain, Output output, std::uint32_t objectIdBase)
     : terrain_(terrain),
-      program_(gl::loadProgram({"terrain.vert", "terrain.frag"},
-                               output == Output::WorldPosition ? "#define TERRAIN_OUTPUT_POSITION 1\n" : "")) {
+      objectIdBase_(objectIdBase),
+      program_(gl::loadProgram({"terrain.vert", "terrain.frag"}, outputDefine(output))) {
   const terrain::Heightfield& h = terrain.heightfield();
   heights_ = gl::Texture(GL_R32F, h.samples(), h.samples());
   glTextureSubImage2D(heights_.id(), 0, 0, 0, h.samples(), h.samples(), GL_RED, GL_FLOAT, h.heights().data());
@@ -95,6 +106,8 @@ TerrainRenderer::Stats TerrainRenderer::draw(const glm::dmat4& viewProjectionRel
   program_.set("uLodEyeRelative", glm::vec3(lod.eye - eye));
   program_.set("uSpacing", static_cast<float>(h.spacing()));
   program_.set("uTileQuads", kTileQuads);
+  program_.set("uTilesPerSide", terrain_.tilesPerSide());
+  program_.set("uObjectIdBase", objectIdBase_);
   program_.set("uMorphSlack", static_cast<float>(kMorphSlack));
   program_.set("uHeights", 0);
   program_.set("uToSun", glm::vec3(-sun.direction));

@@ -23,6 +23,9 @@ struct CameraSettings {
   double fovy_deg = 60.0;  // (0, 180)
   double near = 0.1;       // > 0
   double far = 70.0;       // > near
+  // When set (and the scene has terrain), position.y is replaced by the ground height under the
+  // camera plus this many metres: a walker's eye needs no knowledge of the generated heights.
+  std::optional<double> above_ground;
 };
 
 // [sun]: a directional light.

@@ -3,6 +3,7 @@
 // .comp). Compile and link errors are reported as "file:line: message", one per line.
 #include <glm/glm.hpp>
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -26,6 +27,7 @@ class Program {
 
   // Uniform setters (glProgramUniform*); a name the linker removed is ignored.
   void set(const char* uniform, int v) const;
+  void set(const char* uniform, std::uint32_t v) const;
   void set(const char* uniform, float v) const;
   void set(const char* uniform, const glm::vec2& v) const;
   void set(const char* uniform, const glm::vec3& v) const;

@@ -19,9 +19,10 @@ class TerrainRenderer {
  public:
   // Lit: Lambert + ambient, grass blending to rock on steep slopes. WorldPosition: writes the
   // world-space position of the drawn surface to colour (a float target; tests, ground truth).
-  enum class Output { Lit, WorldPosition };
+  // ObjectId: writes objectIdBase + tile index to a GL_R32UI colour target (geometry pass).
+  enum class Output { Lit, WorldPosition, ObjectId };
 
-  explicit TerrainRenderer(const terrain::Terrain& terrain, Output output = Output::Lit);
+  explicit TerrainRenderer(const terrain::Terrain& terrain, Output output = Output::Lit, std::uint32_t objectIdBase = 1);
 
   struct Stats {
     int tiles = 0;
@@ -44,6 +45,7 @@ class TerrainRenderer {
 
  private:
   const terrain::Terrain& terrain_;
+  std::uint32_t objectIdBase_;
   gl::Program program_;
   gl::Texture heights_;
   gl::VertexArray vertexArray_;

@@ -1,0 +1,68 @@
+#include "forest/raytrace/scene_mirror.hpp"
+
+#include <thread>
+
+namespace forest::raytrace {
+
+void mirrorScene(RayScene& scene, const terrain::Terrain* terrain, const terrain::TerrainLod* lod,
+                 const vegetation::Forest* forest, const Camera& camera, const MirrorOptions& options) {
+  if (terrain && lod) {
+    for (int tile = 0; tile < terrain->tileCount(); ++tile) {
+      // Positions relative to the tile's box centre keep float precision far from the origin.
+      const glm::dvec3 centre = terrain->tileBox(tile).centre();
+      std::vector<glm::vec3> positions;
+      std::vector<std::uint32_t> indices;
+      for (const terrain::TerrainTriangle& t : terrain->drawnTriangles(tile, *lod)) {
+        for (const glm::dvec3& v : t.vertices) {
+          indices.push_back(static_cast<std::uint32_t>(positions.size()));
+          positions.emplace_back(v - centre);
+        }
+      }
+      const std::uint32_t mesh = scene.addMesh(positions, indices);
+      glm::dmat4 toWorld(1.0);
+      toWorld[3] = glm::dvec4(centre, 1.0);
+      scene.addInstance(mesh, toWorld, options.terrainIdBase + static_cast<std::uint32_t>(tile));
+    }
+  }
+  if (forest) {
+    std::uint32_t meshes[vegetation::kSpeciesCount][vegetation::kTreeLods];
+    for (int s = 0; s < vegetation::kSpeciesCount; ++s)
+      for (int l = 0; l < vegetation::kTreeLods; ++l) {
+        const vegetation::TreeMesh& m = forest->species()[s].lods[l];
+        meshes[s][l] = scene.addMesh(m.positions, m.indices);
+      }
+    for (std::uint32_t t = 0; t < forest->trees().size(); ++t) {
+      const int treeLod = forest->lodFor(t, camera.position);
+      scene.addInstance(meshes[static_cast<int>(forest->trees()[t].species)][treeLod], forest->treeTransform(t, options.time),
+                        options.treeIdBase + t);
+    }
+  }
+  scene.commit();
+}
+
+std::vector<std::uint32_t> traceObjectIds(const RayScene& scene, const Camera& camera, int width, int height) {
+  std::vector<std::uint32_t> ids(static_cast<size_t>(width) * height, kNoObject);
+  const glm::dmat4 inverse = glm::inverse(camera.projection() * camera.view());
+  const glm::dvec3 forward = camera.forward();
+  auto traceRows = [&](int first, int step) {
+    for (int y = first; y < height; y += step) {
+      for (int x = 0; x < width; ++x) {
+        const glm::dvec4 ndc(2.0 * (x + 0.5) / width - 1.0, 2.0 * (y + 0.5) / height - 1.0, 0.5, 1.0);
+        const glm::dvec4 h = inverse * ndc;
+        const glm::dvec3 direction = glm::normalize(glm::dvec3(h) / h.w - camera.position);
+        // The near and far planes clip at eye depth, not at ray length.
+        const double cosine = glm::dot(direction, forward);
+        const RayHit hit = scene.intersect(camera.position, direction, camera.near / cosine, camera.far / cosine);
+        if (hit.hit) ids[static_cast<size_t>(y) * width + x] = hit.objectId;
+      }
+    }
+  };
+  const int threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(traceRows, t, threads);
+  traceRows(0, threads);
+  for (std::thread& t : pool) t.join();
+  return ids;
+}
+
+}  // namespace forest::raytrace

@@ -1,0 +1,54 @@
+#pragma once
+// Draws the forest's trees (module vegetation/): one vertex and index buffer holding every LOD of
+// every species, a per-frame stream of instances grouped by (species, LOD), and one instanced
+// draw per group — at most 6 draws however many clusters are visible. trees.vert applies the
+// same transform as Forest::treeTransform (scale, yaw, wind shear, camera-relative position).
+#include <array>
+#include <span>
+#include <vector>
+
+#include "forest/core/camera.hpp"
+#include "forest/core/scene.hpp"
+#include "forest/gl/objects.hpp"
+#include "forest/gl/shader.hpp"
+#include "forest/vegetation/forest.hpp"
+
+namespace forest::render {
+
+class TreeRenderer {
+ public:
+  // Lit: Lambert + ambient with per-tree tint. ObjectId: writes objectIdBase + tree index to a
+  // GL_R32UI colour target (geometry pass, tests).
+  enum class Output { Lit, ObjectId };
+
+  TreeRenderer(const vegetation::Forest& forest, Output output = Output::Lit, std::uint32_t objectIdBase = 1);
+
+  struct Stats {
+    int trees = 0;
+    long long triangles = 0;
+    std::array<int, vegetation::kTreeLods> treesPerLod{};
+    int draws = 0;
+  };
+  // Draws the trees of `clusters` at `time`, each at the LOD the eye's distance gives it.
+  Stats draw(const Camera& camera, std::span<const std::uint32_t> clusters, double time, const SunSettings& sun) const;
+  // Clusters whose boxes meet the camera's frustum.
+  std::vector<std::uint32_t> clustersInFrustum(const Camera& camera) const;
+
+  std::size_t meshBytes() const { return vertices_.size() + indices_.size(); }
+  std::size_t instanceBytes() const { return instances_.size(); }
+
+ private:
+  struct Range {
+    int baseVertex = 0, firstIndex = 0, indexCount = 0;
+  };
+  const vegetation::Forest& forest_;
+  Output output_;
+  std::uint32_t objectIdBase_;
+  gl::Program program_;
+  gl::VertexArray vertexArray_;
+  gl::Buffer vertices_, indices_;
+  mutable gl::Buffer instances_;
+  std::array<std::array<Range, vegetation::kTreeLods>, vegetation::kSpeciesCount> ranges_{};
+};
+
+}  // namespace forest::render

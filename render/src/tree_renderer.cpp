@@ -1,0 +1,140 @@
+#include "forest/render/tree_renderer.hpp"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <cmath>
+#include <numbers>
+
+#include "forest/core/frustum.hpp"
+
+namespace forest::render {
+namespace {
+
+using vegetation::kSpeciesCount;
+using vegetation::kTreeLods;
+
+struct TreeVertex {
+  glm::vec3 position, normal, albedo;
+};
+
+struct TreeInstanceGpu {
+  glm::vec4 baseYaw;     // base − eye, yaw
+  glm::vec4 scalePhase;  // scale, sway phase
+  glm::vec4 tint;
+  std::uint32_t objectId;
+  std::uint32_t padding[3];
+};
+
+}  // namespace
+
+TreeRenderer::TreeRenderer(const vegetation::Forest& forest, Output output, std::uint32_t objectIdBase)
+    : forest_(forest),
+      output_(output),
+      objectIdBase_(objectIdBase),
+      program_(gl::loadProgram({"trees.vert", "trees.frag"}, output == Output::ObjectId ? "#define TREES_OUTPUT_ID 1\n" : "")) {
+  std::vector<TreeVertex> vertices;
+  std::vector<std::uint32_t> indices;
+  for (int s = 0; s < kSpeciesCount; ++s) {
+    for (int lod = 0; lod < kTreeLods; ++lod) {
+      const vegetation::TreeMesh& mesh = forest.species()[s].lods[lod];
+      Range& range = ranges_[s][lod];
+      range.baseVertex = static_cast<int>(vertices.size());
+      range.firstIndex = static_cast<int>(indices.size());
+      range.indexCount = static_cast<int>(mesh.indices.size());
+      for (size_t v = 0; v < mesh.positions.size(); ++v) vertices.push_back({mesh.positions[v], mesh.normals[v], mesh.albedo[v]});
+      indices.insert(indices.end(), mesh.indices.begin(), mesh.indices.end());
+    }
+  }
+  vertices_ = gl::Buffer(vertices.size() * sizeof(TreeVertex), vertices.data(), 0);
+  indices_ = gl::Buffer(indices.size() * sizeof(std::uint32_t), indices.data(), 0);
+  instances_ = gl::Buffer(std::max<size_t>(1, forest.trees().size()) * sizeof(TreeInstanceGpu), nullptr);
+
+  const GLuint vao = vertexArray_.id();
+  glVertexArrayVertexBuffer(vao, 0, vertices_.id(), 0, sizeof(TreeVertex));
+  glVertexArrayElementBuffer(vao, indices_.id());
+  for (GLuint a = 0; a < 3; ++a) {
+    glEnableVertexArrayAttrib(vao, a);
+    glVertexArrayAttribFormat(vao, a, 3, GL_FLOAT, GL_FALSE, a * sizeof(glm::vec3));
+    glVertexArrayAttribBinding(vao, a, 0);
+  }
+  glVertexArrayVertexBuffer(vao, 1, instances_.id(), 0, sizeof(TreeInstanceGpu));
+  glVertexArrayBindingDivisor(vao, 1, 1);
+  for (GLuint a = 3; a < 6; ++a) {
+    glEnableVertexArrayAttrib(vao, a);
+    glVertexArrayAttribFormat(vao, a, 4, GL_FLOAT, GL_FALSE, (a - 3) * sizeof(glm::vec4));
+    glVertexArrayAttribBinding(vao, a, 1);
+  }
+  glEnableVertexArrayAttrib(vao, 6);
+  glVertexArrayAttribIFormat(vao, 6, 1, GL_UNSIGNED_INT, offsetof(TreeInstanceGpu, objectId));
+  glVertexArrayAttribBinding(vao, 6, 1);
+}
+
+std::vector<std::uint32_t> TreeRenderer::clustersInFrustum(const Camera& camera) const {
+  const Frustum frustum(camera);
+  std::vector<std::uint32_t> clusters;
+  for (std::uint32_t c = 0; c < forest_.clusters().size(); ++c)
+    if (frustum.mayIntersect(forest_.clusters()[c].bounds)) clusters.push_back(c);
+  return clusters;
+}
+
+TreeRenderer::Stats TreeRenderer::draw(const Camera& camera, std::span<const std::uint32_t> clusters, double time,
+                                       const SunSettings& sun) const {
+  Stats stats;
+  // Instances grouped by (species, LOD), base positions relative to the eye in double.
+  std::array<std::array<std::vector<TreeInstanceGpu>, kTreeLods>, kSpeciesCount> groups;
+  for (std::uint32_t c : clusters) {
+    for (std::uint32_t t : forest_.clusters()[c].trees) {
+      const vegetation::TreeInstance& tree = forest_.trees()[t];
+      const int lod = forest_.lodFor(t, camera.position);
+      TreeInstanceGpu g{};
+      g.baseYaw = glm::vec4(glm::vec3(tree.position - camera.position), static_cast<float>(tree.yaw));
+      g.scalePhase = glm::vec4(static_cast<float>(tree.scale), static_cast<float>(tree.swayPhase), 0.0f, 0.0f);
+      g.tint = glm::vec4(tree.tint, 1.0f);
+      g.objectId = objectIdBase_ + t;
+      groups[static_cast<size_t>(tree.species)][lod].push_back(g);
+    }
+  }
+  std::vector<TreeInstanceGpu> packed;
+  std::array<std::array<int, kTreeLods>, kSpeciesCount> first{};
+  for (int s = 0; s < kSpeciesCount; ++s)
+    for (int lod = 0; lod < kTreeLods; ++lod) {
+      first[s][lod] = static_cast<int>(packed.size());
+      packed.insert(packed.end(), groups[s][lod].begin(), groups[s][lod].end());
+    }
+  if (packed.empty()) return stats;
+  instances_.upload(0, packed.size() * sizeof(TreeInstanceGpu), packed.data());
+
+  const VegetationSettings& wind = forest_.settings();
+  program_.set("uViewProjectionRelative",
+               glm::mat4(camera.projection() * camera.view() * glm::translate(glm::dmat4(1.0), camera.position)));
+  // The shader evaluates the sway in float: t is reduced modulo 10 periods first (in double), a
+  // common period of sin(ωt) and sin(2.7ωt), so long runs keep their precision.
+  program_.set("uTime", static_cast<float>(std::fmod(time, 10.0 * wind.wind_period)));
+  program_.set("uWindStrength", static_cast<float>(wind.wind_strength));
+  program_.set("uWindOmega", static_cast<float>(2.0 * std::numbers::pi / wind.wind_period));
+  program_.set("uWindDirection", glm::vec2(wind.wind_direction));
+  program_.set("uToSun", glm::vec3(-sun.direction));
+  program_.set("uSunColor", glm::vec3(sun.color));
+  program_.set("uAmbient", static_cast<float>(sun.ambient));
+  program_.use();
+  glBindVertexArray(vertexArray_.id());
+  for (int s = 0; s < kSpeciesCount; ++s) {
+    for (int lod = 0; lod < kTreeLods; ++lod) {
+      const int count = static_cast<int>(groups[s][lod].size());
+      if (count == 0) continue;
+      const Range& r = ranges_[s][lod];
+      glDrawElementsInstancedBaseVertexBaseInstance(
+          GL_TRIANGLES, r.indexCount, GL_UNSIGNED_INT,
+          reinterpret_cast<const void*>(static_cast<std::uintptr_t>(r.firstIndex) * sizeof(std::uint32_t)), count,
+          r.baseVertex, static_cast<GLuint>(first[s][lod]));
+      stats.trees += count;
+      stats.treesPerLod[lod] += count;
+      stats.triangles += static_cast<long long>(count) * r.indexCount / 3;
+      ++stats.draws;
+    }
+  }
+  glBindVertexArray(0);
+  return stats;
+}
+
+}  // namespace forest::render

@@ -1,0 +1,95 @@
+// The default forest scene from the walkthrough start: the object-ID image the GPU draws (terrain
+// tiles and trees, each at its LOD and sway) matches an Embree primary-ray ID image of the same
+// instances in at least 99.5% of pixels, and two GPU runs are identical.
+#include <algorithm>
+#include <set>
+#include <vector>
+
+#include "forest/core/scene.hpp"
+#include "forest/gl/objects.hpp"
+#include "forest/raytrace/scene_mirror.hpp"
+#include "forest/render/terrain_renderer.hpp"
+#include "forest/render/tree_renderer.hpp"
+#include "gl_test_support.hpp"
+
+namespace forest::test {
+namespace {
+
+struct IdTarget {
+  gl::Texture ids, depth;
+  gl::Framebuffer framebuffer;
+  int width, height;
+  IdTarget(int w, int h) : ids(GL_R32UI, w, h), depth(GL_DEPTH_COMPONENT32F, w, h), width(w), height(h) {
+    framebuffer.attach(GL_COLOR_ATTACHMENT0, ids);
+    framebuffer.attach(GL_DEPTH_ATTACHMENT, depth);
+  }
+  void bindAndClear() const {
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.id());
+    glViewport(0, 0, width, height);
+    const GLuint zero[4] = {0, 0, 0, 0};
+    glClearBufferuiv(GL_COLOR, 0, zero);
+    glClearDepth(0.0);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+  }
+  std::vector<std::uint32_t> read() const {
+    std::vector<std::uint32_t> pixels(static_cast<size_t>(width) * height);
+    glGetTextureImage(ids.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(pixels.size() * 4), pixels.data());
+    return pixels;
+  }
+};
+
+class ForestIdGl : public GlTest {};
+
+TEST_F(ForestIdGl, ObjectIdsMatchEmbreePrimaryRays) {
+  const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
+  ASSERT_TRUE(scene.terrain && scene.vegetation);
+  const terrain::Terrain terrain(*scene.terrain);
+  const vegetation::Forest forest(*scene.vegetation, terrain);
+  ASSERT_EQ(forest.trees().size(), 5000u);
+  Camera camera = scene.startCamera();
+  camera.position.y = terrain.heightAt(camera.position.x, camera.position.z) + scene.camera.above_ground.value();
+  const int width = 480, height = 270;
+  camera.aspect = static_cast<double>(width) / height;
+  const double time = 1.25;
+  const std::uint32_t terrainBase = 1, treeBase = 1 + static_cast<std::uint32_t>(terrain.tileCount());
+
+  const render::TerrainRenderer terrainRenderer(terrain, render::TerrainRenderer::Output::ObjectId, terrainBase);
+  const render::TreeRenderer treeRenderer(forest, render::TreeRenderer::Output::ObjectId, treeBase);
+  const terrain::TerrainLod lod = terrain.lodFor(camera, height);
+  const IdTarget target(width, height);
+  std::vector<std::uint32_t> gpu[2];
+  for (auto& run : gpu) {
+    target.bindAndClear();
+    terrainRenderer.draw(camera, lod, scene.sun, terrainRenderer.tilesInFrustum(camera));
+    treeRenderer.draw(camera, treeRenderer.clustersInFrustum(camera), time, scene.sun);
+    run = target.read();
+  }
+  EXPECT_EQ(gpu[0], gpu[1]) << "two runs differ";
+
+  raytrace::RayScene rays;
+  raytrace::mirrorScene(rays, &terrain, &lod, &forest, camera, {terrainBase, treeBase, time});
+  std::vector<std::uint32_t> truth = raytrace::traceObjectIds(rays, camera, width, height);
+  std::replace(truth.begin(), truth.end(), raytrace::kNoObject, 0u);
+
+  size_t same = 0;
+  std::set<std::uint32_t> trees;
+  int sky = 0;
+  for (size_t p = 0; p < truth.size(); ++p) {
+    same += gpu[0][p] == truth[p] ? 1 : 0;
+    if (truth[p] >= treeBase) trees.insert(truth[p]);
+    sky += truth[p] == 0 ? 1 : 0;
+  }
+  const double share = static_cast<double>(same) / static_cast<double>(truth.size());
+  std::printf("[forest ids] %.4f%% of %zu pixels agree; %zu trees and %d sky pixels in view\n", 100.0 * share, truth.size(),
+              trees.size(), sky);
+  EXPECT_GE(share, 0.995);
+  EXPECT_GT(trees.size(), 100u);  // the view does show the forest
+  EXPECT_GT(sky, 0);
+}
+
+}  // namespace
+}  // namespace forest::test
