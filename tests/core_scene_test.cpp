@@ -112,6 +112,17 @@ TEST(SceneFile, BadVegetationValuesNameTheKey) {
   EXPECT_THAT(errorOf("[terrain]\n[vegetation]\nforce_lod0 = 1\n"), HasSubstr("vegetation.force_lod0 = 1: expected true or false"));
 }
 
+TEST(Props, MovesReportTheBoxesThatChanged) {
+  std::vector<PropBox> props(3);
+  props[1].min = {5, 0, 5};
+  props[1].max = {6, 2, 7};
+  const auto changed = moveProps(props, {{1, {10, 0, 10}}, {2, props[2].min}, {1, {11, 0, 10}}});
+  EXPECT_EQ(changed, std::vector<std::uint32_t>{1});  // prop 2 did not move
+  EXPECT_EQ(props[1].min, glm::dvec3(11, 0, 10));
+  EXPECT_EQ(props[1].max, glm::dvec3(12, 2, 12));  // size kept
+  EXPECT_THROW(moveProps(props, {{3, {0, 0, 0}}}), InputError);
+}
+
 TEST(SceneFile, EmptyFileGivesDefaults) {
   const Scene scene = parseScene("", "empty.toml");
   EXPECT_EQ(scene.render.width, RenderSettings{}.width);

@@ -1,5 +1,6 @@
 #include "forest/core/scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -110,6 +111,23 @@ void readVegetation(TomlSection& s, VegetationSettings& v) {
 }
 
 }  // namespace
+
+std::vector<std::uint32_t> moveProps(std::vector<PropBox>& props, const std::vector<PropMove>& moves) {
+  std::vector<std::uint32_t> changed;
+  for (const PropMove& move : moves) {
+    if (move.prop >= props.size())
+      throw InputError("moveProps: no prop " + std::to_string(move.prop) + " (the scene has " + std::to_string(props.size()) + ")");
+    PropBox& p = props[move.prop];
+    if (p.min == move.min) continue;
+    const glm::dvec3 size = p.max - p.min;
+    p.min = move.min;
+    p.max = move.min + size;
+    changed.push_back(move.prop);
+  }
+  std::sort(changed.begin(), changed.end());
+  changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+  return changed;
+}
 
 Camera Scene::startCamera() const {
   Camera c;

@@ -1,6 +1,9 @@
 #include "forest/render/prop_renderer.hpp"
 
 #include <array>
+#include <string>
+
+#include "forest/core/error.hpp"
 
 namespace forest::render {
 namespace {
@@ -46,7 +49,25 @@ std::array<unsigned, 36> unitCubeIndices() {
   return idx;
 }
 
+std::vector<PropInstance> propInstances(const std::vector<PropBox>& props) {
+  std::vector<PropInstance> instances;
+  for (const PropBox& p : props) {
+    instances.push_back({{float(p.min.x), float(p.min.y), float(p.min.z), 1.f},
+                         {float(p.max.x), float(p.max.y), float(p.max.z), 1.f},
+                         {float(p.albedo.x), float(p.albedo.y), float(p.albedo.z), 1.f}});
+  }
+  return instances;
+}
+
 }  // namespace
+
+void PropRenderer::update(const std::vector<PropBox>& props) {
+  if (static_cast<int>(props.size()) != instanceCount_)
+    throw Error("PropRenderer::update: " + std::to_string(props.size()) + " props, built for " + std::to_string(instanceCount_));
+  if (props.empty()) return;
+  const std::vector<PropInstance> instances = propInstances(props);
+  instances_.upload(0, instances.size() * sizeof(PropInstance), instances.data());
+}
 
 PropRenderer::PropRenderer(const std::vector<PropBox>& props)
     : program_(gl::loadProgram({"props.vert", "props.frag"})) {
@@ -54,15 +75,10 @@ PropRenderer::PropRenderer(const std::vector<PropBox>& props)
   const auto indices = unitCubeIndices();
   vertices_ = gl::Buffer(sizeof(vertices), vertices.data(), 0);
   indices_ = gl::Buffer(sizeof(indices), indices.data(), 0);
-  std::vector<PropInstance> instances;
-  for (const PropBox& p : props) {
-    instances.push_back({{float(p.min.x), float(p.min.y), float(p.min.z), 1.f},
-                         {float(p.max.x), float(p.max.y), float(p.max.z), 1.f},
-                         {float(p.albedo.x), float(p.albedo.y), float(p.albedo.z), 1.f}});
-  }
+  const std::vector<PropInstance> instances = propInstances(props);
   instanceCount_ = static_cast<int>(instances.size());
   if (!instances.empty()) {
-    instances_ = gl::Buffer(instances.size() * sizeof(PropInstance), instances.data(), 0);
+    instances_ = gl::Buffer(instances.size() * sizeof(PropInstance), instances.data());
   }
 
   const GLuint vao = vertexArray_.id();

@@ -49,6 +49,15 @@ struct PropBox {
   glm::dvec3 albedo{0.7};
 };
 
+// Moves props between frames (a dynamic scene): each move gives the prop's new min corner, its
+// size is kept. Returns the indices of the props whose boxes changed, in increasing order; throws
+// InputError for an index out of range.
+struct PropMove {
+  std::uint32_t prop;
+  glm::dvec3 min;
+};
+std::vector<std::uint32_t> moveProps(std::vector<PropBox>& props, const std::vector<PropMove>& moves);
+
 // [terrain]: the procedural ground (module terrain/). Absent = no terrain.
 struct TerrainSettings {
   double size = 2000.0;          // metres per side, [64, 65536]; centred on the origin

@@ -13,6 +13,8 @@ namespace forest::render {
 class PropRenderer {
  public:
   explicit PropRenderer(const std::vector<PropBox>& props);
+  // Uploads moved props (same count as at construction).
+  void update(const std::vector<PropBox>& props);
 
   // Draws into the bound framebuffer (depth test GL_GREATER: reversed-Z).
   void draw(const Camera& camera, const SunSettings& sun) const;
