@@ -17,6 +17,8 @@ struct PropInstance {
   float min[4];
   float max[4];
   float albedo[4];
+  std::uint32_t objectId;
+  std::uint32_t padding[3];
 };
 
 // 6 faces × 4 vertices, outward normals, counter-clockwise seen from outside.
@@ -49,12 +51,14 @@ std::array<unsigned, 36> unitCubeIndices() {
   return idx;
 }
 
-std::vector<PropInstance> propInstances(const std::vector<PropBox>& props) {
+std::vector<PropInstance> propInstances(const std::vector<PropBox>& props, std::uint32_t objectIdBase) {
   std::vector<PropInstance> instances;
   for (const PropBox& p : props) {
     instances.push_back({{float(p.min.x), float(p.min.y), float(p.min.z), 1.f},
                          {float(p.max.x), float(p.max.y), float(p.max.z), 1.f},
-                         {float(p.albedo.x), float(p.albedo.y), float(p.albedo.z), 1.f}});
+                         {float(p.albedo.x), float(p.albedo.y), float(p.albedo.z), 1.f},
+                         objectIdBase + static_cast<std::uint32_t>(instances.size()),
+                         {0, 0, 0}});
   }
   return instances;
 }
@@ -65,17 +69,18 @@ void PropRenderer::update(const std::vector<PropBox>& props) {
   if (static_cast<int>(props.size()) != instanceCount_)
     throw Error("PropRenderer::update: " + std::to_string(props.size()) + " props, built for " + std::to_string(instanceCount_));
   if (props.empty()) return;
-  const std::vector<PropInstance> instances = propInstances(props);
+  const std::vector<PropInstance> instances = propInstances(props, objectIdBase_);
   instances_.upload(0, instances.size() * sizeof(PropInstance), instances.data());
 }
 
-PropRenderer::PropRenderer(const std::vector<PropBox>& props)
-    : program_(gl::loadProgram({"props.vert", "props.frag"})) {
+PropRenderer::PropRenderer(const std::vector<PropBox>& props, Output output, std::uint32_t objectIdBase)
+    : program_(gl::loadProgram({"props.vert", "props.frag"}, output == Output::ObjectId ? "#define PROPS_OUTPUT_ID 1\n" : "")),
+      objectIdBase_(objectIdBase) {
   const auto vertices = unitCubeVertices();
   const auto indices = unitCubeIndices();
   vertices_ = gl::Buffer(sizeof(vertices), vertices.data(), 0);
   indices_ = gl::Buffer(sizeof(indices), indices.data(), 0);
-  const std::vector<PropInstance> instances = propInstances(props);
+  const std::vector<PropInstance> instances = propInstances(props, objectIdBase);
   instanceCount_ = static_cast<int>(instances.size());
   if (!instances.empty()) {
     instances_ = gl::Buffer(instances.size() * sizeof(PropInstance), instances.data());
@@ -98,11 +103,13 @@ PropRenderer::PropRenderer(const std::vector<PropBox>& props)
       glVertexArrayAttribFormat(vao, attribute, 4, GL_FLOAT, GL_FALSE, (attribute - 2) * 4 * sizeof(float));
       glVertexArrayAttribBinding(vao, attribute, 1);
     }
+    glEnableVertexArrayAttrib(vao, 5);
+    glVertexArrayAttribIFormat(vao, 5, 1, GL_UNSIGNED_INT, offsetof(PropInstance, objectId));
+    glVertexArrayAttribBinding(vao, 5, 1);
   }
 }
 
-void PropRenderer::draw(const Camera& camera, const SunSettings& sun) const {
-  if (instanceCount_ == 0) return;
+void PropRenderer::setUniforms(const Camera& camera, const SunSettings& sun) const {
   // Composed in double, converted once (DESIGN §4: matrix chains in double).
   const glm::mat4 viewProjection(camera.projection() * camera.view());
   program_.set("uViewProjection", viewProjection);
@@ -110,6 +117,23 @@ void PropRenderer::draw(const Camera& camera, const SunSettings& sun) const {
   program_.set("uSunColor", glm::vec3(sun.color));
   program_.set("uAmbient", static_cast<float>(sun.ambient));
   program_.use();
+}
+
+long long PropRenderer::draw(const Camera& camera, const SunSettings& sun, std::span<const std::uint32_t> props) const {
+  if (props.empty()) return 0;
+  setUniforms(camera, sun);
+  glBindVertexArray(vertexArray_.id());
+  for (std::uint32_t p : props) {
+    if (p >= static_cast<std::uint32_t>(instanceCount_)) throw Error("PropRenderer::draw: no prop " + std::to_string(p));
+    glDrawElementsInstancedBaseInstance(GL_TRIANGLES, 36, GL_UNSIGNED_INT, nullptr, 1, p);
+  }
+  glBindVertexArray(0);
+  return 12 * static_cast<long long>(props.size());
+}
+
+void PropRenderer::draw(const Camera& camera, const SunSettings& sun) const {
+  if (instanceCount_ == 0) return;
+  setUniforms(camera, sun);
   glBindVertexArray(vertexArray_.id());
   glDrawElementsInstanced(GL_TRIANGLES, 36, GL_UNSIGNED_INT, nullptr, instanceCount_);
   glBindVertexArray(0);

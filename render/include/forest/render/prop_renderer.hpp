@@ -1,6 +1,8 @@
 #pragma once
 // Draws the scene's props (boxes) with one instanced draw, lit by the sun: Lambert diffuse plus a
 // weak global ambient (thesis §6.2, without shadows yet).
+#include <cstdint>
+#include <span>
 #include <vector>
 
 #include "forest/core/camera.hpp"
@@ -12,12 +14,16 @@ namespace forest::render {
 
 class PropRenderer {
  public:
-  explicit PropRenderer(const std::vector<PropBox>& props);
+  // Lit, or ObjectId: objectIdBase + prop index to a GL_R32UI target (geometry pass).
+  enum class Output { Lit, ObjectId };
+  explicit PropRenderer(const std::vector<PropBox>& props, Output output = Output::Lit, std::uint32_t objectIdBase = 1);
   // Uploads moved props (same count as at construction).
   void update(const std::vector<PropBox>& props);
 
   // Draws into the bound framebuffer (depth test GL_GREATER: reversed-Z).
   void draw(const Camera& camera, const SunSettings& sun) const;
+  // Draws only the given props (indices); returns the triangles drawn.
+  long long draw(const Camera& camera, const SunSettings& sun, std::span<const std::uint32_t> props) const;
   int triangleCount() const { return 12 * instanceCount_; }
 
  private:
@@ -27,6 +33,8 @@ class PropRenderer {
   gl::Buffer indices_;
   gl::Buffer instances_;
   int instanceCount_ = 0;
+  std::uint32_t objectIdBase_ = 1;
+  void setUniforms(const Camera& camera, const SunSettings& sun) const;
 };
 
 // Clears the bound framebuffer to `sky` with reversed-Z depth 0 and draws the props.

@@ -1,0 +1,71 @@
+#pragma once
+// The scene's objects as culling sees them: terrain tiles, then tree clusters, then props, each
+// with its box; and the drawer that renders any subset of them for one pass (culling::ObjectDrawer).
+// Object IDs in the ID buffer: 0 is the sky; tiles, trees (not clusters) and props follow in
+// blocks, so a pixel's object is known from its ID.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "forest/core/bounds.hpp"
+#include "forest/core/camera.hpp"
+#include "forest/core/scene.hpp"
+#include "forest/culling/occlusion_culler.hpp"
+#include "forest/render/prop_renderer.hpp"
+#include "forest/render/terrain_renderer.hpp"
+#include "forest/render/tree_renderer.hpp"
+
+namespace forest::render {
+
+class SceneObjects {
+ public:
+  SceneObjects(const terrain::Terrain* terrain, const vegetation::Forest* forest, const std::vector<PropBox>& props);
+
+  enum class Kind { Tile, Cluster, Prop };
+  struct Object {
+    Kind kind;
+    std::uint32_t index;  // tile, cluster or prop index
+  };
+  const std::vector<Aabb>& boxes() const { return boxes_; }
+  const std::vector<Object>& objects() const { return objects_; }
+  // Boxes again after trees or props moved.
+  void updateBoxes(const vegetation::Forest* forest, const std::vector<PropBox>& props);
+
+  // The ID scheme of the geometry pass.
+  std::uint32_t terrainIdBase() const { return 1; }
+  std::uint32_t treeIdBase() const { return treeIdBase_; }
+  std::uint32_t propIdBase() const { return propIdBase_; }
+  // The culling object a pixel's ID belongs to (tree IDs map to their cluster); -1 for the sky.
+  std::int64_t objectOfId(std::uint32_t id) const;
+
+ private:
+  std::vector<Aabb> boxes_;
+  std::vector<Object> objects_;
+  std::uint32_t tiles_ = 0, clusters_ = 0;
+  std::uint32_t treeIdBase_ = 1, propIdBase_ = 1;
+  std::vector<std::uint32_t> clusterOfTree_;
+};
+
+// Draws subsets of the scene's objects with the given renderers (any may be null) for one camera,
+// LOD and time.
+class SceneDrawer : public culling::ObjectDrawer {
+ public:
+  SceneDrawer(const SceneObjects& objects, const TerrainRenderer* terrain, const TreeRenderer* trees,
+              const PropRenderer* props, const Camera& camera, const terrain::TerrainLod* lod, double time,
+              const SunSettings& sun);
+  long long draw(std::span<const std::uint32_t> objects) override;
+
+ private:
+  const SceneObjects& objects_;
+  const TerrainRenderer* terrain_;
+  const TreeRenderer* trees_;
+  const PropRenderer* props_;
+  Camera camera_;
+  const terrain::TerrainLod* lod_;
+  double time_;
+  SunSettings sun_;
+  std::vector<int> tiles_;
+  std::vector<std::uint32_t> clusters_, propList_;
+};
+
+}  // namespace forest::render

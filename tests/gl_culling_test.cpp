@@ -1,0 +1,275 @@
+// Culling on the GPU. Exactness on the geometry pass (DESIGN §4): along 60 views of the default
+// forest — a ground-level walk, above the canopy, facing a hill, facing the sky, the eye inside a
+// cluster's box, trees and props moving between frames — frustum, stop-and-wait and CHC draw the
+// same depth and object-ID images as drawing everything. The CHC visible set holds every object
+// with a visible pixel, and z_f reaches the farthest depth drawn. A synthetic box scene (a wall
+// hiding rows of boxes) gives the expected visible sets and query counts.
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <vector>
+
+#include "forest/core/error.hpp"
+#include "forest/core/scene.hpp"
+#include "forest/culling/bvh.hpp"
+#include "forest/culling/occlusion_culler.hpp"
+#include "forest/gl/objects.hpp"
+#include "forest/render/scene_objects.hpp"
+#include "gl_test_support.hpp"
+
+namespace forest::test {
+namespace {
+
+using culling::CullingStrategy;
+using glm::dvec3;
+
+constexpr int kWidth = 320, kHeight = 180;
+
+struct GeometryTarget {
+  gl::Texture ids, depth;
+  gl::Framebuffer framebuffer;
+  GeometryTarget() : ids(GL_R32UI, kWidth, kHeight), depth(GL_DEPTH_COMPONENT32F, kWidth, kHeight) {
+    framebuffer.attach(GL_COLOR_ATTACHMENT0, ids);
+    framebuffer.attach(GL_DEPTH_ATTACHMENT, depth);
+  }
+  void bindAndClear() const {
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.id());
+    glViewport(0, 0, kWidth, kHeight);
+    const GLuint zero[4] = {0, 0, 0, 0};
+    glClearBufferuiv(GL_COLOR, 0, zero);
+    glClearDepth(0.0);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_GREATER);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+  }
+  std::vector<std::uint32_t> readIds() const {
+    std::vector<std::uint32_t> p(static_cast<size_t>(kWidth) * kHeight);
+    glGetTextureImage(ids.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(p.size() * 4), p.data());
+    return p;
+  }
+  std::vector<float> readDepth() const {
+    std::vector<float> p(static_cast<size_t>(kWidth) * kHeight);
+    glGetTextureImage(depth.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, static_cast<GLsizei>(p.size() * 4), p.data());
+    return p;
+  }
+};
+
+class CullingGl : public GlTest {};
+
+TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongSixtyViews) {
+  Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
+  const terrain::Terrain terrain(*scene.terrain);
+  vegetation::Forest forest(*scene.vegetation, terrain);
+  // A few props near the start, moved between frames later.
+  const dvec3 start(scene.camera.position.x, 0.0, scene.camera.position.z);
+  for (int k = 0; k < 4; ++k) {
+    const double x = start.x - 10.0 - 6.0 * k, z = start.z - 15.0 - 4.0 * k;
+    const double y = terrain.heightAt(x, z);
+    scene.props.push_back({dvec3(x, y - 0.5, z), dvec3(x + 3.0, y + 2.5 + k, z + 1.0), dvec3(0.6)});
+  }
+  render::SceneObjects objects(&terrain, &forest, scene.props);
+  const render::TerrainRenderer terrainIds(terrain, render::TerrainRenderer::Output::ObjectId, objects.terrainIdBase());
+  const render::TreeRenderer treeIds(forest, render::TreeRenderer::Output::ObjectId, objects.treeIdBase());
+  render::PropRenderer propIds(scene.props, render::PropRenderer::Output::ObjectId, objects.propIdBase());
+  culling::Bvh bvh(objects.boxes(), 1);
+  const CullingStrategy strategies[] = {CullingStrategy::None, CullingStrategy::Frustum, CullingStrategy::StopAndWait,
+                                        CullingStrategy::Chc};
+  std::map<CullingStrategy, culling::OcclusionCuller> cullers;
+  for (CullingStrategy s : strategies) cullers.try_emplace(s);
+  const GeometryTarget target;
+
+  // The views, in order (CHC uses the previous frame's visibility).
+  struct View {
+    Camera camera;
+    const char* kind;
+    bool moveObjects = false;
+  };
+  std::vector<View> views;
+  auto camera = [&](double x, double z, double above, double yawDeg, double pitchDeg) {
+    Camera c = scene.startCamera();
+    c.aspect = static_cast<double>(kWidth) / kHeight;
+    c.position = {x, terrain.heightAt(x, z) + above, z};
+    c.yaw = glm::radians(yawDeg);
+    c.pitch = glm::radians(pitchDeg);
+    return c;
+  };
+  for (int k = 0; k < 25; ++k)  // ground-level walk, turning slowly
+    views.push_back({camera(start.x + 2.0 * k, start.z - 3.0 * k, 1.7, 210.0 + 3.0 * k, -2.0), "walk"});
+  for (int k = 0; k < 8; ++k)  // above the canopy
+    views.push_back({camera(start.x + 40.0 * k, start.z, 45.0, 45.0 * k, -20.0), "above the canopy"});
+  for (int k = 0; k < 6; ++k) {  // facing the highest point of the terrain from its foot
+    const Aabb b = terrain.bounds();
+    dvec3 top(0.0, -1e9, 0.0);
+    for (int t = 0; t < terrain.tileCount(); ++t)
+      if (terrain.tileBox(t).max.y > top.y) top = terrain.tileBox(t).centre() + dvec3(0.0, terrain.tileBox(t).max.y, 0.0);
+    const double angle = glm::radians(60.0 * k);
+    const dvec3 eye = top + 150.0 * dvec3(std::cos(angle), 0.0, std::sin(angle));
+    const dvec3 to = top - eye;
+    views.push_back({camera(std::clamp(eye.x, b.min.x + 5, b.max.x - 5), std::clamp(eye.z, b.min.z + 5, b.max.z - 5), 1.7,
+                            glm::degrees(std::atan2(-to.x, -to.z)), 5.0),
+                     "facing a hill"});
+  }
+  for (int k = 0; k < 5; ++k) views.push_back({camera(start.x, start.z + 10.0 * k, 1.7, 72.0 * k, 40.0), "facing the sky"});
+  for (int k = 0; k < 6; ++k) {  // the eye inside a cluster's box
+    const vegetation::TreeCluster& cluster = forest.clusters()[static_cast<size_t>(k * 17) % forest.clusters().size()];
+    const dvec3 base = forest.trees()[cluster.trees.front()].position;
+    views.push_back({camera(base.x + 1.5, base.z + 1.5, 1.7, 60.0 * k, -5.0), "inside a cluster"});
+  }
+  for (int k = 0; k < 10; ++k)  // trees and props move between frames
+    views.push_back({camera(start.x - 5.0, start.z + 5.0, 1.7, 225.0, -3.0), "moving objects", true});
+  ASSERT_GE(views.size(), 50u);
+
+  int differingPixels = 0, compared = 0, queries = 0;
+  for (size_t v = 0; v < views.size(); ++v) {
+    const View& view = views[v];
+    if (view.moveObjects) {
+      // Move ten trees of the clusters near the eye and slide the props; refit the hierarchy.
+      std::vector<vegetation::Forest::Move> moves;
+      for (std::uint32_t t = static_cast<std::uint32_t>(v); t < forest.trees().size() && moves.size() < 10; t += 389) {
+        const dvec3 p = view.camera.position + dvec3(std::sin(0.7 * t) * 25.0, 0.0, -20.0 - 3.0 * static_cast<double>(moves.size()));
+        moves.push_back({t, {p.x, p.z}, 0.3 * static_cast<double>(v)});
+      }
+      forest.moveTrees(moves);
+      std::vector<PropMove> propMoves;
+      for (std::uint32_t p = 0; p < scene.props.size(); ++p)
+        propMoves.push_back({p, scene.props[p].min + dvec3(0.7, 0.0, -0.4)});
+      moveProps(scene.props, propMoves);
+      propIds.update(scene.props);
+      objects.updateBoxes(&forest, scene.props);
+      if (bvh.refit(objects.boxes()))
+        for (auto& [s, c] : cullers) c.reset();
+    }
+    const terrain::TerrainLod lod = terrain.lodFor(view.camera, kHeight);
+    const double time = 0.1 * static_cast<double>(v);
+    std::vector<std::uint32_t> noneIds;
+    std::vector<float> noneDepth;
+    for (CullingStrategy s : strategies) {
+      target.bindAndClear();
+      render::SceneDrawer drawer(objects, &terrainIds, &treeIds, &propIds, view.camera, &lod, time, scene.sun);
+      const culling::CullingResult r = cullers.at(s).cull(bvh, objects.boxes(), view.camera, s, drawer);
+      const std::vector<std::uint32_t> ids = target.readIds();
+      const std::vector<float> depth = target.readDepth();
+      if (s == CullingStrategy::None) {
+        noneIds = ids;
+        noneDepth = depth;
+        continue;
+      }
+      int differ = 0;
+      for (size_t p = 0; p < ids.size(); ++p) differ += (ids[p] != noneIds[p] || depth[p] != noneDepth[p]) ? 1 : 0;
+      differingPixels += differ;
+      compared += static_cast<int>(ids.size());
+      EXPECT_EQ(differ, 0) << "view " << v << " (" << view.kind << "), " << culling::cullingStrategyName(s);
+      if (s != CullingStrategy::Chc) continue;
+      queries += r.stats.queriesIssued;
+      // The oracle: every object with a pixel is in the visible set.
+      const std::set<std::uint32_t> visible(r.visibleObjects.begin(), r.visibleObjects.end());
+      double farthest = 0.0;
+      for (size_t p = 0; p < ids.size(); ++p) {
+        const std::int64_t o = objects.objectOfId(noneIds[p]);
+        if (o < 0) continue;
+        EXPECT_TRUE(visible.count(static_cast<std::uint32_t>(o))) << "view " << v << ": object " << o << " has pixels";
+        const double d = noneDepth[p], n = view.camera.near, f = view.camera.far;
+        farthest = std::max(farthest, n * f / (n + d * (f - n)));  // reversed-Z depth → eye depth
+      }
+      EXPECT_GE(r.farDepth, farthest * (1.0 - 1e-6)) << "view " << v;
+      EXPECT_LE(r.farDepth, view.camera.far);
+    }
+  }
+  std::printf("[culling] %zu views, %d of %d compared pixels differ, %d CHC queries\n", views.size(), differingPixels,
+              compared, queries);
+  EXPECT_GT(queries, 0);
+}
+
+// A wall 5 m ahead hides two rows of boxes; two boxes stand in front of it; one box lies far
+// outside the field of view. No box holds the eye, so every node visited is queried. Expected: the
+// wall and the front boxes are visible, nothing else.
+TEST_F(CullingGl, WallHidesTheRowsBehindIt) {
+  std::vector<PropBox> props;
+  props.push_back({dvec3(-50, -10, -6), dvec3(50, 30, -5), dvec3(0.5)});  // 0: wall
+  props.push_back({dvec3(-2, -1, -3), dvec3(-1, 1, -2), dvec3(0.5)});     // 1: in front
+  props.push_back({dvec3(1, -1, -4), dvec3(2, 1, -3), dvec3(0.5)});       // 2: in front
+  for (int row = 0; row < 2; ++row)
+    for (int k = 0; k < 8; ++k)  // 3…18: hidden rows
+      props.push_back({dvec3(-8.0 + 2.0 * k, -1, -15.0 - 5.0 * row), dvec3(-7.0 + 2.0 * k, 1, -14.0 - 5.0 * row), dvec3(0.5)});
+  props.push_back({dvec3(-201, -1, -11), dvec3(-200, 1, -10), dvec3(0.5)});  // 19: far outside the view
+  const render::SceneObjects objects(nullptr, nullptr, props);
+  const render::PropRenderer propIds(props, render::PropRenderer::Output::ObjectId, objects.propIdBase());
+  const culling::Bvh bvh(objects.boxes(), 1);
+  Camera camera;
+  camera.position = {0, 0, 0};
+  camera.aspect = static_cast<double>(kWidth) / kHeight;
+  camera.far = 100.0;
+  const GeometryTarget target;
+  const std::vector<std::uint32_t> expected = {0, 1, 2};
+  for (CullingStrategy s : {CullingStrategy::StopAndWait, CullingStrategy::Chc}) {
+    culling::OcclusionCuller culler;
+    for (int frame = 0; frame < 3; ++frame) {
+      target.bindAndClear();
+      render::SceneDrawer drawer(objects, nullptr, nullptr, &propIds, camera, nullptr, 0.0, SunSettings{});
+      const culling::CullingResult r = culler.cull(bvh, objects.boxes(), camera, s, drawer);
+      EXPECT_EQ(r.visibleObjects, expected) << culling::cullingStrategyName(s) << " frame " << frame;
+      // Queries: every node in the frustum whose parent was found visible (stop-and-wait and the
+      // first CHC frame); later CHC frames open previously visible interior nodes without one.
+      if (frame == 0 || s == CullingStrategy::StopAndWait) {
+        EXPECT_EQ(r.stats.queriesIssued, r.stats.nodesVisited) << culling::cullingStrategyName(s) << " frame " << frame;
+      } else {
+        EXPECT_LT(r.stats.queriesIssued, r.stats.nodesVisited) << culling::cullingStrategyName(s) << " frame " << frame;
+      }
+      EXPECT_EQ(r.stats.objectsDrawn, 3) << culling::cullingStrategyName(s) << " frame " << frame;
+    }
+  }
+  // Frustum culling drops only the box outside the view.
+  culling::OcclusionCuller culler;
+  target.bindAndClear();
+  render::SceneDrawer drawer(objects, nullptr, nullptr, &propIds, camera, nullptr, 0.0, SunSettings{});
+  const culling::CullingResult r = culler.cull(bvh, objects.boxes(), camera, CullingStrategy::Frustum, drawer);
+  EXPECT_EQ(r.visibleObjects.size(), 19u);
+  EXPECT_FALSE(std::binary_search(r.visibleObjects.begin(), r.visibleObjects.end(), 19u));
+}
+
+TEST(Bvh, EveryObjectInsideItsLeafAfterBuildAndRefit) {
+  std::vector<Aabb> boxes;
+  for (int k = 0; k < 300; ++k) {
+    const dvec3 p(std::sin(k * 1.3) * 100.0, std::cos(k * 0.7) * 5.0, std::sin(k * 2.9) * 100.0);
+    boxes.push_back({p, p + dvec3(1.0 + k % 3, 2.0, 1.0)});
+  }
+  for (int leafSize : {1, 4}) {
+    culling::Bvh bvh(boxes, leafSize);
+    auto check = [&] {
+      std::vector<int> seen(boxes.size(), 0);
+      for (const culling::BvhNode& n : bvh.nodes()) {
+        if (!n.leaf()) {
+          for (std::int32_t child : {n.left, n.right}) {
+            EXPECT_TRUE(n.bounds.contains(bvh.nodes()[child].bounds.min) && n.bounds.contains(bvh.nodes()[child].bounds.max));
+            EXPECT_EQ(bvh.nodes()[child].parent, &n - bvh.nodes().data());
+          }
+          continue;
+        }
+        EXPECT_LE(n.count, static_cast<std::uint32_t>(leafSize));
+        for (std::uint32_t k = n.first; k < n.first + n.count; ++k) {
+          const Aabb& b = boxes[bvh.objects()[k]];
+          EXPECT_TRUE(n.bounds.contains(b.min) && n.bounds.contains(b.max));
+          ++seen[bvh.objects()[k]];
+        }
+      }
+      for (int s : seen) EXPECT_EQ(s, 1);
+    };
+    check();
+    for (int round = 0; round < 5; ++round) {  // random moves, refit (and rebuild when degraded)
+      for (int k = round; k < static_cast<int>(boxes.size()); k += 7) {
+        const dvec3 shift(std::sin(k * 0.31 + round) * 60.0, 0.0, std::cos(k * 0.17 + round) * 60.0);
+        boxes[k].min += shift;
+        boxes[k].max += shift;
+      }
+      bvh.refit(boxes);
+      check();
+    }
+  }
+  EXPECT_THROW(culling::Bvh(boxes, 0), InputError);
+}
+
+}  // namespace
+}  // namespace forest::test
