@@ -145,6 +145,25 @@ TEST(ForestCli, RenderDrawsTheTerrainScene) {
                      "terrain.octaves = 17: expected an integer in [1, 16]");
 }
 
+TEST(ForestCli, BenchCullingWritesEveryStrategyAndTheOracle) {
+  const fs::path json = fs::path(FOREST_TEST_OUTPUT) / "cli" / "bench-culling.json";
+  fs::remove(json);
+  const Result r = runForest("bench culling --frames 3 --width 160 --height 90 --out " + json.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("chc / frustum frame time"));
+  const nlohmann::json j = nlohmann::json::parse(readTextFile(json));
+  for (const char* s : {"none", "frustum", "stop-and-wait", "chc"}) {
+    ASSERT_TRUE(j["strategies"].contains(s)) << s;
+    EXPECT_GT(j["strategies"][s]["triangles_p50"].get<double>(), 0.0) << s;
+  }
+  // Culling never draws fewer triangles than the exact visible set needs, nor more than all.
+  const double oracle = j["oracle"]["triangles_p50"].get<double>();
+  EXPECT_GE(j["strategies"]["chc"]["triangles_p50"].get<double>(), oracle);
+  EXPECT_LE(j["strategies"]["chc"]["triangles_p50"].get<double>(), j["strategies"]["none"]["triangles_p50"].get<double>());
+  EXPECT_EQ(j["strategies"]["none"]["queries_p50"].get<double>(), 0.0);
+  EXPECT_GT(j["strategies"]["stop-and-wait"]["queries_p50"].get<double>(), 0.0);
+}
+
 TEST(ForestCli, InfoNamesBackendAndRenderer) {
   const Result r = runForest("info --json");
   ASSERT_EQ(r.exitCode, 0) << r.err;

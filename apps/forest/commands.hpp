@@ -20,5 +20,6 @@ Run addInfoCommand(CLI::App& app);
 Run addRenderCommand(CLI::App& app);
 Run addCheckCommand(CLI::App& app);
 Run addStabilityCommand(CLI::App& app);
+Run addBenchCommand(CLI::App& app);
 
 }  // namespace forest::app

@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
   add(forest::app::addRenderCommand);
   add(forest::app::addCheckCommand);
   add(forest::app::addStabilityCommand);
+  add(forest::app::addBenchCommand);
 
   try {
     app.parse(argc, argv);
