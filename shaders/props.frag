@@ -1,22 +1,27 @@
 #version 450 core
-// Lambert diffuse from the sun plus a weak global ambient (thesis §6.2; no shadows yet). With
-// PROPS_OUTPUT_ID the prop's object ID is written instead (geometry pass).
+// Prop boxes. Outputs (one per program): lit (Lambert plus a weak global ambient, thesis §6.2, no
+// shadows), OUTPUT_GBUFFER (gbuffer.frag), OUTPUT_ID.
 in vec3 vNormal;
 in vec3 vAlbedo;
+in vec3 vRelativePosition;
 flat in uint vObjectId;
 
 uniform vec3 uToSun;     // unit vector towards the sun
 uniform vec3 uSunColor;
 uniform float uAmbient;
 
-#ifdef PROPS_OUTPUT_ID
+#if defined(OUTPUT_GBUFFER)
+void writeGBuffer(vec3 albedo, vec3 shadingNormal, vec3 relativePosition, uint objectId);
+#elif defined(OUTPUT_ID)
 out uint fragId;
 #else
 out vec4 fragColor;
 #endif
 
 void main() {
-#ifdef PROPS_OUTPUT_ID
+#if defined(OUTPUT_GBUFFER)
+  writeGBuffer(vAlbedo, vNormal, vRelativePosition, vObjectId);
+#elif defined(OUTPUT_ID)
   fragId = vObjectId;
 #else
   float diffuse = max(dot(normalize(vNormal), uToSun), 0.0);

@@ -1,10 +1,12 @@
 #version 450 core
-// Terrain shading: Lambert diffuse from the sun plus a weak global ambient (thesis §6.2; no
-// shadows yet); grass on gentle slopes, rock on steep ones. With TERRAIN_OUTPUT_POSITION the
-// fragment's world-space position is written instead (tests compare it with the CPU twin); with
-// TERRAIN_OUTPUT_ID the tile's object ID (geometry pass).
+// Terrain surface: grass on gentle slopes, rock on steep ones. Outputs (one per program):
+//   lit (default)   — Lambert diffuse plus a weak global ambient (thesis §6.2), no shadows;
+//   OUTPUT_GBUFFER  — the geometry pass's G-buffer (gbuffer.frag);
+//   OUTPUT_ID       — the tile's object ID;
+//   OUTPUT_POSITION — the world-space position (tests compare it with the CPU twin).
 in vec3 vNormal;
 in vec3 vWorldPosition;
+in vec3 vRelativePosition;
 flat in uint vObjectId;
 
 uniform vec3 uToSun;
@@ -12,23 +14,27 @@ uniform vec3 uSunColor;
 uniform float uAmbient;
 uniform vec3 uAlbedo;
 
-#ifdef TERRAIN_OUTPUT_ID
+#if defined(OUTPUT_GBUFFER)
+void writeGBuffer(vec3 albedo, vec3 shadingNormal, vec3 relativePosition, uint objectId);
+#elif defined(OUTPUT_ID)
 out uint fragId;
 #else
 out vec4 fragColor;
 #endif
 
+vec3 terrainAlbedo(vec3 n) { return mix(vec3(0.42, 0.40, 0.37), uAlbedo, smoothstep(0.70, 0.85, n.y)); }
+
 void main() {
-#if defined(TERRAIN_OUTPUT_ID)
+  vec3 n = normalize(vNormal);
+#if defined(OUTPUT_GBUFFER)
+  writeGBuffer(terrainAlbedo(n), n, vRelativePosition, vObjectId);
+#elif defined(OUTPUT_ID)
   fragId = vObjectId;
-#elif defined(TERRAIN_OUTPUT_POSITION)
+#elif defined(OUTPUT_POSITION)
   fragColor = vec4(vWorldPosition, 1.0);
 #else
-  vec3 n = normalize(vNormal);
-  vec3 rock = vec3(0.42, 0.40, 0.37);
-  vec3 albedo = mix(rock, uAlbedo, smoothstep(0.70, 0.85, n.y));
   float diffuse = max(dot(n, uToSun), 0.0);
-  vec3 linear = albedo * (uAmbient + (1.0 - uAmbient) * diffuse * uSunColor);
+  vec3 linear = terrainAlbedo(n) * (uAmbient + (1.0 - uAmbient) * diffuse * uSunColor);
   fragColor = vec4(pow(linear, vec3(1.0 / 2.2)), 1.0);
 #endif
 }

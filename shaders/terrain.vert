@@ -24,6 +24,7 @@ uniform uint uObjectIdBase;
 
 out vec3 vNormal;
 out vec3 vWorldPosition;
+out vec3 vRelativePosition;  // to the view's origin
 flat out uint vObjectId;     // uObjectIdBase + tile index
 
 // Camera-relative position of sample s.
@@ -53,6 +54,7 @@ void main() {
   vec3 p = fine * (1.0 - k) + coarse * k;
   vNormal = normalize(sampleNormal(base + aLocal) * (1.0 - k) + sampleNormal(base + target) * k);
   vWorldPosition = p + uEye;
+  vRelativePosition = p;
   vObjectId = uObjectIdBase + uint(iTile.y * uTilesPerSide + iTile.x);
   gl_Position = uViewProjectionRelative * vec4(p, 1.0);
 }

@@ -1,22 +1,27 @@
 #version 450 core
-// Tree shading: Lambert from the sun plus a weak global ambient (thesis §6.2; no shadows yet).
-// With TREES_OUTPUT_ID the tree's object ID is written instead (geometry pass, tests).
+// Tree surface: per-vertex albedo times the tree's tint. Outputs (one per program): lit (Lambert
+// plus a weak global ambient, thesis §6.2, no shadows), OUTPUT_GBUFFER (gbuffer.frag), OUTPUT_ID.
 in vec3 vNormal;
 in vec3 vAlbedo;
+in vec3 vRelativePosition;
 flat in uint vObjectId;
 
 uniform vec3 uToSun;
 uniform vec3 uSunColor;
 uniform float uAmbient;
 
-#ifdef TREES_OUTPUT_ID
+#if defined(OUTPUT_GBUFFER)
+void writeGBuffer(vec3 albedo, vec3 shadingNormal, vec3 relativePosition, uint objectId);
+#elif defined(OUTPUT_ID)
 out uint fragId;
 #else
 out vec4 fragColor;
 #endif
 
 void main() {
-#ifdef TREES_OUTPUT_ID
+#if defined(OUTPUT_GBUFFER)
+  writeGBuffer(vAlbedo, vNormal, vRelativePosition, vObjectId);
+#elif defined(OUTPUT_ID)
   fragId = vObjectId;
 #else
   vec3 n = normalize(vNormal);

@@ -4,7 +4,7 @@
 layout(location = 0) in vec3 aPosition;
 layout(location = 1) in vec3 aNormal;
 layout(location = 2) in vec3 aAlbedo;
-layout(location = 3) in vec4 iBaseYaw;       // xyz: base − eye; w: yaw (radians)
+layout(location = 3) in vec4 iBaseYaw;       // xyz: base − view origin; w: yaw (radians)
 layout(location = 4) in vec4 iScalePhase;    // x: scale; y: sway phase
 layout(location = 5) in vec4 iTint;
 layout(location = 6) in uint iObjectId;
@@ -17,6 +17,7 @@ uniform vec2 uWindDirection;  // (x, z), unit
 
 out vec3 vNormal;
 out vec3 vAlbedo;
+out vec3 vRelativePosition;  // to the view's origin
 flat out uint vObjectId;
 
 void main() {
@@ -34,5 +35,6 @@ void main() {
   vNormal = n;
   vAlbedo = aAlbedo * iTint.rgb;
   vObjectId = iObjectId;
-  gl_Position = uViewProjectionRelative * vec4(p + iBaseYaw.xyz, 1.0);
+  vRelativePosition = p + iBaseYaw.xyz;
+  gl_Position = uViewProjectionRelative * vec4(vRelativePosition, 1.0);
 }

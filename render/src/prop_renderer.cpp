@@ -74,7 +74,7 @@ void PropRenderer::update(const std::vector<PropBox>& props) {
 }
 
 PropRenderer::PropRenderer(const std::vector<PropBox>& props, Output output, std::uint32_t objectIdBase)
-    : program_(gl::loadProgram({"props.vert", "props.frag"}, output == Output::ObjectId ? "#define PROPS_OUTPUT_ID 1\n" : "")),
+    : program_(loadSurfaceProgram("props.vert", "props.frag", output)),
       objectIdBase_(objectIdBase) {
   const auto vertices = unitCubeVertices();
   const auto indices = unitCubeIndices();
@@ -109,19 +109,19 @@ PropRenderer::PropRenderer(const std::vector<PropBox>& props, Output output, std
   }
 }
 
-void PropRenderer::setUniforms(const Camera& camera, const SunSettings& sun) const {
+void PropRenderer::setUniforms(const DrawView& view) const {
   // Composed in double, converted once (DESIGN §4: matrix chains in double).
-  const glm::mat4 viewProjection(camera.projection() * camera.view());
-  program_.set("uViewProjection", viewProjection);
-  program_.set("uToSun", glm::vec3(-sun.direction));
-  program_.set("uSunColor", glm::vec3(sun.color));
-  program_.set("uAmbient", static_cast<float>(sun.ambient));
+  program_.set("uViewProjectionRelative", glm::mat4(view.viewProjectionRelative));
+  program_.set("uOrigin", glm::vec3(view.origin));
+  program_.set("uToSun", glm::vec3(-view.sun.direction));
+  program_.set("uSunColor", glm::vec3(view.sun.color));
+  program_.set("uAmbient", static_cast<float>(view.sun.ambient));
   program_.use();
 }
 
-long long PropRenderer::draw(const Camera& camera, const SunSettings& sun, std::span<const std::uint32_t> props) const {
+long long PropRenderer::draw(const DrawView& view, std::span<const std::uint32_t> props) const {
   if (props.empty()) return 0;
-  setUniforms(camera, sun);
+  setUniforms(view);
   glBindVertexArray(vertexArray_.id());
   for (std::uint32_t p : props) {
     if (p >= static_cast<std::uint32_t>(instanceCount_)) throw Error("PropRenderer::draw: no prop " + std::to_string(p));
@@ -133,7 +133,7 @@ long long PropRenderer::draw(const Camera& camera, const SunSettings& sun, std::
 
 void PropRenderer::draw(const Camera& camera, const SunSettings& sun) const {
   if (instanceCount_ == 0) return;
-  setUniforms(camera, sun);
+  setUniforms(DrawView::fromCamera(camera, 0.0, sun));
   glBindVertexArray(vertexArray_.id());
   glDrawElementsInstanced(GL_TRIANGLES, 36, GL_UNSIGNED_INT, nullptr, instanceCount_);
   glBindVertexArray(0);

@@ -37,9 +37,8 @@ std::int64_t SceneObjects::objectOfId(std::uint32_t id) const {
 }
 
 SceneDrawer::SceneDrawer(const SceneObjects& objects, const TerrainRenderer* terrain, const TreeRenderer* trees,
-                         const PropRenderer* props, const Camera& camera, const terrain::TerrainLod* lod, double time,
-                         const SunSettings& sun)
-    : objects_(objects), terrain_(terrain), trees_(trees), props_(props), camera_(camera), lod_(lod), time_(time), sun_(sun) {}
+                         const PropRenderer* props, const DrawView& view, const terrain::TerrainLod* lod)
+    : objects_(objects), terrain_(terrain), trees_(trees), props_(props), view_(view), lod_(lod) {}
 
 long long SceneDrawer::draw(std::span<const std::uint32_t> objects) {
   tiles_.clear();
@@ -54,9 +53,9 @@ long long SceneDrawer::draw(std::span<const std::uint32_t> objects) {
     }
   }
   long long triangles = 0;
-  if (terrain_ && lod_ && !tiles_.empty()) triangles += terrain_->draw(camera_, *lod_, sun_, tiles_).triangles;
-  if (trees_ && !clusters_.empty()) triangles += trees_->draw(camera_, clusters_, time_, sun_).triangles;
-  if (props_ && !propList_.empty()) triangles += props_->draw(camera_, sun_, propList_);
+  if (terrain_ && lod_ && !tiles_.empty()) triangles += terrain_->draw(view_, *lod_, tiles_).triangles;
+  if (trees_ && !clusters_.empty()) triangles += trees_->draw(view_, clusters_).triangles;
+  if (props_ && !propList_.empty()) triangles += props_->draw(view_, propList_);
   return triangles;
 }
 

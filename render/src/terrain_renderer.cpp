@@ -17,20 +17,22 @@ constexpr double kMorphSlack = 1e-3;  // the same as TerrainLod::morphFactor
 }  // namespace
 
 namespace {
-const char* outputDefine(TerrainRenderer::Output output) {
+gl::Program loadTerrainProgram(TerrainRenderer::Output output) {
   switch (output) {
-    case TerrainRenderer::Output::WorldPosition: return "#define TERRAIN_OUTPUT_POSITION 1\n";
-    case TerrainRenderer::Output::ObjectId: return "#define TERRAIN_OUTPUT_ID 1\n";
+    case TerrainRenderer::Output::WorldPosition:
+      return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::Lit, "#define OUTPUT_POSITION 1\n");
+    case TerrainRenderer::Output::ObjectId: return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::ObjectId);
+    case TerrainRenderer::Output::GBuffer: return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::GBuffer);
     case TerrainRenderer::Output::Lit: break;
   }
-  return "";
+  return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::Lit);
 }
 }  // namespace
 
 TerrainRenderer::TerrainRenderer(const terrain::Terrain& terrain, Output output, std::uint32_t objectIdBase)
     : terrain_(terrain),
       objectIdBase_(objectIdBase),
-      program_(gl::loadProgram({"terrain.vert", "terrain.frag"}, outputDefine(output))) {
+      program_(loadTerrainProgram(output)) {
   const terrain::Heightfield& h = terrain.heightfield();
   heights_ = gl::Texture(GL_R32F, h.samples(), h.samples());
   glTextureSubImage2D(heights_.id(), 0, 0, 0, h.samples(), h.samples(), GL_RED, GL_FLOAT, h.heights().data());
@@ -74,13 +76,13 @@ std::vector<int> TerrainRenderer::tilesInFrustum(const Camera& camera) const {
 
 TerrainRenderer::Stats TerrainRenderer::draw(const Camera& camera, const terrain::TerrainLod& lod,
                                              const SunSettings& sun, std::span<const int> tiles) const {
-  return draw(camera.projection() * camera.view() * glm::translate(glm::dmat4(1.0), camera.position), camera.position,
-              lod, sun, tiles);
+  return draw(DrawView::fromCamera(camera, 0.0, sun), lod, tiles);
 }
 
-TerrainRenderer::Stats TerrainRenderer::draw(const glm::dmat4& viewProjectionRelative, const glm::dvec3& eye,
-                                             const terrain::TerrainLod& lod, const SunSettings& sun,
+TerrainRenderer::Stats TerrainRenderer::draw(const DrawView& view, const terrain::TerrainLod& lod,
                                              std::span<const int> tiles) const {
+  const glm::dvec3 eye = view.origin;
+  const SunSettings& sun = view.sun;
   Stats stats;
   if (tiles.empty()) return stats;
   // Tiles grouped by level, uploaded at once; one instanced draw per level.
@@ -99,7 +101,7 @@ TerrainRenderer::Stats TerrainRenderer::draw(const glm::dmat4& viewProjectionRel
 
   const terrain::Heightfield& h = terrain_.heightfield();
   // (p − eye) → clip, composed in double (DESIGN §4), converted once.
-  program_.set("uViewProjectionRelative", glm::mat4(viewProjectionRelative));
+  program_.set("uViewProjectionRelative", glm::mat4(view.viewProjectionRelative));
   program_.set("uOriginRelative", glm::vec2(h.origin().x - eye.x, h.origin().y - eye.z));
   program_.set("uEyeY", static_cast<float>(eye.y));
   program_.set("uEye", glm::vec3(eye));

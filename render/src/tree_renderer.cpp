@@ -31,7 +31,7 @@ TreeRenderer::TreeRenderer(const vegetation::Forest& forest, Output output, std:
     : forest_(forest),
       output_(output),
       objectIdBase_(objectIdBase),
-      program_(gl::loadProgram({"trees.vert", "trees.frag"}, output == Output::ObjectId ? "#define TREES_OUTPUT_ID 1\n" : "")) {
+      program_(loadSurfaceProgram("trees.vert", "trees.frag", output)) {
   std::vector<TreeVertex> vertices;
   std::vector<std::uint32_t> indices;
   for (int s = 0; s < kSpeciesCount; ++s) {
@@ -79,15 +79,21 @@ std::vector<std::uint32_t> TreeRenderer::clustersInFrustum(const Camera& camera)
 
 TreeRenderer::Stats TreeRenderer::draw(const Camera& camera, std::span<const std::uint32_t> clusters, double time,
                                        const SunSettings& sun) const {
+  return draw(DrawView::fromCamera(camera, time, sun), clusters);
+}
+
+TreeRenderer::Stats TreeRenderer::draw(const DrawView& view, std::span<const std::uint32_t> clusters) const {
   Stats stats;
+  const double time = view.time;
+  const SunSettings& sun = view.sun;
   // Instances grouped by (species, LOD), base positions relative to the eye in double.
   std::array<std::array<std::vector<TreeInstanceGpu>, kTreeLods>, kSpeciesCount> groups;
   for (std::uint32_t c : clusters) {
     for (std::uint32_t t : forest_.clusters()[c].trees) {
       const vegetation::TreeInstance& tree = forest_.trees()[t];
-      const int lod = forest_.lodFor(t, camera.position);
+      const int lod = forest_.lodFor(t, view.lodEye);
       TreeInstanceGpu g{};
-      g.baseYaw = glm::vec4(glm::vec3(tree.position - camera.position), static_cast<float>(tree.yaw));
+      g.baseYaw = glm::vec4(glm::vec3(tree.position - view.origin), static_cast<float>(tree.yaw));
       g.scalePhase = glm::vec4(static_cast<float>(tree.scale), static_cast<float>(tree.swayPhase), 0.0f, 0.0f);
       g.tint = glm::vec4(tree.tint, 1.0f);
       g.objectId = objectIdBase_ + t;
@@ -105,8 +111,7 @@ TreeRenderer::Stats TreeRenderer::draw(const Camera& camera, std::span<const std
   instances_.upload(0, packed.size() * sizeof(TreeInstanceGpu), packed.data());
 
   const VegetationSettings& wind = forest_.settings();
-  program_.set("uViewProjectionRelative",
-               glm::mat4(camera.projection() * camera.view() * glm::translate(glm::dmat4(1.0), camera.position)));
+  program_.set("uViewProjectionRelative", glm::mat4(view.viewProjectionRelative));
   // The shader evaluates the sway in float: t is reduced modulo 10 periods first (in double), a
   // common period of sin(ωt) and sin(2.7ωt), so long runs keep their precision.
   program_.set("uTime", static_cast<float>(std::fmod(time, 10.0 * wind.wind_period)));

@@ -9,21 +9,22 @@
 #include "forest/core/scene.hpp"
 #include "forest/gl/objects.hpp"
 #include "forest/gl/shader.hpp"
+#include "forest/render/draw_view.hpp"
 
 namespace forest::render {
 
 class PropRenderer {
  public:
-  // Lit, or ObjectId: objectIdBase + prop index to a GL_R32UI target (geometry pass).
-  enum class Output { Lit, ObjectId };
+  // Lit, ObjectId (objectIdBase + prop index to a GL_R32UI target) or GBuffer.
+  using Output = SurfaceOutput;
   explicit PropRenderer(const std::vector<PropBox>& props, Output output = Output::Lit, std::uint32_t objectIdBase = 1);
   // Uploads moved props (same count as at construction).
   void update(const std::vector<PropBox>& props);
 
   // Draws into the bound framebuffer (depth test GL_GREATER: reversed-Z).
   void draw(const Camera& camera, const SunSettings& sun) const;
-  // Draws only the given props (indices); returns the triangles drawn.
-  long long draw(const Camera& camera, const SunSettings& sun, std::span<const std::uint32_t> props) const;
+  // Draws only the given props (indices) from any view; returns the triangles drawn.
+  long long draw(const DrawView& view, std::span<const std::uint32_t> props) const;
   int triangleCount() const { return 12 * instanceCount_; }
 
  private:
@@ -34,7 +35,7 @@ class PropRenderer {
   gl::Buffer instances_;
   int instanceCount_ = 0;
   std::uint32_t objectIdBase_ = 1;
-  void setUniforms(const Camera& camera, const SunSettings& sun) const;
+  void setUniforms(const DrawView& view) const;
 };
 
 // Clears the bound framebuffer to `sky` with reversed-Z depth 0 and draws the props.

@@ -46,13 +46,17 @@ class SceneObjects {
   std::vector<std::uint32_t> clusterOfTree_;
 };
 
-// Draws subsets of the scene's objects with the given renderers (any may be null) for one camera,
-// LOD and time.
+// Draws subsets of the scene's objects with the given renderers (any may be null) for one view
+// and terrain LOD.
 class SceneDrawer : public culling::ObjectDrawer {
  public:
   SceneDrawer(const SceneObjects& objects, const TerrainRenderer* terrain, const TreeRenderer* trees,
+              const PropRenderer* props, const DrawView& view, const terrain::TerrainLod* lod);
+  // The eye's own view of the scene.
+  SceneDrawer(const SceneObjects& objects, const TerrainRenderer* terrain, const TreeRenderer* trees,
               const PropRenderer* props, const Camera& camera, const terrain::TerrainLod* lod, double time,
-              const SunSettings& sun);
+              const SunSettings& sun)
+      : SceneDrawer(objects, terrain, trees, props, DrawView::fromCamera(camera, time, sun), lod) {}
   long long draw(std::span<const std::uint32_t> objects) override;
 
  private:
@@ -60,10 +64,8 @@ class SceneDrawer : public culling::ObjectDrawer {
   const TerrainRenderer* terrain_;
   const TreeRenderer* trees_;
   const PropRenderer* props_;
-  Camera camera_;
+  DrawView view_;
   const terrain::TerrainLod* lod_;
-  double time_;
-  SunSettings sun_;
   std::vector<int> tiles_;
   std::vector<std::uint32_t> clusters_, propList_;
 };

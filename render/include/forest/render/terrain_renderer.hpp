@@ -11,6 +11,7 @@
 #include "forest/core/scene.hpp"
 #include "forest/gl/objects.hpp"
 #include "forest/gl/shader.hpp"
+#include "forest/render/draw_view.hpp"
 #include "forest/terrain/terrain.hpp"
 
 namespace forest::render {
@@ -19,8 +20,9 @@ class TerrainRenderer {
  public:
   // Lit: Lambert + ambient, grass blending to rock on steep slopes. WorldPosition: writes the
   // world-space position of the drawn surface to colour (a float target; tests, ground truth).
-  // ObjectId: writes objectIdBase + tile index to a GL_R32UI colour target (geometry pass).
-  enum class Output { Lit, WorldPosition, ObjectId };
+  // ObjectId: writes objectIdBase + tile index to a GL_R32UI colour target. GBuffer: the geometry
+  // pass's outputs (gbuffer.frag).
+  enum class Output { Lit, WorldPosition, ObjectId, GBuffer };
 
   explicit TerrainRenderer(const terrain::Terrain& terrain, Output output = Output::Lit, std::uint32_t objectIdBase = 1);
 
@@ -34,10 +36,8 @@ class TerrainRenderer {
   // camera (depth test GL_GREATER: reversed-Z).
   Stats draw(const Camera& camera, const terrain::TerrainLod& lod, const SunSettings& sun,
              std::span<const int> tiles) const;
-  // The same from any view: `viewProjectionRelative` maps (p − viewOrigin) to clip space, composed
-  // in double — e.g. the light's matrix in the shadow pass, which draws the eye's LOD.
-  Stats draw(const glm::dmat4& viewProjectionRelative, const glm::dvec3& viewOrigin, const terrain::TerrainLod& lod,
-             const SunSettings& sun, std::span<const int> tiles) const;
+  // The same from any view — e.g. the light's in the shadow pass, which draws the eye's LOD.
+  Stats draw(const DrawView& view, const terrain::TerrainLod& lod, std::span<const int> tiles) const;
   // Tiles whose boxes meet the camera's frustum.
   std::vector<int> tilesInFrustum(const Camera& camera) const;
 

@@ -11,15 +11,16 @@
 #include "forest/core/scene.hpp"
 #include "forest/gl/objects.hpp"
 #include "forest/gl/shader.hpp"
+#include "forest/render/draw_view.hpp"
 #include "forest/vegetation/forest.hpp"
 
 namespace forest::render {
 
 class TreeRenderer {
  public:
-  // Lit: Lambert + ambient with per-tree tint. ObjectId: writes objectIdBase + tree index to a
-  // GL_R32UI colour target (geometry pass, tests).
-  enum class Output { Lit, ObjectId };
+  // Lit: Lambert + ambient with per-tree tint. ObjectId: objectIdBase + tree index to a GL_R32UI
+  // colour target. GBuffer: the geometry pass's outputs.
+  using Output = SurfaceOutput;
 
   TreeRenderer(const vegetation::Forest& forest, Output output = Output::Lit, std::uint32_t objectIdBase = 1);
 
@@ -31,6 +32,8 @@ class TreeRenderer {
   };
   // Draws the trees of `clusters` at `time`, each at the LOD the eye's distance gives it.
   Stats draw(const Camera& camera, std::span<const std::uint32_t> clusters, double time, const SunSettings& sun) const;
+  // The same from any view (LOD from view.lodEye).
+  Stats draw(const DrawView& view, std::span<const std::uint32_t> clusters) const;
   // Clusters whose boxes meet the camera's frustum.
   std::vector<std::uint32_t> clustersInFrustum(const Camera& camera) const;
 

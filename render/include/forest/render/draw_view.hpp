@@ -1,0 +1,35 @@
+#pragma once
+// How a pass sees the scene: a camera-relative view-projection composed in double (DESIGN §4),
+// its origin, and the eye the level of detail belongs to — the eye pass draws its own LOD, the
+// shadow pass draws the eye's LOD from the light (so casters match what the eye sees).
+#include <glm/glm.hpp>
+
+#include <string>
+
+#include "forest/core/camera.hpp"
+#include "forest/core/scene.hpp"
+#include "forest/gl/shader.hpp"
+
+namespace forest::render {
+
+struct DrawView {
+  glm::dmat4 viewProjectionRelative{1.0};  // (p − origin) → clip
+  glm::dvec3 origin{0.0};
+  glm::dvec3 lodEye{0.0};                  // distances for tree LOD bands and terrain morphs
+  double time = 0.0;                       // wind
+  SunSettings sun;
+
+  // The eye's own view.
+  static DrawView fromCamera(const Camera& camera, double time, const SunSettings& sun);
+};
+
+// Framebuffer outputs every renderer offers: lit colour, object ID (GL_R32UI), the G-buffer of
+// the geometry pass (albedo, shading normal, geometric normal, object ID; see gbuffer.frag), or
+// depth only (the shadow pass: nothing but depth is attached).
+enum class SurfaceOutput { Lit, ObjectId, GBuffer };
+
+// A surface program for an output: defines OUTPUT_ID or OUTPUT_GBUFFER (and links gbuffer.frag).
+gl::Program loadSurfaceProgram(const std::string& vertex, const std::string& fragment, SurfaceOutput output,
+                               const std::string& extraDefines = "");
+
+}  // namespace forest::render

@@ -1,0 +1,28 @@
+#include "forest/render/draw_view.hpp"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+namespace forest::render {
+
+DrawView DrawView::fromCamera(const Camera& camera, double time, const SunSettings& sun) {
+  DrawView v;
+  v.viewProjectionRelative = camera.projection() * camera.view() * glm::translate(glm::dmat4(1.0), camera.position);
+  v.origin = camera.position;
+  v.lodEye = camera.position;
+  v.time = time;
+  v.sun = sun;
+  return v;
+}
+
+gl::Program loadSurfaceProgram(const std::string& vertex, const std::string& fragment, SurfaceOutput output,
+                               const std::string& extraDefines) {
+  switch (output) {
+    case SurfaceOutput::ObjectId: return gl::loadProgram({vertex, fragment}, "#define OUTPUT_ID 1\n" + extraDefines);
+    case SurfaceOutput::GBuffer:
+      return gl::loadProgram({vertex, fragment, "gbuffer.frag"}, "#define OUTPUT_GBUFFER 1\n" + extraDefines);
+    case SurfaceOutput::Lit: break;
+  }
+  return gl::loadProgram({vertex, fragment}, extraDefines);
+}
+
+}  // namespace forest::render
