@@ -1,19 +1,21 @@
-// forest render: one lit frame of a scene, written as a PNG (headless by default).
+// forest render: one frame of a scene — culled geometry pass, shadow setup and pass, shadow term,
+// lighting — written as an image, with a JSON record of the frame next to it.
 #include <fmt/format.h>
-#include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
 
+#include <filesystem>
 #include <iostream>
 
 #include "commands.hpp"
 #include "forest/core/error.hpp"
+#include "forest/core/files.hpp"
 #include "forest/core/image.hpp"
 #include "forest/core/log.hpp"
 #include "forest/core/resources.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/gl/context.hpp"
 #include "forest/gl/debug.hpp"
-#include "forest/render/offscreen_target.hpp"
-#include "forest/render/scene_view.hpp"
+#include "forest/render/frame.hpp"
 
 namespace forest::app {
 namespace {
@@ -22,9 +24,18 @@ struct RenderOptions {
   GlOptions gl;
   std::string scene;
   std::string out;
+  std::string json;
   int width = 0;
   int height = 0;
   double time = 0.0;
+  std::string method = "lispsm";
+  int shadowSize = 2048;
+  std::string culling = "chc";
+  std::string casters = "receivers";
+  double bias = 0.0;
+  bool frontFaces = false;
+  std::vector<double> camera;  // x y z yaw pitch
+  std::vector<double> sun;     // x y z
 };
 
 int runRender(const RenderOptions& options) {
@@ -33,6 +44,18 @@ int runRender(const RenderOptions& options) {
   Scene scene = loadScene(scenePath);
   if (options.width > 0) scene.render.width = options.width;
   if (options.height > 0) scene.render.height = options.height;
+  if (!options.sun.empty()) {
+    const glm::dvec3 d(options.sun[0], options.sun[1], options.sun[2]);
+    if (!(glm::length(d) > 0.0) || !std::isfinite(glm::length(d))) throw InputError("--sun: expected a finite non-zero direction");
+    scene.sun.direction = glm::normalize(d);
+  }
+  render::FrameSettings settings;
+  settings.method = shadows::parseShadowMethod(options.method);
+  settings.shadowMapSize = options.shadowSize;
+  settings.culling = culling::parseCullingStrategy(options.culling);
+  settings.casters = render::parseCasterSelection(options.casters);
+  settings.slopeScaleBias = options.bias;
+  settings.backside = !options.frontFaces;
 
   gl::ContextOptions contextOptions;
   contextOptions.backend = gl::parseBackend(options.gl.backend);
@@ -41,29 +64,57 @@ int runRender(const RenderOptions& options) {
   auto context = gl::createContext(contextOptions);
   log::info("{}", gl::describe(context->info()));
 
-  render::OffscreenTarget target(scene.render.width, scene.render.height);
-  const render::SceneView view(scene);
-  target.bind();
-  const render::SceneView::Stats stats = view.draw(view.startCamera(), scene.render.height, options.time);
-  const Image8 image = target.readColor();
+  render::Frame frame(scene, scene.render.width, scene.render.height);
+  Camera camera = frame.startCamera();
+  if (!options.camera.empty()) {
+    camera.position = {options.camera[0], options.camera[1], options.camera[2]};
+    camera.yaw = glm::radians(options.camera[3]);
+    camera.pitch = glm::radians(options.camera[4]);
+  }
+  const render::FrameStats stats = frame.render(camera, options.time, settings);
+  const Image8 image = frame.readColor();
   if (gl::debugErrorCount() > 0) {
     throw Error(fmt::format("{} GL errors while rendering (first: {})", gl::debugErrorCount(),
                             gl::debugErrorMessages().front()));
   }
   writeImage(options.out, image);
-  std::cout << fmt::format("wrote {} ({}x{}, {} props, {} prop triangles", options.out, image.width, image.height,
-                           scene.props.size(), stats.propTriangles);
-  if (view.terrain()) {
-    std::cout << fmt::format(", terrain {} tiles (per level {}), {} triangles, {:.1f} MiB on the GPU",
-                             stats.terrain.tiles, fmt::join(stats.terrain.tilesPerLevel, "/"), stats.terrain.triangles,
-                             static_cast<double>(view.terrain()->gpuBytes()) / (1 << 20));
-  }
-  if (view.forest()) {
-    std::cout << fmt::format(", {} of {} trees drawn (per LOD {}), {} tree triangles in {} draws", stats.trees.trees,
-                             view.forest()->trees().size(), fmt::join(stats.trees.treesPerLod, "/"),
-                             stats.trees.triangles, stats.trees.draws);
-  }
-  std::cout << fmt::format(") from {}\n", scenePath);
+
+  nlohmann::ordered_json j;
+  j["scene"] = scenePath;
+  j["image"] = options.out;
+  j["device"] = gl::describe(context->info());
+  j["resolution"] = {image.width, image.height};
+  j["camera"] = {{"position", {camera.position.x, camera.position.y, camera.position.z}},
+                 {"yaw_deg", glm::degrees(camera.yaw)},
+                 {"pitch_deg", glm::degrees(camera.pitch)}};
+  j["settings"] = {{"method", options.method},       {"shadow_size", options.shadowSize}, {"culling", options.culling},
+                   {"casters", options.casters},     {"slope_bias", options.bias},        {"backside", settings.backside}};
+  j["passes_ms"] = {{"geometry", stats.geometryMs},
+                    {"shadow_setup", stats.shadowSetupMs},
+                    {"shadow", stats.shadowMs},
+                    {"shadow_term", stats.shadowTermMs},
+                    {"lighting", stats.lightingMs}};
+  j["geometry"] = {{"visible_objects", stats.visibleObjects},
+                   {"triangles", stats.geometryTriangles},
+                   {"queries", stats.culling.queriesIssued},
+                   {"objects_drawn", stats.culling.objectsDrawn}};
+  j["shadow"] = {{"casters", stats.casterObjects},
+                 {"triangles", stats.shadowTriangles},
+                 {"n", stats.shadow.n},
+                 {"gamma_deg", stats.shadow.gammaDeg},
+                 {"fallback", stats.shadow.fallback},
+                 {"sun_below_horizon", stats.sunBelowHorizon}};
+  j["z_f"] = stats.farDepth;
+  j["z_f_smoothed"] = stats.smoothedFarDepth;
+  const std::string jsonPath =
+      options.json.empty() ? std::filesystem::path(options.out).replace_extension(".json").string() : options.json;
+  writeFileAtomic(jsonPath, j.dump(2) + "\n");
+  std::cout << fmt::format(
+      "wrote {} and {} ({}x{}): {} visible objects, {} triangles; shadow {} {}² with {} casters, {} triangles; "
+      "z_f {:.1f} m, n {:.2f}, γ {:.1f}°{}\n",
+      options.out, jsonPath, image.width, image.height, stats.visibleObjects, stats.geometryTriangles, options.method,
+      options.shadowSize, stats.casterObjects, stats.shadowTriangles, stats.farDepth, stats.shadow.n, stats.shadow.gammaDeg,
+      stats.sunBelowHorizon ? " (sun below the horizon: ambient only)" : "");
   return 0;
 }
 
@@ -71,13 +122,33 @@ int runRender(const RenderOptions& options) {
 
 Run addRenderCommand(CLI::App& app) {
   auto options = std::make_shared<RenderOptions>();
-  CLI::App* command = app.add_subcommand("render", "Render one lit frame of a scene to an image (headless)");
+  CLI::App* command = app.add_subcommand(
+      "render", "Render one frame of a scene (culling, shadows, lighting) to an image and a JSON record (headless)");
   options->gl.add(*command);
   command->add_option("--scene", options->scene, "Scene file (TOML; default: data/scenes/boxes.toml)");
   command->add_option("--out", options->out, "Output image (.png 8-bit, .exr float)")->required();
+  command->add_option("--json", options->json, "JSON record of the frame (default: the image path with .json)");
   command->add_option("--width", options->width, "Override render.width")->check(CLI::Range(1, 16384));
   command->add_option("--height", options->height, "Override render.height")->check(CLI::Range(1, 16384));
   command->add_option("--time", options->time, "Seconds since the start (wind sway)")->capture_default_str();
+  command->add_option("--camera", options->camera, "Camera pose: x y z yaw_deg pitch_deg (default: the scene's)")
+      ->expected(5);
+  command->add_option("--sun", options->sun, "Sun direction x y z, the way light travels (default: the scene's)")
+      ->expected(3);
+  command->add_option("--method", options->method, "Shadow method")
+      ->check(CLI::IsMember({"uniform", "uniform-stable", "lispsm"}))
+      ->capture_default_str();
+  command->add_option("--shadow-size", options->shadowSize, "Shadow map texels per side")
+      ->check(CLI::Range(512, 8192))
+      ->capture_default_str();
+  command->add_option("--culling", options->culling, "Culling strategy")
+      ->check(CLI::IsMember({"none", "frustum", "stop-and-wait", "chc"}))
+      ->capture_default_str();
+  command->add_option("--casters", options->casters, "Shadow casters: from the visible receivers, the frustum's focus body, or all")
+      ->check(CLI::IsMember({"receivers", "frustum-body", "all"}))
+      ->capture_default_str();
+  command->add_option("--bias", options->bias, "Slope-scale depth bias in the shadow pass (0: none)")->capture_default_str();
+  command->add_flag("--front-faces", options->frontFaces, "Render front faces into the shadow map (not backside rendering)");
   return [options] { return runRender(*options); };
 }
 

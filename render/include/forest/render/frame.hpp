@@ -1,0 +1,98 @@
+#pragma once
+// The frame (DESIGN §1, §4; thesis §5.1, §6.2, §9.3), for a host program: scene in, image and
+// statistics out.
+//   1. geometry pass — the culling traversal draws the G-buffer: depth, albedo, shading and
+//      geometric normals, object ID; the visible set gives z_f and the shadow receivers;
+//   2. shadow setup from the visible set (uniform, uniform-stable, lispsm);
+//   3. shadow pass — only the selected casters, front faces culled (backside rendering), into a
+//      float depth map; casters drawn at the eye's LOD;
+//   4. shadow term — full screen from the G-buffer, hardware 2×2 PCF (sampler2DShadow), 0 where the
+//      geometric N·L ≤ 0;
+//   5. lighting — Phong with a weak global ambient, sky colour.
+// Eye → light matrices are composed in double, camera-relative.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "forest/core/image.hpp"
+#include "forest/core/scene.hpp"
+#include "forest/culling/bvh.hpp"
+#include "forest/culling/occlusion_culler.hpp"
+#include "forest/gl/objects.hpp"
+#include "forest/gl/shader.hpp"
+#include "forest/render/scene_objects.hpp"
+#include "forest/shadows/shadow_setup.hpp"
+
+namespace forest::render {
+
+// Which objects the shadow pass draws.
+enum class CasterSelection {
+  Receivers,    // box swept along the light meets a visible receiver's box (shadows/casters.hpp)
+  FrustumBody,  // box meets the focus body B of the whole view frustum
+  All,          // every object
+};
+CasterSelection parseCasterSelection(std::string_view name);  // throws InputError
+std::string_view casterSelectionName(CasterSelection selection);
+
+struct FrameSettings {
+  shadows::ShadowMethod method = shadows::ShadowMethod::Lispsm;
+  int shadowMapSize = 2048;       // texels per side, [512, 8192]
+  double slopeScaleBias = 0.0;    // glPolygonOffset factor in the shadow pass (0: none)
+  bool backside = true;           // cull front faces in the shadow pass (thesis §5.1)
+  culling::CullingStrategy culling = culling::CullingStrategy::Chc;
+  CasterSelection casters = CasterSelection::Receivers;
+};
+
+struct FrameStats {
+  double geometryMs = 0.0, shadowSetupMs = 0.0, shadowMs = 0.0, shadowTermMs = 0.0, lightingMs = 0.0;
+  int visibleObjects = 0;
+  int casterObjects = 0;
+  long long geometryTriangles = 0;
+  long long shadowTriangles = 0;
+  double farDepth = 0.0;        // z_f of the visible set
+  double smoothedFarDepth = 0.0;  // the z_f used for n (§9.2.5)
+  bool sunBelowHorizon = false;
+  shadows::ShadowDiagnostics shadow;
+  culling::CullingStats culling;
+};
+
+class Frame {
+ public:
+  // Generates the scene's terrain and forest and uploads everything (needs a current GL context).
+  Frame(const Scene& scene, int width, int height);
+  ~Frame();
+
+  FrameStats render(const Camera& camera, double time, const FrameSettings& settings);
+
+  Image8 readColor() const;                       // top row first
+  std::vector<float> readShadowTerm() const;      // bottom row first (GL), 1 lit, 0 shadowed
+  std::vector<std::uint32_t> readObjectIds() const;  // bottom row first, 0 = sky
+  std::vector<float> readDepth() const;           // bottom row first, reversed-Z
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  const SceneObjects& objects() const { return *objects_; }
+  const terrain::Terrain* terrain() const { return terrain_.get(); }
+  const vegetation::Forest* forest() const { return forest_.get(); }
+  // The last frame's shadow setup (tests compare against it).
+  const shadows::ShadowSetup& shadowSetup() const { return shadowSetup_; }
+  // The scene's start camera for this image (camera.above_ground applied).
+  Camera startCamera() const;
+
+ private:
+  struct Passes;
+  const Scene& scene_;
+  int width_, height_;
+  std::unique_ptr<terrain::Terrain> terrain_;
+  std::unique_ptr<vegetation::Forest> forest_;
+  std::unique_ptr<SceneObjects> objects_;
+  std::unique_ptr<Passes> passes_;
+  culling::Bvh bvh_;
+  culling::OcclusionCuller culler_;
+  Aabb sceneBounds_;
+  shadows::ShadowSetup shadowSetup_;
+  double smoothedFarDepth_ = -1.0;
+  bool haveShadowMap_ = false;
+};
+
+}  // namespace forest::render

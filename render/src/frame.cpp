@@ -1,0 +1,370 @@
+#include "forest/render/frame.hpp"
+
+#include <fmt/format.h>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <chrono>
+
+#include "forest/core/error.hpp"
+#include "forest/shadows/casters.hpp"
+#include "forest/shadows/focus_body.hpp"
+
+namespace forest::render {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using glm::dvec3;
+
+double millisecondsSince(Clock::time_point start) {
+  glFinish();  // per-pass times include the GPU's work
+  return 1e3 * std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Shadow clip z in [−1, 1] → [0, 1] for the engine's zero-to-one clip control (z' = (z + w) / 2).
+glm::dmat4 zeroToOneDepth() {
+  glm::dmat4 m(1.0);
+  m[2][2] = 0.5;
+  m[3][2] = 0.5;
+  return m;
+}
+
+// Winding is decided in the image plane only (x, y), so the test maps a small triangle that faces
+// the sun (counter-clockwise seen from it) through the light matrix at the focus body's centre.
+bool lightMirrorsWinding(const shadows::ShadowSetup& setup, const dvec3& l) {
+  const dvec3 helper = std::abs(l.y) < 0.9 ? dvec3(0, 1, 0) : dvec3(1, 0, 0);
+  const dvec3 u = glm::normalize(glm::cross(helper, l));
+  const dvec3 v = glm::cross(-l, u);  // u × v = −l: the normal points at the sun
+  const Aabb box = setup.body.bounds();
+  const dvec3 c = box.centre();
+  const double size = std::max(box.diagonal(), 1e-6) * 1e-3;
+  auto project = [&](const dvec3& p) {
+    const glm::dvec4 h = setup.worldToShadowClip * glm::dvec4(p, 1.0);
+    return glm::dvec2(h) / h.w;
+  };
+  const glm::dvec2 a = project(c), b = project(c + size * u), d = project(c + size * v);
+  return (b.x - a.x) * (d.y - a.y) - (b.y - a.y) * (d.x - a.x) < 0.0;
+}
+
+// z_f for n moves 20% of the way to the new value each frame (§9.2.5: the visible set's z_f jumps
+// when objects appear).
+constexpr double kFarDepthSmoothing = 0.2;
+
+}  // namespace
+
+CasterSelection parseCasterSelection(std::string_view name) {
+  if (name == "receivers") return CasterSelection::Receivers;
+  if (name == "frustum-body") return CasterSelection::FrustumBody;
+  if (name == "all") return CasterSelection::All;
+  throw InputError(fmt::format("caster selection '{}': expected receivers, frustum-body or all", name));
+}
+
+std::string_view casterSelectionName(CasterSelection selection) {
+  switch (selection) {
+    case CasterSelection::Receivers: return "receivers";
+    case CasterSelection::FrustumBody: return "frustum-body";
+    case CasterSelection::All: return "all";
+  }
+  return "?";
+}
+
+// GPU resources of the passes.
+struct Frame::Passes {
+  // Geometry pass: G-buffer renderers and targets.
+  std::unique_ptr<TerrainRenderer> terrainGBuffer, terrainDepth;
+  std::unique_ptr<TreeRenderer> treesGBuffer, treesDepth;
+  std::unique_ptr<PropRenderer> propsGBuffer, propsDepth;
+  gl::Texture albedo, shadingNormal, geometricNormal, objectId, depth;
+  gl::Framebuffer gbuffer;
+  // Shadow pass.
+  gl::Texture shadowMap;
+  gl::Framebuffer shadowFramebuffer;
+  int shadowMapSize = 0;
+  // Shadow term and lighting.
+  gl::Texture shadowTerm, color;
+  gl::Framebuffer shadowTermFramebuffer, colorFramebuffer;
+  gl::Program shadowTermProgram, lightingProgram;
+  gl::VertexArray empty;
+
+  Passes(int width, int height)
+      : albedo(GL_RGBA8, width, height),
+        shadingNormal(GL_RGBA16F, width, height),
+        geometricNormal(GL_RGBA16F, width, height),
+        objectId(GL_R32UI, width, height),
+        depth(GL_DEPTH_COMPONENT32F, width, height),
+        shadowTerm(GL_R16F, width, height),
+        color(GL_RGBA8, width, height),
+        shadowTermProgram(gl::loadProgram({"fullscreen.vert", "shadow_term.frag"})),
+        lightingProgram(gl::loadProgram({"fullscreen.vert", "lighting.frag"})) {
+    gbuffer.attach(GL_COLOR_ATTACHMENT0, albedo);
+    gbuffer.attach(GL_COLOR_ATTACHMENT1, shadingNormal);
+    gbuffer.attach(GL_COLOR_ATTACHMENT2, geometricNormal);
+    gbuffer.attach(GL_COLOR_ATTACHMENT3, objectId);
+    gbuffer.attach(GL_DEPTH_ATTACHMENT, depth);
+    const GLenum buffers[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2, GL_COLOR_ATTACHMENT3};
+    glNamedFramebufferDrawBuffers(gbuffer.id(), 4, buffers);
+    gbuffer.checkComplete("G-buffer");
+    shadowTermFramebuffer.attach(GL_COLOR_ATTACHMENT0, shadowTerm);
+    shadowTermFramebuffer.checkComplete("shadow term");
+    colorFramebuffer.attach(GL_COLOR_ATTACHMENT0, color);
+    colorFramebuffer.checkComplete("colour");
+    for (const gl::Texture* t : {&albedo, &shadingNormal, &geometricNormal, &objectId, &depth, &shadowTerm}) {
+      glTextureParameteri(t->id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+      glTextureParameteri(t->id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    }
+  }
+
+  void ensureShadowMap(int size) {
+    if (size == shadowMapSize) return;
+    shadowMap = gl::Texture(GL_DEPTH_COMPONENT32F, size, size);
+    // Hardware 2×2 PCF: linear filtering of depth comparisons.
+    glTextureParameteri(shadowMap.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTextureParameteri(shadowMap.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(shadowMap.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glTextureParameteri(shadowMap.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    glTextureParameteri(shadowMap.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(shadowMap.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    shadowFramebuffer = gl::Framebuffer();
+    shadowFramebuffer.attach(GL_DEPTH_ATTACHMENT, shadowMap);
+    glNamedFramebufferDrawBuffer(shadowFramebuffer.id(), GL_NONE);
+    shadowFramebuffer.checkComplete("shadow map");
+    shadowMapSize = size;
+  }
+};
+
+Frame::Frame(const Scene& scene, int width, int height) : scene_(scene), width_(width), height_(height) {
+  if (width < 1 || height < 1) throw InputError("frame: width and height must be at least 1");
+  if (scene.terrain) {
+    terrain_ = std::make_unique<terrain::Terrain>(*scene.terrain);
+    if (scene.vegetation) forest_ = std::make_unique<vegetation::Forest>(*scene.vegetation, *terrain_);
+  }
+  objects_ = std::make_unique<SceneObjects>(terrain_.get(), forest_.get(), scene.props);
+  passes_ = std::make_unique<Passes>(width, height);
+  Passes& p = *passes_;
+  if (terrain_) {
+    p.terrainGBuffer = std::make_unique<TerrainRenderer>(*terrain_, TerrainRenderer::Output::GBuffer, objects_->terrainIdBase());
+    p.terrainDepth = std::make_unique<TerrainRenderer>(*terrain_, TerrainRenderer::Output::ObjectId, objects_->terrainIdBase());
+  }
+  if (forest_) {
+    p.treesGBuffer = std::make_unique<TreeRenderer>(*forest_, SurfaceOutput::GBuffer, objects_->treeIdBase());
+    p.treesDepth = std::make_unique<TreeRenderer>(*forest_, SurfaceOutput::ObjectId, objects_->treeIdBase());
+  }
+  p.propsGBuffer = std::make_unique<PropRenderer>(scene.props, SurfaceOutput::GBuffer, objects_->propIdBase());
+  p.propsDepth = std::make_unique<PropRenderer>(scene.props, SurfaceOutput::ObjectId, objects_->propIdBase());
+  bvh_ = culling::Bvh(objects_->boxes(), 1);
+  for (const Aabb& b : objects_->boxes()) sceneBounds_.extend(b);
+}
+
+Frame::~Frame() = default;
+
+Camera Frame::startCamera() const {
+  Camera c = scene_.startCamera();
+  c.aspect = static_cast<double>(width_) / height_;
+  if (scene_.camera.above_ground && terrain_)
+    c.position.y = terrain_->heightAt(c.position.x, c.position.z) + *scene_.camera.above_ground;
+  return c;
+}
+
+FrameStats Frame::render(const Camera& camera, double time, const FrameSettings& settings) {
+  if (settings.shadowMapSize < 512 || settings.shadowMapSize > 8192)
+    throw InputError(fmt::format("shadow map size {}: expected 512 to 8192", settings.shadowMapSize));
+  FrameStats stats;
+  Passes& p = *passes_;
+  const SunSettings& sun = scene_.sun;
+  const dvec3 l = glm::normalize(sun.direction);
+  stats.sunBelowHorizon = !(l.y < 0.0);  // light travelling upward comes from below the horizon
+  const glm::dmat4 viewProjectionRelative =
+      camera.projection() * camera.view() * glm::translate(glm::dmat4(1.0), camera.position);
+  std::unique_ptr<terrain::TerrainLod> lod;
+  if (terrain_) lod = std::make_unique<terrain::TerrainLod>(terrain_->lodFor(camera, height_));
+
+  // 1. Geometry pass.
+  auto start = Clock::now();
+  glBindFramebuffer(GL_FRAMEBUFFER, p.gbuffer.id());
+  glViewport(0, 0, width_, height_);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_GREATER);
+  glDepthMask(GL_TRUE);
+  glEnable(GL_CULL_FACE);
+  glCullFace(GL_BACK);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  const float zero[4] = {0, 0, 0, 0};
+  const GLuint zeroId[4] = {0, 0, 0, 0};
+  for (int i = 0; i < 3; ++i) glClearBufferfv(GL_COLOR, i, zero);
+  glClearBufferuiv(GL_COLOR, 3, zeroId);
+  const float farDepth = 0.0f;
+  glClearBufferfv(GL_DEPTH, 0, &farDepth);
+  SceneDrawer geometry(*objects_, p.terrainGBuffer.get(), p.treesGBuffer.get(), p.propsGBuffer.get(),
+                       DrawView::fromCamera(camera, time, sun), lod.get());
+  const culling::CullingResult visible = culler_.cull(bvh_, objects_->boxes(), camera, settings.culling, geometry);
+  stats.geometryMs = millisecondsSince(start);
+  stats.culling = visible.stats;
+  stats.visibleObjects = static_cast<int>(visible.visibleObjects.size());
+  stats.geometryTriangles = visible.stats.trianglesDrawn;
+  stats.farDepth = visible.farDepth;
+
+  // 2. Shadow setup from the visible set: V up to z_f, the visible receivers, smoothed z_f for n.
+  start = Clock::now();
+  smoothedFarDepth_ = smoothedFarDepth_ < 0.0 ? visible.farDepth
+                                               : smoothedFarDepth_ + kFarDepthSmoothing * (visible.farDepth - smoothedFarDepth_);
+  stats.smoothedFarDepth = smoothedFarDepth_;
+  std::vector<Aabb> receivers;
+  Aabb receiverBounds;
+  for (std::uint32_t o : visible.visibleObjects) {
+    receivers.push_back(objects_->boxes()[o]);
+    receiverBounds.extend(objects_->boxes()[o]);
+  }
+  const bool shadowed = !stats.sunBelowHorizon && !receivers.empty() && sceneBounds_.valid();
+  std::vector<std::uint32_t> casters;
+  if (shadowed) {
+    shadows::ShadowInput input;
+    input.camera = camera;
+    input.camera.far = std::max(visible.farDepth, camera.near * 1.001);
+    input.sunDirection = l;
+    input.scene = sceneBounds_;
+    input.receivers = receiverBounds;
+    if (smoothedFarDepth_ > camera.near && smoothedFarDepth_ < input.camera.far) input.nFar = smoothedFarDepth_;
+    input.mapSize = settings.shadowMapSize;
+    shadowSetup_ = shadows::computeShadowSetup(input, settings.method);
+    stats.shadow = shadowSetup_.diagnostics;
+    switch (settings.casters) {
+      case CasterSelection::Receivers: {
+        const shadows::CasterSelector selector(l, receivers);
+        casters = selector.select(objects_->boxes());
+        break;
+      }
+      case CasterSelection::FrustumBody: {
+        Camera full = camera;
+        const ConvexBody body = shadows::computeFocusBody(full, l, sceneBounds_);
+        for (std::uint32_t o = 0; o < objects_->boxes().size(); ++o)
+          if (shadows::mayIntersect(body, objects_->boxes()[o])) casters.push_back(o);
+        break;
+      }
+      case CasterSelection::All:
+        for (std::uint32_t o = 0; o < objects_->boxes().size(); ++o) casters.push_back(o);
+        break;
+    }
+  }
+  stats.casterObjects = static_cast<int>(casters.size());
+  stats.shadowSetupMs = millisecondsSince(start);
+
+  // 3. Shadow pass: casters only, back faces (front faces culled), the eye's LOD.
+  start = Clock::now();
+  p.ensureShadowMap(settings.shadowMapSize);
+  const glm::dmat4 eyeRelativeToShadow =
+      zeroToOneDepth() * shadowSetup_.worldToShadowClip * glm::translate(glm::dmat4(1.0), camera.position);
+  glBindFramebuffer(GL_FRAMEBUFFER, p.shadowFramebuffer.id());
+  glViewport(0, 0, settings.shadowMapSize, settings.shadowMapSize);
+  const float nearLight = 1.0f;
+  glClearBufferfv(GL_DEPTH, 0, &nearLight);
+  if (shadowed && !shadowSetup_.empty) {
+    glDepthFunc(GL_LESS);
+    // Which faces are "front" for the light: a face turned toward the sun must wind
+    // counter-clockwise in the shadow map, unless the light matrix mirrors its image plane.
+    glFrontFace(lightMirrorsWinding(shadowSetup_, l) ? GL_CW : GL_CCW);
+    glCullFace(settings.backside ? GL_FRONT : GL_BACK);
+    if (settings.slopeScaleBias > 0.0) {
+      glEnable(GL_POLYGON_OFFSET_FILL);
+      glPolygonOffset(static_cast<float>(settings.slopeScaleBias), 0.0f);
+    }
+    DrawView light;
+    light.viewProjectionRelative = eyeRelativeToShadow;
+    light.origin = camera.position;
+    light.lodEye = camera.position;
+    light.time = time;
+    light.sun = sun;
+    SceneDrawer shadowDrawer(*objects_, p.terrainDepth.get(), p.treesDepth.get(), p.propsDepth.get(), light, lod.get());
+    stats.shadowTriangles = shadowDrawer.draw(casters);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+    glFrontFace(GL_CCW);
+    glCullFace(GL_BACK);
+    glDepthFunc(GL_GREATER);
+  }
+  stats.shadowMs = millisecondsSince(start);
+
+  // 4. Shadow term.
+  start = Clock::now();
+  const glm::mat4 inverseViewProjectionRelative(glm::inverse(viewProjectionRelative));
+  glBindFramebuffer(GL_FRAMEBUFFER, p.shadowTermFramebuffer.id());
+  glViewport(0, 0, width_, height_);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  gl::Program& term = p.shadowTermProgram;
+  term.set("uDepth", 0);
+  term.set("uGeometricNormal", 1);
+  term.set("uObjectId", 2);
+  term.set("uShadowMap", 3);
+  term.set("uInverseViewProjectionRelative", inverseViewProjectionRelative);
+  term.set("uEyeRelativeToShadow", glm::mat4(eyeRelativeToShadow));
+  term.set("uToSun", glm::vec3(-l));
+  term.set("uSunUp", shadowed ? 1 : 0);
+  glBindTextureUnit(0, p.depth.id());
+  glBindTextureUnit(1, p.geometricNormal.id());
+  glBindTextureUnit(2, p.objectId.id());
+  glBindTextureUnit(3, p.shadowMap.id());
+  term.use();
+  glBindVertexArray(p.empty.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  stats.shadowTermMs = millisecondsSince(start);
+
+  // 5. Lighting.
+  start = Clock::now();
+  glBindFramebuffer(GL_FRAMEBUFFER, p.colorFramebuffer.id());
+  gl::Program& lighting = p.lightingProgram;
+  lighting.set("uAlbedo", 0);
+  lighting.set("uShadingNormal", 1);
+  lighting.set("uDepth", 2);
+  lighting.set("uObjectId", 3);
+  lighting.set("uShadowTerm", 4);
+  lighting.set("uInverseViewProjectionRelative", inverseViewProjectionRelative);
+  lighting.set("uToSun", glm::vec3(-l));
+  lighting.set("uSunColor", glm::vec3(sun.color));
+  lighting.set("uAmbient", static_cast<float>(sun.ambient));
+  lighting.set("uSky", glm::vec3(scene_.render.sky_color));
+  lighting.set("uSunUp", stats.sunBelowHorizon ? 0 : 1);
+  glBindTextureUnit(0, p.albedo.id());
+  glBindTextureUnit(1, p.shadingNormal.id());
+  glBindTextureUnit(2, p.depth.id());
+  glBindTextureUnit(3, p.objectId.id());
+  glBindTextureUnit(4, p.shadowTerm.id());
+  lighting.use();
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  for (GLuint unit = 0; unit < 5; ++unit) glBindTextureUnit(unit, 0);
+  glEnable(GL_DEPTH_TEST);
+  glEnable(GL_CULL_FACE);
+  stats.lightingMs = millisecondsSince(start);
+  return stats;
+}
+
+Image8 Frame::readColor() const {
+  Image8 image(width_, height_, 4);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glGetTextureImage(passes_->color.id(), 0, GL_RGBA, GL_UNSIGNED_BYTE, static_cast<GLsizei>(image.pixels.size()),
+                    image.pixels.data());
+  flipRows(image);
+  return image;
+}
+
+std::vector<float> Frame::readShadowTerm() const {
+  std::vector<float> v(static_cast<size_t>(width_) * height_);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureImage(passes_->shadowTerm.id(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(v.size() * 4), v.data());
+  return v;
+}
+
+std::vector<std::uint32_t> Frame::readObjectIds() const {
+  std::vector<std::uint32_t> v(static_cast<size_t>(width_) * height_);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureImage(passes_->objectId.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(v.size() * 4), v.data());
+  return v;
+}
+
+std::vector<float> Frame::readDepth() const {
+  std::vector<float> v(static_cast<size_t>(width_) * height_);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureImage(passes_->depth.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, static_cast<GLsizei>(v.size() * 4), v.data());
+  return v;
+}
+
+}  // namespace forest::render

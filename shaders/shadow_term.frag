@@ -1,0 +1,31 @@
+#version 450 core
+// Shadow term from the G-buffer (DESIGN §4, thesis §9.3): the pixel's camera-relative position
+// from its depth, into the shadow map with the eye-relative light matrix, hardware 2×2 PCF
+// (sampler2DShadow with linear filtering). Forced to 0 where the geometric normal faces away from
+// the sun: backside rendering leaves noise on lee faces, and the eye-space blur must not spread it.
+in vec2 vUv;
+
+uniform sampler2D uDepth;              // reversed-Z
+uniform sampler2D uGeometricNormal;
+uniform usampler2D uObjectId;
+uniform sampler2DShadow uShadowMap;    // depth in [0, 1], near the light = 0
+uniform mat4 uInverseViewProjectionRelative;  // clip → (p − eye)
+uniform mat4 uEyeRelativeToShadow;     // (p − eye) → shadow clip with z already in [0, 1]
+uniform vec3 uToSun;
+uniform bool uSunUp;
+
+out float shadowTerm;
+
+void main() {
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  if (texelFetch(uObjectId, pixel, 0).r == 0u) { shadowTerm = 1.0; return; }  // sky
+  vec3 n = texelFetch(uGeometricNormal, pixel, 0).xyz;
+  if (!uSunUp || dot(n, uToSun) <= 0.0) { shadowTerm = 0.0; return; }
+  float depth = texelFetch(uDepth, pixel, 0).r;
+  vec4 h = uInverseViewProjectionRelative * vec4(2.0 * vUv - 1.0, depth, 1.0);
+  vec3 relative = h.xyz / h.w;
+  vec4 s = uEyeRelativeToShadow * vec4(relative, 1.0);
+  vec3 ndc = s.xyz / s.w;
+  vec2 uv = 0.5 * ndc.xy + 0.5;
+  shadowTerm = texture(uShadowMap, vec3(uv, ndc.z));
+}
