@@ -46,6 +46,25 @@ bool lightMirrorsWinding(const shadows::ShadowSetup& setup, const dvec3& l) {
   return (b.x - a.x) * (d.y - a.y) - (b.y - a.y) * (d.x - a.x) < 0.0;
 }
 
+// World size of one shadow-map texel at p (the larger of two directions across the light).
+double texelWorldSize(const glm::dmat4& worldToShadowClip, int mapSize, const dvec3& p, const dvec3& l) {
+  const dvec3 helper = std::abs(l.y) < 0.9 ? dvec3(0, 1, 0) : dvec3(1, 0, 0);
+  const dvec3 u = glm::normalize(glm::cross(helper, l)), v = glm::cross(l, u);
+  auto map = [&](const dvec3& q) {
+    const glm::dvec4 h = worldToShadowClip * glm::dvec4(q, 1.0);
+    return glm::dvec2(h) / h.w * (0.5 * mapSize);  // texels
+  };
+  const double step = 1e-3 * std::max(1.0, glm::length(p));
+  const double alongU = glm::length(map(p + step * u) - map(p)) / step, alongV = glm::length(map(p + step * v) - map(p)) / step;
+  const double texelsPerMetre = std::min(alongU, alongV);
+  return texelsPerMetre > 0.0 ? 1.0 / texelsPerMetre : 0.0;
+}
+
+// 2×2 PCF reads the texels around the lookup: a receiver needs the casters of a footprint
+// kFilterTexels wide around it, so receiver boxes grow by that many texels (their largest size
+// over the box's corners) before casters are selected.
+constexpr double kFilterTexels = 1.5;
+
 // z_f for n moves 20% of the way to the new value each frame (§9.2.5: the visible set's z_f jumps
 // when objects appear).
 constexpr double kFarDepthSmoothing = 0.2;
@@ -229,7 +248,24 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
     stats.shadow = shadowSetup_.diagnostics;
     switch (settings.casters) {
       case CasterSelection::Receivers: {
-        const shadows::CasterSelector selector(l, receivers);
+        // Only the part of a receiver inside the view (up to z_f) receives visible shadows: each
+        // box is clipped to V first, so a 125 m terrain tile at the edge of the view does not pull
+        // in the casters of its unseen part.
+        const ConvexBody view = shadows::viewFrustumBody(input.camera);
+        std::vector<Aabb> footprints;
+        for (const Aabb& receiver : receivers) {
+          ConvexBody part = ConvexBody::fromBox(receiver);
+          part.clip(view);
+          if (!part.empty()) footprints.push_back(part.bounds());
+        }
+        for (Aabb& box : footprints) {
+          double texel = 0.0;
+          for (int c = 0; c < 8; ++c)
+            texel = std::max(texel, texelWorldSize(shadowSetup_.worldToShadowClip, settings.shadowMapSize, box.corner(c), l));
+          box.min -= dvec3(kFilterTexels * texel);
+          box.max += dvec3(kFilterTexels * texel);
+        }
+        const shadows::CasterSelector selector(l, footprints);
         casters = selector.select(objects_->boxes());
         break;
       }
