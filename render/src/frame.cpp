@@ -176,6 +176,11 @@ Frame::Frame(const Scene& scene, int width, int height) : scene_(scene), width_(
 
 Frame::~Frame() = default;
 
+void Frame::resetHistory() {
+  culler_.reset();
+  smoothedFarDepth_ = -1.0;
+}
+
 Camera Frame::startCamera() const {
   Camera c = scene_.startCamera();
   c.aspect = static_cast<double>(width_) / height_;

@@ -63,6 +63,8 @@ class Frame {
   ~Frame();
 
   FrameStats render(const Camera& camera, double time, const FrameSettings& settings);
+  // Forgets the frame-to-frame state — CHC visibility and the smoothed z_f — as after a camera cut.
+  void resetHistory();
 
   Image8 readColor() const;                       // top row first
   std::vector<float> readShadowTerm() const;      // bottom row first (GL), 1 lit, 0 shadowed

@@ -1,0 +1,243 @@
+// The frame: shadows where the CPU says they are, no acne with backside rendering (and acne
+// without it), caster selection that changes nothing, every method clean, a sun below the horizon.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "forest/core/scene.hpp"
+#include "forest/render/frame.hpp"
+#include "gl_test_support.hpp"
+
+namespace forest::test {
+namespace {
+
+using glm::dvec3;
+
+constexpr int kWidth = 320, kHeight = 240;
+
+// World position of pixel (x, y) (bottom-up rows) from its reversed-Z depth.
+dvec3 pixelPosition(const Camera& camera, int x, int y, float depth) {
+  const glm::dmat4 inverse = glm::inverse(camera.projection() * camera.view());
+  const glm::dvec4 h = inverse * glm::dvec4(2.0 * (x + 0.5) / kWidth - 1.0, 2.0 * (y + 0.5) / kHeight - 1.0, depth, 1.0);
+  return dvec3(h) / h.w;
+}
+
+bool rayHitsBox(const dvec3& origin, const dvec3& direction, const Aabb& box) {
+  double enter = 1e-6, leave = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 3; ++a) {
+    if (direction[a] == 0.0) {
+      if (origin[a] < box.min[a] || origin[a] > box.max[a]) return false;
+      continue;
+    }
+    double t0 = (box.min[a] - origin[a]) / direction[a], t1 = (box.max[a] - origin[a]) / direction[a];
+    if (t0 > t1) std::swap(t0, t1);
+    enter = std::max(enter, t0);
+    leave = std::min(leave, t1);
+  }
+  return enter <= leave;
+}
+
+Camera cameraAt(dvec3 position, double yawDeg, double pitchDeg, double far) {
+  Camera c;
+  c.position = position;
+  c.yaw = glm::radians(yawDeg);
+  c.pitch = glm::radians(pitchDeg);
+  c.aspect = static_cast<double>(kWidth) / kHeight;
+  c.near = 0.2;
+  c.far = far;
+  return c;
+}
+
+class FrameGl : public GlTest {};
+
+TEST_F(FrameGl, BoxShadowOnAPlaneMatchesTheCpuProjection) {
+  Scene scene;
+  scene.sun.direction = glm::normalize(dvec3(0.35, -1.0, 0.25));
+  scene.props.push_back({dvec3(-40, -1, -40), dvec3(40, 0, 40), dvec3(0.6)});  // the plane (top at y = 0)
+  scene.props.push_back({dvec3(-2, 3, -2), dvec3(2, 5, 2), dvec3(0.8)});        // a box above it
+  render::Frame frame(scene, kWidth, kHeight);
+  const Camera camera = cameraAt({0, 22, 26}, 0.0, -42.0, 200.0);
+  const Aabb box{scene.props[1].min, scene.props[1].max};
+  for (shadows::ShadowMethod method : {shadows::ShadowMethod::Uniform, shadows::ShadowMethod::Lispsm}) {
+    render::FrameSettings settings;
+    settings.method = method;
+    settings.shadowMapSize = 1024;
+    frame.render(camera, 0.0, settings);
+    const std::vector<float> term = frame.readShadowTerm();
+    const std::vector<std::uint32_t> ids = frame.readObjectIds();
+    const std::vector<float> depth = frame.readDepth();
+    const std::uint32_t plane = frame.objects().propIdBase();
+    const glm::dmat4 toShadow = frame.shadowSetup().worldToShadowClip;
+    // CPU: is the plane point under the box along the sun?
+    std::vector<int> cpu(term.size(), -1);
+    for (int y = 0; y < kHeight; ++y)
+      for (int x = 0; x < kWidth; ++x) {
+        const size_t i = static_cast<size_t>(y) * kWidth + x;
+        if (ids[i] != plane) continue;
+        cpu[i] = rayHitsBox(pixelPosition(camera, x, y, depth[i]), -scene.sun.direction, box) ? 1 : 0;
+      }
+    int checked = 0, wrong = 0, shadowedPixels = 0;
+    for (int y = 0; y < kHeight; ++y)
+      for (int x = 0; x < kWidth; ++x) {
+        const size_t i = static_cast<size_t>(y) * kWidth + x;
+        if (cpu[i] < 0) continue;
+        // Pixels per shadow texel here: the edge band is max(2 px, 1.5 projected texels).
+        const dvec3 p = pixelPosition(camera, x, y, depth[i]);
+        auto texel = [&](const dvec3& q) {
+          const glm::dvec4 h = toShadow * glm::dvec4(q, 1.0);
+          return glm::dvec2(h) / h.w * (0.5 * settings.shadowMapSize);
+        };
+        auto screen = [&](const dvec3& q) {
+          const glm::dvec4 h = camera.projection() * camera.view() * glm::dvec4(q, 1.0);
+          return glm::dvec2(h) / h.w * glm::dvec2(0.5 * kWidth, 0.5 * kHeight);
+        };
+        double pixelsPerTexel = 0.0;
+        for (const dvec3& d : {dvec3(0.01, 0, 0), dvec3(0, 0, 0.01)})
+          pixelsPerTexel = std::max(pixelsPerTexel, glm::length(screen(p + d) - screen(p)) / glm::length(texel(p + d) - texel(p)));
+        const int band = static_cast<int>(std::ceil(std::max(2.0, 1.5 * pixelsPerTexel)));
+        bool nearEdge = false;
+        for (int dy = -band; dy <= band && !nearEdge; ++dy)
+          for (int dx = -band; dx <= band && !nearEdge; ++dx) {
+            const int nx = x + dx, ny = y + dy;
+            if (nx < 0 || ny < 0 || nx >= kWidth || ny >= kHeight) continue;
+            const int other = cpu[static_cast<size_t>(ny) * kWidth + nx];
+            nearEdge = other >= 0 && other != cpu[i];
+          }
+        if (nearEdge) continue;
+        ++checked;
+        shadowedPixels += cpu[i];
+        if ((term[i] < 0.5f) != (cpu[i] == 1)) ++wrong;
+      }
+    EXPECT_EQ(wrong, 0) << shadowMethodName(method) << ": " << wrong << " of " << checked << " plane pixels disagree";
+    EXPECT_GT(shadowedPixels, 200) << shadowMethodName(method);  // the shadow is in view
+    EXPECT_GT(checked, 20000) << shadowMethodName(method);
+  }
+}
+
+// CPU: does the ray from p toward the sun clear the full-resolution heightfield — by a margin
+// growing with distance, 0.1·s up to `clearance` — so that no shadow edge is near?
+bool sunClears(const terrain::Terrain& t, const dvec3& p, const dvec3& toSun, double clearance) {
+  const Aabb b = t.bounds();
+  for (double s = 0.5; s < 4000.0; s += 0.5 * t.heightfield().spacing()) {
+    const dvec3 q = p + s * toSun;
+    if (q.x < b.min.x || q.x > b.max.x || q.z < b.min.z || q.z > b.max.z || q.y > b.max.y + clearance) return true;
+    if (t.heightAt(q.x, q.z) > q.y - std::min(clearance, 0.1 * s)) return false;
+  }
+  return true;
+}
+
+TEST_F(FrameGl, BacksideRenderingHasNoAcneAndFrontFacesDo) {
+  Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/terrain.toml");
+  scene.terrain->lod_error_pixels = 0.01;  // every tile at full resolution: the CPU heightfield is the drawn one
+  const double elevation = glm::radians(5.0);
+  scene.sun.direction = {std::cos(elevation) * 0.8, -std::sin(elevation), std::cos(elevation) * 0.6};
+  render::Frame frame(scene, kWidth, kHeight);
+  const terrain::Terrain& t = *frame.terrain();
+  // The sun behind the camera (yaw 233°: forward (0.8, 0, 0.6), along the light), 150 m up,
+  // looking down over slopes that face the sun, across tile seams.
+  Camera camera = cameraAt({0, 0, 0}, 233.13, -35.0, 3000.0);
+  camera.position.y = t.heightAt(0, 0) + 150.0;
+  const dvec3 toSun = -scene.sun.direction;
+  int violations[2] = {0, 0}, checked = 0;
+  for (int pass = 0; pass < 2; ++pass) {
+    render::FrameSettings settings;
+    settings.method = shadows::ShadowMethod::Lispsm;
+    settings.backside = pass == 0;
+    settings.culling = culling::CullingStrategy::Frustum;
+    frame.render(camera, 0.0, settings);
+    const std::vector<float> term = frame.readShadowTerm();
+    const std::vector<float> depth = frame.readDepth();
+    const std::vector<std::uint32_t> ids = frame.readObjectIds();
+    int facing = 0;
+    for (int y = 0; y < kHeight; ++y)
+      for (int x = 0; x < kWidth; ++x) {
+        const size_t i = static_cast<size_t>(y) * kWidth + x;
+        if (ids[i] == 0) continue;
+        const dvec3 p = pixelPosition(camera, x, y, depth[i]);
+        if (glm::dot(t.normalAt(p.x, p.z), toSun) <= 0.2) continue;
+        ++facing;
+        if (!sunClears(t, p, toSun, 1.5)) continue;
+        if (pass == 0) ++checked;
+        if (term[i] < 0.5f) ++violations[pass];
+      }
+    if (pass == 0) std::printf("[acne] %d pixels face the sun (N·L > 0.2)\n", facing);
+  }
+  std::printf("[acne] %d lit pixels checked: %d shadowed with backside rendering, %d with front faces\n", checked,
+              violations[0], violations[1]);
+  EXPECT_GT(checked, 1000);
+  EXPECT_EQ(violations[0], 0);
+  EXPECT_GT(violations[1], checked / 20);  // front faces, no bias: acne (the test can fail)
+}
+
+TEST_F(FrameGl, CasterSelectionChangesNoShadowAlongThirtyViews) {
+  const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
+  render::Frame frame(scene, kWidth, kHeight);
+  Camera camera = frame.startCamera();
+  camera.aspect = static_cast<double>(kWidth) / kHeight;
+  const terrain::Terrain& t = *frame.terrain();
+  int views = 0, fewer = 0;
+  for (int v = 0; v < 30; ++v) {
+    camera.position.x += 3.0;
+    camera.position.z -= 4.0;
+    camera.position.y = t.heightAt(camera.position.x, camera.position.z) + (v % 10 == 9 ? 40.0 : 1.7);
+    camera.yaw += glm::radians(7.0);
+    render::FrameSettings settings;
+    settings.method = v % 3 == 0 ? shadows::ShadowMethod::Uniform : shadows::ShadowMethod::Lispsm;
+    settings.shadowMapSize = 1024;
+    // The same frame twice but for the casters: no history (smoothed z_f, CHC) in between.
+    settings.culling = culling::CullingStrategy::Frustum;
+    settings.casters = render::CasterSelection::Receivers;
+    frame.resetHistory();
+    const render::FrameStats selected = frame.render(camera, 0.5 * v, settings);
+    const std::vector<float> withSelected = frame.readShadowTerm();
+    settings.casters = render::CasterSelection::All;
+    frame.resetHistory();
+    const render::FrameStats all = frame.render(camera, 0.5 * v, settings);
+    const std::vector<float> withAll = frame.readShadowTerm();
+    int differ = 0;
+    for (size_t i = 0; i < withAll.size(); ++i) differ += withSelected[i] != withAll[i] ? 1 : 0;
+    EXPECT_EQ(differ, 0) << "view " << v << ": " << differ << " pixels";
+    fewer += selected.casterObjects < all.casterObjects ? 1 : 0;
+    ++views;
+  }
+  EXPECT_EQ(views, 30);
+  EXPECT_GT(fewer, 25);  // the selection does leave casters out
+}
+
+TEST_F(FrameGl, EveryMethodIsCleanAndASunBelowTheHorizonLeavesAmbient) {
+  Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
+  render::Frame frame(scene, kWidth, kHeight);
+  Camera camera = frame.startCamera();
+  camera.aspect = static_cast<double>(kWidth) / kHeight;
+  for (shadows::ShadowMethod method :
+       {shadows::ShadowMethod::Uniform, shadows::ShadowMethod::UniformStable, shadows::ShadowMethod::Lispsm}) {
+    for (int step = 0; step < 4; ++step) {
+      camera.position.x += 2.0;
+      camera.yaw += glm::radians(10.0);
+      render::FrameSettings settings;
+      settings.method = method;
+      settings.shadowMapSize = 1024;
+      frame.render(camera, step, settings);
+      for (float v : frame.readShadowTerm()) ASSERT_TRUE(std::isfinite(v) && v >= 0.0f && v <= 1.0f);
+    }
+  }
+  const Image8 lit = frame.readColor();
+  scene.sun.direction = glm::normalize(dvec3(0.3, 0.5, 0.2));  // travelling upward: the sun is below the horizon
+  const render::FrameStats night = frame.render(camera, 3.0, render::FrameSettings{});
+  EXPECT_TRUE(night.sunBelowHorizon);
+  const Image8 dark = frame.readColor();
+  const std::vector<float> term = frame.readShadowTerm();
+  const std::vector<std::uint32_t> ids = frame.readObjectIds();
+  int ground = 0;
+  for (size_t i = 0; i < ids.size(); ++i) {
+    if (ids[i] == 0) continue;
+    ++ground;
+    ASSERT_EQ(term[i], 0.0f);  // no sun anywhere
+  }
+  EXPECT_GT(ground, 1000);
+  for (size_t i = 0; i < lit.pixels.size(); ++i) ASSERT_LE(dark.pixels[i], lit.pixels[i] + 1);  // ambient only: never brighter
+}
+
+}  // namespace
+}  // namespace forest::test
