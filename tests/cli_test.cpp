@@ -135,7 +135,15 @@ TEST(ForestCli, RenderDrawsTheTerrainScene) {
   const Result r = runForest("render --scene " + std::string(FOREST_REPO_DATA) + "/scenes/terrain.toml --out " +
                              image.string() + " --width 320 --height 180");
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_THAT(r.out, HasSubstr("terrain "));
+  EXPECT_THAT(r.out, HasSubstr("visible objects"));
+  // The JSON record next to the image: per-pass times, objects, casters, n, γ, z_f.
+  const nlohmann::json record = nlohmann::json::parse(readTextFile(fs::path(image).replace_extension(".json")));
+  for (const char* pass : {"geometry", "shadow_setup", "shadow", "shadow_term", "lighting"})
+    EXPECT_GE(record["passes_ms"][pass].get<double>(), 0.0) << pass;
+  EXPECT_GT(record["geometry"]["visible_objects"].get<int>(), 0);
+  EXPECT_GT(record["shadow"]["casters"].get<int>(), 0);
+  EXPECT_GT(record["shadow"]["n"].get<double>(), 0.0);
+  EXPECT_GT(record["z_f"].get<double>(), 0.0);
   const Image8 png = readImage8(image);
   // Top row: sky (0.55, 0.7, 0.9 → 140, 178, 230); bottom row: lit terrain, greener than blue.
   EXPECT_EQ(png.at(160, 0, 2), 230);
