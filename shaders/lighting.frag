@@ -14,6 +14,7 @@ uniform vec3 uSunColor;
 uniform float uAmbient;
 uniform vec3 uSky;
 uniform bool uSunUp;
+uniform float uFogDensity;   // per metre; 0: no fog (exponential fog toward the sky colour)
 
 out vec4 fragColor;
 
@@ -24,12 +25,14 @@ void main() {
   vec3 n = normalize(texelFetch(uShadingNormal, pixel, 0).xyz);
   float shadow = texelFetch(uShadowTerm, pixel, 0).r;
   vec3 linear = albedo * uAmbient;
+  vec4 h = uInverseViewProjectionRelative * vec4(2.0 * vUv - 1.0, texelFetch(uDepth, pixel, 0).r, 1.0);
+  vec3 relative = h.xyz / h.w;
   if (uSunUp) {
-    vec4 h = uInverseViewProjectionRelative * vec4(2.0 * vUv - 1.0, texelFetch(uDepth, pixel, 0).r, 1.0);
-    vec3 toEye = normalize(-h.xyz / h.w);
+    vec3 toEye = normalize(-relative);
     float diffuse = max(dot(n, uToSun), 0.0);
     float specular = pow(max(dot(n, normalize(uToSun + toEye)), 0.0), 32.0) * step(0.0, dot(n, uToSun));
     linear += (1.0 - uAmbient) * shadow * uSunColor * (albedo * diffuse + 0.04 * specular);
   }
-  fragColor = vec4(pow(linear, vec3(1.0 / 2.2)), 1.0);
+  vec3 display = pow(linear, vec3(1.0 / 2.2));
+  fragColor = vec4(mix(uSky, display, exp(-uFogDensity * length(relative))), 1.0);
 }

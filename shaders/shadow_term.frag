@@ -13,6 +13,7 @@ uniform mat4 uInverseViewProjectionRelative;  // clip → (p − eye)
 uniform mat4 uEyeRelativeToShadow;     // (p − eye) → shadow clip with z already in [0, 1]
 uniform vec3 uToSun;
 uniform bool uSunUp;
+uniform int uPcfRadius;               // 0: one hardware 2×2 lookup; r: (2r+1)² lookups a texel apart
 
 out float shadowTerm;
 
@@ -27,5 +28,9 @@ void main() {
   vec4 s = uEyeRelativeToShadow * vec4(relative, 1.0);
   vec3 ndc = s.xyz / s.w;
   vec2 uv = 0.5 * ndc.xy + 0.5;
-  shadowTerm = texture(uShadowMap, vec3(uv, ndc.z));
+  vec2 texel = 1.0 / vec2(textureSize(uShadowMap, 0));
+  float sum = 0.0;
+  for (int y = -uPcfRadius; y <= uPcfRadius; ++y)
+    for (int x = -uPcfRadius; x <= uPcfRadius; ++x) sum += texture(uShadowMap, vec3(uv + vec2(x, y) * texel, ndc.z));
+  shadowTerm = sum / float((2 * uPcfRadius + 1) * (2 * uPcfRadius + 1));
 }

@@ -34,6 +34,8 @@ struct RenderOptions {
   std::string casters = "receivers";
   double bias = 0.0;
   bool frontFaces = false;
+  int pcf = 0;
+  double fog = 0.0;
   std::vector<double> camera;  // x y z yaw pitch
   std::vector<double> sun;     // x y z
 };
@@ -56,6 +58,8 @@ int runRender(const RenderOptions& options) {
   settings.casters = render::parseCasterSelection(options.casters);
   settings.slopeScaleBias = options.bias;
   settings.backside = !options.frontFaces;
+  settings.pcfRadius = options.pcf;
+  settings.fogDensity = options.fog;
 
   gl::ContextOptions contextOptions;
   contextOptions.backend = gl::parseBackend(options.gl.backend);
@@ -88,7 +92,8 @@ int runRender(const RenderOptions& options) {
                  {"yaw_deg", glm::degrees(camera.yaw)},
                  {"pitch_deg", glm::degrees(camera.pitch)}};
   j["settings"] = {{"method", options.method},       {"shadow_size", options.shadowSize}, {"culling", options.culling},
-                   {"casters", options.casters},     {"slope_bias", options.bias},        {"backside", settings.backside}};
+                   {"casters", options.casters},     {"slope_bias", options.bias},        {"backside", settings.backside},
+                   {"pcf_radius", options.pcf},      {"fog", options.fog}};
   j["passes_ms"] = {{"geometry", stats.geometryMs},
                     {"shadow_setup", stats.shadowSetupMs},
                     {"shadow", stats.shadowMs},
@@ -149,6 +154,12 @@ Run addRenderCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--bias", options->bias, "Slope-scale depth bias in the shadow pass (0: none)")->capture_default_str();
   command->add_flag("--front-faces", options->frontFaces, "Render front faces into the shadow map (not backside rendering)");
+  command->add_option("--pcf", options->pcf, "Wider PCF: (2r+1)² hardware 2×2 lookups (0: one)")
+      ->check(CLI::Range(0, 4))
+      ->capture_default_str();
+  command->add_option("--fog", options->fog, "Exponential fog density per metre (0: none)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
   return [options] { return runRender(*options); };
 }
 

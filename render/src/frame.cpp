@@ -192,6 +192,10 @@ Camera Frame::startCamera() const {
 FrameStats Frame::render(const Camera& camera, double time, const FrameSettings& settings) {
   if (settings.shadowMapSize < 512 || settings.shadowMapSize > 8192)
     throw InputError(fmt::format("shadow map size {}: expected 512 to 8192", settings.shadowMapSize));
+  if (settings.pcfRadius < 0 || settings.pcfRadius > 4)
+    throw InputError(fmt::format("PCF radius {}: expected 0 to 4", settings.pcfRadius));
+  if (!(settings.fogDensity >= 0.0 && settings.fogDensity <= 1.0))
+    throw InputError(fmt::format("fog density {}: expected 0 to 1 per metre", settings.fogDensity));
   FrameStats stats;
   Passes& p = *passes_;
   const SunSettings& sun = scene_.sun;
@@ -339,6 +343,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   term.set("uEyeRelativeToShadow", glm::mat4(eyeRelativeToShadow));
   term.set("uToSun", glm::vec3(-l));
   term.set("uSunUp", shadowed ? 1 : 0);
+  term.set("uPcfRadius", settings.pcfRadius);
   glBindTextureUnit(0, p.depth.id());
   glBindTextureUnit(1, p.geometricNormal.id());
   glBindTextureUnit(2, p.objectId.id());
@@ -363,6 +368,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   lighting.set("uAmbient", static_cast<float>(sun.ambient));
   lighting.set("uSky", glm::vec3(scene_.render.sky_color));
   lighting.set("uSunUp", stats.sunBelowHorizon ? 0 : 1);
+  lighting.set("uFogDensity", static_cast<float>(settings.fogDensity));
   glBindTextureUnit(0, p.albedo.id());
   glBindTextureUnit(1, p.shadingNormal.id());
   glBindTextureUnit(2, p.depth.id());

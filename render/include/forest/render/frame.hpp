@@ -41,6 +41,8 @@ struct FrameSettings {
   bool backside = true;           // cull front faces in the shadow pass (thesis §5.1)
   culling::CullingStrategy culling = culling::CullingStrategy::Chc;
   CasterSelection casters = CasterSelection::Receivers;
+  int pcfRadius = 0;              // 0: hardware 2×2 PCF; r: (2r+1)² hardware lookups, [0, 4]
+  double fogDensity = 0.0;        // exponential fog per metre, [0, 1]; 0: none
 };
 
 struct FrameStats {
