@@ -1,5 +1,6 @@
 // The forest command line: bad input gives exactly one clear line naming file and key, and a
 // non-zero exit code; `forest render` writes a lit image headless.
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -170,6 +171,58 @@ TEST(ForestCli, BenchCullingWritesEveryStrategyAndTheOracle) {
   EXPECT_LE(j["strategies"]["chc"]["triangles_p50"].get<double>(), j["strategies"]["none"]["triangles_p50"].get<double>());
   EXPECT_EQ(j["strategies"]["none"]["queries_p50"].get<double>(), 0.0);
   EXPECT_GT(j["strategies"]["stop-and-wait"]["queries_p50"].get<double>(), 0.0);
+}
+
+TEST(ForestCli, WalkthroughWritesConsistentOutputsAndRepeatsExactly) {
+  const fs::path base = fs::path(FOREST_TEST_OUTPUT) / "cli";
+  std::vector<Image8> first;
+  for (const char* run : {"walk-a", "walk-b"}) {
+    const fs::path out = base / run;
+    fs::remove_all(out);
+    const Result r = runForest("walkthrough --width 320 --height 180 --frames 20 --every 1 --quiet --out " + out.string());
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_THAT(r.out, HasSubstr("20 of 20 frames"));
+    ASSERT_TRUE(fs::exists(out / "contact-sheet.png"));
+    const nlohmann::json report = nlohmann::json::parse(readTextFile(out / "report.json"));
+    ASSERT_EQ(report["frames_done"].get<int>(), 20);
+    ASSERT_EQ(report["frames"].size(), 20u);
+    for (const auto& f : report["frames"]) {
+      double passes = 0.0;
+      for (const auto& [name, ms] : f["passes_ms"].items()) passes += ms.get<double>();
+      EXPECT_LE(passes, f["frame_ms"].get<double>()) << f["frame"];
+      EXPECT_GT(f["triangles"]["geometry"].get<long long>(), 0);
+      if (!f["sun_below_horizon"].get<bool>()) {
+        EXPECT_GE(f["casters"].get<int>(), 1);
+      }
+      EXPECT_LE(f["z_f"].get<double>(), f["far"].get<double>());
+    }
+    for (const char* q : {"p50", "p95", "p99"}) EXPECT_GT(report["summary"]["frame_ms"][q].get<double>(), 0.0);
+    for (int k = 0; k < 20; ++k) {
+      const Image8 image = readImage8(out / "frames" / fmt::format("frame{:05d}.png", k));
+      if (std::string(run) == "walk-a") {
+        first.push_back(image);
+      } else {
+        EXPECT_EQ(image.pixels, first[static_cast<size_t>(k)].pixels) << "frame " << k << " differs between runs";
+      }
+    }
+  }
+}
+
+TEST(ForestCli, WalkthroughRejectsBadInputBeforeWritingAnything) {
+  const fs::path out = fs::path(FOREST_TEST_OUTPUT) / "cli" / "walk-bad";
+  fs::remove_all(out);
+  const std::string unordered = bad("path-unordered.toml");
+  const Result path = runForest("walkthrough --path " + unordered + " --out " + out.string());
+  EXPECT_EQ(path.exitCode, 2);
+  EXPECT_THAT(path.err, HasSubstr(unordered));
+  EXPECT_EQ(std::count(path.err.begin(), path.err.end(), '\n'), 1) << path.err;
+  const Result fps = runForest("walkthrough --fps 0 --out " + out.string());
+  EXPECT_EQ(fps.exitCode, 2);
+  EXPECT_THAT(fps.err, HasSubstr("--fps 0"));
+  const Result flag = runForest("walkthrough --method psm --out " + out.string());
+  EXPECT_NE(flag.exitCode, 0);
+  EXPECT_THAT(flag.err, HasSubstr("--method"));
+  EXPECT_FALSE(fs::exists(out)) << "no partial output";
 }
 
 TEST(ForestCli, InfoNamesBackendAndRenderer) {

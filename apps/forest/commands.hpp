@@ -21,5 +21,6 @@ Run addRenderCommand(CLI::App& app);
 Run addCheckCommand(CLI::App& app);
 Run addStabilityCommand(CLI::App& app);
 Run addBenchCommand(CLI::App& app);
+Run addWalkthroughCommand(CLI::App& app);
 
 }  // namespace forest::app

@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
   add(forest::app::addCheckCommand);
   add(forest::app::addStabilityCommand);
   add(forest::app::addBenchCommand);
+  add(forest::app::addWalkthroughCommand);
 
   try {
     app.parse(argc, argv);

@@ -33,7 +33,8 @@ T hermite(const T& p0, const T& m0, const T& p1, const T& m1, double dt, double 
 
 }  // namespace
 
-CameraPath::CameraPath(std::vector<PathKey> keys, std::string name) : keys_(std::move(keys)) {
+CameraPath::CameraPath(std::vector<PathKey> keys, std::string name, bool aboveGround)
+    : keys_(std::move(keys)), aboveGround_(aboveGround) {
   if (keys_.empty()) throw InputError(name + ": a camera path needs at least one [[key]]");
   for (size_t i = 0; i < keys_.size(); ++i) {
     const PathKey& k = keys_[i];
@@ -66,6 +67,7 @@ CameraPath::CameraPath(std::vector<PathKey> keys, std::string name) : keys_(std:
 CameraPath CameraPath::parse(const std::string& text, const std::string& name) {
   const toml::table document = detail::parseToml(text, name);
   detail::TomlSection root(document, name, "");
+  const bool aboveGround = root.oneOf("heights", std::string("absolute"), {"absolute", "above_ground"}) == "above_ground";
   std::vector<PathKey> keys;
   for (auto& s : root.tables("key")) {
     PathKey k;
@@ -77,7 +79,7 @@ CameraPath CameraPath::parse(const std::string& text, const std::string& name) {
     keys.push_back(k);
   }
   root.finish();
-  return CameraPath(std::move(keys), name);
+  return CameraPath(std::move(keys), name, aboveGround);
 }
 
 CameraPath CameraPath::load(const std::filesystem::path& file) {
@@ -93,7 +95,9 @@ std::string CameraPath::toToml() const {
                                {"pitch_deg", k.pose.pitch_deg}});
   }
   std::ostringstream out;
-  out << toml::table{{"key", keys}} << "\n";
+  toml::table document{{"key", keys}};
+  if (aboveGround_) document.insert("heights", "above_ground");
+  out << document << "\n";
   return out.str();
 }
 

@@ -17,9 +17,12 @@ namespace {
 
 using glm::dvec3;
 
-// The query queue is polled after this many traversal steps (and whenever there is nothing else
-// to do): checking a query's availability flushes the command stream on llvmpipe.
-constexpr int kPollInterval = 16;
+// Query results are collected at batch boundaries, every kBatchSteps traversal steps: the queries
+// issued before the previous boundary are taken (waiting if need be), the newer ones stay pending
+// while traversal and drawing go on. Taking results at fixed points, not whenever the driver
+// happens to have them, makes the traversal — and so the visible set, z_f and the shadows —
+// identical from run to run; polling for availability would also flush llvmpipe's command stream.
+constexpr int kBatchSteps = 64;
 
 // Eye-space depth range of a box's corners.
 std::pair<double, double> depthRange(const Aabb& box, const Camera& camera) {
@@ -127,12 +130,6 @@ std::size_t OcclusionCuller::issueQuery(const Aabb& box) {
   return slot;
 }
 
-bool OcclusionCuller::resultAvailable(std::size_t slot) const {
-  GLuint available = 0;
-  glGetQueryObjectuiv(pool_[slot].id(), GL_QUERY_RESULT_AVAILABLE, &available);
-  return available != 0;
-}
-
 std::uint32_t OcclusionCuller::waitResult(std::size_t slot, CullingStats& stats) const {
   const auto start = std::chrono::steady_clock::now();
   GLuint samples = 0;
@@ -220,6 +217,7 @@ CullingResult OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb> object
       std::int32_t node;
       std::size_t slot;
       bool leafAlreadyDrawn;  // a previously visible leaf: drawn at once, queried for the next frame
+      int step;               // traversal step at which it was issued
     };
     std::deque<Pending> queries;
     auto traverseNode = [&](std::int32_t n) {
@@ -245,8 +243,9 @@ CullingResult OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb> object
     if (!nodes.empty()) traversal.push({distanceToBox(nodes[0].bounds, eye_), 0});
     int steps = 0;
     while (!traversal.empty() || !queries.empty()) {
-      // Results: poll every kPollInterval steps; wait when there is nothing left to traverse.
-      while (!queries.empty() && (traversal.empty() || (steps % kPollInterval == 0 && resultAvailable(queries.front().slot)))) {
+      // Results: at each batch boundary those issued a batch ago; all when nothing is left to traverse.
+      while (!queries.empty() &&
+             (traversal.empty() || (steps % kBatchSteps == 0 && queries.front().step <= steps - kBatchSteps))) {
         const Pending p = queries.front();
         queries.pop_front();
         handleResult(p, waitResult(p.slot, result.stats));
@@ -270,7 +269,7 @@ CullingResult OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb> object
       s.visible = false;
       s.lastVisited = frame_;
       if (!opened) {
-        queries.push_back({n, issueQuery(nodes[n].bounds), wasVisible});
+        queries.push_back({n, issueQuery(nodes[n].bounds), wasVisible, steps});
         ++result.stats.queriesIssued;
       }
       if (wasVisible) traverseNode(n);

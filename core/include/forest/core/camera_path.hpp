@@ -6,6 +6,7 @@
 //   position = [0, 2, 10]
 //   yaw_deg = 0.0           # 0 looks along −z, positive turns left
 //   pitch_deg = 0.0         # [−90, 90]
+// and optionally, before the keys, heights = "absolute" (default) or "above_ground".
 #include <glm/glm.hpp>
 
 #include <filesystem>
@@ -29,7 +30,7 @@ class CameraPath {
  public:
   // Validates the keys (at least one; finite; times strictly increasing; pitch in [−90, 90]).
   // `name` is used in error messages.
-  explicit CameraPath(std::vector<PathKey> keys, std::string name = "<path>");
+  explicit CameraPath(std::vector<PathKey> keys, std::string name = "<path>", bool aboveGround = false);
 
   static CameraPath load(const std::filesystem::path& file);
   static CameraPath parse(const std::string& text, const std::string& name);
@@ -43,6 +44,10 @@ class CameraPath {
   // Yaw is unwrapped first, so 350° → 10° turns 20°, not 340°.
   CameraPose at(double time) const;
 
+  // True when the file says `heights = "above_ground"`: position.y is metres over the terrain
+  // (the host adds the ground height under the camera), not a world height.
+  bool aboveGround() const { return aboveGround_; }
+
   double startTime() const { return keys_.front().time; }
   double endTime() const { return keys_.back().time; }
   const std::vector<PathKey>& keys() const { return keys_; }
@@ -54,6 +59,7 @@ class CameraPath {
   std::vector<glm::dvec3> positions_;
   std::vector<double> unwrappedYaw_;
   std::vector<double> pitches_;
+  bool aboveGround_ = false;
 };
 
 }  // namespace forest

@@ -7,8 +7,9 @@
 //                   EG 2004): previously visible leaves are drawn at once and queried for the next
 //                   frame, previously visible interior nodes are opened without a query, previously
 //                   invisible nodes are queried and opened only when their result says visible;
-//                   traversal continues while results are pending, a visible result pulls
-//                   visibility up to the root.
+//                   traversal continues while results are pending (results are taken in batches
+//                   at fixed traversal steps, so every run traverses alike), a visible result
+//                   pulls visibility up to the root.
 // A query tests the node's box (grown by a few ulps) against the depth of what has been drawn so
 // far, which only gets nearer as more is drawn: a box found hidden holds nothing visible, so the
 // geometry pass equals drawing everything (exactness). Boxes holding the eye (grown by z_n) or
@@ -70,7 +71,6 @@ class OcclusionCuller {
   };
   // Issues a query for a node's box; returns its slot in the pool.
   std::size_t issueQuery(const Aabb& box);
-  bool resultAvailable(std::size_t slot) const;
   std::uint32_t waitResult(std::size_t slot, CullingStats& stats) const;
   void beginQueries();
   void endQueries();

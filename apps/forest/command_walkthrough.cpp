@@ -1,0 +1,277 @@
+// forest walkthrough: the main job. Renders a camera path through a scene with the full frame
+// (culling, LiSPSM shadows, lighting), headless, and writes frames, a contact sheet, an MP4 when
+// ffmpeg is present, report.json (one record per frame) and a one-screen summary. Ctrl-C stops
+// after the current frame and still writes complete files for the frames done.
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+
+#include "commands.hpp"
+#include "forest/core/camera_path.hpp"
+#include "forest/core/error.hpp"
+#include "forest/core/files.hpp"
+#include "forest/core/image.hpp"
+#include "forest/core/log.hpp"
+#include "forest/core/resources.hpp"
+#include "forest/core/scene.hpp"
+#include "forest/gl/context.hpp"
+#include "forest/gl/debug.hpp"
+#include "forest/gl/objects.hpp"
+#include "forest/render/frame.hpp"
+
+namespace forest::app {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+std::atomic<bool> gInterrupted{false};
+extern "C" void onInterrupt(int) { gInterrupted = true; }
+
+struct WalkthroughOptions {
+  GlOptions gl;
+  std::string scene;
+  std::string path;
+  std::string out = "out/walkthrough";
+  int width = 1280;
+  int height = 720;
+  double fps = 30.0;
+  int frames = 0;  // 0: the whole path
+  int every = 10;  // write every k-th frame as PNG
+  std::string method = "lispsm";
+  int shadowSize = 2048;
+  std::string culling = "chc";
+  int pcf = 0;
+  bool quiet = false;
+};
+
+double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const double position = p * static_cast<double>(values.size() - 1);
+  const size_t below = static_cast<size_t>(position);
+  const size_t above = std::min(below + 1, values.size() - 1);
+  return values[below] + (values[above] - values[below]) * (position - static_cast<double>(below));
+}
+
+double residentMegabytes() {
+  std::ifstream statm("/proc/self/statm");
+  long pages = 0, resident = 0;
+  statm >> pages >> resident;
+  return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1 << 20);
+}
+
+// A grid of up to 16 frames, each scaled down 4× (box filter), evenly spread over the run.
+Image8 contactSheet(const std::vector<Image8>& frames) {
+  const int columns = 4, scale = 4;
+  const int rows = static_cast<int>((frames.size() + columns - 1) / columns);
+  const int w = frames.front().width / scale, h = frames.front().height / scale;
+  Image8 sheet(columns * w, rows * h, 4);
+  std::fill(sheet.pixels.begin(), sheet.pixels.end(), static_cast<unsigned char>(255));
+  for (size_t f = 0; f < frames.size(); ++f) {
+    const int ox = static_cast<int>(f % columns) * w, oy = static_cast<int>(f / columns) * h;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        for (int c = 0; c < 4; ++c) {
+          int sum = 0;
+          for (int dy = 0; dy < scale; ++dy)
+            for (int dx = 0; dx < scale; ++dx) sum += frames[f].at(x * scale + dx, y * scale + dy, c);
+          sheet.at(ox + x, oy + y, c) = static_cast<unsigned char>(sum / (scale * scale));
+        }
+  }
+  return sheet;
+}
+
+void progress(int done, int total, double elapsed, bool quiet) {
+  if (quiet) return;
+  const double eta = done > 0 ? elapsed / done * (total - done) : 0.0;
+  const int width = 30, filled = total > 0 ? width * done / total : width;
+  const std::string bar = std::string(static_cast<size_t>(filled), '#') + std::string(static_cast<size_t>(width - filled), '.');
+  if (isatty(STDERR_FILENO)) {
+    std::cerr << fmt::format("\r[{}] {}/{} frames, {:.0f} s, ETA {:.0f} s ", bar, done, total, elapsed, eta) << std::flush;
+    if (done == total) std::cerr << "\n";
+  } else if (done == total || done % std::max(1, total / 10) == 0) {
+    std::cerr << fmt::format("walkthrough: {}/{} frames, {:.0f} s, ETA {:.0f} s\n", done, total, elapsed, eta);
+  }
+}
+
+int runWalkthrough(const WalkthroughOptions& options) {
+  // Everything that can be wrong with the input is checked before any output exists.
+  const std::string scenePath =
+      options.scene.empty() ? (resourceDirectory("data") / "scenes" / "forest.toml").string() : options.scene;
+  const std::string pathPath =
+      options.path.empty() ? (resourceDirectory("data") / "paths" / "walk.toml").string() : options.path;
+  Scene scene = loadScene(scenePath);
+  const CameraPath path = CameraPath::load(pathPath);
+  if (path.aboveGround() && !scene.terrain) throw InputError(pathPath + ": heights = \"above_ground\" needs a scene with [terrain]");
+  if (!(options.fps > 0.0 && options.fps <= 1000.0)) throw InputError(fmt::format("--fps {}: expected (0, 1000]", options.fps));
+  render::FrameSettings settings;
+  settings.method = shadows::parseShadowMethod(options.method);
+  settings.shadowMapSize = options.shadowSize;
+  settings.culling = culling::parseCullingStrategy(options.culling);
+  settings.pcfRadius = options.pcf;
+  const int pathFrames = 1 + static_cast<int>(std::floor((path.endTime() - path.startTime()) * options.fps + 1e-9));
+  const int total = options.frames > 0 ? std::min(options.frames, pathFrames) : pathFrames;
+  scene.render.width = options.width;
+  scene.render.height = options.height;
+
+  gl::ContextOptions contextOptions;
+  contextOptions.backend = gl::parseBackend(options.gl.backend);
+  contextOptions.width = options.width;
+  contextOptions.height = options.height;
+  auto context = gl::createContext(contextOptions);
+  const std::string device = gl::describe(context->info());
+  log::info("{}", device);
+  render::Frame frame(scene, options.width, options.height);
+
+  const fs::path out(options.out);
+  fs::create_directories(out / "frames");
+  std::signal(SIGINT, onInterrupt);
+  nlohmann::ordered_json records = nlohmann::ordered_json::array();
+  std::vector<Image8> sheetFrames;
+  const int sheetStep = std::max(1, total / 16);
+  const auto start = Clock::now();
+  int done = 0;
+  for (int f = 0; f < total && !gInterrupted; ++f) {
+    const double time = path.startTime() + f / options.fps;
+    const CameraPose pose = path.at(time);
+    Camera camera = frame.startCamera();
+    camera.position = pose.position;
+    if (path.aboveGround()) camera.position.y += frame.terrain()->heightAt(pose.position.x, pose.position.z);
+    camera.yaw = glm::radians(pose.yaw_deg);
+    camera.pitch = glm::radians(pose.pitch_deg);
+    const auto frameStart = Clock::now();
+    const render::FrameStats s = frame.render(camera, time, settings);
+    const double frameMs = 1e3 * std::chrono::duration<double>(Clock::now() - frameStart).count();
+    const bool writeFrame = f % options.every == 0 || f == total - 1;
+    const bool sheet = f % sheetStep == 0 && sheetFrames.size() < 16;
+    if (writeFrame || sheet) {
+      Image8 image = frame.readColor();
+      if (writeFrame) writeImage(out / "frames" / fmt::format("frame{:05d}.png", f), image);
+      if (sheet) sheetFrames.push_back(std::move(image));
+    }
+    nlohmann::ordered_json r;
+    r["frame"] = f;
+    r["time"] = time;
+    r["frame_ms"] = frameMs;
+    r["passes_ms"] = {{"geometry", s.geometryMs}, {"shadow_setup", s.shadowSetupMs}, {"shadow", s.shadowMs},
+                      {"shadow_term", s.shadowTermMs}, {"lighting", s.lightingMs}};
+    r["visible_objects"] = s.visibleObjects;
+    r["casters"] = s.casterObjects;
+    r["triangles"] = {{"geometry", s.geometryTriangles}, {"shadow", s.shadowTriangles}};
+    r["queries"] = s.culling.queriesIssued;
+    r["z_f"] = s.farDepth;
+    r["far"] = camera.far;
+    r["n"] = s.shadow.n;
+    r["gamma_deg"] = s.shadow.gammaDeg;
+    r["sun_below_horizon"] = s.sunBelowHorizon;
+    r["gpu_memory_mib"] = static_cast<double>(gl::gpuMemory().bytes) / (1 << 20);
+    r["rss_mib"] = residentMegabytes();
+    records.push_back(r);
+    ++done;
+    progress(done, total, std::chrono::duration<double>(Clock::now() - start).count(), options.quiet);
+  }
+  std::signal(SIGINT, SIG_DFL);
+  if (gl::debugErrorCount() > 0)
+    throw Error(fmt::format("{} GL errors during the walkthrough (first: {})", gl::debugErrorCount(), gl::debugErrorMessages().front()));
+
+  // Summary: p50/p95/p99 per pass and for the frame.
+  nlohmann::ordered_json summary;
+  auto column = [&](const std::function<double(const nlohmann::ordered_json&)>& get) {
+    std::vector<double> v;
+    for (const auto& r : records) v.push_back(get(r));
+    return nlohmann::ordered_json{{"p50", percentile(v, 0.5)}, {"p95", percentile(v, 0.95)}, {"p99", percentile(v, 0.99)}};
+  };
+  summary["frame_ms"] = column([](const auto& r) { return r["frame_ms"].template get<double>(); });
+  for (const char* pass : {"geometry", "shadow_setup", "shadow", "shadow_term", "lighting"})
+    summary["passes_ms"][pass] = column([pass](const auto& r) { return r["passes_ms"][pass].template get<double>(); });
+  nlohmann::ordered_json report;
+  report["scene"] = scenePath;
+  report["path"] = pathPath;
+  report["device"] = device;
+  report["resolution"] = {options.width, options.height};
+  report["settings"] = {{"method", options.method}, {"shadow_size", options.shadowSize}, {"culling", options.culling},
+                        {"pcf_radius", options.pcf}, {"fps", options.fps}};
+  report["frames_requested"] = total;
+  report["frames_done"] = done;
+  report["interrupted"] = gInterrupted.load();
+  report["summary"] = summary;
+  report["frames"] = records;
+  writeFileAtomic(out / "report.json", report.dump(1) + "\n");
+  if (!sheetFrames.empty()) writeImage(out / "contact-sheet.png", contactSheet(sheetFrames));
+
+  // An MP4 of the written frames when ffmpeg is there (the frames stay either way).
+  bool video = false;
+  if (options.every == 1 && done > 1 && std::system("command -v ffmpeg > /dev/null 2>&1") == 0) {
+    const std::string command = fmt::format(
+        "ffmpeg -loglevel error -y -framerate {} -i '{}/frames/frame%05d.png' -pix_fmt yuv420p '{}/walkthrough.mp4'",
+        options.fps, out.string(), out.string());
+    video = std::system(command.c_str()) == 0;
+  }
+
+  const auto& frameMs = summary["frame_ms"];
+  std::cout << fmt::format("walkthrough: {} of {} frames of {} along {} at {}x{} ({}, {}², {})\n", done, total, scenePath,
+                           pathPath, options.width, options.height, options.method, options.shadowSize, options.culling);
+  std::cout << fmt::format("  {:<13} {:>9} {:>9} {:>9}\n", "ms", "p50", "p95", "p99");
+  std::cout << fmt::format("  {:<13} {:>9.2f} {:>9.2f} {:>9.2f}\n", "frame", frameMs["p50"].get<double>(),
+                           frameMs["p95"].get<double>(), frameMs["p99"].get<double>());
+  for (const char* pass : {"geometry", "shadow_setup", "shadow", "shadow_term", "lighting"}) {
+    const auto& p = summary["passes_ms"][pass];
+    std::cout << fmt::format("  {:<13} {:>9.2f} {:>9.2f} {:>9.2f}\n", pass, p["p50"].get<double>(), p["p95"].get<double>(),
+                             p["p99"].get<double>());
+  }
+  std::cout << fmt::format("  wrote {}/report.json, {}/contact-sheet.png, frames every {} in {}/frames{}\n", out.string(),
+                           out.string(), options.every, out.string(), video ? ", walkthrough.mp4" : " (no MP4: needs ffmpeg and --every 1)");
+  if (gInterrupted) {
+    std::cout << "  interrupted: the report holds the frames done\n";
+    return 130;
+  }
+  return 0;
+}
+
+}  // namespace
+
+Run addWalkthroughCommand(CLI::App& app) {
+  auto options = std::make_shared<WalkthroughOptions>();
+  CLI::App* command = app.add_subcommand(
+      "walkthrough",
+      "The main job: render a camera path through a scene (culling, LiSPSM shadows, lighting), headless;\n"
+      "write frames, a contact sheet, report.json and a summary (an MP4 too when ffmpeg is installed)");
+  options->gl.add(*command);
+  command->add_option("--scene", options->scene, "Scene file (default: data/scenes/forest.toml, 5000 trees)");
+  command->add_option("--path", options->path, "Camera path (default: data/paths/walk.toml)");
+  command->add_option("--out", options->out, "Output folder")->capture_default_str();
+  command->add_option("--width", options->width, "Image width")->check(CLI::Range(16, 8192))->capture_default_str();
+  command->add_option("--height", options->height, "Image height")->check(CLI::Range(16, 8192))->capture_default_str();
+  command->add_option("--fps", options->fps, "Frames per second of path time")->capture_default_str();
+  command->add_option("--frames", options->frames, "Stop after this many frames (0: the whole path)")
+      ->check(CLI::Range(0, 1000000))
+      ->capture_default_str();
+  command->add_option("--every", options->every, "Write every k-th frame as PNG (1: all)")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
+  command->add_option("--method", options->method, "Shadow method")
+      ->check(CLI::IsMember({"uniform", "uniform-stable", "lispsm"}))
+      ->capture_default_str();
+  command->add_option("--shadow-size", options->shadowSize, "Shadow map texels per side")
+      ->check(CLI::Range(512, 8192))
+      ->capture_default_str();
+  command->add_option("--culling", options->culling, "Culling strategy")
+      ->check(CLI::IsMember({"none", "frustum", "stop-and-wait", "chc"}))
+      ->capture_default_str();
+  command->add_option("--pcf", options->pcf, "Wider PCF radius (0: hardware 2×2)")->check(CLI::Range(0, 4))->capture_default_str();
+  command->add_flag("--quiet", options->quiet, "No progress bar");
+  return [options] { return runWalkthrough(*options); };
+}
+
+}  // namespace forest::app
