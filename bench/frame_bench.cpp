@@ -4,29 +4,18 @@
 #include <cstdio>
 #include <string>
 
+#include "bench_args.hpp"
 #include "forest/core/resources.hpp"
 #include "forest/gl/context.hpp"
 #include "forest/render/frame.hpp"
 
 int main(int argc, char** argv) {
   using namespace forest;
-  std::string backend = "auto";
-  int frames = 5;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a.rfind("--gl=", 0) == 0) backend = a.substr(5);
-    else if (a == "--frames" && i + 1 < argc) frames = std::stoi(argv[++i]);
-    else {
-      std::fprintf(stderr, "usage: frame_bench [--gl=auto|egl|osmesa] [--frames N]\n");
-      return 2;
-    }
-  }
+  const bench::BenchArgs args = bench::parseBenchArgs(argc, argv, "frame_bench");
+  const int frames = args.frames;
   const Scene scene = loadScene(resourceDirectory("data") / "scenes" / "forest.toml");
-  gl::ContextOptions contextOptions;
-  contextOptions.backend = gl::parseBackend(backend);
-  auto context = gl::createContext(contextOptions);
-  std::printf("%s\n", gl::describe(context->info()).c_str());
-  render::Frame frame(scene, scene.render.width, scene.render.height);
+  auto context = bench::benchContext(args);
+  render::Frame frame(scene, args.width, args.height);
   // The walkthrough start, and a walker at the foot of the highest hill facing it (the hill hides
   // what lies behind it: receivers shrink, the frustum's B does not).
   const Camera start = frame.startCamera();

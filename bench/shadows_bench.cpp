@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "forest/core/random.hpp"
 #include "forest/shadows/casters.hpp"
 #include "forest/shadows/focus_body.hpp"
 #include "forest/shadows/stability.hpp"
@@ -79,13 +80,8 @@ Forest makeForest() {
       f.objects.push_back({min, min + dvec3(kTile, 2.0, kTile)});
     }
   f.tiles = f.objects.size();
-  std::uint64_t state = 5000;
-  auto unit = [&] {  // SplitMix64
-    std::uint64_t s = (state += 0x9e3779b97f4a7c15ull);
-    s = (s ^ (s >> 30)) * 0xbf58476d1ce4e5b9ull;
-    s = (s ^ (s >> 27)) * 0x94d049bb133111ebull;
-    return static_cast<double>((s ^ (s >> 31)) >> 11) * 0x1p-53;
-  };
+  SplitMix64 random(5000);
+  auto unit = [&] { return random.unit(); };
   for (int i = 0; i < 5000; ++i) {
     const dvec3 base(-kSize / 2 + kSize * unit(), 1.0, -kSize / 2 + kSize * unit());
     const double height = 8.0 + 12.0 * unit(), radius = 2.0 + 2.0 * unit();

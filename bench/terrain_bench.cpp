@@ -8,6 +8,7 @@
 #include <cstring>
 #include <string>
 
+#include "bench_args.hpp"
 #include "forest/core/resources.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/gl/context.hpp"
@@ -20,37 +21,12 @@ namespace {
 using namespace forest;
 using Clock = std::chrono::steady_clock;
 
-struct Options {
-  std::string backend = "auto";
-  int width = 1280, height = 720, frames = 10;
-};
-
-Options parse(int argc, char** argv) {
-  Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto value = [&] { return i + 1 < argc ? std::string(argv[++i]) : std::string(); };
-    if (a.rfind("--gl=", 0) == 0) o.backend = a.substr(5);
-    else if (a == "--width") o.width = std::stoi(value());
-    else if (a == "--height") o.height = std::stoi(value());
-    else if (a == "--frames") o.frames = std::stoi(value());
-    else {
-      std::fprintf(stderr, "usage: terrain_bench [--gl=auto|egl|osmesa] [--width W --height H] [--frames N]\n");
-      std::exit(2);
-    }
-  }
-  return o;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
-  const Options options = parse(argc, argv);
+  const bench::BenchArgs options = bench::parseBenchArgs(argc, argv, "terrain_bench", {"auto", 10, 1280, 720});
   const Scene scene = loadScene(resourceDirectory("data") / "scenes" / "terrain.toml");
-  gl::ContextOptions contextOptions;
-  contextOptions.backend = gl::parseBackend(options.backend);
-  auto context = gl::createContext(contextOptions);
-  std::printf("%s\n", gl::describe(context->info()).c_str());
+  auto context = bench::benchContext(options);
 
   const auto start = Clock::now();
   const terrain::Terrain terrain(*scene.terrain);

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <string>
 
+#include "bench_args.hpp"
 #include "forest/core/resources.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/gl/context.hpp"
@@ -20,22 +21,10 @@ using Clock = std::chrono::steady_clock;
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string backend = "auto";
-  int frames = 5;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a.rfind("--gl=", 0) == 0) backend = a.substr(5);
-    else if (a == "--frames" && i + 1 < argc) frames = std::stoi(argv[++i]);
-    else {
-      std::fprintf(stderr, "usage: vegetation_bench [--gl=auto|egl|osmesa] [--frames N]\n");
-      return 2;
-    }
-  }
+  const bench::BenchArgs args = bench::parseBenchArgs(argc, argv, "vegetation_bench");
+  const int frames = args.frames;
   const Scene scene = loadScene(resourceDirectory("data") / "scenes" / "forest.toml");
-  gl::ContextOptions contextOptions;
-  contextOptions.backend = gl::parseBackend(backend);
-  auto context = gl::createContext(contextOptions);
-  std::printf("%s\n", gl::describe(context->info()).c_str());
+  auto context = bench::benchContext(args);
 
   const terrain::Terrain terrain(*scene.terrain);
   auto start = Clock::now();

@@ -26,35 +26,9 @@ using glm::dvec3;
 
 constexpr int kWidth = 320, kHeight = 180;
 
-struct GeometryTarget {
-  gl::Texture ids, depth;
-  gl::Framebuffer framebuffer;
-  GeometryTarget() : ids(GL_R32UI, kWidth, kHeight), depth(GL_DEPTH_COMPONENT32F, kWidth, kHeight) {
-    framebuffer.attach(GL_COLOR_ATTACHMENT0, ids);
-    framebuffer.attach(GL_DEPTH_ATTACHMENT, depth);
-  }
-  void bindAndClear() const {
-    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.id());
-    glViewport(0, 0, kWidth, kHeight);
-    const GLuint zero[4] = {0, 0, 0, 0};
-    glClearBufferuiv(GL_COLOR, 0, zero);
-    glClearDepth(0.0);
-    glClear(GL_DEPTH_BUFFER_BIT);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_GREATER);
-    glEnable(GL_CULL_FACE);
-    glCullFace(GL_BACK);
-  }
-  std::vector<std::uint32_t> readIds() const {
-    std::vector<std::uint32_t> p(static_cast<size_t>(kWidth) * kHeight);
-    glGetTextureImage(ids.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(p.size() * 4), p.data());
-    return p;
-  }
-  std::vector<float> readDepth() const {
-    std::vector<float> p(static_cast<size_t>(kWidth) * kHeight);
-    glGetTextureImage(depth.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, static_cast<GLsizei>(p.size() * 4), p.data());
-    return p;
-  }
+// The geometry pass's target at the test size.
+struct GeometryTarget : IdDepthTarget {
+  GeometryTarget() : IdDepthTarget(kWidth, kHeight) {}
 };
 
 class CullingGl : public GlTest {};

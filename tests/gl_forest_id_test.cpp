@@ -15,33 +15,6 @@
 namespace forest::test {
 namespace {
 
-struct IdTarget {
-  gl::Texture ids, depth;
-  gl::Framebuffer framebuffer;
-  int width, height;
-  IdTarget(int w, int h) : ids(GL_R32UI, w, h), depth(GL_DEPTH_COMPONENT32F, w, h), width(w), height(h) {
-    framebuffer.attach(GL_COLOR_ATTACHMENT0, ids);
-    framebuffer.attach(GL_DEPTH_ATTACHMENT, depth);
-  }
-  void bindAndClear() const {
-    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.id());
-    glViewport(0, 0, width, height);
-    const GLuint zero[4] = {0, 0, 0, 0};
-    glClearBufferuiv(GL_COLOR, 0, zero);
-    glClearDepth(0.0);
-    glClear(GL_DEPTH_BUFFER_BIT);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_GREATER);
-    glEnable(GL_CULL_FACE);
-    glCullFace(GL_BACK);
-  }
-  std::vector<std::uint32_t> read() const {
-    std::vector<std::uint32_t> pixels(static_cast<size_t>(width) * height);
-    glGetTextureImage(ids.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(pixels.size() * 4), pixels.data());
-    return pixels;
-  }
-};
-
 class ForestIdGl : public GlTest {};
 
 TEST_F(ForestIdGl, ObjectIdsMatchEmbreePrimaryRays) {
@@ -60,13 +33,13 @@ TEST_F(ForestIdGl, ObjectIdsMatchEmbreePrimaryRays) {
   const render::TerrainRenderer terrainRenderer(terrain, render::TerrainRenderer::Output::ObjectId, terrainBase);
   const render::TreeRenderer treeRenderer(forest, render::TreeRenderer::Output::ObjectId, treeBase);
   const terrain::TerrainLod lod = terrain.lodFor(camera, height);
-  const IdTarget target(width, height);
+  const IdDepthTarget target(width, height);
   std::vector<std::uint32_t> gpu[2];
   for (auto& run : gpu) {
     target.bindAndClear();
     terrainRenderer.draw(camera, lod, scene.sun, terrainRenderer.tilesInFrustum(camera));
     treeRenderer.draw(camera, treeRenderer.clustersInFrustum(camera), time, scene.sun);
-    run = target.read();
+    run = target.readIds();
   }
   EXPECT_EQ(gpu[0], gpu[1]) << "two runs differ";
 

@@ -48,15 +48,6 @@ struct FrameRecord {
   double waitMilliseconds = 0.0;
 };
 
-double percentile(std::vector<double> values, double p) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const double position = p * static_cast<double>(values.size() - 1);
-  const size_t below = static_cast<size_t>(position);
-  const size_t above = std::min(below + 1, values.size() - 1);
-  return values[below] + (values[above] - values[below]) * (position - static_cast<double>(below));
-}
-
 // A walker's path: from the scene's start, 1.4 m per frame along the view, turning 0.8° per frame,
 // eye 1.7 m over the ground (or camera.above_ground).
 std::vector<Camera> walkPath(const Scene& scene, const terrain::Terrain& terrain, int frames, double aspect) {

@@ -28,13 +28,10 @@ struct RenderOptions {
   int width = 0;
   int height = 0;
   double time = 0.0;
-  std::string method = "lispsm";
-  int shadowSize = 2048;
-  std::string culling = "chc";
+  FrameOptions frame;
   std::string casters = "receivers";
   double bias = 0.0;
   bool frontFaces = false;
-  int pcf = 0;
   double fog = 0.0;
   std::vector<double> camera;  // x y z yaw pitch
   std::vector<double> sun;     // x y z
@@ -51,14 +48,10 @@ int runRender(const RenderOptions& options) {
     if (!(glm::length(d) > 0.0) || !std::isfinite(glm::length(d))) throw InputError("--sun: expected a finite non-zero direction");
     scene.sun.direction = glm::normalize(d);
   }
-  render::FrameSettings settings;
-  settings.method = shadows::parseShadowMethod(options.method);
-  settings.shadowMapSize = options.shadowSize;
-  settings.culling = culling::parseCullingStrategy(options.culling);
+  render::FrameSettings settings = options.frame.settings();
   settings.casters = render::parseCasterSelection(options.casters);
   settings.slopeScaleBias = options.bias;
   settings.backside = !options.frontFaces;
-  settings.pcfRadius = options.pcf;
   settings.fogDensity = options.fog;
 
   gl::ContextOptions contextOptions;
@@ -91,9 +84,10 @@ int runRender(const RenderOptions& options) {
   j["camera"] = {{"position", {camera.position.x, camera.position.y, camera.position.z}},
                  {"yaw_deg", glm::degrees(camera.yaw)},
                  {"pitch_deg", glm::degrees(camera.pitch)}};
-  j["settings"] = {{"method", options.method},       {"shadow_size", options.shadowSize}, {"culling", options.culling},
-                   {"casters", options.casters},     {"slope_bias", options.bias},        {"backside", settings.backside},
-                   {"pcf_radius", options.pcf},      {"fog", options.fog}};
+  j["settings"] = {{"method", options.frame.method}, {"shadow_size", options.frame.shadowSize},
+                   {"culling", options.frame.culling}, {"casters", options.casters},
+                   {"slope_bias", options.bias},       {"backside", settings.backside},
+                   {"pcf_radius", options.frame.pcf},  {"fog", options.fog}};
   j["passes_ms"] = {{"geometry", stats.geometryMs},
                     {"shadow_setup", stats.shadowSetupMs},
                     {"shadow", stats.shadowMs},
@@ -117,8 +111,8 @@ int runRender(const RenderOptions& options) {
   std::cout << fmt::format(
       "wrote {} and {} ({}x{}): {} visible objects, {} triangles; shadow {} {}² with {} casters, {} triangles; "
       "z_f {:.1f} m, n {:.2f}, γ {:.1f}°{}\n",
-      options.out, jsonPath, image.width, image.height, stats.visibleObjects, stats.geometryTriangles, options.method,
-      options.shadowSize, stats.casterObjects, stats.shadowTriangles, stats.farDepth, stats.shadow.n, stats.shadow.gammaDeg,
+      options.out, jsonPath, image.width, image.height, stats.visibleObjects, stats.geometryTriangles, options.frame.method,
+      options.frame.shadowSize, stats.casterObjects, stats.shadowTriangles, stats.farDepth, stats.shadow.n, stats.shadow.gammaDeg,
       stats.sunBelowHorizon ? " (sun below the horizon: ambient only)" : "");
   return 0;
 }
@@ -140,23 +134,12 @@ Run addRenderCommand(CLI::App& app) {
       ->expected(5);
   command->add_option("--sun", options->sun, "Sun direction x y z, the way light travels (default: the scene's)")
       ->expected(3);
-  command->add_option("--method", options->method, "Shadow method")
-      ->check(CLI::IsMember({"uniform", "uniform-stable", "lispsm"}))
-      ->capture_default_str();
-  command->add_option("--shadow-size", options->shadowSize, "Shadow map texels per side")
-      ->check(CLI::Range(512, 8192))
-      ->capture_default_str();
-  command->add_option("--culling", options->culling, "Culling strategy")
-      ->check(CLI::IsMember({"none", "frustum", "stop-and-wait", "chc"}))
-      ->capture_default_str();
+  options->frame.add(*command);
   command->add_option("--casters", options->casters, "Shadow casters: from the visible receivers, the frustum's focus body, or all")
       ->check(CLI::IsMember({"receivers", "frustum-body", "all"}))
       ->capture_default_str();
   command->add_option("--bias", options->bias, "Slope-scale depth bias in the shadow pass (0: none)")->capture_default_str();
   command->add_flag("--front-faces", options->frontFaces, "Render front faces into the shadow map (not backside rendering)");
-  command->add_option("--pcf", options->pcf, "Wider PCF: (2r+1)² hardware 2×2 lookups (0: one)")
-      ->check(CLI::Range(0, 4))
-      ->capture_default_str();
   command->add_option("--fog", options->fog, "Exponential fog density per metre (0: none)")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();

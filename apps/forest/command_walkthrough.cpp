@@ -48,21 +48,9 @@ struct WalkthroughOptions {
   double fps = 30.0;
   int frames = 0;  // 0: the whole path
   int every = 10;  // write every k-th frame as PNG
-  std::string method = "lispsm";
-  int shadowSize = 2048;
-  std::string culling = "chc";
-  int pcf = 0;
+  FrameOptions frame;
   bool quiet = false;
 };
-
-double percentile(std::vector<double> values, double p) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const double position = p * static_cast<double>(values.size() - 1);
-  const size_t below = static_cast<size_t>(position);
-  const size_t above = std::min(below + 1, values.size() - 1);
-  return values[below] + (values[above] - values[below]) * (position - static_cast<double>(below));
-}
 
 double residentMegabytes() {
   std::ifstream statm("/proc/self/statm");
@@ -115,11 +103,7 @@ int runWalkthrough(const WalkthroughOptions& options) {
   const CameraPath path = CameraPath::load(pathPath);
   if (path.aboveGround() && !scene.terrain) throw InputError(pathPath + ": heights = \"above_ground\" needs a scene with [terrain]");
   if (!(options.fps > 0.0 && options.fps <= 1000.0)) throw InputError(fmt::format("--fps {}: expected (0, 1000]", options.fps));
-  render::FrameSettings settings;
-  settings.method = shadows::parseShadowMethod(options.method);
-  settings.shadowMapSize = options.shadowSize;
-  settings.culling = culling::parseCullingStrategy(options.culling);
-  settings.pcfRadius = options.pcf;
+  const render::FrameSettings settings = options.frame.settings();
   const int pathFrames = 1 + static_cast<int>(std::floor((path.endTime() - path.startTime()) * options.fps + 1e-9));
   const int total = options.frames > 0 ? std::min(options.frames, pathFrames) : pathFrames;
   scene.render.width = options.width;
@@ -200,8 +184,8 @@ int runWalkthrough(const WalkthroughOptions& options) {
   report["path"] = pathPath;
   report["device"] = device;
   report["resolution"] = {options.width, options.height};
-  report["settings"] = {{"method", options.method}, {"shadow_size", options.shadowSize}, {"culling", options.culling},
-                        {"pcf_radius", options.pcf}, {"fps", options.fps}};
+  report["settings"] = {{"method", options.frame.method}, {"shadow_size", options.frame.shadowSize},
+                        {"culling", options.frame.culling}, {"pcf_radius", options.frame.pcf}, {"fps", options.fps}};
   report["frames_requested"] = total;
   report["frames_done"] = done;
   report["interrupted"] = gInterrupted.load();
@@ -221,7 +205,8 @@ int runWalkthrough(const WalkthroughOptions& options) {
 
   const auto& frameMs = summary["frame_ms"];
   std::cout << fmt::format("walkthrough: {} of {} frames of {} along {} at {}x{} ({}, {}², {})\n", done, total, scenePath,
-                           pathPath, options.width, options.height, options.method, options.shadowSize, options.culling);
+                           pathPath, options.width, options.height, options.frame.method, options.frame.shadowSize,
+                           options.frame.culling);
   std::cout << fmt::format("  {:<13} {:>9} {:>9} {:>9}\n", "ms", "p50", "p95", "p99");
   std::cout << fmt::format("  {:<13} {:>9.2f} {:>9.2f} {:>9.2f}\n", "frame", frameMs["p50"].get<double>(),
                            frameMs["p95"].get<double>(), frameMs["p99"].get<double>());
@@ -260,16 +245,7 @@ Run addWalkthroughCommand(CLI::App& app) {
   command->add_option("--every", options->every, "Write every k-th frame as PNG (1: all)")
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
-  command->add_option("--method", options->method, "Shadow method")
-      ->check(CLI::IsMember({"uniform", "uniform-stable", "lispsm"}))
-      ->capture_default_str();
-  command->add_option("--shadow-size", options->shadowSize, "Shadow map texels per side")
-      ->check(CLI::Range(512, 8192))
-      ->capture_default_str();
-  command->add_option("--culling", options->culling, "Culling strategy")
-      ->check(CLI::IsMember({"none", "frustum", "stop-and-wait", "chc"}))
-      ->capture_default_str();
-  command->add_option("--pcf", options->pcf, "Wider PCF radius (0: hardware 2×2)")->check(CLI::Range(0, 4))->capture_default_str();
+  options->frame.add(*command);
   command->add_flag("--quiet", options->quiet, "No progress bar");
   return [options] { return runWalkthrough(*options); };
 }

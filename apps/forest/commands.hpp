@@ -5,6 +5,9 @@
 
 #include <functional>
 #include <string>
+#include <vector>
+
+#include "forest/render/frame.hpp"
 
 namespace forest::app {
 
@@ -15,6 +18,19 @@ struct GlOptions {
   std::string backend = "auto";
   void add(CLI::App& command);
 };
+
+// The frame's settings as flags (render, walkthrough).
+struct FrameOptions {
+  std::string method = "lispsm";
+  int shadowSize = 2048;
+  std::string culling = "chc";
+  int pcf = 0;
+  void add(CLI::App& command);
+  render::FrameSettings settings() const;  // throws InputError for names the checks let through
+};
+
+// Linear-interpolated percentile p ∈ [0, 1] of the values (0 for none).
+double percentile(std::vector<double> values, double p);
 
 Run addInfoCommand(CLI::App& app);
 Run addRenderCommand(CLI::App& app);

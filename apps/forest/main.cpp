@@ -1,5 +1,6 @@
 // forest — command line of the forest engine. Errors print one line and exit non-zero:
 // 2 for bad input (file, key, value), 1 for failures of the program or the machine.
+#include <algorithm>
 #include <cstdio>
 #include <map>
 
@@ -14,6 +15,35 @@ void GlOptions::add(CLI::App& command) {
                      "osmesa, window (GLFW; needs a display)")
       ->check(CLI::IsMember({"auto", "egl", "osmesa", "window"}))
       ->capture_default_str();
+}
+
+void FrameOptions::add(CLI::App& command) {
+  command.add_option("--method", method, "Shadow method")
+      ->check(CLI::IsMember({"uniform", "uniform-stable", "lispsm"}))
+      ->capture_default_str();
+  command.add_option("--shadow-size", shadowSize, "Shadow map texels per side")->check(CLI::Range(512, 8192))->capture_default_str();
+  command.add_option("--culling", culling, "Culling strategy")
+      ->check(CLI::IsMember({"none", "frustum", "stop-and-wait", "chc"}))
+      ->capture_default_str();
+  command.add_option("--pcf", pcf, "Wider PCF: (2r+1)² hardware 2×2 lookups (0: one)")->check(CLI::Range(0, 4))->capture_default_str();
+}
+
+render::FrameSettings FrameOptions::settings() const {
+  render::FrameSettings s;
+  s.method = shadows::parseShadowMethod(method);
+  s.shadowMapSize = shadowSize;
+  s.culling = culling::parseCullingStrategy(culling);
+  s.pcfRadius = pcf;
+  return s;
+}
+
+double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const double position = p * static_cast<double>(values.size() - 1);
+  const size_t below = static_cast<size_t>(position);
+  const size_t above = std::min(below + 1, values.size() - 1);
+  return values[below] + (values[above] - values[below]) * (position - static_cast<double>(below));
 }
 
 }  // namespace forest::app

@@ -9,6 +9,7 @@
 
 #include "forest/core/error.hpp"
 #include "forest/core/files.hpp"
+#include "forest/core/random.hpp"
 #include "forest/shadows/focus_body.hpp"
 
 namespace forest::shadows {
@@ -131,28 +132,15 @@ StabilityCase parseCase(const json& object, const std::string& where) {
 
 // ---- random cases ----
 
-// SplitMix64 (Steele et al., 2014): a fixed, portable stream, unlike std:: distributions.
-class Random {
+// A fixed, portable stream with a random direction on top.
+class Random : public SplitMix64 {
  public:
-  explicit Random(std::uint64_t seed) : state_(seed) {}
-  std::uint64_t next() {
-    std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-  }
-  double unit() { return static_cast<double>(next() >> 11) * 0x1p-53; }  // [0, 1)
-  double uniform(double a, double b) { return a + (b - a) * unit(); }
-  double logUniform(double a, double b) { return std::exp(uniform(std::log(a), std::log(b))); }
-  bool chance(double p) { return unit() < p; }
+  using SplitMix64::SplitMix64;
   dvec3 direction() {
     const double z = uniform(-1.0, 1.0), phi = uniform(0.0, 2.0 * std::numbers::pi);
     const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
     return {r * std::cos(phi), z, r * std::sin(phi)};
   }
-
- private:
-  std::uint64_t state_;
 };
 
 // Turns `direction` by `angle` radians towards some direction perpendicular to it.
@@ -193,7 +181,7 @@ std::vector<StabilityCase> loadStabilityCases(const std::filesystem::path& file)
 }
 
 StabilityCase randomStabilityCase(std::uint64_t seed, std::uint64_t index) {
-  Random random(seed * 0x9e3779b97f4a7c15ull + index);
+  Random random(SplitMix64::substream(seed, index));
   random.next();
   StabilityCase c;
   c.name = fmt::format("random {} #{}", seed, index);

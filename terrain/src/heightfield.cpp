@@ -10,17 +10,10 @@
 
 #include "forest/core/error.hpp"
 #include "forest/core/log.hpp"
+#include "forest/core/random.hpp"
 
 namespace forest::terrain {
 namespace {
-
-// SplitMix64 (Steele et al., 2014): the seed stream.
-std::uint64_t splitMix(std::uint64_t& state) {
-  std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
 
 // Ridged noise takes 1 − |n|; |n| is rounded to √(n² + r²) so ridge crests are smooth at the
 // sample spacing instead of cusps (cusps make every LOD level's error large; thesis-scale
@@ -55,9 +48,9 @@ void validate(const TerrainSettings& s) {
 }  // namespace
 
 GradientNoise::GradientNoise(std::uint64_t seed) {
-  std::uint64_t state = seed;
+  SplitMix64 random(seed);
   std::iota(permutation_, permutation_ + 256, 0);
-  for (int i = 255; i > 0; --i) std::swap(permutation_[i], permutation_[splitMix(state) % static_cast<std::uint64_t>(i + 1)]);
+  for (int i = 255; i > 0; --i) std::swap(permutation_[i], permutation_[random.next() % static_cast<std::uint64_t>(i + 1)]);
   std::copy(permutation_, permutation_ + 256, permutation_ + 256);
 }
 
@@ -83,11 +76,11 @@ Heightfield::Heightfield(const TerrainSettings& settings) {
 
   const GradientNoise noise(settings.seed);
   // Per-octave offsets from the seed keep octaves from sharing lattice points at the origin.
-  std::uint64_t state = settings.seed ^ 0x5eedf00dull;
+  SplitMix64 random(settings.seed ^ 0x5eedf00dull);
   std::vector<glm::dvec2> offsets(static_cast<size_t>(settings.octaves));
   for (glm::dvec2& o : offsets) {
-    o.x = static_cast<double>(splitMix(state) >> 40) / 65536.0;
-    o.y = static_cast<double>(splitMix(state) >> 40) / 65536.0;
+    o.x = static_cast<double>(random.next() >> 40) / 65536.0;
+    o.y = static_cast<double>(random.next() >> 40) / 65536.0;
   }
   // Raw height at world (x, z): fBm (gain 1/2) blended with Musgrave's ridged multifractal
   // (signal (1 − |n|)², weighted by the previous octave's signal).

@@ -9,27 +9,13 @@
 
 #include "forest/core/error.hpp"
 #include "forest/core/log.hpp"
+#include "forest/core/random.hpp"
 
 namespace forest::vegetation {
 namespace {
 
 using glm::dvec2;
 using glm::dvec3;
-
-// SplitMix64: placement and per-tree variation.
-class Random {
- public:
-  explicit Random(std::uint64_t seed) : state_(seed) {}
-  double unit() {
-    std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1p-53;
-  }
-
- private:
-  std::uint64_t state_;
-};
 
 const SpeciesPlacementSettings& placementOf(const VegetationSettings& s, Species species) {
   return species == Species::Conifer ? s.conifer : s.broadleaf;
@@ -72,7 +58,7 @@ void Forest::place() {
                       std::clamp(static_cast<int>((p.y - lo.y) / cell), 0, cellsZ - 1));
   };
 
-  Random random(settings_.seed * 0x9e3779b97f4a7c15ull + 0x7ee5ull);
+  SplitMix64 random(SplitMix64::substream(settings_.seed, 0x7ee5ull));
   const std::int64_t darts = static_cast<std::int64_t>(kDartsPerTree) * settings_.count + 1000;
   for (std::int64_t dart = 0; dart < darts && static_cast<int>(trees_.size()) < settings_.count; ++dart) {
     const dvec2 p(lo.x + (hi.x - lo.x) * random.unit(), lo.y + (hi.y - lo.y) * random.unit());

@@ -12,6 +12,7 @@
 #include <numbers>
 
 #include "forest/core/error.hpp"
+#include "forest/core/random.hpp"
 
 namespace forest::vegetation {
 namespace {
@@ -39,21 +40,7 @@ const OpenMesh::Vec3f kLeaves(0.20f, 0.40f, 0.12f);
 
 OpenMesh::Vec3d om(const dvec3& p) { return {p.x, p.y, p.z}; }
 
-// SplitMix64: the species layout stream.
-class Random {
- public:
-  explicit Random(std::uint64_t seed) : state_(seed) {}
-  double unit() {
-    std::uint64_t z = (state_ += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1p-53;
-  }
-  double uniform(double a, double b) { return a + (b - a) * unit(); }
-
- private:
-  std::uint64_t state_;
-};
+using Random = SplitMix64;  // the species layout stream
 
 // Adds closed components to one OpenMesh mesh, tagging each face with its component.
 class ComponentBuilder {
