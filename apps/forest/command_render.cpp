@@ -87,11 +87,13 @@ int runRender(const RenderOptions& options) {
   j["settings"] = {{"method", options.frame.method}, {"shadow_size", options.frame.shadowSize},
                    {"culling", options.frame.culling}, {"casters", options.casters},
                    {"slope_bias", options.bias},       {"backside", settings.backside},
-                   {"pcf_radius", options.frame.pcf},  {"fog", options.fog}};
+                   {"pcf_radius", options.frame.pcf},  {"blur_px", options.frame.blur},
+                   {"fog", options.fog}};
   j["passes_ms"] = {{"geometry", stats.geometryMs},
                     {"shadow_setup", stats.shadowSetupMs},
                     {"shadow", stats.shadowMs},
                     {"shadow_term", stats.shadowTermMs},
+                    {"blur", stats.blurMs},
                     {"lighting", stats.lightingMs}};
   j["geometry"] = {{"visible_objects", stats.visibleObjects},
                    {"triangles", stats.geometryTriangles},

@@ -25,6 +25,8 @@ struct FrameOptions {
   int shadowSize = 2048;
   std::string culling = "chc";
   int pcf = 0;
+  double blur = 0.0;         // eye-space blur radius, pixels (0: off)
+  double blurDepth = 10.0;   // metres up to which the full radius applies
   void add(CLI::App& command);
   render::FrameSettings settings() const;  // throws InputError for names the checks let through
 };

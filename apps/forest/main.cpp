@@ -26,6 +26,12 @@ void FrameOptions::add(CLI::App& command) {
       ->check(CLI::IsMember({"none", "frustum", "stop-and-wait", "chc"}))
       ->capture_default_str();
   command.add_option("--pcf", pcf, "Wider PCF: (2r+1)² hardware 2×2 lookups (0: one)")->check(CLI::Range(0, 4))->capture_default_str();
+  command.add_option("--blur", blur, "Eye-space blur of the shadow term: radius in pixels up to --blur-depth, then shrinking as 1/depth (0: off)")
+      ->check(CLI::Range(0.0, 16.0))
+      ->capture_default_str();
+  command.add_option("--blur-depth", blurDepth, "Depth (m) up to which the blur has its full radius")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
 }
 
 render::FrameSettings FrameOptions::settings() const {
@@ -34,6 +40,8 @@ render::FrameSettings FrameOptions::settings() const {
   s.shadowMapSize = shadowSize;
   s.culling = culling::parseCullingStrategy(culling);
   s.pcfRadius = pcf;
+  s.blurRadius = blur;
+  s.blurReferenceDepth = blurDepth;
   return s;
 }
 

@@ -67,6 +67,9 @@ void Program::set(const char* uniform, std::uint32_t v) const {
   glProgramUniform1ui(id(), glGetUniformLocation(id(), uniform), v);
 }
 void Program::set(const char* uniform, float v) const { glProgramUniform1f(id(), glGetUniformLocation(id(), uniform), v); }
+void Program::set(const char* uniform, const glm::ivec2& v) const {
+  glProgramUniform2i(id(), glGetUniformLocation(id(), uniform), v.x, v.y);
+}
 void Program::set(const char* uniform, const glm::vec2& v) const {
   glProgramUniform2fv(id(), glGetUniformLocation(id(), uniform), 1, glm::value_ptr(v));
 }

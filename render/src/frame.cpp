@@ -65,6 +65,10 @@ double texelWorldSize(const glm::dmat4& worldToShadowClip, int mapSize, const dv
 // over the box's corners) before casters are selected.
 constexpr double kFilterTexels = 1.5;
 
+// The blur averages only samples whose eye depth is within this share of the centre's (no bleeding
+// across silhouettes; a sloped surface's depth changes less than this over 16 pixels).
+constexpr double kBlurDepthTolerance = 0.05;
+
 // z_f for n moves 20% of the way to the new value each frame (§9.2.5: the visible set's z_f jumps
 // when objects appear).
 constexpr double kFarDepthSmoothing = 0.2;
@@ -100,9 +104,9 @@ struct Frame::Passes {
   gl::Framebuffer shadowFramebuffer;
   int shadowMapSize = 0;
   // Shadow term and lighting.
-  gl::Texture shadowTerm, color;
-  gl::Framebuffer shadowTermFramebuffer, colorFramebuffer;
-  gl::Program shadowTermProgram, lightingProgram;
+  gl::Texture shadowTerm, blurTemporary, blurred, color;
+  gl::Framebuffer shadowTermFramebuffer, blurTemporaryFramebuffer, blurredFramebuffer, colorFramebuffer;
+  gl::Program shadowTermProgram, blurProgram, lightingProgram;
   gl::VertexArray empty;
 
   Passes(int width, int height)
@@ -112,8 +116,11 @@ struct Frame::Passes {
         objectId(GL_R32UI, width, height),
         depth(GL_DEPTH_COMPONENT32F, width, height),
         shadowTerm(GL_R16F, width, height),
+        blurTemporary(GL_R16F, width, height),
+        blurred(GL_R16F, width, height),
         color(GL_RGBA8, width, height),
         shadowTermProgram(gl::loadProgram({"fullscreen.vert", "shadow_term.frag"})),
+        blurProgram(gl::loadProgram({"fullscreen.vert", "shadow_blur.frag"})),
         lightingProgram(gl::loadProgram({"fullscreen.vert", "lighting.frag"})) {
     gbuffer.attach(GL_COLOR_ATTACHMENT0, albedo);
     gbuffer.attach(GL_COLOR_ATTACHMENT1, shadingNormal);
@@ -125,9 +132,13 @@ struct Frame::Passes {
     gbuffer.checkComplete("G-buffer");
     shadowTermFramebuffer.attach(GL_COLOR_ATTACHMENT0, shadowTerm);
     shadowTermFramebuffer.checkComplete("shadow term");
+    blurTemporaryFramebuffer.attach(GL_COLOR_ATTACHMENT0, blurTemporary);
+    blurTemporaryFramebuffer.checkComplete("blur");
+    blurredFramebuffer.attach(GL_COLOR_ATTACHMENT0, blurred);
+    blurredFramebuffer.checkComplete("blurred shadow term");
     colorFramebuffer.attach(GL_COLOR_ATTACHMENT0, color);
     colorFramebuffer.checkComplete("colour");
-    for (const gl::Texture* t : {&albedo, &shadingNormal, &geometricNormal, &objectId, &depth, &shadowTerm}) {
+    for (const gl::Texture* t : {&albedo, &shadingNormal, &geometricNormal, &objectId, &depth, &shadowTerm, &blurTemporary, &blurred}) {
       glTextureParameteri(t->id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
       glTextureParameteri(t->id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     }
@@ -196,6 +207,10 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
     throw InputError(fmt::format("PCF radius {}: expected 0 to 4", settings.pcfRadius));
   if (!(settings.fogDensity >= 0.0 && settings.fogDensity <= 1.0))
     throw InputError(fmt::format("fog density {}: expected 0 to 1 per metre", settings.fogDensity));
+  if (!(settings.blurRadius >= 0.0 && settings.blurRadius <= 16.0))
+    throw InputError(fmt::format("blur radius {}: expected 0 to 16 pixels", settings.blurRadius));
+  if (!(settings.blurReferenceDepth > 0.0) || !std::isfinite(settings.blurReferenceDepth))
+    throw InputError(fmt::format("blur reference depth {}: expected > 0 m", settings.blurReferenceDepth));
   FrameStats stats;
   Passes& p = *passes_;
   const SunSettings& sun = scene_.sun;
@@ -353,6 +368,41 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   glDrawArrays(GL_TRIANGLES, 0, 3);
   stats.shadowTermMs = millisecondsSince(start);
 
+  // 4b. Eye-space blur, horizontal then vertical (off: lighting reads the term itself).
+  start = Clock::now();
+  const gl::Texture* termForLighting = &p.shadowTerm;
+  if (settings.blurRadius > 0.0) {
+    gl::Program& blur = p.blurProgram;
+    blur.set("uShadowTerm", 0);
+    blur.set("uDepth", 1);
+    blur.set("uObjectId", 2);
+    blur.set("uRadius", static_cast<float>(settings.blurRadius));
+    blur.set("uReferenceDepth", static_cast<float>(settings.blurReferenceDepth));
+    blur.set("uDepthTolerance", static_cast<float>(kBlurDepthTolerance));
+    blur.set("uNear", static_cast<float>(camera.near));
+    blur.set("uFar", static_cast<float>(camera.far));
+    blur.use();
+    glBindTextureUnit(1, p.depth.id());
+    glBindTextureUnit(2, p.objectId.id());
+    const struct {
+      const gl::Texture* from;
+      GLuint to;
+      glm::ivec2 direction;
+    } passes[2] = {{&p.shadowTerm, p.blurTemporaryFramebuffer.id(), {1, 0}}, {&p.blurTemporary, p.blurredFramebuffer.id(), {0, 1}}};
+    for (const auto& pass : passes) {
+      glBindFramebuffer(GL_FRAMEBUFFER, pass.to);
+      glBindTextureUnit(0, pass.from->id());
+      blur.set("uDirection", pass.direction);
+      glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+    termForLighting = &p.blurred;
+  } else {
+    glCopyImageSubData(p.shadowTerm.id(), GL_TEXTURE_2D, 0, 0, 0, 0, p.blurred.id(), GL_TEXTURE_2D, 0, 0, 0, 0, width_,
+                       height_, 1);
+    termForLighting = &p.blurred;
+  }
+  stats.blurMs = millisecondsSince(start);
+
   // 5. Lighting.
   start = Clock::now();
   glBindFramebuffer(GL_FRAMEBUFFER, p.colorFramebuffer.id());
@@ -373,7 +423,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   glBindTextureUnit(1, p.shadingNormal.id());
   glBindTextureUnit(2, p.depth.id());
   glBindTextureUnit(3, p.objectId.id());
-  glBindTextureUnit(4, p.shadowTerm.id());
+  glBindTextureUnit(4, termForLighting->id());
   lighting.use();
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
@@ -397,6 +447,13 @@ std::vector<float> Frame::readShadowTerm() const {
   std::vector<float> v(static_cast<size_t>(width_) * height_);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
   glGetTextureImage(passes_->shadowTerm.id(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(v.size() * 4), v.data());
+  return v;
+}
+
+std::vector<float> Frame::readBlurredShadowTerm() const {
+  std::vector<float> v(static_cast<size_t>(width_) * height_);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureImage(passes_->blurred.id(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(v.size() * 4), v.data());
   return v;
 }
 

@@ -29,6 +29,7 @@ class Program {
   void set(const char* uniform, int v) const;
   void set(const char* uniform, std::uint32_t v) const;
   void set(const char* uniform, float v) const;
+  void set(const char* uniform, const glm::ivec2& v) const;
   void set(const char* uniform, const glm::vec2& v) const;
   void set(const char* uniform, const glm::vec3& v) const;
   void set(const char* uniform, const glm::vec4& v) const;

@@ -7,7 +7,7 @@
 //   3. shadow pass — only the selected casters, front faces culled (backside rendering), into a
 //      float depth map; casters drawn at the eye's LOD;
 //   4. shadow term — full screen from the G-buffer, hardware 2×2 PCF (sampler2DShadow), 0 where the
-//      geometric N·L ≤ 0;
+//      geometric N·L ≤ 0; then an optional depth-aware eye-space blur (separable, shrinking with depth);
 //   5. lighting — Phong with a weak global ambient, sky colour.
 // Eye → light matrices are composed in double, camera-relative.
 #include <memory>
@@ -42,11 +42,15 @@ struct FrameSettings {
   culling::CullingStrategy culling = culling::CullingStrategy::Chc;
   CasterSelection casters = CasterSelection::Receivers;
   int pcfRadius = 0;              // 0: hardware 2×2 PCF; r: (2r+1)² hardware lookups, [0, 4]
+  // Eye-space blur of the shadow term (thesis §6.3, §9.4.2): radius in pixels for surfaces up to
+  // blurReferenceDepth away, shrinking as 1/z beyond; 0 = off. [0, 16].
+  double blurRadius = 0.0;
+  double blurReferenceDepth = 10.0;  // metres, > 0
   double fogDensity = 0.0;        // exponential fog per metre, [0, 1]; 0: none
 };
 
 struct FrameStats {
-  double geometryMs = 0.0, shadowSetupMs = 0.0, shadowMs = 0.0, shadowTermMs = 0.0, lightingMs = 0.0;
+  double geometryMs = 0.0, shadowSetupMs = 0.0, shadowMs = 0.0, shadowTermMs = 0.0, blurMs = 0.0, lightingMs = 0.0;
   int visibleObjects = 0;
   int casterObjects = 0;
   long long geometryTriangles = 0;
@@ -69,7 +73,8 @@ class Frame {
   void resetHistory();
 
   Image8 readColor() const;                       // top row first
-  std::vector<float> readShadowTerm() const;      // bottom row first (GL), 1 lit, 0 shadowed
+  std::vector<float> readShadowTerm() const;      // bottom row first (GL), 1 lit, 0 shadowed; before the blur
+  std::vector<float> readBlurredShadowTerm() const;  // what lighting used (= the term when the blur is off)
   std::vector<std::uint32_t> readObjectIds() const;  // bottom row first, 0 = sky
   std::vector<float> readDepth() const;           // bottom row first, reversed-Z
 
