@@ -208,6 +208,24 @@ TEST(ForestCli, WalkthroughWritesConsistentOutputsAndRepeatsExactly) {
   }
 }
 
+TEST(ForestCli, WalkthroughInterruptedLeavesCompleteFiles) {
+  const fs::path out = fs::path(FOREST_TEST_OUTPUT) / "cli" / "walk-interrupted";
+  fs::remove_all(out);
+  // SIGINT after 3 s, long before the 901 frames are done.
+  const std::string command = "timeout -s INT 3 " + std::string(FOREST_EXE) +
+                              " walkthrough --width 160 --height 90 --quiet --out " + out.string() + " > /dev/null 2>&1";
+  std::system(command.c_str());
+  ASSERT_TRUE(fs::exists(out / "report.json"));
+  const nlohmann::json report = nlohmann::json::parse(readTextFile(out / "report.json"));  // complete JSON
+  EXPECT_TRUE(report["interrupted"].get<bool>());
+  const int done = report["frames_done"].get<int>();
+  EXPECT_GT(done, 0);
+  EXPECT_LT(done, report["frames_requested"].get<int>());
+  EXPECT_EQ(report["frames"].size(), static_cast<size_t>(done));
+  EXPECT_TRUE(fs::exists(out / "contact-sheet.png"));
+  EXPECT_EQ(readImage8(out / "contact-sheet.png").width, 4 * (160 / 4));
+}
+
 TEST(ForestCli, WalkthroughRejectsBadInputBeforeWritingAnything) {
   const fs::path out = fs::path(FOREST_TEST_OUTPUT) / "cli" / "walk-bad";
   fs::remove_all(out);
