@@ -1,48 +1,41 @@
 #version 450 core
 // Eye-space blur of the shadow term (thesis §6.3, §9.4.2), one direction per pass (separable).
 // The radius shrinks with view depth so distant small shadows keep their detail:
-//   r(z) = uRadius · min(1, uReferenceDepth / z)   pixels, z the eye depth of the centre pixel.
+//   r(z) = uRadius · min(1, uReferenceDepth / z)   pixels, z the eye depth of the centre pixel
+// (a Gaussian with σ = r/2 over a fixed number of taps, so SIMD lanes stay together).
 // Depth-aware: a sample counts only when its eye depth is within uDepthTolerance (relative) of the
-// centre's, so a shadow does not bleed across a silhouette. Sky pixels keep the term 1.
+// centre's, so a shadow does not bleed across a silhouette. Input and output: r = term, g = eye
+// depth (0 = sky, kept as is).
 in vec2 vUv;
 
 uniform sampler2D uShadowTerm;
-uniform sampler2D uDepth;          // reversed-Z
-uniform usampler2D uObjectId;
 uniform ivec2 uDirection;          // (1, 0) or (0, 1)
 uniform float uRadius;             // pixels at depths up to uReferenceDepth; > 0
 uniform float uReferenceDepth;     // metres
 uniform float uDepthTolerance;     // relative eye-depth difference that still counts as the same surface
-uniform float uNear;
-uniform float uFar;
 
-out float blurred;
+out vec2 blurred;
 
 const int kMaxTaps = 16;
 
-float eyeDepth(float d) { return uNear * uFar / (uNear + d * (uFar - uNear)); }  // reversed-Z → metres
-
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
-  float centre = texelFetch(uShadowTerm, pixel, 0).r;
-  if (texelFetch(uObjectId, pixel, 0).r == 0u) { blurred = centre; return; }
-  float z = eyeDepth(texelFetch(uDepth, pixel, 0).r);
+  vec2 centre = texelFetch(uShadowTerm, pixel, 0).rg;
+  float z = centre.g;
+  if (z == 0.0) { blurred = centre; return; }  // sky
   float r = uRadius * min(1.0, uReferenceDepth / z);
-  int taps = min(kMaxTaps, int(ceil(r)));
-  if (taps == 0) { blurred = centre; return; }
-  float sigma = max(r / 2.0, 0.5);
-  ivec2 size = textureSize(uShadowTerm, 0);
-  float sum = centre, weights = 1.0;
-  for (int i = -taps; i <= taps; ++i) {
-    if (i == 0) continue;
-    ivec2 q = pixel + i * uDirection;
-    if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
-    if (texelFetch(uObjectId, q, 0).r == 0u) continue;
-    float zq = eyeDepth(texelFetch(uDepth, q, 0).r);
-    if (abs(zq - z) > uDepthTolerance * z) continue;
+  float sigma = max(r / 2.0, 0.25);
+  int taps = min(kMaxTaps, int(ceil(uRadius)));
+  ivec2 last = textureSize(uShadowTerm, 0) - 1;
+  float sum = centre.r, weights = 1.0;
+  for (int i = 1; i <= taps; ++i) {
     float w = exp(-float(i * i) / (2.0 * sigma * sigma));
-    sum += w * texelFetch(uShadowTerm, q, 0).r;
-    weights += w;
+    for (int side = -1; side <= 1; side += 2) {
+      vec2 q = texelFetch(uShadowTerm, clamp(pixel + side * i * uDirection, ivec2(0), last), 0).rg;
+      float same = (q.g != 0.0 && abs(q.g - z) <= uDepthTolerance * z) ? 1.0 : 0.0;
+      sum += same * w * q.r;
+      weights += same * w;
+    }
   }
-  blurred = sum / weights;
+  blurred = vec2(sum / weights, z);
 }

@@ -15,14 +15,22 @@ uniform vec3 uToSun;
 uniform bool uSunUp;
 uniform int uPcfRadius;               // 0: one hardware 2×2 lookup; r: (2r+1)² lookups a texel apart
 
-out float shadowTerm;
+uniform float uNear;
+uniform float uFar;
+
+// r: the shadow term; g: the pixel's eye depth in metres (0 for the sky), so that the blur reads
+// one texture per tap.
+out vec2 shadowTerm;
+
+float eyeDepth(float d) { return uNear * uFar / (uNear + d * (uFar - uNear)); }  // reversed-Z → metres
 
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
-  if (texelFetch(uObjectId, pixel, 0).r == 0u) { shadowTerm = 1.0; return; }  // sky
-  vec3 n = texelFetch(uGeometricNormal, pixel, 0).xyz;
-  if (!uSunUp || dot(n, uToSun) <= 0.0) { shadowTerm = 0.0; return; }
+  if (texelFetch(uObjectId, pixel, 0).r == 0u) { shadowTerm = vec2(1.0, 0.0); return; }  // sky
   float depth = texelFetch(uDepth, pixel, 0).r;
+  float z = eyeDepth(depth);
+  vec3 n = texelFetch(uGeometricNormal, pixel, 0).xyz;
+  if (!uSunUp || dot(n, uToSun) <= 0.0) { shadowTerm = vec2(0.0, z); return; }
   vec4 h = uInverseViewProjectionRelative * vec4(2.0 * vUv - 1.0, depth, 1.0);
   vec3 relative = h.xyz / h.w;
   vec4 s = uEyeRelativeToShadow * vec4(relative, 1.0);
@@ -32,5 +40,5 @@ void main() {
   float sum = 0.0;
   for (int y = -uPcfRadius; y <= uPcfRadius; ++y)
     for (int x = -uPcfRadius; x <= uPcfRadius; ++x) sum += texture(uShadowMap, vec3(uv + vec2(x, y) * texel, ndc.z));
-  shadowTerm = sum / float((2 * uPcfRadius + 1) * (2 * uPcfRadius + 1));
+  shadowTerm = vec2(sum / float((2 * uPcfRadius + 1) * (2 * uPcfRadius + 1)), z);
 }

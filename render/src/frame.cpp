@@ -115,9 +115,9 @@ struct Frame::Passes {
         geometricNormal(GL_RGBA16F, width, height),
         objectId(GL_R32UI, width, height),
         depth(GL_DEPTH_COMPONENT32F, width, height),
-        shadowTerm(GL_R16F, width, height),
-        blurTemporary(GL_R16F, width, height),
-        blurred(GL_R16F, width, height),
+        shadowTerm(GL_RG32F, width, height),
+        blurTemporary(GL_RG32F, width, height),
+        blurred(GL_RG32F, width, height),
         color(GL_RGBA8, width, height),
         shadowTermProgram(gl::loadProgram({"fullscreen.vert", "shadow_term.frag"})),
         blurProgram(gl::loadProgram({"fullscreen.vert", "shadow_blur.frag"})),
@@ -359,6 +359,8 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   term.set("uToSun", glm::vec3(-l));
   term.set("uSunUp", shadowed ? 1 : 0);
   term.set("uPcfRadius", settings.pcfRadius);
+  term.set("uNear", static_cast<float>(camera.near));
+  term.set("uFar", static_cast<float>(camera.far));
   glBindTextureUnit(0, p.depth.id());
   glBindTextureUnit(1, p.geometricNormal.id());
   glBindTextureUnit(2, p.objectId.id());
@@ -374,16 +376,10 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   if (settings.blurRadius > 0.0) {
     gl::Program& blur = p.blurProgram;
     blur.set("uShadowTerm", 0);
-    blur.set("uDepth", 1);
-    blur.set("uObjectId", 2);
     blur.set("uRadius", static_cast<float>(settings.blurRadius));
     blur.set("uReferenceDepth", static_cast<float>(settings.blurReferenceDepth));
     blur.set("uDepthTolerance", static_cast<float>(kBlurDepthTolerance));
-    blur.set("uNear", static_cast<float>(camera.near));
-    blur.set("uFar", static_cast<float>(camera.far));
     blur.use();
-    glBindTextureUnit(1, p.depth.id());
-    glBindTextureUnit(2, p.objectId.id());
     const struct {
       const gl::Texture* from;
       GLuint to;
