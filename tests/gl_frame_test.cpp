@@ -239,6 +239,79 @@ TEST_F(FrameGl, EveryMethodIsCleanAndASunBelowTheHorizonLeavesAmbient) {
   for (size_t i = 0; i < lit.pixels.size(); ++i) ASSERT_LE(dark.pixels[i], lit.pixels[i] + 1);  // ambient only: never brighter
 }
 
+// DESIGN §6 render-level hard cases through the full frame: no GL errors (GlTest), finite shadow
+// matrices and terms, and the box's shadow on the plane where the CPU puts it (not all shadow,
+// not all lit).
+TEST_F(FrameGl, HardCasesThroughTheFullFrame) {
+  struct Case {
+    const char* name;
+    dvec3 sun;
+    dvec3 offset;    // the whole scene and camera moved here
+    double pitchDeg;
+  };
+  const double half = glm::radians(0.5);
+  const Case cases[] = {
+      {"dueling frusta: looking along the light", dvec3(0.0, -1.0, 0.0), dvec3(0.0), -89.9},
+      {"looking straight down, oblique sun", glm::normalize(dvec3(0.5, -1.0, 0.3)), dvec3(0.0), -90.0},
+      {"looking straight up", glm::normalize(dvec3(0.3, -1.0, 0.2)), dvec3(0.0), 90.0},
+      {"sun 0.5° above the horizon", dvec3(std::cos(half), -std::sin(half), 0.0), dvec3(0.0), -30.0},
+      {"camera 1e5 m from the origin", glm::normalize(dvec3(0.3, -1.0, 0.2)), dvec3(1e5, 0.0, -1e5), -30.0},
+  };
+  for (const Case& c : cases) {
+    Scene scene;
+    scene.sun.direction = c.sun;
+    scene.props.push_back({c.offset + dvec3(-60, -1, -60), c.offset + dvec3(60, 0, 60), dvec3(0.6)});
+    scene.props.push_back({c.offset + dvec3(-2, 3, -2), c.offset + dvec3(2, 5, 2), dvec3(0.8)});
+    render::Frame frame(scene, kWidth, kHeight);
+    const Camera camera = cameraAt(c.offset + dvec3(1.0, 14.0, 9.0), 0.0, c.pitchDeg, 400.0);
+    for (shadows::ShadowMethod method : {shadows::ShadowMethod::Uniform, shadows::ShadowMethod::Lispsm}) {
+      render::FrameSettings settings;
+      settings.method = method;
+      settings.shadowMapSize = 1024;
+      settings.blurRadius = 2.0;
+      const render::FrameStats stats = frame.render(camera, 0.0, settings);
+      const std::string where = std::string(c.name) + " / " + std::string(shadowMethodName(method));
+      const glm::dmat4& m = frame.shadowSetup().worldToShadowClip;
+      for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) ASSERT_TRUE(std::isfinite(m[i][j])) << where;
+      ASSERT_TRUE(std::isfinite(stats.shadow.n)) << where;
+      const std::vector<float> term = frame.readBlurredShadowTerm(), depth = frame.readDepth();
+      const std::vector<std::uint32_t> ids = frame.readObjectIds();
+      // On the plane: the CPU's lit and shadowed pixels (away from edges: 3-pixel margin) must
+      // show up on both sides in the GPU term when the CPU has both.
+      const Aabb box{scene.props[1].min, scene.props[1].max};
+      int cpuShadow = 0, cpuLit = 0, agreeShadow = 0, agreeLit = 0;
+      for (size_t i = 0; i < term.size(); ++i) {
+        ASSERT_TRUE(std::isfinite(term[i])) << where;
+        if (ids[i] != frame.objects().propIdBase()) continue;
+        const int x = static_cast<int>(i % kWidth), y = static_cast<int>(i / kWidth);
+        const dvec3 p = pixelPosition(camera, x, y, depth[i]);
+        const bool shadowed = rayHitsBox(p, -c.sun, box);
+        bool nearEdge = false;
+        for (const dvec3& d : {dvec3(0.3, 0, 0), dvec3(-0.3, 0, 0), dvec3(0, 0, 0.3), dvec3(0, 0, -0.3)})
+          nearEdge = nearEdge || rayHitsBox(p + d, -c.sun, box) != shadowed;
+        if (nearEdge) continue;
+        if (shadowed) {
+          ++cpuShadow;
+          agreeShadow += term[i] < 0.5f ? 1 : 0;
+        } else {
+          ++cpuLit;
+          agreeLit += term[i] > 0.5f ? 1 : 0;
+        }
+      }
+      if (cpuLit > 100) {
+        EXPECT_GT(agreeLit, cpuLit * 9 / 10) << where << ": not all shadow";
+      }
+      if (cpuShadow > 100) {
+        EXPECT_GT(agreeShadow, cpuShadow * 9 / 10) << where << ": not all lit";
+      }
+      if (c.pitchDeg < 60.0) {  // looking straight up sees the sky and the box's unlit underside only
+        EXPECT_GT(cpuLit + cpuShadow, 1000) << where;
+      }
+    }
+  }
+}
+
 // Eye depth of pixel i from the reversed-Z depth buffer.
 double eyeDepthAt(const Camera& c, float depth) { return c.near * c.far / (c.near + depth * (c.far - c.near)); }
 
