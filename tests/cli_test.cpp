@@ -145,6 +145,17 @@ TEST(ForestCli, RenderDrawsTheTerrainScene) {
   EXPECT_GT(record["shadow"]["casters"].get<int>(), 0);
   EXPECT_GT(record["shadow"]["n"].get<double>(), 0.0);
   EXPECT_GT(record["z_f"].get<double>(), 0.0);
+  // Debug images: the shadow map at its size and the shadow term before and after the blur.
+  const fs::path debug = fs::path(FOREST_TEST_OUTPUT) / "cli" / "debug";
+  fs::remove_all(debug);
+  ASSERT_EQ(runForest("render --scene " + std::string(FOREST_REPO_DATA) + "/scenes/terrain.toml --out " + image.string() +
+                      " --width 320 --height 180 --shadow-size 512 --blur 2 --debug " + debug.string())
+                .exitCode,
+            0);
+  EXPECT_EQ(readImage8(debug / "shadow-map.png").width, 512);
+  EXPECT_EQ(readImageF(debug / "shadow-map.exr").height, 512);
+  EXPECT_EQ(readImage8(debug / "shadow-term.png").width, 320);
+  EXPECT_EQ(readImageF(debug / "shadow-term-blurred.exr").width, 320);
   const Image8 png = readImage8(image);
   // Top row: sky (0.55, 0.7, 0.9 → 140, 178, 230); bottom row: lit terrain, greener than blue.
   EXPECT_EQ(png.at(160, 0, 2), 230);

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 
@@ -35,7 +36,49 @@ struct RenderOptions {
   double fog = 0.0;
   std::vector<double> camera;  // x y z yaw pitch
   std::vector<double> sun;     // x y z
+  std::string debug;           // folder for the debug images (empty: none)
 };
+
+// Single-channel float rows (bottom row first) as an image, top row first.
+ImageF channelImage(const std::vector<float>& values, int width, int height) {
+  ImageF image(width, height, 1);
+  image.pixels = values;
+  flipRows(image);
+  return image;
+}
+
+// The same stretched to [0, 255] over its own range (a picture a person can read).
+Image8 normalisedImage(const ImageF& image) {
+  float lo = 1e30f, hi = -1e30f;
+  for (float v : image.pixels) {
+    lo = std::min(lo, v);
+    hi = std::max(hi, v);
+  }
+  Image8 out(image.width, image.height, 1);
+  const float scale = hi > lo ? 255.0f / (hi - lo) : 0.0f;
+  for (size_t i = 0; i < image.pixels.size(); ++i) out.pixels[i] = static_cast<unsigned char>((image.pixels[i] - lo) * scale + 0.5f);
+  return out;
+}
+
+// Shadow map (EXR and normalised PNG) and the shadow term before and after the blur.
+void writeDebugImages(const render::Frame& frame, const std::filesystem::path& folder) {
+  const int size = frame.shadowMapSize();
+  const ImageF map = channelImage(frame.readShadowMap(), size, size);
+  writeImage(folder / "shadow-map.exr", map);
+  writeImage(folder / "shadow-map.png", normalisedImage(map));
+  const ImageF term = channelImage(frame.readShadowTerm(), frame.width(), frame.height());
+  const ImageF blurred = channelImage(frame.readBlurredShadowTerm(), frame.width(), frame.height());
+  writeImage(folder / "shadow-term.exr", term);
+  writeImage(folder / "shadow-term-blurred.exr", blurred);
+  auto toPng = [](const ImageF& f) {
+    Image8 out(f.width, f.height, 1);
+    for (size_t i = 0; i < f.pixels.size(); ++i)
+      out.pixels[i] = static_cast<unsigned char>(std::clamp(f.pixels[i], 0.0f, 1.0f) * 255.0f + 0.5f);
+    return out;
+  };
+  writeImage(folder / "shadow-term.png", toPng(term));
+  writeImage(folder / "shadow-term-blurred.png", toPng(blurred));
+}
 
 int runRender(const RenderOptions& options) {
   const std::string scenePath =
@@ -75,6 +118,7 @@ int runRender(const RenderOptions& options) {
                             gl::debugErrorMessages().front()));
   }
   writeImage(options.out, image);
+  if (!options.debug.empty()) writeDebugImages(frame, options.debug);
 
   nlohmann::ordered_json j;
   j["scene"] = scenePath;
@@ -142,6 +186,8 @@ Run addRenderCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--bias", options->bias, "Slope-scale depth bias in the shadow pass (0: none)")->capture_default_str();
   command->add_flag("--front-faces", options->frontFaces, "Render front faces into the shadow map (not backside rendering)");
+  command->add_option("--debug", options->debug,
+                      "Folder for debug images: shadow map (EXR, normalised PNG), shadow term before and after the blur");
   command->add_option("--fog", options->fog, "Exponential fog density per metre (0: none)")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();

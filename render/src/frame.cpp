@@ -460,6 +460,17 @@ std::vector<std::uint32_t> Frame::readObjectIds() const {
   return v;
 }
 
+int Frame::shadowMapSize() const { return passes_->shadowMapSize; }
+
+std::vector<float> Frame::readShadowMap() const {
+  const int size = passes_->shadowMapSize;
+  std::vector<float> v(static_cast<size_t>(size) * size);
+  if (size == 0) return v;
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureImage(passes_->shadowMap.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, static_cast<GLsizei>(v.size() * 4), v.data());
+  return v;
+}
+
 std::vector<float> Frame::readDepth() const {
   std::vector<float> v(static_cast<size_t>(width_) * height_);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);

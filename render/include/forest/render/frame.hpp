@@ -77,6 +77,9 @@ class Frame {
   std::vector<float> readBlurredShadowTerm() const;  // what lighting used (= the term when the blur is off)
   std::vector<std::uint32_t> readObjectIds() const;  // bottom row first, 0 = sky
   std::vector<float> readDepth() const;           // bottom row first, reversed-Z
+  // The last shadow map: depth in [0, 1] (0 nearest the light), size × size, bottom row first.
+  std::vector<float> readShadowMap() const;
+  int shadowMapSize() const;
 
   int width() const { return width_; }
   int height() const { return height_; }
