@@ -60,5 +60,29 @@ int main(int argc, char** argv) {
   std::printf("shadow-pass triangles, receivers / frustum B: %.3f\n",
               static_cast<double>(receiverTriangles) / static_cast<double>(std::max(1LL, frustumTriangles)));
   }
+  // Blur cost per radius, and per method the shadow pass and shadow term (walkthrough start).
+  std::printf("\nblur radius (px)  blur ms  (at the walkthrough start, lispsm 2048²)\n");
+  for (double radius : {0.0, 1.0, 2.0, 4.0, 8.0, 16.0}) {
+    render::FrameSettings settings;
+    settings.blurRadius = radius;
+    frame.render(start, 0.0, settings);
+    double sum = 0.0;
+    for (int f = 0; f < frames; ++f) sum += frame.render(start, 0.0, settings).blurMs;
+    std::printf("%16.0f %8.2f\n", radius, sum / frames);
+  }
+  std::printf("\n%-15s %10s %10s\n", "method", "shadow ms", "term ms");
+  for (shadows::ShadowMethod method :
+       {shadows::ShadowMethod::Uniform, shadows::ShadowMethod::UniformStable, shadows::ShadowMethod::Lispsm}) {
+    render::FrameSettings settings;
+    settings.method = method;
+    frame.render(start, 0.0, settings);
+    double shadow = 0.0, term = 0.0;
+    for (int f = 0; f < frames; ++f) {
+      const render::FrameStats s = frame.render(start, 0.0, settings);
+      shadow += s.shadowMs;
+      term += s.shadowTermMs;
+    }
+    std::printf("%-15s %10.2f %10.2f\n", std::string(shadows::shadowMethodName(method)).c_str(), shadow / frames, term / frames);
+  }
   return 0;
 }
