@@ -25,8 +25,7 @@ using glm::dvec3;
 constexpr int kBatchSteps = 64;
 
 // Eye-space depth range of a box's corners.
-std::pair<double, double> depthRange(const Aabb& box, const Camera& camera) {
-  const glm::dmat4 view = camera.view();
+std::pair<double, double> depthRange(const Aabb& box, const glm::dmat4& view) {
   double nearest = std::numeric_limits<double>::infinity(), farthest = -nearest;
   for (int c = 0; c < 8; ++c) {
     const double depth = -(view * glm::dvec4(box.corner(c), 1.0)).z;
@@ -38,10 +37,10 @@ std::pair<double, double> depthRange(const Aabb& box, const Camera& camera) {
 
 // Visible without a query: the box holds the eye (grown by z_n) or reaches in front of the near
 // plane, where its rasterised faces would be clipped away.
-bool visibleWithoutQuery(const Aabb& box, const Camera& camera) {
+bool visibleWithoutQuery(const Aabb& box, const Camera& camera, const glm::dmat4& view) {
   const Aabb grown{box.min - dvec3(camera.near), box.max + dvec3(camera.near)};
   if (grown.contains(camera.position)) return true;
-  return depthRange(box, camera).first <= camera.near;
+  return depthRange(box, view).first <= camera.near;
 }
 
 double distanceToBox(const Aabb& box, const dvec3& p) {
@@ -146,7 +145,8 @@ CullingResult OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb> object
   ++frame_;
   used_ = 0;
   eye_ = camera.position;
-  viewProjectionRelative_ = camera.projection() * camera.view() * glm::translate(glm::dmat4(1.0), eye_);
+  const glm::dmat4 view = camera.view();
+  viewProjectionRelative_ = camera.projection() * view * glm::translate(glm::dmat4(1.0), eye_);
   program_.set("uViewProjectionRelative", glm::mat4(viewProjectionRelative_));
   if (stateOf_ != &bvh || state_.size() != bvh.nodes().size()) {
     state_.assign(bvh.nodes().size(), NodeState{});
@@ -197,7 +197,7 @@ CullingResult OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb> object
       if (!frustum.mayIntersect(nodes[n].bounds)) continue;
       ++result.stats.nodesVisited;
       bool isVisible = true;
-      if (!visibleWithoutQuery(nodes[n].bounds, camera)) {
+      if (!visibleWithoutQuery(nodes[n].bounds, camera, view)) {
         const std::size_t slot = issueQuery(nodes[n].bounds);
         ++result.stats.queriesIssued;
         isVisible = waitResult(slot, result.stats) > 0;
@@ -257,7 +257,7 @@ CullingResult OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb> object
       if (!frustum.mayIntersect(nodes[n].bounds)) continue;
       ++result.stats.nodesVisited;
       NodeState& s = state_[n];
-      if (visibleWithoutQuery(nodes[n].bounds, camera)) {
+      if (visibleWithoutQuery(nodes[n].bounds, camera, view)) {
         s.lastVisited = frame_;
         pullUpVisibility(n);
         if (nodes[n].leaf()) markVisible(n);
@@ -280,7 +280,7 @@ CullingResult OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb> object
   std::sort(visible.begin(), visible.end());
   visible.erase(std::unique(visible.begin(), visible.end()), visible.end());
   double farDepth = camera.near;
-  for (std::uint32_t o : visible) farDepth = std::max(farDepth, depthRange(objectBoxes[o], camera).second);
+  for (std::uint32_t o : visible) farDepth = std::max(farDepth, depthRange(objectBoxes[o], view).second);
   result.farDepth = std::min(farDepth, camera.far);
   result.visibleObjects = std::move(visible);
   return result;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 
 #include "forest/core/error.hpp"
 #include "forest/shadows/casters.hpp"
@@ -32,9 +33,7 @@ glm::dmat4 zeroToOneDepth() {
 // Winding is decided in the image plane only (x, y), so the test maps a small triangle that faces
 // the sun (counter-clockwise seen from it) through the light matrix at the focus body's centre.
 bool lightMirrorsWinding(const shadows::ShadowSetup& setup, const dvec3& l) {
-  const dvec3 helper = std::abs(l.y) < 0.9 ? dvec3(0, 1, 0) : dvec3(1, 0, 0);
-  const dvec3 u = glm::normalize(glm::cross(helper, l));
-  const dvec3 v = glm::cross(-l, u);  // u × v = −l: the normal points at the sun
+  const auto [v, u] = shadows::axesAcrossLight(l);  // u × v = −l: the normal points at the sun
   const Aabb box = setup.body.bounds();
   const dvec3 c = box.centre();
   const double size = std::max(box.diagonal(), 1e-6) * 1e-3;
@@ -48,8 +47,7 @@ bool lightMirrorsWinding(const shadows::ShadowSetup& setup, const dvec3& l) {
 
 // World size of one shadow-map texel at p (the larger of two directions across the light).
 double texelWorldSize(const glm::dmat4& worldToShadowClip, int mapSize, const dvec3& p, const dvec3& l) {
-  const dvec3 helper = std::abs(l.y) < 0.9 ? dvec3(0, 1, 0) : dvec3(1, 0, 0);
-  const dvec3 u = glm::normalize(glm::cross(helper, l)), v = glm::cross(l, u);
+  const auto [u, v] = shadows::axesAcrossLight(l);
   auto map = [&](const dvec3& q) {
     const glm::dvec4 h = worldToShadowClip * glm::dvec4(q, 1.0);
     return glm::dvec2(h) / h.w * (0.5 * mapSize);  // texels
@@ -216,10 +214,10 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   const SunSettings& sun = scene_.sun;
   const dvec3 l = glm::normalize(sun.direction);
   stats.sunBelowHorizon = !(l.y < 0.0);  // light travelling upward comes from below the horizon
-  const glm::dmat4 viewProjectionRelative =
-      camera.projection() * camera.view() * glm::translate(glm::dmat4(1.0), camera.position);
-  std::unique_ptr<terrain::TerrainLod> lod;
-  if (terrain_) lod = std::make_unique<terrain::TerrainLod>(terrain_->lodFor(camera, height_));
+  const DrawView eye = DrawView::fromCamera(camera, time, sun);
+  std::optional<terrain::TerrainLod> lod;
+  if (terrain_) lod = terrain_->lodFor(camera, height_);
+  const terrain::TerrainLod* eyeLod = lod ? &*lod : nullptr;
 
   // 1. Geometry pass.
   auto start = Clock::now();
@@ -238,7 +236,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   const float farDepth = 0.0f;
   glClearBufferfv(GL_DEPTH, 0, &farDepth);
   SceneDrawer geometry(*objects_, p.terrainGBuffer.get(), p.treesGBuffer.get(), p.propsGBuffer.get(),
-                       DrawView::fromCamera(camera, time, sun), lod.get());
+                       eye, eyeLod);
   const culling::CullingResult visible = culler_.cull(bvh_, objects_->boxes(), camera, settings.culling, geometry);
   stats.geometryMs = millisecondsSince(start);
   stats.culling = visible.stats;
@@ -294,8 +292,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
         break;
       }
       case CasterSelection::FrustumBody: {
-        Camera full = camera;
-        const ConvexBody body = shadows::computeFocusBody(full, l, sceneBounds_);
+        const ConvexBody body = shadows::computeFocusBody(camera, l, sceneBounds_);
         for (std::uint32_t o = 0; o < objects_->boxes().size(); ++o)
           if (shadows::mayIntersect(body, objects_->boxes()[o])) casters.push_back(o);
         break;
@@ -327,13 +324,9 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
       glEnable(GL_POLYGON_OFFSET_FILL);
       glPolygonOffset(static_cast<float>(settings.slopeScaleBias), 0.0f);
     }
-    DrawView light;
+    DrawView light = eye;  // the eye's origin and LOD, seen from the light
     light.viewProjectionRelative = eyeRelativeToShadow;
-    light.origin = camera.position;
-    light.lodEye = camera.position;
-    light.time = time;
-    light.sun = sun;
-    SceneDrawer shadowDrawer(*objects_, p.terrainDepth.get(), p.treesDepth.get(), p.propsDepth.get(), light, lod.get());
+    SceneDrawer shadowDrawer(*objects_, p.terrainDepth.get(), p.treesDepth.get(), p.propsDepth.get(), light, eyeLod);
     stats.shadowTriangles = shadowDrawer.draw(casters);
     glDisable(GL_POLYGON_OFFSET_FILL);
     glFrontFace(GL_CCW);
@@ -344,7 +337,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
 
   // 4. Shadow term.
   start = Clock::now();
-  const glm::mat4 inverseViewProjectionRelative(glm::inverse(viewProjectionRelative));
+  const glm::mat4 inverseViewProjectionRelative(glm::inverse(eye.viewProjectionRelative));
   glBindFramebuffer(GL_FRAMEBUFFER, p.shadowTermFramebuffer.id());
   glViewport(0, 0, width_, height_);
   glDisable(GL_DEPTH_TEST);

@@ -12,8 +12,6 @@ namespace {
 using terrain::kLevels;
 using terrain::kTileQuads;
 
-constexpr double kMorphSlack = 1e-3;  // the same as TerrainLod::morphFactor
-
 }  // namespace
 
 namespace {
@@ -86,12 +84,14 @@ TerrainRenderer::Stats TerrainRenderer::draw(const DrawView& view, const terrain
   Stats stats;
   if (tiles.empty()) return stats;
   // Tiles grouped by level, uploaded at once; one instanced draw per level.
-  std::array<std::vector<glm::ivec2>, kLevels> byLevel;
+  auto& byLevel = byLevel_;
+  for (auto& level : byLevel) level.clear();
   for (int t : tiles) {
     const int level = terrain_.tileLevel(t, lod);
     byLevel[level].emplace_back(t % terrain_.tilesPerSide(), t / terrain_.tilesPerSide());
   }
-  std::vector<glm::ivec2> packed;
+  auto& packed = packed_;
+  packed.clear();
   std::array<int, kLevels> first{};
   for (int level = 0; level < kLevels; ++level) {
     first[level] = static_cast<int>(packed.size());
@@ -110,7 +110,7 @@ TerrainRenderer::Stats TerrainRenderer::draw(const DrawView& view, const terrain
   program_.set("uTileQuads", kTileQuads);
   program_.set("uTilesPerSide", terrain_.tilesPerSide());
   program_.set("uObjectIdBase", objectIdBase_);
-  program_.set("uMorphSlack", static_cast<float>(kMorphSlack));
+  program_.set("uMorphSlack", static_cast<float>(terrain::TerrainLod::kMorphSlack));
   program_.set("uHeights", 0);
   program_.set("uToSun", glm::vec3(-sun.direction));
   program_.set("uSunColor", glm::vec3(sun.color));

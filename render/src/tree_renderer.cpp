@@ -17,14 +17,6 @@ struct TreeVertex {
   glm::vec3 position, normal, albedo;
 };
 
-struct TreeInstanceGpu {
-  glm::vec4 baseYaw;     // base − eye, yaw
-  glm::vec4 scalePhase;  // scale, sway phase
-  glm::vec4 tint;
-  std::uint32_t objectId;
-  std::uint32_t padding[3];
-};
-
 }  // namespace
 
 TreeRenderer::TreeRenderer(const vegetation::Forest& forest, Output output, std::uint32_t objectIdBase)
@@ -47,7 +39,7 @@ TreeRenderer::TreeRenderer(const vegetation::Forest& forest, Output output, std:
   }
   vertices_ = gl::Buffer(vertices.size() * sizeof(TreeVertex), vertices.data(), 0);
   indices_ = gl::Buffer(indices.size() * sizeof(std::uint32_t), indices.data(), 0);
-  instances_ = gl::Buffer(std::max<size_t>(1, forest.trees().size()) * sizeof(TreeInstanceGpu), nullptr);
+  instances_ = gl::Buffer(std::max<size_t>(1, forest.trees().size()) * sizeof(InstanceGpu), nullptr);
 
   const GLuint vao = vertexArray_.id();
   glVertexArrayVertexBuffer(vao, 0, vertices_.id(), 0, sizeof(TreeVertex));
@@ -57,7 +49,7 @@ TreeRenderer::TreeRenderer(const vegetation::Forest& forest, Output output, std:
     glVertexArrayAttribFormat(vao, a, 3, GL_FLOAT, GL_FALSE, a * sizeof(glm::vec3));
     glVertexArrayAttribBinding(vao, a, 0);
   }
-  glVertexArrayVertexBuffer(vao, 1, instances_.id(), 0, sizeof(TreeInstanceGpu));
+  glVertexArrayVertexBuffer(vao, 1, instances_.id(), 0, sizeof(InstanceGpu));
   glVertexArrayBindingDivisor(vao, 1, 1);
   for (GLuint a = 3; a < 6; ++a) {
     glEnableVertexArrayAttrib(vao, a);
@@ -65,7 +57,7 @@ TreeRenderer::TreeRenderer(const vegetation::Forest& forest, Output output, std:
     glVertexArrayAttribBinding(vao, a, 1);
   }
   glEnableVertexArrayAttrib(vao, 6);
-  glVertexArrayAttribIFormat(vao, 6, 1, GL_UNSIGNED_INT, offsetof(TreeInstanceGpu, objectId));
+  glVertexArrayAttribIFormat(vao, 6, 1, GL_UNSIGNED_INT, offsetof(InstanceGpu, objectId));
   glVertexArrayAttribBinding(vao, 6, 1);
 }
 
@@ -87,12 +79,14 @@ TreeRenderer::Stats TreeRenderer::draw(const DrawView& view, std::span<const std
   const double time = view.time;
   const SunSettings& sun = view.sun;
   // Instances grouped by (species, LOD), base positions relative to the eye in double.
-  std::array<std::array<std::vector<TreeInstanceGpu>, kTreeLods>, kSpeciesCount> groups;
+  auto& groups = groups_;
+  for (auto& species : groups)
+    for (auto& group : species) group.clear();
   for (std::uint32_t c : clusters) {
     for (std::uint32_t t : forest_.clusters()[c].trees) {
       const vegetation::TreeInstance& tree = forest_.trees()[t];
       const int lod = forest_.lodFor(t, view.lodEye);
-      TreeInstanceGpu g{};
+      InstanceGpu g{};
       g.baseYaw = glm::vec4(glm::vec3(tree.position - view.origin), static_cast<float>(tree.yaw));
       g.scalePhase = glm::vec4(static_cast<float>(tree.scale), static_cast<float>(tree.swayPhase), 0.0f, 0.0f);
       g.tint = glm::vec4(tree.tint, 1.0f);
@@ -100,7 +94,8 @@ TreeRenderer::Stats TreeRenderer::draw(const DrawView& view, std::span<const std
       groups[static_cast<size_t>(tree.species)][lod].push_back(g);
     }
   }
-  std::vector<TreeInstanceGpu> packed;
+  auto& packed = packed_;
+  packed.clear();
   std::array<std::array<int, kTreeLods>, kSpeciesCount> first{};
   for (int s = 0; s < kSpeciesCount; ++s)
     for (int lod = 0; lod < kTreeLods; ++lod) {
@@ -108,7 +103,7 @@ TreeRenderer::Stats TreeRenderer::draw(const DrawView& view, std::span<const std
       packed.insert(packed.end(), groups[s][lod].begin(), groups[s][lod].end());
     }
   if (packed.empty()) return stats;
-  instances_.upload(0, packed.size() * sizeof(TreeInstanceGpu), packed.data());
+  instances_.upload(0, packed.size() * sizeof(InstanceGpu), packed.data());
 
   const VegetationSettings& wind = forest_.settings();
   program_.set("uViewProjectionRelative", glm::mat4(view.viewProjectionRelative));

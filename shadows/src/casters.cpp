@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 #include "forest/core/error.hpp"
 
@@ -15,6 +16,12 @@ using glm::dvec3;
 constexpr int kMaxGridCellsPerSide = 256;
 
 }  // namespace
+
+std::pair<dvec3, dvec3> axesAcrossLight(const dvec3& l) {
+  const dvec3 helper = std::abs(l.y) < 0.9 ? dvec3(0, 1, 0) : dvec3(1, 0, 0);
+  const dvec3 u = glm::normalize(glm::cross(helper, l));
+  return {u, glm::cross(l, u)};
+}
 
 bool sweptBoxMeetsBox(const Aabb& caster, const dvec3& l, const Aabb& receiver) {
   // Slab test of the ray t·l, t ≥ 0, against D = R ⊖ C.
@@ -39,9 +46,7 @@ CasterSelector::CasterSelector(const dvec3& lightDirection, std::span<const Aabb
   const double length = glm::length(lightDirection);
   if (!std::isfinite(length) || length == 0.0) throw InputError("light direction: expected a finite non-zero vector");
   light_ = lightDirection / length;
-  const dvec3 helper = std::abs(light_.y) < 0.9 ? dvec3(0, 1, 0) : dvec3(1, 0, 0);
-  across_[0] = glm::normalize(glm::cross(helper, light_));
-  across_[1] = glm::cross(light_, across_[0]);
+  std::tie(across_[0], across_[1]) = axesAcrossLight(light_);
   if (receivers_.empty()) return;
 
   std::vector<Footprint> footprints;

@@ -16,9 +16,6 @@ double quadHeight(double h00, double h10, double h01, double h11, double u, doub
   return v >= u ? h00 + u * (h11 - h01) + v * (h01 - h00) : h00 + u * (h10 - h00) + v * (h11 - h10);
 }
 
-// A morph ramp reaches its ends this share of its width early (see TerrainLod::morphFactor).
-constexpr double kMorphSlack = 1e-3;
-
 }  // namespace
 
 double TerrainLod::levelAt(double distance) const {

@@ -52,6 +52,9 @@ class TerrainRenderer {
   gl::Buffer grid_;
   gl::Buffer indices_;
   mutable gl::Buffer instances_;
+  // Per-draw scratch, kept so the per-leaf draws of the culling traversal do not allocate.
+  mutable std::array<std::vector<glm::ivec2>, terrain::kLevels> byLevel_;
+  mutable std::vector<glm::ivec2> packed_;
   std::array<int, terrain::kLevels> indexOffset_{}, indexCount_{};
 };
 

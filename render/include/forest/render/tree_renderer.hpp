@@ -41,6 +41,13 @@ class TreeRenderer {
   std::size_t instanceBytes() const { return instances_.size(); }
 
  private:
+  struct InstanceGpu {
+    glm::vec4 baseYaw;     // base − view origin, yaw
+    glm::vec4 scalePhase;  // scale, sway phase
+    glm::vec4 tint;
+    std::uint32_t objectId;
+    std::uint32_t padding[3];
+  };
   struct Range {
     int baseVertex = 0, firstIndex = 0, indexCount = 0;
   };
@@ -51,6 +58,9 @@ class TreeRenderer {
   gl::VertexArray vertexArray_;
   gl::Buffer vertices_, indices_;
   mutable gl::Buffer instances_;
+  // Per-draw scratch, kept so the per-leaf draws of the culling traversal do not allocate.
+  mutable std::array<std::array<std::vector<InstanceGpu>, vegetation::kTreeLods>, vegetation::kSpeciesCount> groups_;
+  mutable std::vector<InstanceGpu> packed_;
   std::array<std::array<Range, vegetation::kTreeLods>, vegetation::kSpeciesCount> ranges_{};
 };
 

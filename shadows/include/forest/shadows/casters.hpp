@@ -7,12 +7,16 @@
 
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "forest/core/bounds.hpp"
 #include "forest/core/convex_body.hpp"
 
 namespace forest::shadows {
+
+// Unit axes across the light direction l (unit): u ⟂ v ⟂ l with u × v = l.
+std::pair<glm::dvec3, glm::dvec3> axesAcrossLight(const glm::dvec3& l);
 
 // Exact for boxes: C swept along l meets R iff some t ≥ 0 has t·l in the Minkowski difference
 // R ⊖ C = [R.min − C.max, R.max − C.min], a ray-box test.

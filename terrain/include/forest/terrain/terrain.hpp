@@ -32,6 +32,9 @@ constexpr int kLevels = 7;         // levels 0…6: 64, 32, …, 1 quads per til
 // level-L and a level-(L+1) tile lie where the finer tile is fully morphed and the coarser one is
 // not morphing, so both draw the same vertices there.
 struct TerrainLod {
+  // A morph ramp reaches 0 and 1 this share of its width early (morphFactor; terrain.vert).
+  static constexpr double kMorphSlack = 1e-3;
+
   glm::dvec3 eye{0.0};
   std::array<double, kLevels - 1> morphStart{};
   std::array<double, kLevels - 1> morphEnd{};
