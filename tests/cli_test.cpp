@@ -107,7 +107,7 @@ TEST(ForestCli, BadBackendIsRejected) {
 
 TEST(ForestCli, HelpExplainsEveryCommand) {
   const Result r = runForest("--help");
-  EXPECT_EQ(r.exitCode, 0);
+  EXPECT_EQ(r.exitCode, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("info"));
   EXPECT_THAT(r.out, HasSubstr("render"));
   const Result renderHelp = runForest("render --help");
@@ -148,10 +148,10 @@ TEST(ForestCli, RenderDrawsTheTerrainScene) {
   // Debug images: the shadow map at its size and the shadow term before and after the blur.
   const fs::path debug = fs::path(FOREST_TEST_OUTPUT) / "cli" / "debug";
   fs::remove_all(debug);
-  ASSERT_EQ(runForest("render --scene " + std::string(FOREST_REPO_DATA) + "/scenes/terrain.toml --out " + image.string() +
-                      " --width 320 --height 180 --shadow-size 512 --blur 2 --debug " + debug.string())
-                .exitCode,
-            0);
+  const Result withDebug = runForest("render --scene " + std::string(FOREST_REPO_DATA) + "/scenes/terrain.toml --out " +
+                                     image.string() + " --width 320 --height 180 --shadow-size 512 --blur 2 --debug " +
+                                     debug.string());
+  ASSERT_EQ(withDebug.exitCode, 0) << withDebug.err;
   EXPECT_EQ(readImage8(debug / "shadow-map.png").width, 512);
   EXPECT_EQ(readImageF(debug / "shadow-map.exr").height, 512);
   EXPECT_EQ(readImage8(debug / "shadow-term.png").width, 320);

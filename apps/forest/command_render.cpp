@@ -4,8 +4,10 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 
 #include "commands.hpp"
 #include "forest/core/error.hpp"
@@ -48,15 +50,22 @@ ImageF channelImage(const std::vector<float>& values, int width, int height) {
 }
 
 // The same stretched to [0, 255] over its own range (a picture a person can read).
+// [0, 1] → byte; values outside are clamped, NaN becomes 0 (never an out-of-range conversion).
+unsigned char toByte(double v) {
+  if (!(v > 0.0)) return 0;
+  return static_cast<unsigned char>(std::min(v, 1.0) * 255.0 + 0.5);
+}
+
 Image8 normalisedImage(const ImageF& image) {
-  float lo = 1e30f, hi = -1e30f;
+  float lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();
   for (float v : image.pixels) {
+    if (!std::isfinite(v)) continue;
     lo = std::min(lo, v);
     hi = std::max(hi, v);
   }
   Image8 out(image.width, image.height, 1);
-  const float scale = hi > lo ? 255.0f / (hi - lo) : 0.0f;
-  for (size_t i = 0; i < image.pixels.size(); ++i) out.pixels[i] = static_cast<unsigned char>((image.pixels[i] - lo) * scale + 0.5f);
+  const double scale = hi > lo ? 1.0 / (double(hi) - double(lo)) : 0.0;
+  for (size_t i = 0; i < image.pixels.size(); ++i) out.pixels[i] = toByte((double(image.pixels[i]) - lo) * scale);
   return out;
 }
 
@@ -72,8 +81,7 @@ void writeDebugImages(const render::Frame& frame, const std::filesystem::path& f
   writeImage(folder / "shadow-term-blurred.exr", blurred);
   auto toPng = [](const ImageF& f) {
     Image8 out(f.width, f.height, 1);
-    for (size_t i = 0; i < f.pixels.size(); ++i)
-      out.pixels[i] = static_cast<unsigned char>(std::clamp(f.pixels[i], 0.0f, 1.0f) * 255.0f + 0.5f);
+    for (size_t i = 0; i < f.pixels.size(); ++i) out.pixels[i] = toByte(f.pixels[i]);
     return out;
   };
   writeImage(folder / "shadow-term.png", toPng(term));

@@ -9,6 +9,18 @@ namespace forest {
 namespace fs = std::filesystem;
 namespace {
 
+// OpenImageIO and OpenEXR start worker pools on first use that outlive the call and are torn down
+// in static destructors, racing the leak checker at exit. The engine's images are small: run both
+// single-threaded (exr_threads = -1 is OpenEXR's single-threaded mode, "threads" = 1 OIIO's).
+void useOiioSingleThreaded() {
+  static const bool once = [] {
+    OIIO::attribute("threads", 1);
+    OIIO::attribute("exr_threads", -1);
+    return true;
+  }();
+  (void)once;
+}
+
 template <typename T>
 void writeWithOiio(const fs::path& file, const Image<T>& image, OIIO::TypeDesc type) {
   if (image.width <= 0 || image.height <= 0 || image.channels <= 0 ||
@@ -17,6 +29,7 @@ void writeWithOiio(const fs::path& file, const Image<T>& image, OIIO::TypeDesc t
                 std::to_string(image.width) + "x" + std::to_string(image.height) + "x" +
                 std::to_string(image.channels));
   }
+  useOiioSingleThreaded();
   writeAtomicallyWith(file, [&](const fs::path& temporary) {
     auto out = OIIO::ImageOutput::create(temporary.string());
     if (!out) throw Error(file.string() + ": no image writer for this extension: " + OIIO::geterror());
@@ -32,6 +45,7 @@ void writeWithOiio(const fs::path& file, const Image<T>& image, OIIO::TypeDesc t
 template <typename T>
 Image<T> readWithOiio(const fs::path& file, OIIO::TypeDesc type) {
   if (!fs::exists(file)) throw InputError(file.string() + ": no such file");
+  useOiioSingleThreaded();
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);  // return the file's pixels, not premultiplied ones
   auto in = OIIO::ImageInput::open(file.string(), &config);
