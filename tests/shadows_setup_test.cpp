@@ -3,7 +3,11 @@
 // float32 matrix the GPU gets.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "forest/core/error.hpp"
+#include "forest/shadows/focus_body.hpp"
 #include "forest/shadows/shadow_setup.hpp"
 #include "forest/shadows/stability.hpp"
 
@@ -12,7 +16,8 @@ namespace {
 
 using glm::dvec3;
 
-constexpr ShadowMethod kMethods[] = {ShadowMethod::Uniform, ShadowMethod::UniformStable, ShadowMethod::Lispsm};
+constexpr ShadowMethod kMethods[] = {ShadowMethod::Uniform, ShadowMethod::UniformStable, ShadowMethod::Lispsm, ShadowMethod::Tsm,
+                                     ShadowMethod::TsmIterative};
 
 Camera makeCamera(dvec3 position, double yawDeg, double pitchDeg, double fovyDeg, double aspect, double near,
                   double far) {
@@ -62,6 +67,81 @@ TEST(LispsmN, MatchesEq811AtThreeAngles) {
     const ShadowSetup s = computeShadowSetup(input(c, {0, -1, 0}, hugeScene()), ShadowMethod::Lispsm);
     EXPECT_NEAR(s.diagnostics.d, 100.0, 1e-2) << k.gammaDeg;
     EXPECT_NEAR(s.diagnostics.n / k.expectedN, 1.0, 1e-4) << "γ = " << k.gammaDeg << "°, n = " << s.diagnostics.n;
+  }
+}
+
+TEST(Tsm, EightyPercentRuleWorkedCase) {
+  // TSM §6.2: λ = 2, δ' = 0.1, ξ = −0.6 → η = λδ'(1 + ξ) / (λ − 2δ' − λξ) = 0.08 / 3 = 0.0266667.
+  EXPECT_NEAR(tsmProjectionDistance(2.0, 0.1, -0.6), 0.08 / 3.0, 1e-15);
+  EXPECT_NEAR(tsmProjectionDistance(2.0, 0.1, -0.6), 0.0266667, 1e-7);
+  // No finite q when the focus point lies beyond the 80% of λ the rule asks for.
+  EXPECT_TRUE(std::isinf(tsmProjectionDistance(2.0, 1.7, -0.6)));
+}
+
+TEST(Tsm, TrapezoidMapsTopBaseAndFocusLines) {
+  // Through the whole setup: the map's y of B's nearest footprint point (top line) is +1, of its
+  // farthest (base line) −1 and of the focus point ξ = −0.6, all times the border's (1 − m);
+  // depth is the linear light depth (TSM §4): affine in the world, B inside [−1, 1].
+  for (double pitch : {-5.0, -30.0, -60.0}) {
+    for (double elevation : {20.0, 50.0}) {
+      const double e = glm::radians(elevation);
+      const Camera c = makeCamera({3, 2, 7}, 20, pitch, 60, 16.0 / 9.0, 0.1, 300);
+      ShadowInput in = input(c, {0.6 * std::cos(e), -std::sin(e), 0.8 * std::cos(e)}, {dvec3(-1000, -10, -1000), dvec3(1000, 60, 1000)});
+      in.borderTexels = 2;
+      const ShadowSetup s = computeShadowSetup(in, ShadowMethod::Tsm);
+      const std::string where = "pitch " + std::to_string(pitch) + "° sun " + std::to_string(elevation) + "°";
+      ASSERT_TRUE(s.linearDepth) << where;
+      ASSERT_EQ(s.diagnostics.fallback, "") << where;
+      const double keep = 1.0 - 2.0 * in.borderTexels / in.mapSize;
+      double top = -2.0, base = 2.0, nearDepth = 2.0, farDepth = -2.0;
+      for (const dvec3& v : s.body.vertices()) {
+        const dvec3 m = shadowMapCoordinates(s, v);
+        top = std::max(top, m.y);
+        base = std::min(base, m.y);
+        nearDepth = std::min(nearDepth, m.z);
+        farDepth = std::max(farDepth, m.z);
+        EXPECT_LE(std::abs(m.x), keep + 1e-9) << where;
+      }
+      EXPECT_NEAR(top, keep, 1e-9) << where;
+      EXPECT_NEAR(base, -keep, 1e-9) << where;
+      // Depth fills [−1, 1] less the float32 margin finish() keeps (the γ₄ rounding bound of the camera-relative row, ≲ 64·2⁻²⁴).
+      EXPECT_GE(nearDepth, -1.0) << where;
+      EXPECT_LE(farDepth, 1.0) << where;
+      EXPECT_NEAR(nearDepth, -1.0, 64 * kFloatUnitRoundoff) << where;
+      EXPECT_NEAR(farDepth, 1.0, 64 * kFloatUnitRoundoff) << where;
+      // The focus point: 30% into the depth range of V ∩ S (the whole view here: V ⊂ S).
+      ConvexBody visible = viewFrustumBody(c);
+      visible.clip(in.scene);
+      double nearest = 1e300, farthest = -1e300;
+      for (const dvec3& v : visible.vertices()) {
+        nearest = std::min(nearest, glm::dot(v - c.position, c.forward()));
+        farthest = std::max(farthest, glm::dot(v - c.position, c.forward()));
+      }
+      const dvec3 focus = c.position + c.forward() * (nearest + in.tsmFocusShare * (farthest - nearest));
+      EXPECT_NEAR(shadowMapCoordinates(s, focus).y, kTsmFocusLine * keep, 1e-9) << where;
+      EXPECT_NEAR(s.diagnostics.tsmXi, kTsmFocusLine, 0.0) << where;
+      EXPECT_NEAR(s.diagnostics.tsmEta, tsmProjectionDistance(s.diagnostics.tsmLambda, s.diagnostics.tsmFocus, -0.6), 1e-12)
+          << where;
+      // The iterative variant never gives the focus region less of the map than the 80% rule.
+      const ShadowSetup iterative = computeShadowSetup(in, ShadowMethod::TsmIterative);
+      EXPECT_GE(iterative.diagnostics.tsmFocusArea, s.diagnostics.tsmFocusArea) << where;
+      EXPECT_GT(s.diagnostics.tsmFocusArea, 0.0) << where;
+    }
+  }
+}
+
+TEST(Tsm, ViewAlongTheLightFallsBackToTheUniformMap) {
+  // Looking straight down under a noon sun: eye and centre of V ∩ S project to one point, there
+  // is no centre line (§6.1's coincident centres): the map is L itself, still linear depth.
+  const Camera c = makeCamera({0, 50, 0}, 0, -90, 60, 1.0, 0.1, 40);
+  const ShadowSetup s = computeShadowSetup(input(c, {0, -1, 0}, hugeScene()), ShadowMethod::Tsm);
+  EXPECT_FALSE(s.empty);
+  EXPECT_TRUE(s.linearDepth);
+  EXPECT_NE(s.diagnostics.fallback.find("no centre line"), std::string::npos) << s.diagnostics.fallback;
+  const ShadowSetup uniform = computeShadowSetup(input(c, {0, -1, 0}, hugeScene()), ShadowMethod::Uniform);
+  for (const dvec3& v : s.body.vertices()) {
+    const dvec3 a = shadowMapCoordinates(s, v), b = shadowMapCoordinates(uniform, v);
+    EXPECT_NEAR(std::max(std::abs(a.x), std::abs(a.y)), std::max(std::abs(b.x), std::abs(b.y)), 1e-9);
   }
 }
 

@@ -15,7 +15,8 @@ namespace {
 
 using glm::dvec3;
 
-constexpr ShadowMethod kMethods[] = {ShadowMethod::Uniform, ShadowMethod::UniformStable, ShadowMethod::Lispsm};
+constexpr ShadowMethod kMethods[] = {ShadowMethod::Uniform, ShadowMethod::UniformStable, ShadowMethod::Lispsm, ShadowMethod::Tsm,
+                                     ShadowMethod::TsmIterative};
 
 std::string failures(const StabilityCase& c, ShadowMethod method, const StabilityReport& report) {
   std::string text;
@@ -36,7 +37,7 @@ TEST(StabilitySuite, HardCasesKeepEveryInvariant) {
       empty += setup.empty ? 1 : 0;
     }
   }
-  EXPECT_EQ(empty, 2 * 3);  // camera outside S looking away; receivers behind the camera
+  EXPECT_EQ(empty, 2 * static_cast<int>(std::size(kMethods)));  // camera outside S looking away; receivers behind the camera
   // The oracle case through the file: view ⟂ light, V ⊂ S, z_n 0.1, z_f 70 → n = 0.1 + √7.
   const auto oracle = std::find_if(cases.begin(), cases.end(), [](const StabilityCase& c) {
     return c.name.find("oracle") != std::string::npos;
@@ -126,10 +127,13 @@ ShadowInput moved(ShadowInput in, Move move, double scale) {
 TEST(StabilitySuite, SmallCameraMovesMoveShadowsContinuously) {
   // A walker 2 m above ground, 2048² map, far 300 m in a 2 km scene; suns from 60° to 2°, views
   // from 20° up to 85° down. Stated bounds for a 1 cm / 0.1° move (texels, visible points):
-  //   uniform-stable: whole-texel snaps only, at most 1;  uniform: 16;  lispsm: 128
+  //   uniform-stable: whole-texel snaps only, at most 1;  uniform: 16;  lispsm: 128;  tsm: 64
   // (LiSPSM re-fits its warp to B every frame; measured worst 100 texels for a 0.1° yaw with
-  // a 10° sun). Continuity: a 10× smaller move shifts 10× less (ratio 5…20), so nothing jumps.
-  const double bound[] = {16.0, 1.0, 128.0};
+  // a 10° sun; TSM 46 for a 0.1° pitch looking 85° down). Continuity: a 10× smaller move shifts
+  // 10× less (ratio 5…20), so nothing jumps — except for tsm-iterative, whose focus line is a
+  // discrete choice among texel lines (TSM §6.2) and may switch between two frames: only its
+  // bound is checked.
+  const double bound[] = {16.0, 1.0, 128.0, 64.0, 64.0};
   for (double elevation : {60.0, 30.0, 10.0, 2.0}) {
     for (double pitch : {-10.0, -45.0, -85.0, 20.0}) {
       ShadowInput in;
@@ -140,7 +144,7 @@ TEST(StabilitySuite, SmallCameraMovesMoveShadowsContinuously) {
       in.camera.far = 300.0;
       const double e = glm::radians(elevation);
       in.sunDirection = {0.6 * std::cos(e), -std::sin(e), 0.8 * std::cos(e)};
-      for (int m = 0; m < 3; ++m) {
+      for (int m = 0; m < 5; ++m) {
         for (Move move : {Move::Forward, Move::Sideways, Move::Yaw, Move::Pitch}) {
           const double shift = visibleShiftTexels(in, moved(in, move, 1.0), kMethods[m]);
           const std::string where = std::string(shadowMethodName(kMethods[m])) + " sun " + std::to_string(elevation) +
@@ -151,7 +155,7 @@ TEST(StabilitySuite, SmallCameraMovesMoveShadowsContinuously) {
             continue;
           }
           EXPECT_LE(shift, bound[m]) << where;
-          if (shift > 0.05) {
+          if (shift > 0.05 && kMethods[m] != ShadowMethod::TsmIterative) {
             const double small = visibleShiftTexels(in, moved(in, move, 0.1), kMethods[m]);
             EXPECT_GT(shift / small, 5.0) << where;
             EXPECT_LT(shift / small, 20.0) << where;

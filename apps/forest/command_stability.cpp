@@ -24,7 +24,7 @@ struct StabilityOptions {
   std::string cases;
   std::uint64_t random = 0;
   std::uint64_t seed = 20061125;
-  std::vector<std::string> methods{"uniform", "uniform-stable", "lispsm"};
+  std::vector<std::string> methods = shadows::shadowMethodNames();
   std::string out;
   bool json = false;
 };
@@ -83,6 +83,11 @@ ordered_json recordJson(const shadows::StabilityCase& c, ShadowMethod method, co
   j["fallback"] = d.fallback;
   j["body_vertices"] = d.bodyVertices;
   j["float_shrink"] = d.floatShrink;
+  if (setup.linearDepth) {
+    j["tsm"] = {{"lambda", d.tsmLambda}, {"focus", d.tsmFocus}, {"eta", d.tsmEta}, {"xi", d.tsmXi}, {"focus_area", d.tsmFocusArea}};
+    const glm::vec4& r = setup.eyeRelativeToLightDepthF;
+    j["eye_relative_to_light_depth"] = {r.x, r.y, r.z, r.w};  // tsm: depth = row · (p − eye, 1) (TSM §4)
+  }
   j["max_map_coordinate"] = report.maxMapCoordinate;
   // world → [−1, 1]³ (x, y: map, z: depth away from the light), float32, column-major; and the
   // camera-relative form the GPU gets: clip = M · (p − eye, 1).
@@ -191,7 +196,7 @@ Run addStabilityCommand(CLI::App& app) {
   command->add_option("--random", options->random, "Number of random configurations to add");
   command->add_option("--seed", options->seed, "Seed of the random configurations")->capture_default_str();
   command->add_option("--methods", options->methods, "Methods to evaluate")
-      ->check(CLI::IsMember({"uniform", "uniform-stable", "lispsm"}))
+      ->check(CLI::IsMember(shadows::shadowMethodNames()))
       ->capture_default_str();
   command->add_option("--out", options->out,
                       "Write one JSON record per case and method (JSON Lines): diagnostics, invariants, the\n"

@@ -19,7 +19,7 @@ void GlOptions::add(CLI::App& command) {
 
 void FrameOptions::add(CLI::App& command) {
   command.add_option("--method", method, "Shadow method")
-      ->check(CLI::IsMember({"uniform", "uniform-stable", "lispsm"}))
+      ->check(CLI::IsMember(shadows::shadowMethodNames()))
       ->capture_default_str();
   command.add_option("--shadow-size", shadowSize, "Shadow map texels per side")->check(CLI::Range(512, 8192))->capture_default_str();
   command.add_option("--culling", culling, "Culling strategy")

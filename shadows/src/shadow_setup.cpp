@@ -10,6 +10,7 @@
 
 #include "forest/core/error.hpp"
 #include "forest/shadows/focus_body.hpp"
+#include "trapezoid.hpp"
 
 namespace forest::shadows {
 namespace {
@@ -152,6 +153,60 @@ dmat4 fitUniform(const dmat4& lightFrame, const std::vector<dvec3>& bodyVertices
   return fitToUnitCube(boundsIn(toMap, bodyVertices), borderXY) * toMap;
 }
 
+// TSM (Martin & Tan 2004): L is the uniform map fitted to B without a border (the light's
+// post-perspective space of §3, orthographic for the sun); the trapezoid of §6 around B's
+// footprint in L's plane, N_T applied to x, y and w only, the filter border kept after N_T; depth
+// stays L's linear z (§4).
+ShadowSetup computeTsm(const ShadowInput& in, bool iterative, const dmat4& lightFrame,
+                       const std::vector<dvec3>& bodyVertices, const ConvexBody& visible, ShadowSetup setup) {
+  const Camera& camera = in.camera;
+  const dmat4 L = fitUniform(lightFrame, bodyVertices, 0.0);
+  auto plane = [&](const dvec3& p) { return glm::dvec2(transformPoint(L, p)); };
+  TrapezoidInput t;
+  for (const dvec3& p : bodyVertices) t.footprint.push_back(plane(p));
+  t.eye = plane(camera.position);
+  const std::vector<dvec3> visibleVertices = visible.vertices();
+  dvec3 centre(0.0);
+  double nearest = kInfinity, farthest = -kInfinity;
+  for (const dvec3& p : visibleVertices) {
+    centre += p;
+    const double depth = glm::dot(p - camera.position, camera.forward());
+    nearest = std::min(nearest, depth);
+    farthest = std::max(farthest, depth);
+  }
+  t.centre = plane(centre / static_cast<double>(visibleVertices.size()));
+  // §6.4: the focus region is the first focusShare of the depth range the visible part spans.
+  t.focusPoint = plane(camera.position + camera.forward() * (nearest + in.tsmFocusShare * (farthest - nearest)));
+  t.iterative = iterative;
+  t.mapLines = in.mapSize;
+
+  setup.linearDepth = true;
+  setup.worldToLightDepth = glm::dvec4(L[0][2], L[1][2], L[2][2], L[3][2]);  // L's z row
+  const std::optional<Trapezoid> trapezoid = computeTrapezoid(t, setup.diagnostics.fallback);
+  // (x_T·w, y_T·w, w) from L's (x, y, 1), the border kept free after N_T; clip z = 0 (the depth
+  // is the linear row above). Without a trapezoid: L itself with the border.
+  glm::dmat3 n(1.0);
+  if (trapezoid) {
+    n = trapezoid->toSquare;
+    ShadowDiagnostics& d = setup.diagnostics;
+    d.tsmLambda = trapezoid->lambda;
+    d.tsmFocus = trapezoid->focus;
+    d.tsmEta = trapezoid->eta;
+    d.tsmXi = trapezoid->xi;
+    d.tsmFocusArea = trapezoid->focusArea;
+  }
+  const double keep = 1.0 - clipBorder(in);
+  dmat4 nt(0.0);
+  for (int c = 0; c < 3; ++c) {
+    const int column = c < 2 ? c : 3;  // L's x, y and the constant
+    nt[column][0] = keep * n[c][0];
+    nt[column][1] = keep * n[c][1];
+    nt[column][3] = n[c][2];
+  }
+  setup.worldToShadowClip = nt * L;
+  return setup;
+}
+
 double angleDeg(const dvec3& a, const dvec3& b) {
   return glm::degrees(std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b)));
 }
@@ -163,6 +218,24 @@ double angleDeg(const dvec3& a, const dvec3& b) {
 // GPU's rounding) is inside: see mapCoordinateBound.
 ShadowSetup finish(ShadowSetup setup, const dvec3& eye) {
   const std::vector<dvec3> vertices = setup.body.vertices();
+  if (setup.linearDepth) {
+    // The same for the linear depth row (tsm): shrink it about 0 until B's depth is inside
+    // [−1, 1] as the GPU evaluates it in float32 (γ₄ bound, as in mapCoordinateBound).
+    for (int attempt = 0;; ++attempt) {
+      const glm::dvec4& r = setup.worldToLightDepth;
+      setup.eyeRelativeToLightDepthF = glm::vec4(dvec3(r), r.w + glm::dot(dvec3(r), eye));
+      const glm::dvec4 rowF(setup.eyeRelativeToLightDepthF);
+      double worst = 0.0;
+      for (const dvec3& v : vertices) {
+        const glm::dvec4 p(dvec3(glm::vec3(v - eye)), 1.0);
+        const double exact = glm::dot(rowF, p), magnitude = glm::dot(glm::abs(rowF), glm::abs(p));
+        worst = std::max(worst, std::abs(exact) + 4.0 * kFloatUnitRoundoff / (1.0 - 4.0 * kFloatUnitRoundoff) * magnitude);
+      }
+      if (worst <= 1.0) break;
+      if (attempt == 8) throw Error("shadow setup: cannot keep the focus body's depth inside the map in float32");
+      setup.worldToLightDepth *= (1.0 - 4.0 * kFloatUnitRoundoff) / worst;
+    }
+  }
   for (int attempt = 0;; ++attempt) {
     setup.eyeRelativeToShadowClipF = glm::mat4(setup.worldToShadowClip * glm::translate(dmat4(1.0), eye));
     dvec3 worst(0.0);
@@ -187,7 +260,17 @@ ShadowMethod parseShadowMethod(std::string_view name) {
   if (name == "uniform") return ShadowMethod::Uniform;
   if (name == "uniform-stable") return ShadowMethod::UniformStable;
   if (name == "lispsm") return ShadowMethod::Lispsm;
-  throw InputError(fmt::format("shadow method '{}': expected uniform, uniform-stable or lispsm", name));
+  if (name == "tsm") return ShadowMethod::Tsm;
+  if (name == "tsm-iterative") return ShadowMethod::TsmIterative;
+  throw InputError(fmt::format("shadow method '{}': expected uniform, uniform-stable, lispsm, tsm or tsm-iterative", name));
+}
+
+std::vector<std::string> shadowMethodNames() {
+  std::vector<std::string> names;
+  for (ShadowMethod m : {ShadowMethod::Uniform, ShadowMethod::UniformStable, ShadowMethod::Lispsm, ShadowMethod::Tsm,
+                         ShadowMethod::TsmIterative})
+    names.emplace_back(shadowMethodName(m));
+  return names;
 }
 
 std::string_view shadowMethodName(ShadowMethod method) {
@@ -195,6 +278,8 @@ std::string_view shadowMethodName(ShadowMethod method) {
     case ShadowMethod::Uniform: return "uniform";
     case ShadowMethod::UniformStable: return "uniform-stable";
     case ShadowMethod::Lispsm: return "lispsm";
+    case ShadowMethod::Tsm: return "tsm";
+    case ShadowMethod::TsmIterative: return "tsm-iterative";
   }
   return "?";
 }
@@ -216,6 +301,12 @@ dvec3 mapCoordinateBound(const glm::mat4& eyeRelativeToShadowClip, const dvec3& 
   dvec3 bound;
   for (int i = 0; i < 3; ++i) bound[i] = ((std::abs(h[i]) + error[i]) / w) * (1.0 + u);
   return bound;
+}
+
+dvec3 shadowMapCoordinates(const ShadowSetup& setup, const dvec3& world) {
+  const dvec4 h = setup.worldToShadowClip * dvec4(world, 1.0);
+  const double depth = setup.linearDepth ? glm::dot(setup.worldToLightDepth, dvec4(world, 1.0)) : h.z / h.w;
+  return dvec3(h.x / h.w, h.y / h.w, depth);
 }
 
 double lispsmNearDistance(double d, double z0, double z1) {
@@ -293,11 +384,14 @@ ShadowSetup computeShadowSetup(const ShadowInput& in, ShadowMethod method) {
     return finish(setup, camera.position);
   }
 
-  // §9.2.4: B in light space; the warp runs along −z from B_znear to B_zfar.
-  const Aabb bLs = boundsIn(lightFrame, bodyVertices);
   ConvexBody visible = viewFrustumBody(camera);
   visible.clip(in.scene);
   if (in.receivers) visible.clip(*in.receivers);
+  if (method == ShadowMethod::Tsm || method == ShadowMethod::TsmIterative)
+    return finish(computeTsm(in, method == ShadowMethod::TsmIterative, lightFrame, bodyVertices, visible.empty() ? setup.body : visible, setup), camera.position);
+
+  // §9.2.4: B in light space; the warp runs along −z from B_znear to B_zfar.
+  const Aabb bLs = boundsIn(lightFrame, bodyVertices);
   const dvec3 eWorld = computeNearPoint(visible.empty() ? setup.body : visible, camera);
   const dvec3 eLs = transformPoint(lightFrame, eWorld);
 

@@ -258,14 +258,22 @@ StabilityReport checkSetupInvariants(const ShadowInput& in, ShadowMethod method,
           finite.passed = false;
           finite.detail = fmt::format("matrix entry [{}][{}] = {}", c, r, (*m)[c][r]);
         }
+  for (int c = 0; c < 4; ++c)
+    if (!std::isfinite(setup.eyeRelativeToLightDepthF[c])) {
+      finite.passed = false;
+      finite.detail = fmt::format("light depth row entry [{}] = {}", c, setup.eyeRelativeToLightDepthF[c]);
+    }
   if (!finite.passed) return report;
 
   // The GPU's view of a world point: float32 camera-relative position, float32 arithmetic.
   const dvec3 eye = in.camera.position;
   auto onGpu = [&](const dvec3& world, float& w) {
-    const glm::vec4 h = setup.eyeRelativeToShadowClipF * glm::vec4(glm::vec3(world - eye), 1.0f);
+    const glm::vec4 relative(glm::vec3(world - eye), 1.0f);
+    const glm::vec4 h = setup.eyeRelativeToShadowClipF * relative;
     w = h.w;
-    return glm::vec3(h) / h.w;
+    glm::vec3 p = glm::vec3(h) / h.w;
+    if (setup.linearDepth) p.z = glm::dot(setup.eyeRelativeToLightDepthF, relative);  // tsm (TSM §4)
+    return p;
   };
 
   InvariantCheck& body = check("body in map");

@@ -3,7 +3,12 @@
 //   uniform        — orthographic map fitted to the focus body B in the light frame L;
 //   uniform-stable — orthographic, orientation fixed in the world, size from V's bounding sphere,
 //                    origin snapped to whole texels: shadows do not swim when the camera turns;
-//   lispsm         — light space perspective shadow map, thesis §9.2 step by step.
+//   lispsm         — light space perspective shadow map, thesis §9.2 step by step;
+//   tsm            — trapezoidal shadow map (Martin & Tan 2004, §6): the uniform map's plane warped
+//                    so that a trapezoid around B's footprint fills it, 80% rule for the focus
+//                    region; depth stays the uniform map's linear light depth (TSM §4);
+//   tsm-iterative  — the same with the iterative variant of §6.2 (the focus line that gives the
+//                    focus region the largest area in the map).
 // Output: a world → [−1, 1]³ matrix (x, y: shadow-map plane, z: depth increasing away from the
 // light), composed in double and also given in float32 for the GPU, plus diagnostics.
 #include <glm/glm.hpp>
@@ -11,6 +16,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "forest/core/bounds.hpp"
 #include "forest/core/camera.hpp"
@@ -18,8 +24,9 @@
 
 namespace forest::shadows {
 
-enum class ShadowMethod { Uniform, UniformStable, Lispsm };
+enum class ShadowMethod { Uniform, UniformStable, Lispsm, Tsm, TsmIterative };
 ShadowMethod parseShadowMethod(std::string_view name);  // throws InputError
+std::vector<std::string> shadowMethodNames();          // every method, in the enum's order
 std::string_view shadowMethodName(ShadowMethod method);
 
 // Past n > kLispsmCapFactor · d the warp is gone (thesis §8.3: LiSPSM converges to uniform as
@@ -36,7 +43,19 @@ struct ShadowInput {
   std::optional<double> nFar;               // (smoothed) far distance of the visible set, for n only (§9.2.5)
   int mapSize = 2048;                       // texels per side
   int borderTexels = 2;                     // kept free around B for the PCF and blur footprint
+  // tsm: the focus region is the first focusShare of the visible depth range (TSM §6.2 and §6.4:
+  // δ = focusShare · f, scaled to the part of the frustum inside S). A choice, not from the paper.
+  double tsmFocusShare = 0.3;
 };
+
+// TSM §6.2: the 80% line. The focus point goes to y = ξ of the map's [−1, 1] (80% of its height
+// from the top line at +1).
+constexpr double kTsmFocusLine = -0.6;
+
+// TSM §6.2, the 1D perspective projection: the distance η of the projection centre q beyond the
+// top line that maps the top line to +1, the base line (λ away) to −1 and the focus point (δ'
+// below the top line) to ξ:  η = λδ'(1 + ξ) / (λ − 2δ' − λξ). +∞ when no finite q does it.
+double tsmProjectionDistance(double lambda, double deltaPrime, double xi);
 
 struct ShadowDiagnostics {
   double n = 0.0;          // LiSPSM near distance (eq. 8.13), clamped to the cap; 0 for uniform
@@ -49,6 +68,9 @@ struct ShadowDiagnostics {
   size_t bodyVertices = 0;
   std::string fallback;    // "" or why the method fell back ("empty focus body", "n at cap", ...)
   double floatShrink = 0.0;  // share of the map given up to keep B inside it in float32 (usually 0)
+  // tsm (§6): λ (top to base line), δ' (focus point below the top line), both in the uniform
+  // map's [−1, 1] units; η actually used; ξ the focus line; the focus region's share of the map.
+  double tsmLambda = 0.0, tsmFocus = 0.0, tsmEta = 0.0, tsmXi = 0.0, tsmFocusArea = 0.0;
 };
 
 struct ShadowSetup {
@@ -57,10 +79,20 @@ struct ShadowSetup {
   // (p − eye) → [−1, 1]³ in float32: what the GPU gets, with camera-relative positions, so that
   // precision does not depend on where in the world the camera is (DESIGN §4).
   glm::mat4 eyeRelativeToShadowClipF{1.0};
+  // tsm: the map's depth is the linear light depth z_L = dot(worldToLightDepth, (p, 1)) in [−1, 1],
+  // not clip z / w (TSM §4: the shadow pass writes it as gl_FragDepth, lookups compare with it);
+  // the clip matrix's z row is 0 then.
+  bool linearDepth = false;
+  glm::dvec4 worldToLightDepth{0.0};
+  glm::vec4 eyeRelativeToLightDepthF{0.0f};  // the same for (p − eye), float32
   ConvexBody body;                    // B
   bool empty = true;                  // nothing visible to shadow
   ShadowDiagnostics diagnostics;
 };
+
+// Where a world point lands: x, y in the map's [−1, 1]², z its depth in [−1, 1] (clip z / w, or
+// the linear light depth for tsm). Double precision.
+glm::dvec3 shadowMapCoordinates(const ShadowSetup& setup, const glm::dvec3& world);
 
 // Validates the input (throws InputError: zero or non-finite sun, near ≥ far, ...).
 void validateShadowInput(const ShadowInput& input);
