@@ -4,14 +4,18 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <optional>
 
 #include "commands.hpp"
 #include "forest/core/error.hpp"
 #include "forest/core/files.hpp"
+#include "forest/shadows/aliasing.hpp"
 #include "forest/shadows/stability.hpp"
 
 namespace forest::app {
@@ -27,6 +31,8 @@ struct StabilityOptions {
   std::vector<std::string> methods = shadows::shadowMethodNames();
   std::string out;
   bool json = false;
+  bool aliasing = false;
+  std::vector<int> screen{1280, 720};
 };
 
 ordered_json vec3(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
@@ -61,7 +67,7 @@ ordered_json caseJson(const shadows::StabilityCase& c) {
 }
 
 ordered_json recordJson(const shadows::StabilityCase& c, ShadowMethod method, const shadows::ShadowSetup& setup,
-                        const shadows::StabilityReport& report) {
+                        const shadows::StabilityReport& report, const shadows::AliasingReport* aliasing) {
   const shadows::ShadowDiagnostics& d = setup.diagnostics;
   ordered_json j;
   j["case"] = c.name;
@@ -93,6 +99,16 @@ ordered_json recordJson(const shadows::StabilityCase& c, ShadowMethod method, co
   // camera-relative form the GPU gets: clip = M · (p − eye, 1).
   j["world_to_shadow_clip"] = matrix(setup.worldToShadowClipF);
   j["eye_relative_to_shadow_clip"] = matrix(setup.eyeRelativeToShadowClipF);
+  if (aliasing) {
+    auto stats = [](const shadows::ErrorStatistics& e) {
+      return ordered_json{{"max", e.max}, {"p95", e.p95}, {"mean", e.mean}, {"samples", e.samples}};
+    };
+    j["aliasing"] = {{"perspective_relative", stats(aliasing->perspective)},
+                     {"perspective_px_per_texel", stats(aliasing->perspectivePixels)},
+                     {"surface_px_per_texel", stats(aliasing->surfacePixels)},
+                     {"log_floor_relative", aliasing->floor},
+                     {"storage_factor", aliasing->storageFactor}};
+  }
   j["input"] = caseJson(c);
   return j;
 }
@@ -101,7 +117,16 @@ struct Tally {
   std::uint64_t records = 0, failed = 0, empty = 0, warped = 0;
   double largestCoordinate = 0.0, largestShrink = 0.0, setupSeconds = 0.0;
   std::vector<std::string> firstFailures;
+  // --aliasing: per method, per non-empty case: max perspective error (relative), its ratio to
+  // the logarithmic floor, surface p95 (px per texel), storage factor.
+  std::map<std::string, std::vector<std::array<double, 4>>> aliasing;
 };
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
 
 int runStability(const StabilityOptions& options) {
   if (options.cases.empty() && options.random == 0)
@@ -132,7 +157,18 @@ int runStability(const StabilityOptions& options) {
                                                         check.name, check.detail));
         }
       }
-      if (out) *out << recordJson(c, method, setup, report).dump() << '\n';
+      std::optional<shadows::AliasingReport> aliasing;
+      if (options.aliasing && !setup.empty) {
+        shadows::AliasingOptions aliasingOptions;
+        aliasingOptions.width = options.screen[0];
+        aliasingOptions.height = options.screen[1];
+        aliasing = shadows::analyseAliasing(c.input, setup, aliasingOptions);
+        if (aliasing->perspective.samples > 0)
+          tally.aliasing[std::string(shadows::shadowMethodName(method))].push_back(
+              {aliasing->perspective.max, aliasing->floor > 0.0 ? aliasing->perspective.max / aliasing->floor : 0.0,
+               aliasing->surfacePixels.p95, aliasing->storageFactor});
+      }
+      if (out) *out << recordJson(c, method, setup, report, aliasing ? &*aliasing : nullptr).dump() << '\n';
     }
   };
 
@@ -168,6 +204,16 @@ int runStability(const StabilityOptions& options) {
     summary["largest_float_shrink"] = tally.largestShrink;
     summary["microseconds_per_setup"] = microseconds;
     summary["failures"] = tally.firstFailures;
+    for (const auto& [method, rows] : tally.aliasing) {
+      std::vector<double> columns[4];
+      for (const auto& r : rows)
+        for (int k = 0; k < 4; ++k) columns[k].push_back(r[k]);
+      summary["aliasing_medians"][method] = {{"cases", rows.size()},
+                                             {"perspective_max_relative", median(columns[0])},
+                                             {"perspective_max_over_floor", median(columns[1])},
+                                             {"surface_p95_px_per_texel", median(columns[2])},
+                                             {"storage_factor", median(columns[3])}};
+    }
     std::cout << summary.dump(2) << '\n';
   } else {
     std::cout << fmt::format(
@@ -176,6 +222,18 @@ int runStability(const StabilityOptions& options) {
         "  {} empty focus bodies, {} warped (lispsm), {:.1f} µs per setup\n",
         tally.records, fileCases.size(), options.random, options.seed, fmt::join(options.methods, ","), tally.failed,
         tally.largestCoordinate, tally.largestShrink, tally.empty, tally.warped, microseconds);
+    if (!tally.aliasing.empty()) {
+      std::cout << fmt::format("  aliasing, medians over cases ({}x{} screen):\n  {:<15} {:>6} {:>16} {:>12} {:>18} {:>14}\n",
+                               options.screen[0], options.screen[1], "method", "cases", "persp. max (rel)", "max / floor",
+                               "surface p95 px/tx", "storage factor");
+      for (const auto& [method, rows] : tally.aliasing) {
+        std::vector<double> columns[4];
+        for (const auto& r : rows)
+          for (int k = 0; k < 4; ++k) columns[k].push_back(r[k]);
+        std::cout << fmt::format("  {:<15} {:>6} {:>16.3g} {:>12.3g} {:>18.3g} {:>14.3g}\n", method, rows.size(),
+                                 median(columns[0]), median(columns[1]), median(columns[2]), median(columns[3]));
+      }
+    }
     if (!options.out.empty()) std::cout << fmt::format("  records: {}\n", options.out);
   }
   for (const std::string& failure : tally.firstFailures) std::cerr << "stability: FAILED " << failure << '\n';
@@ -202,6 +260,13 @@ Run addStabilityCommand(CLI::App& app) {
                       "Write one JSON record per case and method (JSON Lines): diagnostics, invariants, the\n"
                       "float32 world → shadow-clip matrix (16 numbers, column-major) and the case itself");
   command->add_flag("--json", options->json, "Print the summary as JSON");
+  command->add_flag("--aliasing", options->aliasing,
+                    "Also compute the analytic aliasing error per setup (thesis eq. 8.1, 8.4; Lloyd's storage\n"
+                    "factor) over sample points of V ∩ S: per record and as medians per method (slower)");
+  command->add_option("--screen", options->screen, "Screen size in pixels for --aliasing (W H)")
+      ->expected(2)
+      ->check(CLI::Range(1, 16384))
+      ->capture_default_str();
   return [options] { return runStability(*options); };
 }
 
