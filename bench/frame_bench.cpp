@@ -72,7 +72,8 @@ int main(int argc, char** argv) {
   }
   std::printf("\n%-15s %10s %10s\n", "method", "shadow ms", "term ms");
   for (shadows::ShadowMethod method :
-       {shadows::ShadowMethod::Uniform, shadows::ShadowMethod::UniformStable, shadows::ShadowMethod::Lispsm}) {
+       {shadows::ShadowMethod::Uniform, shadows::ShadowMethod::UniformStable, shadows::ShadowMethod::Lispsm,
+        shadows::ShadowMethod::Tsm, shadows::ShadowMethod::TsmIterative}) {
     render::FrameSettings settings;
     settings.method = method;
     frame.render(start, 0.0, settings);

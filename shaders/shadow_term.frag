@@ -11,6 +11,8 @@ uniform usampler2D uObjectId;
 uniform sampler2DShadow uShadowMap;    // depth in [0, 1], near the light = 0
 uniform mat4 uInverseViewProjectionRelative;  // clip → (p − eye)
 uniform mat4 uEyeRelativeToShadow;     // (p − eye) → shadow clip with z already in [0, 1]
+uniform bool uLinearDepth;             // tsm: compare with the linear light depth (TSM §4)
+uniform vec4 uEyeRelativeLightDepth;   // tsm: (p − eye, 1) → z_L in [−1, 1]
 uniform vec3 uToSun;
 uniform bool uSunUp;
 uniform int uPcfRadius;               // 0: one hardware 2×2 lookup; r: (2r+1)² lookups a texel apart
@@ -35,6 +37,8 @@ void main() {
   vec3 relative = h.xyz / h.w;
   vec4 s = uEyeRelativeToShadow * vec4(relative, 1.0);
   vec3 ndc = s.xyz / s.w;
+  // TSM: texture(s, vec3(xy_T / w_T, z_L / w_L)), w_L = 1 for the sun's orthographic L.
+  if (uLinearDepth) ndc.z = 0.5 * dot(uEyeRelativeLightDepth, vec4(relative, 1.0)) + 0.5;
   vec2 uv = 0.5 * ndc.xy + 0.5;
   vec2 texel = 1.0 / vec2(textureSize(uShadowMap, 0));
   float sum = 0.0;

@@ -3,6 +3,7 @@
 //   lit (default)   — Lambert diffuse plus a weak global ambient (thesis §6.2), no shadows;
 //   OUTPUT_GBUFFER  — the geometry pass's G-buffer (gbuffer.frag);
 //   OUTPUT_ID       — the tile's object ID;
+//   OUTPUT_LIGHT_DEPTH — linear light depth for TSM (light_depth.frag);
 //   OUTPUT_POSITION — the world-space position (tests compare it with the CPU twin).
 in vec3 vNormal;
 in vec3 vWorldPosition;
@@ -18,6 +19,8 @@ uniform vec3 uAlbedo;
 void writeGBuffer(vec3 albedo, vec3 shadingNormal, vec3 relativePosition, uint objectId);
 #elif defined(OUTPUT_ID)
 out uint fragId;
+#elif defined(OUTPUT_LIGHT_DEPTH)
+void writeLightDepth(vec3 relativePosition);
 #else
 out vec4 fragColor;
 #endif
@@ -30,6 +33,8 @@ void main() {
   writeGBuffer(terrainAlbedo(n), n, vRelativePosition, vObjectId);
 #elif defined(OUTPUT_ID)
   fragId = vObjectId;
+#elif defined(OUTPUT_LIGHT_DEPTH)
+  writeLightDepth(vRelativePosition);
 #elif defined(OUTPUT_POSITION)
   fragColor = vec4(vWorldPosition, 1.0);
 #else

@@ -14,6 +14,8 @@ uniform float uAmbient;
 void writeGBuffer(vec3 albedo, vec3 shadingNormal, vec3 relativePosition, uint objectId);
 #elif defined(OUTPUT_ID)
 out uint fragId;
+#elif defined(OUTPUT_LIGHT_DEPTH)
+void writeLightDepth(vec3 relativePosition);
 #else
 out vec4 fragColor;
 #endif
@@ -23,6 +25,8 @@ void main() {
   writeGBuffer(vAlbedo, vNormal, vRelativePosition, vObjectId);
 #elif defined(OUTPUT_ID)
   fragId = vObjectId;
+#elif defined(OUTPUT_LIGHT_DEPTH)
+  writeLightDepth(vRelativePosition);
 #else
   vec3 n = normalize(vNormal);
   float diffuse = max(dot(n, uToSun), 0.0);

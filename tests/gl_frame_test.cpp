@@ -59,7 +59,7 @@ TEST_F(FrameGl, BoxShadowOnAPlaneMatchesTheCpuProjection) {
   render::Frame frame(scene, kWidth, kHeight);
   const Camera camera = cameraAt({0, 22, 26}, 0.0, -42.0, 200.0);
   const Aabb box{scene.props[1].min, scene.props[1].max};
-  for (shadows::ShadowMethod method : {shadows::ShadowMethod::Uniform, shadows::ShadowMethod::Lispsm}) {
+  for (shadows::ShadowMethod method : {shadows::ShadowMethod::Uniform, shadows::ShadowMethod::Lispsm, shadows::ShadowMethod::Tsm}) {
     render::FrameSettings settings;
     settings.method = method;
     settings.shadowMapSize = 1024;
@@ -139,35 +139,37 @@ TEST_F(FrameGl, BacksideRenderingHasNoAcneAndFrontFacesDo) {
   Camera camera = cameraAt({0, 0, 0}, 233.13, -35.0, 3000.0);
   camera.position.y = t.heightAt(0, 0) + 150.0;
   const dvec3 toSun = -scene.sun.direction;
-  int violations[2] = {0, 0}, checked = 0;
-  for (int pass = 0; pass < 2; ++pass) {
-    render::FrameSettings settings;
-    settings.method = shadows::ShadowMethod::Lispsm;
-    settings.backside = pass == 0;
-    settings.culling = culling::CullingStrategy::Frustum;
-    frame.render(camera, 0.0, settings);
-    const std::vector<float> term = frame.readShadowTerm();
-    const std::vector<float> depth = frame.readDepth();
-    const std::vector<std::uint32_t> ids = frame.readObjectIds();
-    int facing = 0;
-    for (int y = 0; y < kHeight; ++y)
-      for (int x = 0; x < kWidth; ++x) {
-        const size_t i = static_cast<size_t>(y) * kWidth + x;
-        if (ids[i] == 0) continue;
-        const dvec3 p = pixelPosition(camera, x, y, depth[i]);
-        if (glm::dot(t.normalAt(p.x, p.z), toSun) <= 0.2) continue;
-        ++facing;
-        if (!sunClears(t, p, toSun, 1.5)) continue;
-        if (pass == 0) ++checked;
-        if (term[i] < 0.5f) ++violations[pass];
-      }
-    if (pass == 0) std::printf("[acne] %d pixels face the sun (N·L > 0.2)\n", facing);
+  for (shadows::ShadowMethod method : {shadows::ShadowMethod::Lispsm, shadows::ShadowMethod::Tsm}) {
+    int violations[2] = {0, 0}, checked = 0;
+    for (int pass = 0; pass < 2; ++pass) {
+      render::FrameSettings settings;
+      settings.method = method;
+      settings.backside = pass == 0;
+      settings.culling = culling::CullingStrategy::Frustum;
+      frame.render(camera, 0.0, settings);
+      const std::vector<float> term = frame.readShadowTerm();
+      const std::vector<float> depth = frame.readDepth();
+      const std::vector<std::uint32_t> ids = frame.readObjectIds();
+      int facing = 0;
+      for (int y = 0; y < kHeight; ++y)
+        for (int x = 0; x < kWidth; ++x) {
+          const size_t i = static_cast<size_t>(y) * kWidth + x;
+          if (ids[i] == 0) continue;
+          const dvec3 p = pixelPosition(camera, x, y, depth[i]);
+          if (glm::dot(t.normalAt(p.x, p.z), toSun) <= 0.2) continue;
+          ++facing;
+          if (!sunClears(t, p, toSun, 1.5)) continue;
+          if (pass == 0) ++checked;
+          if (term[i] < 0.5f) ++violations[pass];
+        }
+      if (pass == 0) std::printf("[acne] %s: %d pixels face the sun (N·L > 0.2)\n", shadowMethodName(method).data(), facing);
+    }
+    std::printf("[acne] %s: %d lit pixels checked: %d shadowed with backside rendering, %d with front faces\n",
+                shadowMethodName(method).data(), checked, violations[0], violations[1]);
+    EXPECT_GT(checked, 1000);
+    EXPECT_EQ(violations[0], 0) << shadowMethodName(method);
+    EXPECT_GT(violations[1], checked / 20) << shadowMethodName(method);  // front faces, no bias: acne (the test can fail)
   }
-  std::printf("[acne] %d lit pixels checked: %d shadowed with backside rendering, %d with front faces\n", checked,
-              violations[0], violations[1]);
-  EXPECT_GT(checked, 1000);
-  EXPECT_EQ(violations[0], 0);
-  EXPECT_GT(violations[1], checked / 20);  // front faces, no bias: acne (the test can fail)
 }
 
 TEST_F(FrameGl, CasterSelectionChangesNoShadowAlongThirtyViews) {
@@ -183,7 +185,7 @@ TEST_F(FrameGl, CasterSelectionChangesNoShadowAlongThirtyViews) {
     camera.position.y = t.heightAt(camera.position.x, camera.position.z) + (v % 10 == 9 ? 40.0 : 1.7);
     camera.yaw += glm::radians(7.0);
     render::FrameSettings settings;
-    settings.method = v % 3 == 0 ? shadows::ShadowMethod::Uniform : shadows::ShadowMethod::Lispsm;
+    settings.method = v % 3 == 0 ? shadows::ShadowMethod::Uniform : v % 3 == 1 ? shadows::ShadowMethod::Lispsm : shadows::ShadowMethod::Tsm;
     settings.shadowMapSize = 1024;
     // The same frame twice but for the casters: no history (smoothed z_f, CHC) in between.
     settings.culling = culling::CullingStrategy::Frustum;
@@ -211,7 +213,8 @@ TEST_F(FrameGl, EveryMethodIsCleanAndASunBelowTheHorizonLeavesAmbient) {
   Camera camera = frame.startCamera();
   camera.aspect = static_cast<double>(kWidth) / kHeight;
   for (shadows::ShadowMethod method :
-       {shadows::ShadowMethod::Uniform, shadows::ShadowMethod::UniformStable, shadows::ShadowMethod::Lispsm}) {
+       {shadows::ShadowMethod::Uniform, shadows::ShadowMethod::UniformStable, shadows::ShadowMethod::Lispsm,
+        shadows::ShadowMethod::Tsm, shadows::ShadowMethod::TsmIterative}) {
     for (int step = 0; step < 4; ++step) {
       camera.position.x += 2.0;
       camera.yaw += glm::radians(10.0);
@@ -264,7 +267,7 @@ TEST_F(FrameGl, HardCasesThroughTheFullFrame) {
     scene.props.push_back({c.offset + dvec3(-2, 3, -2), c.offset + dvec3(2, 5, 2), dvec3(0.8)});
     render::Frame frame(scene, kWidth, kHeight);
     const Camera camera = cameraAt(c.offset + dvec3(1.0, 14.0, 9.0), 0.0, c.pitchDeg, 400.0);
-    for (shadows::ShadowMethod method : {shadows::ShadowMethod::Uniform, shadows::ShadowMethod::Lispsm}) {
+    for (shadows::ShadowMethod method : {shadows::ShadowMethod::Uniform, shadows::ShadowMethod::Lispsm, shadows::ShadowMethod::Tsm}) {
       render::FrameSettings settings;
       settings.method = method;
       settings.shadowMapSize = 1024;

@@ -20,6 +20,8 @@ gl::Program loadSurfaceProgram(const std::string& vertex, const std::string& fra
     case SurfaceOutput::ObjectId: return gl::loadProgram({vertex, fragment}, "#define OUTPUT_ID 1\n" + extraDefines);
     case SurfaceOutput::GBuffer:
       return gl::loadProgram({vertex, fragment, "gbuffer.frag"}, "#define OUTPUT_GBUFFER 1\n" + extraDefines);
+    case SurfaceOutput::LightDepth:
+      return gl::loadProgram({vertex, fragment, "light_depth.frag"}, "#define OUTPUT_LIGHT_DEPTH 1\n" + extraDefines);
     case SurfaceOutput::Lit: break;
   }
   return gl::loadProgram({vertex, fragment}, extraDefines);

@@ -95,6 +95,10 @@ struct Frame::Passes {
   std::unique_ptr<TerrainRenderer> terrainGBuffer, terrainDepth;
   std::unique_ptr<TreeRenderer> treesGBuffer, treesDepth;
   std::unique_ptr<PropRenderer> propsGBuffer, propsDepth;
+  // The TSM shadow pass (linear light depth), built the first time a TSM frame needs them.
+  std::unique_ptr<TerrainRenderer> terrainLightDepth;
+  std::unique_ptr<TreeRenderer> treesLightDepth;
+  std::unique_ptr<PropRenderer> propsLightDepth;
   gl::Texture albedo, shadingNormal, geometricNormal, objectId, depth;
   gl::Framebuffer gbuffer;
   // Shadow pass.
@@ -184,6 +188,14 @@ Frame::Frame(const Scene& scene, int width, int height) : scene_(scene), width_(
 }
 
 Frame::~Frame() = default;
+
+void Frame::ensureLightDepthRenderers() {
+  Passes& p = *passes_;
+  if (p.propsLightDepth) return;
+  if (terrain_) p.terrainLightDepth = std::make_unique<TerrainRenderer>(*terrain_, TerrainRenderer::Output::LightDepth, objects_->terrainIdBase());
+  if (forest_) p.treesLightDepth = std::make_unique<TreeRenderer>(*forest_, SurfaceOutput::LightDepth, objects_->treeIdBase());
+  p.propsLightDepth = std::make_unique<PropRenderer>(scene_.props, SurfaceOutput::LightDepth, objects_->propIdBase());
+}
 
 void Frame::resetHistory() {
   culler_.reset();
@@ -326,8 +338,20 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
     }
     DrawView light = eye;  // the eye's origin and LOD, seen from the light
     light.viewProjectionRelative = eyeRelativeToShadow;
-    SceneDrawer shadowDrawer(*objects_, p.terrainDepth.get(), p.treesDepth.get(), p.propsDepth.get(), light, eyeLod);
-    stats.shadowTriangles = shadowDrawer.draw(casters);
+    if (shadowSetup_.linearDepth) {
+      // TSM §4: the shaders write the linear light depth (and add the slope bias themselves).
+      ensureLightDepthRenderers();
+      const glm::dvec4& row = shadowSetup_.worldToLightDepth;
+      light.lightDepthRelative = glm::dvec4(dvec3(row), row.w + glm::dot(dvec3(row), camera.position));
+      light.depthSlopeBias = settings.slopeScaleBias;
+      glDisable(GL_POLYGON_OFFSET_FILL);
+      SceneDrawer shadowDrawer(*objects_, p.terrainLightDepth.get(), p.treesLightDepth.get(), p.propsLightDepth.get(), light,
+                               eyeLod);
+      stats.shadowTriangles = shadowDrawer.draw(casters);
+    } else {
+      SceneDrawer shadowDrawer(*objects_, p.terrainDepth.get(), p.treesDepth.get(), p.propsDepth.get(), light, eyeLod);
+      stats.shadowTriangles = shadowDrawer.draw(casters);
+    }
     glDisable(GL_POLYGON_OFFSET_FILL);
     glFrontFace(GL_CCW);
     glCullFace(GL_BACK);
@@ -349,6 +373,8 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   term.set("uShadowMap", 3);
   term.set("uInverseViewProjectionRelative", inverseViewProjectionRelative);
   term.set("uEyeRelativeToShadow", glm::mat4(eyeRelativeToShadow));
+  term.set("uLinearDepth", shadowSetup_.linearDepth ? 1 : 0);
+  term.set("uEyeRelativeLightDepth", shadowSetup_.eyeRelativeToLightDepthF);
   term.set("uToSun", glm::vec3(-l));
   term.set("uSunUp", shadowed ? 1 : 0);
   term.set("uPcfRadius", settings.pcfRadius);

@@ -112,6 +112,8 @@ PropRenderer::PropRenderer(const std::vector<PropBox>& props, Output output, std
 void PropRenderer::setUniforms(const DrawView& view) const {
   // Composed in double, converted once (DESIGN §4: matrix chains in double).
   program_.set("uViewProjectionRelative", glm::mat4(view.viewProjectionRelative));
+  program_.set("uLightDepthRow", glm::vec4(view.lightDepthRelative));
+  program_.set("uDepthSlopeBias", static_cast<float>(view.depthSlopeBias));
   program_.set("uOrigin", glm::vec3(view.origin));
   program_.set("uToSun", glm::vec3(-view.sun.direction));
   program_.set("uSunColor", glm::vec3(view.sun.color));

@@ -21,6 +21,8 @@ gl::Program loadTerrainProgram(TerrainRenderer::Output output) {
       return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::Lit, "#define OUTPUT_POSITION 1\n");
     case TerrainRenderer::Output::ObjectId: return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::ObjectId);
     case TerrainRenderer::Output::GBuffer: return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::GBuffer);
+    case TerrainRenderer::Output::LightDepth:
+      return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::LightDepth);
     case TerrainRenderer::Output::Lit: break;
   }
   return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::Lit);
@@ -102,6 +104,8 @@ TerrainRenderer::Stats TerrainRenderer::draw(const DrawView& view, const terrain
   const terrain::Heightfield& h = terrain_.heightfield();
   // (p − eye) → clip, composed in double (DESIGN §4), converted once.
   program_.set("uViewProjectionRelative", glm::mat4(view.viewProjectionRelative));
+  program_.set("uLightDepthRow", glm::vec4(view.lightDepthRelative));
+  program_.set("uDepthSlopeBias", static_cast<float>(view.depthSlopeBias));
   program_.set("uOriginRelative", glm::vec2(h.origin().x - eye.x, h.origin().y - eye.z));
   program_.set("uEyeY", static_cast<float>(eye.y));
   program_.set("uEye", glm::vec3(eye));

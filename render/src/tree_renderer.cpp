@@ -107,6 +107,8 @@ TreeRenderer::Stats TreeRenderer::draw(const DrawView& view, std::span<const std
 
   const VegetationSettings& wind = forest_.settings();
   program_.set("uViewProjectionRelative", glm::mat4(view.viewProjectionRelative));
+  program_.set("uLightDepthRow", glm::vec4(view.lightDepthRelative));
+  program_.set("uDepthSlopeBias", static_cast<float>(view.depthSlopeBias));
   // The shader evaluates the sway in float: t is reduced modulo 10 periods first (in double), a
   // common period of sin(ωt) and sin(2.7ωt), so long runs keep their precision.
   program_.set("uTime", static_cast<float>(std::fmod(time, 10.0 * wind.wind_period)));

@@ -17,6 +17,10 @@ struct DrawView {
   glm::dvec3 origin{0.0};
   glm::dvec3 lodEye{0.0};                  // distances for tree LOD bands and terrain morphs
   double time = 0.0;                       // wind
+  // SurfaceOutput::LightDepth (the TSM shadow pass): (p − origin, 1) → linear light depth in
+  // [−1, 1], and the slope-scale bias the shader adds (polygon offset does not apply there).
+  glm::dvec4 lightDepthRelative{0.0};
+  double depthSlopeBias = 0.0;
   SunSettings sun;
 
   // The eye's own view.
@@ -26,7 +30,8 @@ struct DrawView {
 // Framebuffer outputs every renderer offers: lit colour, object ID (GL_R32UI), the G-buffer of
 // the geometry pass (albedo, shading normal, geometric normal, object ID; see gbuffer.frag), or
 // depth only (the shadow pass: nothing but depth is attached).
-enum class SurfaceOutput { Lit, ObjectId, GBuffer };
+// LightDepth: depth only, written as the linear light depth (TSM §4, light_depth.frag).
+enum class SurfaceOutput { Lit, ObjectId, GBuffer, LightDepth };
 
 // A surface program for an output: defines OUTPUT_ID or OUTPUT_GBUFFER (and links gbuffer.frag).
 gl::Program loadSurfaceProgram(const std::string& vertex, const std::string& fragment, SurfaceOutput output,

@@ -3,7 +3,7 @@
 // statistics out.
 //   1. geometry pass — the culling traversal draws the G-buffer: depth, albedo, shading and
 //      geometric normals, object ID; the visible set gives z_f and the shadow receivers;
-//   2. shadow setup from the visible set (uniform, uniform-stable, lispsm);
+//   2. shadow setup from the visible set (uniform, uniform-stable, lispsm, tsm, tsm-iterative);
 //   3. shadow pass — only the selected casters, front faces culled (backside rendering), into a
 //      float depth map; casters drawn at the eye's LOD;
 //   4. shadow term — full screen from the G-buffer, hardware 2×2 PCF (sampler2DShadow), 0 where the
@@ -92,6 +92,7 @@ class Frame {
   Camera startCamera() const;
 
  private:
+  void ensureLightDepthRenderers();  // the TSM shadow pass renderers, built on first use
   struct Passes;
   const Scene& scene_;
   int width_, height_;

@@ -21,8 +21,8 @@ class TerrainRenderer {
   // Lit: Lambert + ambient, grass blending to rock on steep slopes. WorldPosition: writes the
   // world-space position of the drawn surface to colour (a float target; tests, ground truth).
   // ObjectId: writes objectIdBase + tile index to a GL_R32UI colour target. GBuffer: the geometry
-  // pass's outputs (gbuffer.frag).
-  enum class Output { Lit, WorldPosition, ObjectId, GBuffer };
+  // pass's outputs (gbuffer.frag). LightDepth: the TSM shadow pass (light_depth.frag).
+  enum class Output { Lit, WorldPosition, ObjectId, GBuffer, LightDepth };
 
   explicit TerrainRenderer(const terrain::Terrain& terrain, Output output = Output::Lit, std::uint32_t objectIdBase = 1);
 

@@ -1,0 +1,14 @@
+#version 450 core
+// Linear light depth for trapezoidal shadow maps (TSM §4; DESIGN §4): the map's x, y come from the
+// trapezoidal matrix, but the depth written is the uniform light map's z_L (affine in the world),
+// evaluated at the fragment's interpolated position — interpolating z_L·w_T/w_L instead fails on
+// large triangles. Polygon offset does not apply to gl_FragDepth, so the slope-scale bias is
+// added here: factor × the depth's largest screen slope, as glPolygonOffset(factor, 0) does.
+uniform vec4 uLightDepthRow;    // (p − view origin, 1) → z_L in [−1, 1]
+uniform float uDepthSlopeBias;  // 0: none
+
+void writeLightDepth(vec3 relativePosition) {
+  float depth = 0.5 * dot(uLightDepthRow, vec4(relativePosition, 1.0)) + 0.5;
+  float slope = max(abs(dFdx(depth)), abs(dFdy(depth)));
+  gl_FragDepth = clamp(depth + uDepthSlopeBias * slope, 0.0, 1.0);
+}
