@@ -156,6 +156,7 @@ TEST(ForestCli, RenderDrawsTheTerrainScene) {
   EXPECT_EQ(readImageF(debug / "shadow-map.exr").height, 512);
   EXPECT_EQ(readImage8(debug / "shadow-term.png").width, 320);
   EXPECT_EQ(readImageF(debug / "shadow-term-blurred.exr").width, 320);
+  EXPECT_EQ(readImage8(debug / "top-down.png").width, 1024);
   const Image8 png = readImage8(image);
   // Top row: sky (0.55, 0.7, 0.9 → 140, 178, 230); bottom row: lit terrain, greener than blue.
   EXPECT_EQ(png.at(160, 0, 2), 230);
@@ -309,11 +310,33 @@ TEST(ForestCli, StabilityRecordsHoldUnderAnIndependentCheck) {
       ASSERT_GT(h[3], 0.0) << j.at("case");
       EXPECT_LE(std::abs(h[0] / h[3]), 1.0 + 1e-5) << j.at("case") << " " << j.at("method");
       EXPECT_LE(std::abs(h[1] / h[3]), 1.0 + 1e-5) << j.at("case") << " " << j.at("method");
+      // Depth: clip z / w, or for tsm the linear light-depth row (TSM §4).
+      double depth = h[2] / h[3];
+      if (j.contains("eye_relative_to_light_depth")) {
+        const auto row = j.at("eye_relative_to_light_depth").get<std::vector<double>>();
+        depth = row[0] * q.x + row[1] * q.y + row[2] * q.z + row[3];
+      }
+      EXPECT_LE(std::abs(depth), 1.0 + 1e-5) << j.at("case") << " " << j.at("method");
       ++sampled;
     }
   }
-  EXPECT_EQ(count, 3 * (29 + 300));
+  EXPECT_EQ(count, 5 * (29 + 300));  // uniform, uniform-stable, lispsm, tsm, tsm-iterative
   EXPECT_GT(sampled, 10000);
+}
+
+TEST(ForestCli, StabilityReportsAliasingPerMethod) {
+  const Result r = runForest("stability --cases " + std::string(FOREST_REPO_DATA) + "/stability/hard-cases.json --aliasing --json");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  const nlohmann::json& medians = j.at("aliasing_medians");
+  for (const char* method : {"uniform", "uniform-stable", "lispsm", "tsm", "tsm-iterative"}) {
+    EXPECT_GT(medians.at(method).at("cases").get<int>(), 20) << method;
+    EXPECT_GE(medians.at(method).at("perspective_max_over_floor").get<double>(), 1.0) << method;  // nothing beats eq. 8.4
+  }
+  // The warped maps beat the uniform one on the hard cases' median.
+  EXPECT_LT(medians.at("lispsm").at("perspective_max_relative").get<double>(),
+            medians.at("uniform").at("perspective_max_relative").get<double>());
+  EXPECT_LT(medians.at("tsm").at("storage_factor").get<double>(), medians.at("uniform").at("storage_factor").get<double>());
 }
 
 TEST(ForestCli, StabilityRejectsBadCaseFiles) {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "forest/core/scene.hpp"
+#include "forest/render/debug_views.hpp"
 #include "forest/render/frame.hpp"
 #include "gl_test_support.hpp"
 
@@ -245,6 +246,43 @@ TEST_F(FrameGl, EveryMethodIsCleanAndASunBelowTheHorizonLeavesAmbient) {
 // DESIGN §6 render-level hard cases through the full frame: no GL errors (GlTest), finite shadow
 // matrices and terms, and the box's shadow on the plane where the CPU puts it (not all shadow,
 // not all lit).
+TEST_F(FrameGl, TopDownDiagramDrawsTheSetupAndTheLightFrustumInverts) {
+  const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
+  render::Frame frame(scene, kWidth, kHeight);
+  Camera camera = frame.startCamera();
+  camera.aspect = static_cast<double>(kWidth) / kHeight;
+  for (shadows::ShadowMethod method : {shadows::ShadowMethod::Uniform, shadows::ShadowMethod::Lispsm, shadows::ShadowMethod::Tsm}) {
+    render::FrameSettings settings;
+    settings.method = method;
+    settings.shadowMapSize = 1024;
+    frame.render(camera, 0.0, settings);
+    // The light frustum's corners are the map's [−1, 1]³ corners (linear depth for tsm).
+    const auto corners = render::lightFrustumCorners(frame.shadowSetup());
+    for (int i = 0; i < 8; ++i) {
+      const dvec3 m = shadows::shadowMapCoordinates(frame.shadowSetup(), corners[static_cast<size_t>(i)]);
+      const dvec3 expected((i & 1) ? 1.0 : -1.0, (i & 2) ? 1.0 : -1.0, (i & 4) ? 1.0 : -1.0);
+      EXPECT_NEAR(glm::length(m - expected), 0.0, 1e-6) << shadowMethodName(method) << " corner " << i;
+    }
+    const Image8 diagram = render::topDownDiagram(frame, scene.sun.direction, 512);
+    ASSERT_EQ(diagram.width, 512);
+    // Each element leaves pixels of its colour: B's outline (blue), the light frustum (red), the
+    // view frustum (black), casters (orange).
+    int blue = 0, red = 0, black = 0, orange = 0;
+    for (int y = 0; y < diagram.height; ++y)
+      for (int x = 0; x < diagram.width; ++x) {
+        const int r = diagram.at(x, y, 0), g = diagram.at(x, y, 1), b = diagram.at(x, y, 2);
+        blue += b > 200 && r < 60 ? 1 : 0;
+        red += r > 200 && g < 40 && b < 40 ? 1 : 0;
+        black += r + g + b < 30 ? 1 : 0;
+        orange += r > 230 && g > 120 && g < 160 && b < 30 ? 1 : 0;
+      }
+    EXPECT_GT(blue, 100) << shadowMethodName(method);
+    EXPECT_GT(red, 100) << shadowMethodName(method);
+    EXPECT_GT(black, 100) << shadowMethodName(method);
+    EXPECT_GT(orange, 100) << shadowMethodName(method);
+  }
+}
+
 TEST_F(FrameGl, HardCasesThroughTheFullFrame) {
   struct Case {
     const char* name;

@@ -10,6 +10,8 @@ packages=(
   python3-glad libegl-dev libegl-mesa0 libgl1-mesa-dri libosmesa6-dev libglfw3-dev xvfb xauth
   # math, meshes, images, ray tracing
   libglm-dev libopenmesh-dev libopenimageio-dev libembree-dev libmeshoptimizer-dev
+  # a font for the labels of diagrams (OpenImageIO render_text)
+  fonts-dejavu-core
   # file formats, command line, tests, benchmarks
   libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libfmt-dev libgtest-dev libgmock-dev libbenchmark-dev
 )

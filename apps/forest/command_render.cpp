@@ -18,6 +18,7 @@
 #include "forest/core/scene.hpp"
 #include "forest/gl/context.hpp"
 #include "forest/gl/debug.hpp"
+#include "forest/render/debug_views.hpp"
 #include "forest/render/frame.hpp"
 
 namespace forest::app {
@@ -70,7 +71,7 @@ Image8 normalisedImage(const ImageF& image) {
 }
 
 // Shadow map (EXR and normalised PNG) and the shadow term before and after the blur.
-void writeDebugImages(const render::Frame& frame, const std::filesystem::path& folder) {
+void writeDebugImages(const render::Frame& frame, const glm::dvec3& sunDirection, const std::filesystem::path& folder) {
   const int size = frame.shadowMapSize();
   const ImageF map = channelImage(frame.readShadowMap(), size, size);
   writeImage(folder / "shadow-map.exr", map);
@@ -86,6 +87,7 @@ void writeDebugImages(const render::Frame& frame, const std::filesystem::path& f
   };
   writeImage(folder / "shadow-term.png", toPng(term));
   writeImage(folder / "shadow-term-blurred.png", toPng(blurred));
+  writeImage(folder / "top-down.png", render::topDownDiagram(frame, sunDirection));
 }
 
 int runRender(const RenderOptions& options) {
@@ -126,7 +128,7 @@ int runRender(const RenderOptions& options) {
                             gl::debugErrorMessages().front()));
   }
   writeImage(options.out, image);
-  if (!options.debug.empty()) writeDebugImages(frame, options.debug);
+  if (!options.debug.empty()) writeDebugImages(frame, scene.sun.direction, options.debug);
 
   nlohmann::ordered_json j;
   j["scene"] = scenePath;
@@ -195,7 +197,8 @@ Run addRenderCommand(CLI::App& app) {
   command->add_option("--bias", options->bias, "Slope-scale depth bias in the shadow pass (0: none)")->capture_default_str();
   command->add_flag("--front-faces", options->frontFaces, "Render front faces into the shadow map (not backside rendering)");
   command->add_option("--debug", options->debug,
-                      "Folder for debug images: shadow map (EXR, normalised PNG), shadow term before and after the blur");
+                      "Folder for debug images: shadow map (EXR, normalised PNG), shadow term before and after the blur,\n"
+                      "top-down.png (view frustum, focus body B, light frustum, receivers, casters)");
   command->add_option("--fog", options->fog, "Exponential fog density per metre (0: none)")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();

@@ -273,6 +273,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
     shadows::ShadowInput input;
     input.camera = camera;
     input.camera.far = std::max(visible.farDepth, camera.near * 1.001);
+    shadowCamera_ = input.camera;
     input.sunDirection = l;
     input.scene = sceneBounds_;
     input.receivers = receiverBounds;
@@ -315,6 +316,8 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
     }
   }
   stats.casterObjects = static_cast<int>(casters.size());
+  visibleObjects_ = visible.visibleObjects;
+  casters_ = casters;
   stats.shadowSetupMs = millisecondsSince(start);
 
   // 3. Shadow pass: casters only, back faces (front faces culled), the eye's LOD.

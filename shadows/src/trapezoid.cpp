@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "forest/core/polygon2d.hpp"
 #include "forest/shadows/shadow_setup.hpp"
 
 namespace forest::shadows {
@@ -25,28 +26,6 @@ constexpr double kMinWidthShare = 1e-3;
 constexpr int kMaxIterations = 128;
 constexpr double kLastFocusLine = 0.6;
 
-double cross(const dvec2& o, const dvec2& a, const dvec2& b) {
-  return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
-}
-
-// Andrew's monotone chain; counter-clockwise, no collinear points.
-std::vector<dvec2> convexHull(std::vector<dvec2> points) {
-  std::sort(points.begin(), points.end(), [](const dvec2& a, const dvec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
-  if (points.size() < 3) return points;
-  std::vector<dvec2> hull(2 * points.size());
-  size_t k = 0;
-  for (size_t i = 0; i < points.size(); ++i) {
-    while (k >= 2 && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
-    hull[k++] = points[i];
-  }
-  for (size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {
-    while (k >= lower && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
-    hull[k++] = points[i];
-  }
-  hull.resize(k - 1);
-  return hull;
-}
-
 // The part of a convex polygon where along(p) ≤ limit (Sutherland–Hodgman, one plane).
 std::vector<dvec2> clipBelow(const std::vector<dvec2>& polygon, const dvec2& axis, double offset, double limit) {
   std::vector<dvec2> out;
@@ -58,16 +37,6 @@ std::vector<dvec2> clipBelow(const std::vector<dvec2>& polygon, const dvec2& axi
     if ((da < 0.0) != (db < 0.0) && da != db) out.push_back(a + (b - a) * (da / (da - db)));
   }
   return out;
-}
-
-double area(const std::vector<dvec2>& polygon) {
-  double twice = 0.0;
-  for (size_t i = 0; i < polygon.size(); ++i) {
-    const dvec2& a = polygon[i];
-    const dvec2& b = polygon[(i + 1) % polygon.size()];
-    twice += a.x * b.y - a.y * b.x;
-  }
-  return 0.5 * std::abs(twice);
 }
 
 dvec2 apply(const glm::dmat3& h, const dvec2& p) {
@@ -143,7 +112,7 @@ std::optional<Trapezoid> computeTrapezoid(const TrapezoidInput& in, std::string&
     const std::vector<dvec2> focusRegion = clipBelow(hull, u, glm::dot(in.eye, u), top + t.focus);
     std::vector<dvec2> mapped;
     for (const dvec2& p : focusRegion) mapped.push_back(apply(r.toSquare, p));
-    r.focusArea = area(mapped) / 4.0;
+    r.focusArea = polygonArea(mapped) / 4.0;
     return r;
   };
 

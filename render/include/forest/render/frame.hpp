@@ -88,6 +88,11 @@ class Frame {
   const vegetation::Forest* forest() const { return forest_.get(); }
   // The last frame's shadow setup (tests compare against it).
   const shadows::ShadowSetup& shadowSetup() const { return shadowSetup_; }
+  // The last frame's visible set, selected casters (object indices) and the camera whose far plane
+  // is the visible set's z_f (what B was built from) — for debug views.
+  const std::vector<std::uint32_t>& visibleObjects() const { return visibleObjects_; }
+  const std::vector<std::uint32_t>& casters() const { return casters_; }
+  const Camera& shadowCamera() const { return shadowCamera_; }
   // The scene's start camera for this image (camera.above_ground applied).
   Camera startCamera() const;
 
@@ -104,6 +109,8 @@ class Frame {
   culling::OcclusionCuller culler_;
   Aabb sceneBounds_;
   shadows::ShadowSetup shadowSetup_;
+  std::vector<std::uint32_t> visibleObjects_, casters_;
+  Camera shadowCamera_;
   double smoothedFarDepth_ = -1.0;
   bool haveShadowMap_ = false;
 };
