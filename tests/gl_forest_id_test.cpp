@@ -44,7 +44,7 @@ TEST_F(ForestIdGl, ObjectIdsMatchEmbreePrimaryRays) {
   EXPECT_EQ(gpu[0], gpu[1]) << "two runs differ";
 
   raytrace::RayScene rays;
-  raytrace::mirrorScene(rays, &terrain, &lod, &forest, camera, {terrainBase, treeBase, time});
+  raytrace::mirrorScene(rays, &terrain, &lod, &forest, camera, {.terrainIdBase = terrainBase, .treeIdBase = treeBase, .time = time});
   std::vector<std::uint32_t> truth = raytrace::traceObjectIds(rays, camera, width, height);
   std::replace(truth.begin(), truth.end(), raytrace::kNoObject, 0u);
 

@@ -17,37 +17,12 @@ using glm::dvec3;
 
 constexpr int kWidth = 320, kHeight = 240;
 
-// World position of pixel (x, y) (bottom-up rows) from its reversed-Z depth.
 dvec3 pixelPosition(const Camera& camera, int x, int y, float depth) {
-  const glm::dmat4 inverse = glm::inverse(camera.projection() * camera.view());
-  const glm::dvec4 h = inverse * glm::dvec4(2.0 * (x + 0.5) / kWidth - 1.0, 2.0 * (y + 0.5) / kHeight - 1.0, depth, 1.0);
-  return dvec3(h) / h.w;
-}
-
-bool rayHitsBox(const dvec3& origin, const dvec3& direction, const Aabb& box) {
-  double enter = 1e-6, leave = std::numeric_limits<double>::infinity();
-  for (int a = 0; a < 3; ++a) {
-    if (direction[a] == 0.0) {
-      if (origin[a] < box.min[a] || origin[a] > box.max[a]) return false;
-      continue;
-    }
-    double t0 = (box.min[a] - origin[a]) / direction[a], t1 = (box.max[a] - origin[a]) / direction[a];
-    if (t0 > t1) std::swap(t0, t1);
-    enter = std::max(enter, t0);
-    leave = std::min(leave, t1);
-  }
-  return enter <= leave;
+  return test::pixelPosition(camera, x, y, depth, kWidth, kHeight);
 }
 
 Camera cameraAt(dvec3 position, double yawDeg, double pitchDeg, double far) {
-  Camera c;
-  c.position = position;
-  c.yaw = glm::radians(yawDeg);
-  c.pitch = glm::radians(pitchDeg);
-  c.aspect = static_cast<double>(kWidth) / kHeight;
-  c.near = 0.2;
-  c.far = far;
-  return c;
+  return test::cameraAt(position, yawDeg, pitchDeg, far, static_cast<double>(kWidth) / kHeight);
 }
 
 class FrameGl : public GlTest {};

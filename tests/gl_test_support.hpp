@@ -3,10 +3,14 @@
 // first test. Every test derives from GlTest, which fails the test on any KHR_debug error.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
+#include "forest/core/bounds.hpp"
+#include "forest/core/camera.hpp"
 #include "forest/gl/context.hpp"
 #include "forest/gl/debug.hpp"
 #include "forest/gl/gl.hpp"
@@ -34,6 +38,41 @@ class GlTest : public ::testing::Test {
     return all;
   }
 };
+
+// World position of pixel (x, y) (bottom-up rows) of a width × height image from its reversed-Z depth.
+inline glm::dvec3 pixelPosition(const Camera& camera, int x, int y, float depth, int width, int height) {
+  const glm::dmat4 inverse = glm::inverse(camera.projection() * camera.view());
+  const glm::dvec4 h = inverse * glm::dvec4(2.0 * (x + 0.5) / width - 1.0, 2.0 * (y + 0.5) / height - 1.0, depth, 1.0);
+  return glm::dvec3(h) / h.w;
+}
+
+// Whether the ray from `origin` (excluding its first 1e-6) meets the box (slab test).
+inline bool rayHitsBox(const glm::dvec3& origin, const glm::dvec3& direction, const Aabb& box) {
+  double enter = 1e-6, leave = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 3; ++a) {
+    if (direction[a] == 0.0) {
+      if (origin[a] < box.min[a] || origin[a] > box.max[a]) return false;
+      continue;
+    }
+    double t0 = (box.min[a] - origin[a]) / direction[a], t1 = (box.max[a] - origin[a]) / direction[a];
+    if (t0 > t1) std::swap(t0, t1);
+    enter = std::max(enter, t0);
+    leave = std::min(leave, t1);
+  }
+  return enter <= leave;
+}
+
+// A camera at `position` with yaw and pitch in degrees, near 0.2, the given far and aspect.
+inline Camera cameraAt(glm::dvec3 position, double yawDeg, double pitchDeg, double far, double aspect) {
+  Camera c;
+  c.position = position;
+  c.yaw = glm::radians(yawDeg);
+  c.pitch = glm::radians(pitchDeg);
+  c.aspect = aspect;
+  c.near = 0.2;
+  c.far = far;
+  return c;
+}
 
 // The geometry pass's target in tests: object IDs (GL_R32UI) and reversed-Z float depth.
 struct IdDepthTarget {

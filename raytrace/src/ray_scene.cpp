@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <cstring>
+#include <unordered_map>
 #include <vector>
 
 #include "forest/core/error.hpp"
@@ -16,6 +17,9 @@ struct RayScene::Impl {
   std::vector<RTCScene> meshes;               // one scene per mesh, instanced into `top`
   std::vector<std::uint32_t> instanceObject;  // object ID per instance geometry ID
   std::vector<std::uint32_t> instanceMesh;    // mesh per instance geometry ID
+  std::vector<glm::dmat3> instanceNormal;     // object → world for normals (inverse transpose)
+  std::vector<std::size_t> meshTriangles;
+  std::unordered_map<std::uint32_t, std::size_t> objectTriangles;
   bool committed = false;
 };
 
@@ -60,6 +64,7 @@ std::uint32_t RayScene::addMesh(std::span<const glm::vec3> positions, std::span<
   rtcCommitScene(scene);
   check(impl_->device, "mesh commit");
   impl_->meshes.push_back(scene);
+  impl_->meshTriangles.push_back(indices.size() / 3);
   return static_cast<std::uint32_t>(impl_->meshes.size() - 1);
 }
 
@@ -76,7 +81,10 @@ void RayScene::addInstance(std::uint32_t mesh, const glm::dmat4& objectToWorld, 
   if (impl_->instanceObject.size() <= id) {
     impl_->instanceObject.resize(id + 1, kNoObject);
     impl_->instanceMesh.resize(id + 1, 0);
+    impl_->instanceNormal.resize(id + 1, glm::dmat3(1.0));
   }
+  impl_->instanceNormal[id] = glm::transpose(glm::inverse(glm::dmat3(objectToWorld)));
+  impl_->objectTriangles[objectId] += impl_->meshTriangles[mesh];
   impl_->instanceObject[id] = objectId;
   impl_->instanceMesh[id] = mesh;
   impl_->committed = false;
@@ -116,8 +124,34 @@ RayHit RayScene::intersect(const glm::dvec3& origin, const glm::dvec3& direction
   if (instance < impl_->instanceObject.size()) {
     hit.objectId = impl_->instanceObject[instance];
     hit.mesh = impl_->instanceMesh[instance];
+    // Embree reports Ng in the instanced mesh's own space.
+    const glm::dvec3 n = impl_->instanceNormal[instance] * glm::dvec3(ray.hit.Ng_x, ray.hit.Ng_y, ray.hit.Ng_z);
+    if (glm::length(n) > 0.0) hit.normal = glm::normalize(n);
   }
   return hit;
+}
+
+bool RayScene::occluded(const glm::dvec3& origin, const glm::dvec3& direction, double tNear, double tFar) const {
+  if (!impl_->committed) throw Error("RayScene::occluded before commit()");
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay ray{};
+  ray.org_x = static_cast<float>(origin.x);
+  ray.org_y = static_cast<float>(origin.y);
+  ray.org_z = static_cast<float>(origin.z);
+  ray.dir_x = static_cast<float>(direction.x);
+  ray.dir_y = static_cast<float>(direction.y);
+  ray.dir_z = static_cast<float>(direction.z);
+  ray.tnear = static_cast<float>(tNear);
+  ray.tfar = tFar > 3e38 ? std::numeric_limits<float>::infinity() : static_cast<float>(tFar);
+  ray.mask = 0xffffffffu;
+  rtcOccluded1(impl_->top, &context, &ray);
+  return ray.tfar < 0.0f;  // Embree sets tfar to −∞ on a hit
+}
+
+std::size_t RayScene::triangles(std::uint32_t objectId) const {
+  const auto it = impl_->objectTriangles.find(objectId);
+  return it == impl_->objectTriangles.end() ? 0 : it->second;
 }
 
 }  // namespace forest::raytrace

@@ -37,6 +37,20 @@ void mirrorScene(RayScene& scene, const terrain::Terrain* terrain, const terrain
                         options.treeIdBase + t);
     }
   }
+  if (options.props && !options.props->empty()) {
+    // A unit cube, outward-facing (counter-clockwise seen from outside), placed by scale + offset.
+    const std::vector<glm::vec3> corners = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
+    const std::vector<std::uint32_t> faces = {0, 2, 1, 1, 2, 3,  4, 5, 6, 5, 7, 6,  0, 1, 4, 1, 5, 4,
+                                              2, 6, 3, 3, 6, 7,  0, 4, 2, 2, 4, 6,  1, 3, 5, 3, 7, 5};
+    const std::uint32_t cube = scene.addMesh(corners, faces);
+    for (std::uint32_t i = 0; i < options.props->size(); ++i) {
+      const PropBox& box = (*options.props)[i];
+      glm::dmat4 toWorld(1.0);
+      for (int a = 0; a < 3; ++a) toWorld[a][a] = box.max[a] - box.min[a];
+      toWorld[3] = glm::dvec4(box.min, 1.0);
+      scene.addInstance(cube, toWorld, options.propIdBase + i);
+    }
+  }
   scene.commit();
 }
 

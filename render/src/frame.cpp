@@ -219,6 +219,8 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
     throw InputError(fmt::format("fog density {}: expected 0 to 1 per metre", settings.fogDensity));
   if (!(settings.blurRadius >= 0.0 && settings.blurRadius <= 16.0))
     throw InputError(fmt::format("blur radius {}: expected 0 to 16 pixels", settings.blurRadius));
+  if (!std::isfinite(settings.lookupShiftTexels.x) || !std::isfinite(settings.lookupShiftTexels.y))
+    throw InputError("lookup shift: expected finite texels");
   if (!(settings.blurReferenceDepth > 0.0) || !std::isfinite(settings.blurReferenceDepth))
     throw InputError(fmt::format("blur reference depth {}: expected > 0 m", settings.blurReferenceDepth));
   FrameStats stats;
@@ -375,7 +377,14 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   term.set("uObjectId", 2);
   term.set("uShadowMap", 3);
   term.set("uInverseViewProjectionRelative", inverseViewProjectionRelative);
-  term.set("uEyeRelativeToShadow", glm::mat4(eyeRelativeToShadow));
+  glm::dmat4 lookup = eyeRelativeToShadow;
+  if (settings.lookupShiftTexels != glm::dvec2(0.0)) {
+    glm::dmat4 shift(1.0);  // clip x, y += 2·shift/size · w
+    shift[3][0] = 2.0 * settings.lookupShiftTexels.x / settings.shadowMapSize;
+    shift[3][1] = 2.0 * settings.lookupShiftTexels.y / settings.shadowMapSize;
+    lookup = shift * lookup;
+  }
+  term.set("uEyeRelativeToShadow", glm::mat4(lookup));
   term.set("uLinearDepth", shadowSetup_.linearDepth ? 1 : 0);
   term.set("uEyeRelativeLightDepth", shadowSetup_.eyeRelativeToLightDepthF);
   term.set("uToSun", glm::vec3(-l));

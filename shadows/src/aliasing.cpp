@@ -24,7 +24,14 @@ Jacobian2x3 projectiveJacobian(const glm::dmat4& m, const dvec3& p) {
   return {(row(0) - (h.x / h.w) * w) / h.w, (row(1) - (h.y / h.w) * w) / h.w};
 }
 
-ErrorStatistics statistics(std::vector<double> values) {
+bool inside(const Aabb& box, const dvec3& p) {
+  const double slack = 1e-9 * std::max(1.0, box.diagonal());
+  return glm::all(glm::greaterThanEqual(p, box.min - slack)) && glm::all(glm::lessThanEqual(p, box.max + slack));
+}
+
+}  // namespace
+
+ErrorStatistics summarise(std::vector<double> values) {
   ErrorStatistics s;
   s.samples = static_cast<int>(values.size());
   if (values.empty()) return s;
@@ -39,13 +46,6 @@ ErrorStatistics statistics(std::vector<double> values) {
   s.p95 = values[k];
   return s;
 }
-
-bool inside(const Aabb& box, const dvec3& p) {
-  const double slack = 1e-9 * std::max(1.0, box.diagonal());
-  return glm::all(glm::greaterThanEqual(p, box.min - slack)) && glm::all(glm::lessThanEqual(p, box.max + slack));
-}
-
-}  // namespace
 
 double perspectiveAliasing(const ShadowSetup& setup, const Camera& camera, const dvec3& point) {
   const Jacobian2x3 j = projectiveJacobian(setup.worldToShadowClip, point);
@@ -117,9 +117,9 @@ AliasingReport analyseAliasing(const ShadowInput& in, const ShadowSetup& setup, 
       }
     }
   }
-  report.perspective = statistics(std::move(perspective));
-  report.perspectivePixels = statistics(std::move(perspectivePixels));
-  report.surfacePixels = statistics(std::move(surface));
+  report.perspective = summarise(std::move(perspective));
+  report.perspectivePixels = summarise(std::move(perspectivePixels));
+  report.surfacePixels = summarise(std::move(surface));
   report.storageFactor = static_cast<double>(in.mapSize) * in.mapSize * maxS * maxT / (static_cast<double>(options.width) * options.height);
   // Eq. 8.4 over the depth range LiSPSM equalizes (§9.2.5 z0, z1).
   const ShadowDiagnostics lispsm = computeShadowSetup(in, ShadowMethod::Lispsm).diagnostics;

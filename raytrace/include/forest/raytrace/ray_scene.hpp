@@ -20,6 +20,7 @@ struct RayHit {
   std::uint32_t primitive = 0; // triangle index within the mesh
   std::uint32_t mesh = 0;      // the mesh (prototype) hit
   double u = 0.0, v = 0.0;     // barycentric coordinates of the hit in the triangle (Embree's)
+  glm::dvec3 normal{0.0};      // geometric normal in the world (unit; the triangle's winding side)
 };
 
 class RayScene {
@@ -39,6 +40,11 @@ class RayScene {
   // Closest hit with distance in (tNear, tFar). `direction` must be unit length.
   RayHit intersect(const glm::dvec3& origin, const glm::dvec3& direction, double tNear = 0.0,
                    double tFar = std::numeric_limits<double>::infinity()) const;
+  // Whether anything lies on the ray within (tNear, tFar) (any hit; faster than intersect).
+  bool occluded(const glm::dvec3& origin, const glm::dvec3& direction, double tNear = 0.0,
+                double tFar = std::numeric_limits<double>::infinity()) const;
+  // Triangles of the instances carrying `objectId` (0 when none).
+  std::size_t triangles(std::uint32_t objectId) const;
 
  private:
   struct Impl;

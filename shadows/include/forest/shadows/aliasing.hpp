@@ -17,6 +17,7 @@
 #include <glm/glm.hpp>
 
 #include <optional>
+#include <vector>
 
 #include "forest/core/camera.hpp"
 #include "forest/shadows/shadow_setup.hpp"
@@ -42,6 +43,9 @@ struct ErrorStatistics {
   double max = 0.0, p95 = 0.0, mean = 0.0;
   int samples = 0;
 };
+
+// max, p95 (the value 95% of the samples do not exceed) and mean; zeros when empty.
+ErrorStatistics summarise(std::vector<double> values);
 
 struct AliasingOptions {
   int width = 1280, height = 720;       // screen pixels

@@ -1,0 +1,262 @@
+#include "forest/truth/frame_truth.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <set>
+#include <thread>
+
+#include "forest/core/error.hpp"
+#include "forest/raytrace/scene_mirror.hpp"
+
+namespace forest::truth {
+namespace {
+
+using glm::dvec3;
+using raytrace::kNoObject;
+
+constexpr double kFloatUlp = 0x1p-23;  // float32 spacing relative to the magnitude
+
+// What the truth sees through one pixel.
+struct PixelTruth {
+  bool scored = false;      // the truth hits the object the G-buffer shows
+  bool litFacing = false;   // its geometric normal faces the sun
+  bool shadowed = false;    // the shadow ray towards the sun's centre hits something
+  float soft = 1.0f;        // share of the sun's disc visible
+  std::uint32_t occluder = kNoObject;  // the object the shadow ray hit first
+  dvec3 position{0.0}, normal{0.0};
+};
+
+// The mirror of what `frame` drew for `camera` at `time`.
+void buildMirror(raytrace::RayScene& rays, const render::Frame& frame, const Scene& scene, const Camera& camera,
+                 double time) {
+  std::optional<terrain::TerrainLod> lod;
+  if (frame.terrain()) lod = frame.terrain()->lodFor(camera, frame.height());
+  const render::SceneObjects& objects = frame.objects();
+  raytrace::MirrorOptions options;
+  options.terrainIdBase = objects.terrainIdBase();
+  options.treeIdBase = objects.treeIdBase();
+  options.propIdBase = objects.propIdBase();
+  options.time = time;
+  options.props = &scene.props;
+  raytrace::mirrorScene(rays, frame.terrain(), lod ? &*lod : nullptr, frame.forest(), camera, options);
+}
+
+// Runs body(row) for every row on all cores.
+template <typename Body>
+void forEachRow(int rows, const Body& body) {
+  const int threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  auto worker = [&](int first) {
+    for (int y = first; y < rows; y += threads) body(y);
+  };
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker, t);
+  worker(0);
+  for (std::thread& t : pool) t.join();
+}
+
+// Traces pixel (x, y) (rows bottom-up, as GL stores them) against the G-buffer's object ID.
+PixelTruth tracePixel(const raytrace::RayScene& rays, const Camera& camera, const glm::dmat4& inverseViewProjection,
+                      int x, int y, int width, int height, std::uint32_t gbufferId, const dvec3& toSun,
+                      const TruthOptions& options, bool soft) {
+  PixelTruth t;
+  if (gbufferId == 0) return t;  // sky
+  const glm::dvec4 h = inverseViewProjection * glm::dvec4(2.0 * (x + 0.5) / width - 1.0, 2.0 * (y + 0.5) / height - 1.0, 0.5, 1.0);
+  const dvec3 direction = glm::normalize(dvec3(h) / h.w - camera.position);
+  const double cosine = glm::dot(direction, camera.forward());
+  const raytrace::RayHit hit = rays.intersect(camera.position, direction, camera.near / cosine, camera.far / cosine);
+  if (!hit.hit || hit.objectId != gbufferId) return t;
+  t.scored = true;
+  t.position = camera.position + hit.distance * direction;
+  t.normal = glm::dot(hit.normal, direction) > 0.0 ? -hit.normal : hit.normal;  // the side the eye sees
+  t.litFacing = glm::dot(t.normal, toSun) > 0.0;
+  if (!t.litFacing) return t;
+  // Offset along the geometric normal by float32 ulps of |p| (the mirror traces in float32).
+  const double epsilon = options.offsetUlps * kFloatUlp * std::max(1.0, glm::length(t.position));
+  const dvec3 origin = t.position + epsilon * t.normal;
+  const raytrace::RayHit shadow = rays.intersect(origin, toSun);
+  t.shadowed = shadow.hit;
+  t.occluder = shadow.hit ? shadow.objectId : kNoObject;
+  if (soft && options.softRays > 0) {
+    // Rays spread over the sun's disc on a golden-angle spiral (equal area per ray).
+    const dvec3 helper = std::abs(toSun.y) < 0.9 ? dvec3(0, 1, 0) : dvec3(1, 0, 0);
+    const dvec3 u = glm::normalize(glm::cross(toSun, helper)), v = glm::cross(toSun, u);
+    const double radius = std::tan(glm::radians(0.5 * options.sunDiscDeg));
+    int visible = 0;
+    for (int k = 0; k < options.softRays; ++k) {
+      const double r = radius * std::sqrt((k + 0.5) / options.softRays), angle = 2.399963229728653 * k;
+      const dvec3 d = glm::normalize(toSun + r * (std::cos(angle) * u + std::sin(angle) * v));
+      visible += rays.occluded(origin, d) ? 0 : 1;
+    }
+    t.soft = static_cast<float>(visible) / static_cast<float>(options.softRays);
+  }
+  return t;
+}
+
+}  // namespace
+
+FrameError evaluateFrame(const render::Frame& frame, const render::FrameStats& stats, const Scene& scene,
+                         const Camera& camera, double time, const TruthOptions& options) {
+  const int width = frame.width(), height = frame.height();
+  raytrace::RayScene rays;
+  buildMirror(rays, frame, scene, camera, time);
+  const std::vector<std::uint32_t> ids = frame.readObjectIds();
+  const std::vector<float> term = frame.readShadowTerm(), blurred = frame.readBlurredShadowTerm();
+  const dvec3 l = glm::normalize(scene.sun.direction), toSun = -l;
+  const glm::dmat4 inverse = glm::inverse(camera.projection() * camera.view());
+  const bool sunUp = l.y < 0.0;
+
+  std::vector<PixelTruth> truth(static_cast<size_t>(width) * height);
+  forEachRow(height, [&](int y) {
+    for (int x = 0; x < width; ++x) {
+      const size_t i = static_cast<size_t>(y) * width + x;
+      truth[i] = tracePixel(rays, camera, inverse, x, y, width, height, ids[i], toSun, options, true);
+      if (!sunUp) truth[i].litFacing = false;  // no sun: nothing to score
+    }
+  });
+
+  FrameError e;
+  e.pixels = width * height;
+  int wrong = 0, wrongNear = 0, falseShadow = 0, falseLight = 0;
+  double softError = 0.0;
+  std::vector<double> aliasingPixels, aliasingRelative;
+  std::set<std::int64_t> needed;
+  const shadows::ShadowSetup& setup = frame.shadowSetup();
+  const int mapSize = frame.shadowMapSize();
+  e.errorImage = Image8(width, height, 3);
+  e.truthState.assign(truth.size(), -1);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const size_t i = static_cast<size_t>(y) * width + x;
+      const PixelTruth& t = truth[i];
+      std::uint8_t* out = &e.errorImage.at(x, height - 1 - y);
+      out[0] = out[1] = out[2] = ids[i] == 0 ? 255 : 40;  // sky white, unscored dark
+      if (!t.scored) continue;
+      ++e.scored;
+      if (!t.litFacing) continue;
+      ++e.litFacing;
+      e.truthState[i] = t.shadowed ? 0 : 1;
+      // Near a true edge: a lit-facing neighbour within edgePixels with the other truth.
+      bool nearEdge = false;
+      for (int dy = -options.edgePixels; dy <= options.edgePixels && !nearEdge; ++dy)
+        for (int dx = -options.edgePixels; dx <= options.edgePixels && !nearEdge; ++dx) {
+          const int nx = x + dx, ny = y + dy;
+          if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
+          const PixelTruth& o = truth[static_cast<size_t>(ny) * width + nx];
+          nearEdge = o.litFacing && o.shadowed != t.shadowed;
+        }
+      e.nearEdge += nearEdge ? 1 : 0;
+      const bool renderedShadow = term[i] < 0.5f;
+      if (renderedShadow != t.shadowed) {
+        ++wrong;
+        wrongNear += nearEdge ? 1 : 0;
+        (renderedShadow ? falseShadow : falseLight) += 1;
+        out[0] = renderedShadow ? 230 : 30;
+        out[1] = 30;
+        out[2] = renderedShadow ? 30 : 230;
+      } else {
+        out[0] = out[1] = out[2] = t.shadowed ? 110 : 190;
+      }
+      softError += std::abs(static_cast<double>(blurred[i]) - t.soft);
+      if (t.occluder != kNoObject) needed.insert(frame.objects().objectOfId(t.occluder));
+      if (!setup.empty) {
+        const auto a = shadows::surfaceAliasing(setup, camera, t.position, t.normal, l, mapSize, width, height);
+        if (a && std::isfinite(a->footprint)) aliasingPixels.push_back(a->footprint);
+        const double r = shadows::perspectiveAliasing(setup, camera, t.position);
+        if (std::isfinite(r)) aliasingRelative.push_back(r);
+      }
+    }
+  }
+  const double lit = std::max(1, e.litFacing);
+  e.misclassification = wrong / lit;
+  e.misclassificationNearEdge = e.nearEdge ? static_cast<double>(wrongNear) / e.nearEdge : 0.0;
+  e.misclassificationElsewhere =
+      e.litFacing > e.nearEdge ? static_cast<double>(wrong - wrongNear) / (e.litFacing - e.nearEdge) : 0.0;
+  e.falseShadow = falseShadow / lit;
+  e.falseLight = falseLight / lit;
+  e.softMeanAbsoluteError = options.softRays > 0 ? softError / lit : 0.0;
+  e.aliasingPixels = shadows::summarise(std::move(aliasingPixels));
+  e.aliasingRelative = shadows::summarise(std::move(aliasingRelative));
+
+  // Caster oracle, in culling objects (a tree's object is its cluster).
+  std::set<std::uint32_t> occluderIds;
+  for (const PixelTruth& t : truth)
+    if (t.litFacing && t.occluder != kNoObject) occluderIds.insert(t.occluder);
+  for (std::uint32_t id : occluderIds) e.casters.neededTriangles += static_cast<long long>(rays.triangles(id));
+  const std::set<std::uint32_t> selected(frame.casters().begin(), frame.casters().end());
+  e.casters.selected = static_cast<int>(selected.size());
+  e.casters.selectedTriangles = stats.shadowTriangles;
+  for (std::int64_t object : needed) {
+    if (object < 0) continue;
+    ++e.casters.needed;
+    if (!selected.contains(static_cast<std::uint32_t>(object))) e.casters.missingObjects.push_back(static_cast<std::uint32_t>(object));
+  }
+  e.casters.missing = static_cast<int>(e.casters.missingObjects.size());
+  return e;
+}
+
+FlickerResult measureFlicker(render::Frame& frame, const Scene& scene, std::span<const Camera> cameras, double time,
+                             const render::FrameSettings& settings, int probeSpacingPixels) {
+  FlickerResult result;
+  if (cameras.empty()) return result;
+  if (probeSpacingPixels < 1) throw InputError("flicker: probe spacing must be at least 1 pixel");
+  const dvec3 toSun = -glm::normalize(scene.sun.direction);
+  // Probes: lit-facing points the truth and the G-buffer agree on, on a pixel grid of the first frame.
+  frame.render(cameras[0], time, settings);
+  std::vector<dvec3> probes;
+  {
+    raytrace::RayScene rays;
+    buildMirror(rays, frame, scene, cameras[0], time);
+    const std::vector<std::uint32_t> ids = frame.readObjectIds();
+    const glm::dmat4 inverse = glm::inverse(cameras[0].projection() * cameras[0].view());
+    TruthOptions options;
+    options.softRays = 0;
+    for (int y = probeSpacingPixels / 2; y < frame.height(); y += probeSpacingPixels)
+      for (int x = probeSpacingPixels / 2; x < frame.width(); x += probeSpacingPixels) {
+        const PixelTruth t = tracePixel(rays, cameras[0], inverse, x, y, frame.width(), frame.height(),
+                                        ids[static_cast<size_t>(y) * frame.width() + x], toSun, options, false);
+        if (t.litFacing) probes.push_back(t.position);
+      }
+  }
+  result.probes = static_cast<int>(probes.size());
+  // −1: not in the map; 0 shadowed; 1 lit.
+  std::vector<int> previous(probes.size(), -1);
+  for (size_t c = 0; c < cameras.size(); ++c) {
+    if (c > 0) frame.render(cameras[c], time, settings);
+    const shadows::ShadowSetup& setup = frame.shadowSetup();
+    if (setup.empty) {
+      std::fill(previous.begin(), previous.end(), -1);
+      continue;
+    }
+    const int size = frame.shadowMapSize();
+    const std::vector<float> map = frame.readShadowMap();
+    auto stored = [&](int tx, int ty) {
+      tx = std::clamp(tx, 0, size - 1);
+      ty = std::clamp(ty, 0, size - 1);
+      return map[static_cast<size_t>(ty) * size + tx];
+    };
+    for (size_t p = 0; p < probes.size(); ++p) {
+      const dvec3 m = shadows::shadowMapCoordinates(setup, probes[p]);
+      int state = -1;
+      if (std::abs(m.x) <= 1.0 && std::abs(m.y) <= 1.0) {
+        // GL_LINEAR with GL_COMPARE_REF_TO_TEXTURE: the 2×2 comparisons (ref ≤ stored: lit), weighted bilinearly.
+        const double reference = 0.5 * m.z + 0.5;
+        const double sx = (0.5 * m.x + 0.5) * size - 0.5, sy = (0.5 * m.y + 0.5) * size - 0.5;
+        const int x0 = static_cast<int>(std::floor(sx)), y0 = static_cast<int>(std::floor(sy));
+        const double fx = sx - x0, fy = sy - y0;
+        auto lit = [&](int tx, int ty) { return reference <= stored(tx, ty) ? 1.0 : 0.0; };
+        const double value = (1 - fx) * (1 - fy) * lit(x0, y0) + fx * (1 - fy) * lit(x0 + 1, y0) +
+                             (1 - fx) * fy * lit(x0, y0 + 1) + fx * fy * lit(x0 + 1, y0 + 1);
+        state = value >= 0.5 ? 1 : 0;
+      }
+      if (state >= 0 && previous[p] >= 0) {
+        ++result.comparisons;
+        result.changes += state != previous[p] ? 1 : 0;
+      }
+      previous[p] = state;
+    }
+  }
+  return result;
+}
+
+}  // namespace forest::truth
