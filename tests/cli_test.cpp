@@ -166,6 +166,28 @@ TEST(ForestCli, RenderDrawsTheTerrainScene) {
                      "terrain.octaves = 17: expected an integer in [1, 16]");
 }
 
+TEST(ForestCli, TruthWritesTheErrorFiguresAndTheErrorImage) {
+  const fs::path folder = fs::path(FOREST_TEST_OUTPUT) / "cli" / "truth";
+  fs::remove_all(folder);
+  const Result r = runForest("truth --scene " + std::string(FOREST_REPO_DATA) + "/scenes/forest.toml --out " + folder.string() +
+                             " --width 320 --height 180 --shadow-size 1024 --method tsm --soft-rays 4");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("misclassified"));
+  const nlohmann::json j = nlohmann::json::parse(readTextFile(folder / "truth.json"));
+  EXPECT_GT(j["pixels"]["lit_facing"].get<int>(), 10000);
+  const double all = j["misclassification"]["all"].get<double>();
+  EXPECT_GE(all, 0.0);
+  EXPECT_LT(all, 0.2);
+  EXPECT_NEAR(all, j["misclassification"]["false_shadow"].get<double>() + j["misclassification"]["false_light"].get<double>(), 1e-12);
+  EXPECT_EQ(j["casters"]["missing"].get<int>(), 0);
+  EXPECT_GT(j["casters"]["needed"].get<int>(), 0);
+  EXPECT_GT(j["aliasing"]["px_per_texel"]["p95"].get<double>(), 0.0);
+  const Image8 error = readImage8(folder / "error.png");
+  EXPECT_EQ(error.width, 320);
+  EXPECT_EQ(error.channels, 3);
+  EXPECT_EQ(readImage8(folder / "frame.png").width, 320);
+}
+
 TEST(ForestCli, BenchCullingWritesEveryStrategyAndTheOracle) {
   const fs::path json = fs::path(FOREST_TEST_OUTPUT) / "cli" / "bench-culling.json";
   fs::remove(json);

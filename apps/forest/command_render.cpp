@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -20,6 +21,7 @@
 #include "forest/gl/debug.hpp"
 #include "forest/render/debug_views.hpp"
 #include "forest/render/frame.hpp"
+#include "forest/truth/frame_truth.hpp"
 
 namespace forest::app {
 namespace {
@@ -40,6 +42,9 @@ struct RenderOptions {
   std::vector<double> camera;  // x y z yaw pitch
   std::vector<double> sun;     // x y z
   std::string debug;           // folder for the debug images (empty: none)
+  // forest truth: evaluate the frame against the ray-traced truth, writing into truthFolder.
+  std::string truthFolder;
+  int softRays = 16;
 };
 
 // Single-channel float rows (bottom row first) as an image, top row first.
@@ -90,6 +95,53 @@ void writeDebugImages(const render::Frame& frame, const glm::dvec3& sunDirection
   writeImage(folder / "top-down.png", render::topDownDiagram(frame, sunDirection));
 }
 
+// forest truth: the frame against the ray-traced truth; truth.json, error.png and a summary.
+void writeTruth(const render::Frame& frame, const render::FrameStats& stats, const Scene& scene, const Camera& camera,
+                const RenderOptions& options) {
+  const std::filesystem::path folder = options.truthFolder;
+  truth::TruthOptions truthOptions;
+  truthOptions.softRays = options.softRays;
+  const auto start = std::chrono::steady_clock::now();
+  const truth::FrameError e = truth::evaluateFrame(frame, stats, scene, camera, options.time, truthOptions);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  writeImage(folder / "error.png", e.errorImage);
+  auto stats3 = [](const shadows::ErrorStatistics& s) {
+    return nlohmann::ordered_json{{"max", s.max}, {"p95", s.p95}, {"mean", s.mean}, {"samples", s.samples}};
+  };
+  nlohmann::ordered_json j;
+  j["method"] = options.frame.method;
+  j["shadow_size"] = options.frame.shadowSize;
+  j["pixels"] = {{"total", e.pixels}, {"scored", e.scored}, {"lit_facing", e.litFacing}, {"near_edge", e.nearEdge}};
+  j["misclassification"] = {{"all", e.misclassification},
+                            {"near_edge", e.misclassificationNearEdge},
+                            {"elsewhere", e.misclassificationElsewhere},
+                            {"false_shadow", e.falseShadow},
+                            {"false_light", e.falseLight}};
+  j["soft"] = {{"rays", options.softRays}, {"sun_disc_deg", truthOptions.sunDiscDeg}, {"blurred_mean_abs_error", e.softMeanAbsoluteError}};
+  j["aliasing"] = {{"px_per_texel", stats3(e.aliasingPixels)}, {"perspective_relative", stats3(e.aliasingRelative)}};
+  j["casters"] = {{"selected", e.casters.selected},
+                  {"needed", e.casters.needed},
+                  {"missing", e.casters.missing},
+                  {"selected_triangles", e.casters.selectedTriangles},
+                  {"needed_triangles", e.casters.neededTriangles},
+                  {"missing_objects", e.casters.missingObjects}};
+  j["frame_ms"] = stats.geometryMs + stats.shadowSetupMs + stats.shadowMs + stats.shadowTermMs + stats.blurMs + stats.lightingMs;
+  j["shadow_pass_ms"] = stats.shadowMs;
+  j["truth_seconds"] = seconds;
+  writeFileAtomic(folder / "truth.json", j.dump(2) + "\n");
+  std::cout << fmt::format(
+      "truth ({:.1f} s): {} lit-facing pixels scored; misclassified {:.3f}% (near edges {:.3f}%, elsewhere {:.3f}%; "
+      "false shadow {:.3f}%, false light {:.3f}%)\n"
+      "  soft shadow: blurred term vs {}-ray sun disc, mean |error| {:.4f}\n"
+      "  aliasing: {:.2f} / {:.2f} / {:.2f} px per texel (max / p95 / mean)\n"
+      "  casters: {} selected ({} triangles), {} needed by the oracle ({} triangles), {} missing\n"
+      "  wrote {} and {}\n",
+      seconds, e.litFacing, 100 * e.misclassification, 100 * e.misclassificationNearEdge, 100 * e.misclassificationElsewhere,
+      100 * e.falseShadow, 100 * e.falseLight, options.softRays, e.softMeanAbsoluteError, e.aliasingPixels.max,
+      e.aliasingPixels.p95, e.aliasingPixels.mean, e.casters.selected, e.casters.selectedTriangles, e.casters.needed,
+      e.casters.neededTriangles, e.casters.missing, (folder / "truth.json").string(), (folder / "error.png").string());
+}
+
 int runRender(const RenderOptions& options) {
   const std::string scenePath =
       options.scene.empty() ? (resourceDirectory("data") / "scenes" / "boxes.toml").string() : options.scene;
@@ -129,6 +181,7 @@ int runRender(const RenderOptions& options) {
   }
   writeImage(options.out, image);
   if (!options.debug.empty()) writeDebugImages(frame, scene.sun.direction, options.debug);
+  if (!options.truthFolder.empty()) writeTruth(frame, stats, scene, camera, options);
 
   nlohmann::ordered_json j;
   j["scene"] = scenePath;
@@ -173,16 +226,10 @@ int runRender(const RenderOptions& options) {
   return 0;
 }
 
-}  // namespace
-
-Run addRenderCommand(CLI::App& app) {
-  auto options = std::make_shared<RenderOptions>();
-  CLI::App* command = app.add_subcommand(
-      "render", "Render one frame of a scene (culling, shadows, lighting) to an image and a JSON record (headless)");
+// The scene, camera and frame flags render and truth share.
+void addFrameInputs(CLI::App* command, RenderOptions* options) {
   options->gl.add(*command);
   command->add_option("--scene", options->scene, "Scene file (TOML; default: data/scenes/boxes.toml)");
-  command->add_option("--out", options->out, "Output image (.png 8-bit, .exr float)")->required();
-  command->add_option("--json", options->json, "JSON record of the frame (default: the image path with .json)");
   command->add_option("--width", options->width, "Override render.width")->check(CLI::Range(1, 16384));
   command->add_option("--height", options->height, "Override render.height")->check(CLI::Range(1, 16384));
   command->add_option("--time", options->time, "Seconds since the start (wind sway)")->capture_default_str();
@@ -196,13 +243,47 @@ Run addRenderCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--bias", options->bias, "Slope-scale depth bias in the shadow pass (0: none)")->capture_default_str();
   command->add_flag("--front-faces", options->frontFaces, "Render front faces into the shadow map (not backside rendering)");
-  command->add_option("--debug", options->debug,
-                      "Folder for debug images: shadow map (EXR, normalised PNG), shadow term before and after the blur,\n"
-                      "top-down.png (view frustum, focus body B, light frustum, receivers, casters)");
   command->add_option("--fog", options->fog, "Exponential fog density per metre (0: none)")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
+}
+
+}  // namespace
+
+Run addRenderCommand(CLI::App& app) {
+  auto options = std::make_shared<RenderOptions>();
+  CLI::App* command = app.add_subcommand(
+      "render", "Render one frame of a scene (culling, shadows, lighting) to an image and a JSON record (headless)");
+  addFrameInputs(command, options.get());
+  command->add_option("--out", options->out, "Output image (.png 8-bit, .exr float)")->required();
+  command->add_option("--json", options->json, "JSON record of the frame (default: the image path with .json)");
+  command->add_option("--debug", options->debug,
+                      "Folder for debug images: shadow map (EXR, normalised PNG), shadow term before and after the blur,\n"
+                      "top-down.png (view frustum, focus body B, light frustum, receivers, casters)");
   return [options] { return runRender(*options); };
+}
+
+Run addTruthCommand(CLI::App& app) {
+  auto options = std::make_shared<RenderOptions>();
+  auto folder = std::make_shared<std::string>();
+  CLI::App* command = app.add_subcommand(
+      "truth",
+      "Render one frame and measure it against a ray-traced truth of the same geometry (Embree): misclassified\n"
+      "pixels near and away from shadow edges, false shadow and false light, the blurred term against a\n"
+      "sun-disc soft truth, aliasing per pixel, casters selected against the casters the truth needs");
+  addFrameInputs(command, options.get());
+  command->add_option("--out", *folder, "Folder for frame.png, frame.json, truth.json and error.png (false shadow\n"
+                                        "red, false light blue, agreement grey)")
+      ->required();
+  command->add_option("--soft-rays", options->softRays, "Rays over the sun's disc for the soft truth (0: none)")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
+  return [options, folder] {
+    RenderOptions o = *options;
+    o.out = (std::filesystem::path(*folder) / "frame.png").string();
+    o.truthFolder = *folder;
+    return runRender(o);
+  };
 }
 
 }  // namespace forest::app

@@ -36,6 +36,7 @@ double percentile(std::vector<double> values, double p);
 
 Run addInfoCommand(CLI::App& app);
 Run addRenderCommand(CLI::App& app);
+Run addTruthCommand(CLI::App& app);
 Run addCheckCommand(CLI::App& app);
 Run addStabilityCommand(CLI::App& app);
 Run addBenchCommand(CLI::App& app);

@@ -69,6 +69,7 @@ int main(int argc, char** argv) {
   };
   add(forest::app::addInfoCommand);
   add(forest::app::addRenderCommand);
+  add(forest::app::addTruthCommand);
   add(forest::app::addCheckCommand);
   add(forest::app::addStabilityCommand);
   add(forest::app::addBenchCommand);
