@@ -233,7 +233,8 @@ Run addBenchCommand(CLI::App& app) {
   culling->add_option("--height", options->height, "Image height")->check(CLI::Range(16, 8192))->capture_default_str();
   culling->add_option("--leaf-size", options->leafSize, "Objects per BVH leaf")->check(CLI::Range(1, 64))->capture_default_str();
   culling->add_option("--out", options->out, "JSON results")->capture_default_str();
-  return [options] { return runBenchCulling(*options); };
+  const Run speedError = addSpeedErrorCommand(*bench);
+  return [options, culling, speedError] { return culling->parsed() ? runBenchCulling(*options) : speedError(); };
 }
 
 }  // namespace forest::app

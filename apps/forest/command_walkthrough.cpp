@@ -80,19 +80,6 @@ Image8 contactSheet(const std::vector<Image8>& frames) {
   return sheet;
 }
 
-void progress(int done, int total, double elapsed, bool quiet) {
-  if (quiet) return;
-  const double eta = done > 0 ? elapsed / done * (total - done) : 0.0;
-  const int width = 30, filled = total > 0 ? width * done / total : width;
-  const std::string bar = std::string(static_cast<size_t>(filled), '#') + std::string(static_cast<size_t>(width - filled), '.');
-  if (isatty(STDERR_FILENO)) {
-    std::cerr << fmt::format("\r[{}] {}/{} frames, {:.0f} s, ETA {:.0f} s ", bar, done, total, elapsed, eta) << std::flush;
-    if (done == total) std::cerr << "\n";
-  } else if (done == total || done % std::max(1, total / 10) == 0) {
-    std::cerr << fmt::format("walkthrough: {}/{} frames, {:.0f} s, ETA {:.0f} s\n", done, total, elapsed, eta);
-  }
-}
-
 int runWalkthrough(const WalkthroughOptions& options) {
   // Everything that can be wrong with the input is checked before any output exists.
   const std::string scenePath =
@@ -163,7 +150,7 @@ int runWalkthrough(const WalkthroughOptions& options) {
     r["rss_mib"] = residentMegabytes();
     records.push_back(r);
     ++done;
-    progress(done, total, std::chrono::duration<double>(Clock::now() - start).count(), options.quiet);
+    showProgress("walkthrough", "frames", done, total, std::chrono::duration<double>(Clock::now() - start).count(), options.quiet);
   }
   std::signal(SIGINT, SIG_DFL);
   if (gl::debugErrorCount() > 0)

@@ -5,6 +5,7 @@
 
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "forest/render/frame.hpp"
@@ -31,6 +32,10 @@ struct FrameOptions {
   render::FrameSettings settings() const;  // throws InputError for names the checks let through
 };
 
+// A progress line on stderr: a bar with ETA redrawn in place on a terminal, else a line at every
+// tenth and at the end. Nothing when quiet.
+void showProgress(std::string_view what, std::string_view unit, int done, int total, double elapsedSeconds, bool quiet);
+
 // Linear-interpolated percentile p ∈ [0, 1] of the values (0 for none).
 double percentile(std::vector<double> values, double p);
 
@@ -40,6 +45,8 @@ Run addTruthCommand(CLI::App& app);
 Run addCheckCommand(CLI::App& app);
 Run addStabilityCommand(CLI::App& app);
 Run addBenchCommand(CLI::App& app);
+// `forest bench speed-error`, registered under `bench`.
+Run addSpeedErrorCommand(CLI::App& bench);
 Run addWalkthroughCommand(CLI::App& app);
 
 }  // namespace forest::app

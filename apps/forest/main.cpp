@@ -1,7 +1,11 @@
 // forest — command line of the forest engine. Errors print one line and exit non-zero:
 // 2 for bad input (file, key, value), 1 for failures of the program or the machine.
+#include <fmt/format.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdio>
+#include <iostream>
 #include <map>
 
 #include "commands.hpp"
@@ -52,6 +56,19 @@ double percentile(std::vector<double> values, double p) {
   const size_t below = static_cast<size_t>(position);
   const size_t above = std::min(below + 1, values.size() - 1);
   return values[below] + (values[above] - values[below]) * (position - static_cast<double>(below));
+}
+
+void showProgress(std::string_view what, std::string_view unit, int done, int total, double elapsed, bool quiet) {
+  if (quiet) return;
+  const double eta = done > 0 ? elapsed / done * (total - done) : 0.0;
+  const int width = 30, filled = total > 0 ? width * done / total : width;
+  const std::string bar = std::string(static_cast<size_t>(filled), '#') + std::string(static_cast<size_t>(width - filled), '.');
+  if (isatty(STDERR_FILENO)) {
+    std::cerr << fmt::format("\r[{}] {}/{} {}, {:.0f} s, ETA {:.0f} s ", bar, done, total, unit, elapsed, eta) << std::flush;
+    if (done == total) std::cerr << "\n";
+  } else if (done == total || done % std::max(1, total / 10) == 0) {
+    std::cerr << fmt::format("{}: {}/{} {}, {:.0f} s, ETA {:.0f} s\n", what, done, total, unit, elapsed, eta);
+  }
 }
 
 }  // namespace forest::app

@@ -73,6 +73,14 @@ constexpr double kFarDepthSmoothing = 0.2;
 
 }  // namespace
 
+FocusBound parseFocusBound(std::string_view name) {
+  if (name == "receivers") return FocusBound::Receivers;
+  if (name == "frustum") return FocusBound::Frustum;
+  throw InputError(fmt::format("focus bound '{}': expected receivers or frustum", name));
+}
+
+std::string_view focusBoundName(FocusBound bound) { return bound == FocusBound::Receivers ? "receivers" : "frustum"; }
+
 CasterSelection parseCasterSelection(std::string_view name) {
   if (name == "receivers") return CasterSelection::Receivers;
   if (name == "frustum-body") return CasterSelection::FrustumBody;
@@ -274,12 +282,13 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   if (shadowed) {
     shadows::ShadowInput input;
     input.camera = camera;
-    input.camera.far = std::max(visible.farDepth, camera.near * 1.001);
+    const bool onReceivers = settings.focus == FocusBound::Receivers;
+    if (onReceivers) input.camera.far = std::max(visible.farDepth, camera.near * 1.001);
     shadowCamera_ = input.camera;
     input.sunDirection = l;
     input.scene = sceneBounds_;
-    input.receivers = receiverBounds;
-    if (smoothedFarDepth_ > camera.near && smoothedFarDepth_ < input.camera.far) input.nFar = smoothedFarDepth_;
+    if (onReceivers) input.receivers = receiverBounds;
+    if (onReceivers && smoothedFarDepth_ > camera.near && smoothedFarDepth_ < input.camera.far) input.nFar = smoothedFarDepth_;
     input.mapSize = settings.shadowMapSize;
     shadowSetup_ = shadows::computeShadowSetup(input, settings.method);
     stats.shadow = shadowSetup_.diagnostics;

@@ -118,7 +118,7 @@ FrameError evaluateFrame(const render::Frame& frame, const render::FrameStats& s
   FrameError e;
   e.pixels = width * height;
   int wrong = 0, wrongNear = 0, falseShadow = 0, falseLight = 0;
-  double softError = 0.0;
+  double softError = 0.0, softErrorUnblurred = 0.0;
   std::vector<double> aliasingPixels, aliasingRelative;
   std::set<std::int64_t> needed;
   const shadows::ShadowSetup& setup = frame.shadowSetup();
@@ -158,6 +158,7 @@ FrameError evaluateFrame(const render::Frame& frame, const render::FrameStats& s
         out[0] = out[1] = out[2] = t.shadowed ? 110 : 190;
       }
       softError += std::abs(static_cast<double>(blurred[i]) - t.soft);
+      softErrorUnblurred += std::abs(static_cast<double>(term[i]) - t.soft);
       if (t.occluder != kNoObject) needed.insert(frame.objects().objectOfId(t.occluder));
       if (!setup.empty) {
         const auto a = shadows::surfaceAliasing(setup, camera, t.position, t.normal, l, mapSize, width, height);
@@ -175,6 +176,7 @@ FrameError evaluateFrame(const render::Frame& frame, const render::FrameStats& s
   e.falseShadow = falseShadow / lit;
   e.falseLight = falseLight / lit;
   e.softMeanAbsoluteError = options.softRays > 0 ? softError / lit : 0.0;
+  e.softMeanAbsoluteErrorUnblurred = options.softRays > 0 ? softErrorUnblurred / lit : 0.0;
   e.aliasingPixels = shadows::summarise(std::move(aliasingPixels));
   e.aliasingRelative = shadows::summarise(std::move(aliasingRelative));
 

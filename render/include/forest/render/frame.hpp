@@ -34,6 +34,13 @@ enum class CasterSelection {
 CasterSelection parseCasterSelection(std::string_view name);  // throws InputError
 std::string_view casterSelectionName(CasterSelection selection);
 
+// What bounds the focus body B: the visible receivers (their box, and the visible set's z_f as
+// the far distance; thesis §9.2.5, DESIGN §4) or the whole view frustum within the scene (V ∩ S,
+// eq. 4.2, the camera's own far plane).
+enum class FocusBound { Receivers, Frustum };
+FocusBound parseFocusBound(std::string_view name);  // "receivers", "frustum"; throws InputError
+std::string_view focusBoundName(FocusBound bound);
+
 struct FrameSettings {
   shadows::ShadowMethod method = shadows::ShadowMethod::Lispsm;
   int shadowMapSize = 2048;       // texels per side, [512, 8192]
@@ -41,6 +48,7 @@ struct FrameSettings {
   bool backside = true;           // cull front faces in the shadow pass (thesis §5.1)
   culling::CullingStrategy culling = culling::CullingStrategy::Chc;
   CasterSelection casters = CasterSelection::Receivers;
+  FocusBound focus = FocusBound::Receivers;
   int pcfRadius = 0;              // 0: hardware 2×2 PCF; r: (2r+1)² hardware lookups, [0, 4]
   // Eye-space blur of the shadow term (thesis §6.3, §9.4.2): radius in pixels for surfaces up to
   // blurReferenceDepth away, shrinking as 1/z beyond; 0 = off. [0, 16].

@@ -45,6 +45,7 @@ struct FrameError {
   double falseShadow = 0.0;    // rendered shadow, truth lit
   double falseLight = 0.0;     // rendered lit, truth shadowed
   double softMeanAbsoluteError = 0.0;  // blurred term against the sun-disc truth (softRays > 0)
+  double softMeanAbsoluteErrorUnblurred = 0.0;  // the term before the blur against the same truth
   shadows::ErrorStatistics aliasingPixels;     // per pixel, with its normal: pixels per texel
   shadows::ErrorStatistics aliasingRelative;   // per pixel, perspective part (eq. 8.1), relative units
   CasterOracle casters;
