@@ -188,6 +188,41 @@ TEST(ForestCli, TruthWritesTheErrorFiguresAndTheErrorImage) {
   EXPECT_EQ(readImage8(folder / "frame.png").width, 320);
 }
 
+TEST(ForestCli, SpeedErrorQuickWritesTheDocumentedReportAndPlots) {
+  const fs::path folder = fs::path(FOREST_TEST_OUTPUT) / "cli" / "speed-error";
+  fs::remove_all(folder);
+  const Result r = runForest("bench speed-error --quick --soft-rays 2 --out " + folder.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("equal-error size"));
+  const nlohmann::json j = nlohmann::json::parse(readTextFile(folder / "report.json"));
+  for (const char* key : {"version", "scene", "device", "resolution", "quick", "map_sizes", "soft_rays", "target_misclassification",
+                          "scenarios", "rows", "flicker", "equal_error_map_size"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  // 2 scenarios × 4 methods × 2 focus bounds × 1 size × blur on / off.
+  ASSERT_EQ(j["rows"].size(), 32u);
+  for (const auto& row : j["rows"]) {
+    for (const char* key : {"scenario", "method", "focus", "map_size", "blur", "frame_ms", "shadow_ms", "misclassification", "near_edge",
+                            "elsewhere", "false_shadow", "false_light", "soft_mae", "aliasing_p95_px", "aliasing_max_px",
+                            "lit_facing_pixels", "casters_selected", "casters_needed", "casters_missing"})
+      ASSERT_TRUE(row.contains(key)) << key;
+    EXPECT_GT(row["frame_ms"].get<double>(), row["shadow_ms"].get<double>());
+    EXPECT_GE(row["misclassification"].get<double>(), 0.0);
+    EXPECT_LE(row["misclassification"].get<double>(), 1.0);
+    EXPECT_NEAR(row["misclassification"].get<double>(), row["false_shadow"].get<double>() + row["false_light"].get<double>(), 1e-12);
+    EXPECT_EQ(row["casters_missing"].get<int>(), 0) << row["scenario"] << " " << row["method"];
+  }
+  EXPECT_EQ(j["flicker"].size(), 8u);
+  for (const char* plot : {"frame-ms-vs-misclassification.png", "shadow-ms-vs-misclassification.png", "frame-ms-vs-soft-error.png",
+                           "frame-ms-vs-aliasing.png", "frame-ms-vs-flicker.png"}) {
+    const Image8 image = readImage8(folder / plot);
+    int ink = 0;  // non-white pixels: axes, points, labels
+    for (size_t i = 0; i < image.pixels.size(); i += 3) ink += image.pixels[i] < 200 ? 1 : 0;
+    EXPECT_GT(ink, 2000) << plot;
+  }
+  EXPECT_FALSE(readTextFile(folder / "results.csv").empty());
+  EXPECT_TRUE(fs::exists(folder / "worst-lispsm.png"));
+}
+
 TEST(ForestCli, BenchCullingWritesEveryStrategyAndTheOracle) {
   const fs::path json = fs::path(FOREST_TEST_OUTPUT) / "cli" / "bench-culling.json";
   fs::remove(json);
