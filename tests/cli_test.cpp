@@ -223,6 +223,32 @@ TEST(ForestCli, SpeedErrorQuickWritesTheDocumentedReportAndPlots) {
   EXPECT_TRUE(fs::exists(folder / "worst-lispsm.png"));
 }
 
+TEST(ForestCli, ThesisWalkFollowsTheClosedForm) {
+  // data/paths/thesis-walk.toml: from (0, 0) looking along −z, each frame 0.1 m along the view, then
+  // 0.005 rad to the left; eye 0.2 m over the ground.
+  const fs::path folder = fs::path(FOREST_TEST_OUTPUT) / "cli" / "thesis-walk";
+  fs::remove_all(folder);
+  const Result r = runForest("walkthrough --scene " + std::string(FOREST_REPO_DATA) + "/scenes/thesis-demo.toml --path " +
+                             std::string(FOREST_REPO_DATA) + "/paths/thesis-walk.toml --frames 10 --warmup 2 --width 160 --height 120 --quiet --out " +
+                             folder.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(readTextFile(folder / "report.json"));
+  ASSERT_EQ(j["frames"].size(), 10u);
+  EXPECT_EQ(j["summary"]["frames_measured"].get<int>(), 8);
+  double x = 0.0, z = 0.0, yaw = 0.0;
+  for (int k = 0; k < 10; ++k) {
+    const auto& frame = j["frames"][static_cast<size_t>(k)];
+    EXPECT_NEAR(frame["eye"][0].get<double>(), x, 1e-6) << k;
+    EXPECT_NEAR(frame["eye"][2].get<double>(), z, 1e-6) << k;
+    EXPECT_NEAR(glm::radians(frame["yaw_deg"].get<double>()), yaw, 1e-9) << k;
+    EXPECT_EQ(frame["warmup"].get<bool>(), k < 2);
+    EXPECT_GT(frame["triangles"]["shadow"].get<double>(), 0.0) << k;  // the sun is up: casters drawn
+    x -= 0.1 * std::sin(yaw);
+    z -= 0.1 * std::cos(yaw);
+    yaw += 0.005;
+  }
+}
+
 TEST(ForestCli, BenchCullingWritesEveryStrategyAndTheOracle) {
   const fs::path json = fs::path(FOREST_TEST_OUTPUT) / "cli" / "bench-culling.json";
   fs::remove(json);

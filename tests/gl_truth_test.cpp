@@ -207,5 +207,15 @@ TEST_F(TruthGl, TexelSnappedMapsDoNotFlickerUnderTranslation) {
   EXPECT_GT(lispsm.comparisons, 1000);
 }
 
+TEST_F(TruthGl, ThesisDemoStartsTwentyCentimetresAboveTheGround) {
+  const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/thesis-demo.toml");
+  render::Frame frame(scene, 160, 120);
+  const Camera start = frame.startCamera();
+  EXPECT_EQ(start.position.x, 0.0);
+  EXPECT_EQ(start.position.z, 0.0);
+  EXPECT_NEAR(start.position.y - frame.terrain()->heightAt(0.0, 0.0), 0.2, 1e-12);
+  EXPECT_EQ(frame.forest()->trees().size(), 101u * 101u);
+}
+
 }  // namespace
 }  // namespace forest::test

@@ -1,12 +1,16 @@
 // The forest: Poisson-disk placement on the terrain (count, spacing, slope, height band, bases on
 // the ground), determinism, clusters of 16–64 trees with their boxes, sway inside the inflated
-// boxes at any time, moves reporting the changed clusters, LOD by distance bands.
+// boxes at any time, moves reporting the changed clusters, LOD by distance bands; the thesis demo
+// preset (jittered grid of closed cone-and-ring trees).
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <numbers>
 #include <random>
 #include <set>
 
+#include "forest/core/scene.hpp"
 #include "forest/vegetation/forest.hpp"
 
 namespace forest::vegetation {
@@ -166,6 +170,55 @@ TEST(TreeLod, DistanceBandsFromTheEyeOnly) {
   v.force_lod0 = true;
   const Forest forced(v, testTerrain());
   EXPECT_EQ(forced.lodFor(0, forced.trees()[0].position + dvec3(0, 2, 5000)), 0);
+}
+
+}  // namespace
+}  // namespace forest::vegetation
+
+namespace forest::vegetation {
+namespace {
+
+TEST(ThesisDemo, PresetPlacesTheGridOfClosedConeAndRingTrees) {
+  const Scene scene = loadScene(FOREST_REPO_DATA "/scenes/thesis-demo.toml");
+  ASSERT_TRUE(scene.vegetation && scene.terrain);
+  EXPECT_EQ(scene.terrain->size, 200.0);
+  EXPECT_EQ(scene.terrain->height_max - scene.terrain->height_min, 15.0);
+  EXPECT_EQ(scene.camera.above_ground.value_or(-1.0), 0.2);
+  EXPECT_EQ(scene.camera.near, 0.1);
+  EXPECT_EQ(scene.camera.far, 70.0);
+  const terrain::Terrain terrain(*scene.terrain);
+  const Forest forest(*scene.vegetation, terrain);
+  ASSERT_EQ(forest.trees().size(), 101u * 101u);
+  EXPECT_EQ(forest.requestedCount(), 101 * 101);
+  for (const TreeInstance& t : forest.trees()) {
+    ASSERT_GE(t.scale, 1.0);
+    ASSERT_LE(t.scale, 5.0);
+    ASSERT_NEAR(t.position.y, terrain.heightAt(t.position.x, t.position.z), 1e-9);
+  }
+  // One tree per grid cell: 200 m less the 1 m insets over 101 cells, jitter within ±40%.
+  const double cell = 198.0 / 101.0;
+  for (int i : {0, 57, 101 * 101 - 1}) {
+    const TreeInstance& t = forest.trees()[static_cast<size_t>(i)];
+    const double cx = -99.0 + (i % 101 + 0.5) * cell, cz = -99.0 + (i / 101 + 0.5) * cell;
+    EXPECT_LE(std::abs(t.position.x - cx), 0.4 * cell + 1e-9) << i;
+    EXPECT_LE(std::abs(t.position.z - cz), 0.4 * cell + 1e-9) << i;
+  }
+  for (const SpeciesModel& model : forest.species())
+    for (const TreeMesh& lod : model.lods) {
+      EXPECT_EQ(lod.triangleCount(), kThesisTreeTriangles);
+      EXPECT_EQ(lod.components, 2);  // the cone and the ring
+      const MeshTopology topology = inspectMesh(lod);
+      EXPECT_EQ(topology.boundaryEdges, 0);
+      EXPECT_EQ(topology.nonManifoldEdges, 0);
+      ASSERT_EQ(topology.componentVolumes.size(), 2u);
+      // Cone π r² h / 3 and torus 2π² R r², times the facets' share of the circles: 32 slices keep
+      // (32 / 2π)·sin(2π/32) = 99.4% of a circle's area, the ring's 8 sides 90.0% (and 32 segments 99.4%).
+      auto polygonShare = [](int sides) { return sides / (2.0 * std::numbers::pi) * std::sin(2.0 * std::numbers::pi / sides); };
+      const double cone = std::numbers::pi * 0.3 * 0.3 * 1.0 / 3.0 * polygonShare(32);
+      const double torus = 2.0 * std::numbers::pi * std::numbers::pi * 0.3 * 0.05 * 0.05 * polygonShare(8) * polygonShare(32);
+      EXPECT_NEAR(topology.componentVolumes[0] / cone, 1.0, 0.01);
+      EXPECT_NEAR(topology.componentVolumes[1] / torus, 1.0, 0.02);
+    }
 }
 
 }  // namespace

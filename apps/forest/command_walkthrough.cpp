@@ -46,6 +46,7 @@ struct WalkthroughOptions {
   int width = 1280;
   int height = 720;
   double fps = 30.0;
+  int warmup = 0;  // first frames rendered but left out of the summary
   int frames = 0;  // 0: the whole path
   int every = 10;  // write every k-th frame as PNG
   FrameOptions frame;
@@ -134,6 +135,9 @@ int runWalkthrough(const WalkthroughOptions& options) {
     nlohmann::ordered_json r;
     r["frame"] = f;
     r["time"] = time;
+    r["warmup"] = f < options.warmup;
+    r["eye"] = {camera.position.x, camera.position.y, camera.position.z};
+    r["yaw_deg"] = pose.yaw_deg;
     r["frame_ms"] = frameMs;
     r["passes_ms"] = {{"geometry", s.geometryMs}, {"shadow_setup", s.shadowSetupMs}, {"shadow", s.shadowMs},
                       {"shadow_term", s.shadowTermMs}, {"blur", s.blurMs}, {"lighting", s.lightingMs}};
@@ -160,12 +164,23 @@ int runWalkthrough(const WalkthroughOptions& options) {
   nlohmann::ordered_json summary;
   auto column = [&](const std::function<double(const nlohmann::ordered_json&)>& get) {
     std::vector<double> v;
-    for (const auto& r : records) v.push_back(get(r));
-    return nlohmann::ordered_json{{"p50", percentile(v, 0.5)}, {"p95", percentile(v, 0.95)}, {"p99", percentile(v, 0.99)}};
+    for (const auto& r : records)
+      if (!r["warmup"].template get<bool>()) v.push_back(get(r));
+    double sum = 0.0;
+    for (double x : v) sum += x;
+    return nlohmann::ordered_json{{"mean", v.empty() ? 0.0 : sum / static_cast<double>(v.size())},
+                                  {"p50", percentile(v, 0.5)},
+                                  {"p95", percentile(v, 0.95)},
+                                  {"p99", percentile(v, 0.99)}};
   };
   summary["frame_ms"] = column([](const auto& r) { return r["frame_ms"].template get<double>(); });
   for (const char* pass : {"geometry", "shadow_setup", "shadow", "shadow_term", "blur", "lighting"})
     summary["passes_ms"][pass] = column([pass](const auto& r) { return r["passes_ms"][pass].template get<double>(); });
+  summary["triangles_geometry"] = column([](const auto& r) { return r["triangles"]["geometry"].template get<double>(); });
+  summary["triangles_shadow"] = column([](const auto& r) { return r["triangles"]["shadow"].template get<double>(); });
+  summary["casters"] = column([](const auto& r) { return r["casters"].template get<double>(); });
+  summary["queries"] = column([](const auto& r) { return r["queries"].template get<double>(); });
+  summary["frames_measured"] = done - std::min(done, options.warmup);
   nlohmann::ordered_json report;
   report["scene"] = scenePath;
   report["path"] = pathPath;
@@ -195,14 +210,18 @@ int runWalkthrough(const WalkthroughOptions& options) {
   std::cout << fmt::format("walkthrough: {} of {} frames of {} along {} at {}x{} ({}, {}², {})\n", done, total, scenePath,
                            pathPath, options.width, options.height, options.frame.method, options.frame.shadowSize,
                            options.frame.culling);
-  std::cout << fmt::format("  {:<13} {:>9} {:>9} {:>9}\n", "ms", "p50", "p95", "p99");
-  std::cout << fmt::format("  {:<13} {:>9.2f} {:>9.2f} {:>9.2f}\n", "frame", frameMs["p50"].get<double>(),
-                           frameMs["p95"].get<double>(), frameMs["p99"].get<double>());
+  if (options.warmup > 0) std::cout << fmt::format("  (the first {} frames are warm-up, not in the summary)\n", options.warmup);
+  std::cout << fmt::format("  {:<13} {:>9} {:>9} {:>9} {:>9}\n", "ms", "mean", "p50", "p95", "p99");
+  std::cout << fmt::format("  {:<13} {:>9.2f} {:>9.2f} {:>9.2f} {:>9.2f}\n", "frame", frameMs["mean"].get<double>(),
+                           frameMs["p50"].get<double>(), frameMs["p95"].get<double>(), frameMs["p99"].get<double>());
   for (const char* pass : {"geometry", "shadow_setup", "shadow", "shadow_term", "blur", "lighting"}) {
     const auto& p = summary["passes_ms"][pass];
-    std::cout << fmt::format("  {:<13} {:>9.2f} {:>9.2f} {:>9.2f}\n", pass, p["p50"].get<double>(), p["p95"].get<double>(),
-                             p["p99"].get<double>());
+    std::cout << fmt::format("  {:<13} {:>9.2f} {:>9.2f} {:>9.2f} {:>9.2f}\n", pass, p["mean"].get<double>(), p["p50"].get<double>(),
+                             p["p95"].get<double>(), p["p99"].get<double>());
   }
+  std::cout << fmt::format("  mean per frame: {:.0f} eye triangles, {:.0f} shadow triangles, {:.0f} casters, {:.0f} queries\n",
+                           summary["triangles_geometry"]["mean"].get<double>(), summary["triangles_shadow"]["mean"].get<double>(),
+                           summary["casters"]["mean"].get<double>(), summary["queries"]["mean"].get<double>());
   std::cout << fmt::format("  wrote {}/report.json, {}/contact-sheet.png, frames every {} in {}/frames{}\n", out.string(),
                            out.string(), options.every, out.string(), video ? ", walkthrough.mp4" : " (no MP4: needs ffmpeg and --every 1)");
   if (gInterrupted) {
@@ -228,6 +247,9 @@ Run addWalkthroughCommand(CLI::App& app) {
   command->add_option("--width", options->width, "Image width")->check(CLI::Range(16, 8192))->capture_default_str();
   command->add_option("--height", options->height, "Image height")->check(CLI::Range(16, 8192))->capture_default_str();
   command->add_option("--fps", options->fps, "Frames per second of path time")->capture_default_str();
+  command->add_option("--warmup", options->warmup, "Frames rendered first but left out of the summary (caches, CHC history)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   command->add_option("--frames", options->frames, "Stop after this many frames (0: the whole path)")
       ->check(CLI::Range(0, 1000000))
       ->capture_default_str();

@@ -91,7 +91,11 @@ void readSpeciesPlacement(TomlSection& s, SpeciesPlacementSettings& p) {
 }
 
 void readVegetation(TomlSection& s, VegetationSettings& v) {
+  v.style = s.oneOf("style", std::string("procedural"), {"procedural", "thesis"}) == "thesis" ? TreeStyle::Thesis : TreeStyle::Procedural;
   v.count = static_cast<int>(s.integer("count", v.count, 0, 1000000));
+  v.grid = static_cast<int>(s.integer("grid", v.grid, 0, 1000));
+  v.scale_range = s.vec2("scale_range", v.scale_range, detail::positive());
+  if (!(v.scale_range.y >= v.scale_range.x)) s.fail(nullptr, "scale_range", "the second scale must not be smaller than the first");
   v.seed = static_cast<std::uint64_t>(
       s.integer("seed", static_cast<std::int64_t>(v.seed), 0, std::numeric_limits<std::int64_t>::max()));
   v.lod0_triangles = static_cast<int>(s.integer("lod0_triangles", v.lod0_triangles, 1000, 20000));
@@ -211,7 +215,10 @@ std::string sceneToToml(const Scene& scene) {
                          {"min_height", p.min_height},
                          {"max_height", p.max_height}};
     };
-    document.insert("vegetation", toml::table{{"count", v.count},
+    document.insert("vegetation", toml::table{{"style", v.style == TreeStyle::Thesis ? "thesis" : "procedural"},
+                                              {"count", v.count},
+                                              {"grid", v.grid},
+                                              {"scale_range", tomlArray(v.scale_range)},
                                               {"seed", static_cast<std::int64_t>(v.seed)},
                                               {"lod0_triangles", v.lod0_triangles},
                                               {"force_lod0", v.force_lod0},

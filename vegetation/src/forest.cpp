@@ -35,11 +35,42 @@ glm::dvec2 windShear(const VegetationSettings& s, double swayPhase, double time)
 Forest::Forest(const VegetationSettings& settings, const terrain::Terrain& terrain) : settings_(settings), terrain_(terrain) {
   for (Species s : {Species::Conifer, Species::Broadleaf}) {
     const size_t i = static_cast<size_t>(s);
-    species_[i] = buildSpecies(s, settings.lod0_triangles, settings.seed);
+    species_[i] = settings.style == TreeStyle::Thesis ? buildThesisTree(s) : buildSpecies(s, settings.lod0_triangles, settings.seed);
     for (const TreeMesh& lod : species_[i].lods) speciesBounds_[i].extend(lod.bounds);
   }
-  place();
+  if (settings.grid > 0) placeOnGrid();
+  else place();
   buildClusters();
+}
+
+TreeInstance Forest::varied(Species species, const glm::dvec3& base, const double (&variation)[5]) const {
+  TreeInstance tree;
+  tree.species = species;
+  tree.position = base;
+  tree.yaw = 2.0 * std::numbers::pi * variation[0];
+  tree.scale = settings_.scale_range.x + (settings_.scale_range.y - settings_.scale_range.x) * variation[1];
+  tree.tint = glm::vec3(static_cast<float>(0.9 + 0.2 * variation[2]), static_cast<float>(0.9 + 0.2 * variation[3]),
+                        static_cast<float>(0.9 + 0.2 * variation[2] * variation[3]));
+  tree.swayPhase = 2.0 * std::numbers::pi * variation[4];
+  return tree;
+}
+
+void Forest::placeOnGrid() {
+  // grid × grid cells over the terrain (1 m inset), one tree per cell, moved from the cell's centre
+  // by up to ±40% of the cell in x and z (a jittered regular grid, thesis ch. 10).
+  const terrain::Heightfield& h = terrain_.heightfield();
+  const double inset = 1.0, cell = (h.size() - 2.0 * inset) / settings_.grid;
+  const dvec2 lo(h.origin().x + inset, h.origin().y + inset);
+  const double shares = settings_.conifer.share + settings_.broadleaf.share;
+  SplitMix64 random(SplitMix64::substream(settings_.seed, 0x96edull));
+  trees_.reserve(static_cast<size_t>(settings_.grid) * settings_.grid);
+  for (int z = 0; z < settings_.grid; ++z)
+    for (int x = 0; x < settings_.grid; ++x) {
+      const dvec2 p = lo + cell * dvec2(x + 0.5 + 0.8 * (random.unit() - 0.5), z + 0.5 + 0.8 * (random.unit() - 0.5));
+      const Species species = random.unit() * shares < settings_.conifer.share ? Species::Conifer : Species::Broadleaf;
+      const double variation[5] = {random.unit(), random.unit(), random.unit(), random.unit(), random.unit()};
+      trees_.push_back(varied(species, {p.x, terrain_.heightAt(p.x, p.y), p.y}, variation));
+    }
 }
 
 void Forest::place() {
@@ -86,16 +117,8 @@ void Forest::place() {
         }
       }
     if (!free) continue;
-    TreeInstance tree;
-    tree.species = species;
-    tree.position = {p.x, ground, p.y};
-    tree.yaw = 2.0 * std::numbers::pi * variation[0];
-    tree.scale = 0.8 + 0.45 * variation[1];
-    tree.tint = glm::vec3(static_cast<float>(0.9 + 0.2 * variation[2]), static_cast<float>(0.9 + 0.2 * variation[3]),
-                          static_cast<float>(0.9 + 0.2 * variation[2] * variation[3]));
-    tree.swayPhase = 2.0 * std::numbers::pi * variation[4];
     grid[key(c.x, c.y)].push_back(static_cast<std::uint32_t>(trees_.size()));
-    trees_.push_back(tree);
+    trees_.push_back(varied(species, {p.x, ground, p.y}, variation));
   }
   if (static_cast<int>(trees_.size()) < settings_.count)
     log::warn("vegetation: {} of {} trees fit the terrain (spacing, slope and height limits)", trees_.size(), settings_.count);

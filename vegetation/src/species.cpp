@@ -132,6 +132,32 @@ class ComponentBuilder {
     ++current_;
   }
 
+  // A closed torus about the vertical axis through `centre`: `majorSegments` × `minorSegments`
+  // quads (two triangles each), counter-clockwise seen from outside.
+  void torus(const dvec3& centre, double majorRadius, double minorRadius, int majorSegments, int minorSegments,
+             const OpenMesh::Vec3f& color) {
+    std::vector<std::vector<VertexHandle>> rings(static_cast<size_t>(majorSegments));
+    for (int i = 0; i < majorSegments; ++i) {
+      const double theta = 2.0 * std::numbers::pi * i / majorSegments;
+      for (int j = 0; j < minorSegments; ++j) {
+        const double phi = 2.0 * std::numbers::pi * j / minorSegments;
+        const double reach = majorRadius + minorRadius * std::cos(phi);
+        rings[static_cast<size_t>(i)].push_back(
+            vertex(centre + dvec3(reach * std::cos(theta), minorRadius * std::sin(phi), reach * std::sin(theta)), color));
+      }
+    }
+    // ∂p/∂φ × ∂p/∂θ points outward, so (i, j) → (i, j+1) → (i+1, j+1) winds counter-clockwise.
+    for (int i = 0; i < majorSegments; ++i)
+      for (int j = 0; j < minorSegments; ++j) {
+        const auto& a = rings[static_cast<size_t>(i)];
+        const auto& b = rings[static_cast<size_t>((i + 1) % majorSegments)];
+        const int next = (j + 1) % minorSegments;
+        face(a[j], a[next], b[next]);
+        face(a[j], b[next], b[j]);
+      }
+    ++current_;
+  }
+
  private:
   VertexHandle vertex(const dvec3& p, const OpenMesh::Vec3f& color) {
     const VertexHandle v = mesh_.add_vertex(om(p));
@@ -277,6 +303,28 @@ TreeMesh exportMesh(OMesh& mesh, OpenMesh::FPropHandleT<int> component) {
 }
 
 }  // namespace
+
+SpeciesModel buildThesisTree(Species species) {
+  // Thesis ch. 10's tree-like object, 1 m high (instances are scaled): a cone of 32 slices × 2
+  // stacks with a base cap, and a torus ring of 32 × 8 segments around it.
+  OMesh mesh;
+  mesh.request_vertex_colors();
+  mesh.request_face_normals();
+  mesh.request_vertex_normals();
+  ComponentBuilder b(mesh);
+  const bool first = species == Species::Conifer;
+  const OpenMesh::Vec3f crown = first ? OpenMesh::Vec3f(0.12f, 0.32f, 0.10f) : OpenMesh::Vec3f(0.22f, 0.38f, 0.12f);
+  b.tube({dvec3(0.0, 0.0, 0.0), dvec3(0.0, 0.5, 0.0), dvec3(0.0, 1.0, 0.0)}, {0.3, 0.15, 0.0}, kThesisConeSlices, crown);
+  b.torus(dvec3(0.0, 0.3, 0.0), 0.3, 0.05, kThesisTorusSegments, kThesisTorusSides, kBark);
+  SpeciesModel model;
+  model.species = species;
+  const TreeMesh lod = exportMesh(mesh, b.componentProperty());
+  for (int l = 0; l < kTreeLods; ++l) {
+    model.lods[static_cast<size_t>(l)] = lod;  // one shape at every distance, as in the demo
+    model.targetTriangles[static_cast<size_t>(l)] = lod.triangleCount();
+  }
+  return model;
+}
 
 std::string_view speciesName(Species species) { return species == Species::Conifer ? "conifer" : "broadleaf"; }
 

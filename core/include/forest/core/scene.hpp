@@ -82,8 +82,15 @@ struct SpeciesPlacementSettings {
 };
 
 // [vegetation]: procedural trees on the terrain (module vegetation/; needs [terrain]).
+// procedural: two OpenMesh species with LOD chains (issue "Vegetation"); thesis: the "tree-like
+// objects" of the thesis demo (ch. 10) — a closed cone and a closed torus ring around it.
+enum class TreeStyle { Procedural, Thesis };
+
 struct VegetationSettings {
+  TreeStyle style = TreeStyle::Procedural;
   int count = 5000;               // trees requested, [0, 1000000]; fewer when they do not fit (reported)
+  int grid = 0;                   // > 0: grid × grid trees on a jittered regular grid instead (count ignored)
+  glm::dvec2 scale_range{0.8, 1.25};  // per-tree scale, uniform in [first, second] by the seed
   std::uint64_t seed = 1;         // placement, species shapes, instance variation
   int lod0_triangles = 2000;      // LOD0 budget per tree, [1000, 20000]; LOD1/LOD2 a quarter/sixteenth
   bool force_lod0 = false;        // every tree at LOD0 (stress runs)

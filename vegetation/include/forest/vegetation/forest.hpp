@@ -1,5 +1,5 @@
 #pragma once
-// The trees of a scene (DESIGN §4 vegetation/): Poisson-disk placement on the terrain, per-tree
+// The trees of a scene (DESIGN §4 vegetation/): Poisson-disk (or jittered-grid) placement on the terrain, per-tree
 // variation, spatial clusters of 16–64 trees (the culling hierarchy's leaves), the LOD as a pure
 // function of the camera, wind sway as a pure function of (tree, time), and moves between frames.
 #include <glm/glm.hpp>
@@ -49,7 +49,7 @@ class Forest {
   const SpeciesModel& model(Species s) const { return species_[static_cast<size_t>(s)]; }
   const std::vector<TreeInstance>& trees() const { return trees_; }
   const std::vector<TreeCluster>& clusters() const { return clusters_; }
-  int requestedCount() const { return settings_.count; }
+  int requestedCount() const { return settings_.grid > 0 ? settings_.grid * settings_.grid : settings_.count; }
 
   // Object → world at `time`: translate · windShear · rotateY(yaw) · scale.
   glm::dmat4 treeTransform(std::uint32_t tree, double time) const;
@@ -69,7 +69,9 @@ class Forest {
   std::vector<std::uint32_t> moveTrees(std::span<const Move> moves);
 
  private:
-  void place();
+  void place();        // Poisson-disk dart throwing (count, spacing, slope, height band)
+  void placeOnGrid();  // jittered regular grid (settings.grid > 0)
+  TreeInstance varied(Species species, const glm::dvec3& base, const double (&variation)[5]) const;
   void buildClusters();
   Aabb clusterBounds(const TreeCluster& cluster) const;
 

@@ -49,6 +49,16 @@ std::array<int, kTreeLods> lodTriangleTargets(int lod0Triangles);
 // InputError for a budget outside [kMinLod0Triangles, kMaxLod0Triangles].
 SpeciesModel buildSpecies(Species species, int lod0Triangles, std::uint64_t seed);
 
+// The thesis demo's tree (ch. 10; scene style "thesis"): a closed cone (32 slices × 2 stacks and a
+// base cap: 32 + 64 + 32 = 128 triangles) and a closed torus ring (32 × 8 segments: 512 triangles),
+// 640 triangles, 1 m high, the same at every LOD. The classic demo's 160-triangle cone counts 32
+// zero-area triangles at the apex (GLU's quads), which a closed 2-manifold cannot contain.
+constexpr int kThesisConeSlices = 32;
+constexpr int kThesisTorusSegments = 32;
+constexpr int kThesisTorusSides = 8;
+constexpr int kThesisTreeTriangles = 640;
+SpeciesModel buildThesisTree(Species species);
+
 // Topology report of a mesh (tests): OpenMesh half-edge checks and the signed volume.
 struct MeshTopology {
   int boundaryEdges = 0;       // edges with one face: 0 for closed
