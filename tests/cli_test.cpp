@@ -15,6 +15,7 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
+#include "forest/core/budget.hpp"
 #include "forest/core/files.hpp"
 #include "forest/core/image.hpp"
 
@@ -247,6 +248,26 @@ TEST(ForestCli, ThesisWalkFollowsTheClosedForm) {
     z -= 0.1 * std::cos(yaw);
     yaw += 0.005;
   }
+}
+
+TEST(ForestCli, BudgetsPassFailAndNameTheirBadKeys) {
+  const std::string dir = std::string(FOREST_TEST_DATA) + "/budgets/";
+  const std::string out = " --out " + (fs::path(FOREST_TEST_OUTPUT) / "cli" / "budget").string();
+  const Result impossible = runForest("budget --budget " + dir + "impossible.toml" + out);
+  EXPECT_EQ(impossible.exitCode, 1) << impossible.err;
+  EXPECT_THAT(impossible.out, HasSubstr("OVER"));
+  EXPECT_THAT(impossible.out, HasSubstr("1 of 1 limits exceeded"));
+  EXPECT_EQ(runForest("budget --report-only --budget " + dir + "impossible.toml" + out).exitCode, 0);
+  const Result generous = runForest("budget --budget " + dir + "generous.toml" + out);
+  EXPECT_EQ(generous.exitCode, 0) << generous.err;
+  EXPECT_THAT(generous.out, HasSubstr("all 3 limits hold"));
+  expectOneLineError(runForest("budget --budget " + dir + "unknown-pass.toml" + out), dir + "unknown-pass.toml:4:9",
+                     "unknown key 'passes.shadows'");
+  expectOneLineError(runForest("budget --budget " + dir + "negative.toml" + out), dir + "negative.toml:3:7",
+                     "passes.lighting.p95 = -3.0: expected a finite number > 0");
+  // The shipped budgets parse.
+  for (const char* name : {"llvmpipe-2core.toml", "desktop-gpu.toml"})
+    EXPECT_NO_THROW(loadBudget(std::string(FOREST_REPO_DATA) + "/budgets/" + name)) << name;
 }
 
 TEST(ForestCli, BenchCullingWritesEveryStrategyAndTheOracle) {

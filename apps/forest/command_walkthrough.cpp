@@ -38,21 +38,6 @@ using Clock = std::chrono::steady_clock;
 std::atomic<bool> gInterrupted{false};
 extern "C" void onInterrupt(int) { gInterrupted = true; }
 
-struct WalkthroughOptions {
-  GlOptions gl;
-  std::string scene;
-  std::string path;
-  std::string out = "out/walkthrough";
-  int width = 1280;
-  int height = 720;
-  double fps = 30.0;
-  int warmup = 0;  // first frames rendered but left out of the summary
-  int frames = 0;  // 0: the whole path
-  int every = 10;  // write every k-th frame as PNG
-  FrameOptions frame;
-  bool quiet = false;
-};
-
 double residentMegabytes() {
   std::ifstream statm("/proc/self/statm");
   long pages = 0, resident = 0;
@@ -80,6 +65,8 @@ Image8 contactSheet(const std::vector<Image8>& frames) {
   }
   return sheet;
 }
+
+}  // namespace
 
 int runWalkthrough(const WalkthroughOptions& options) {
   // Everything that can be wrong with the input is checked before any output exists.
@@ -230,8 +217,6 @@ int runWalkthrough(const WalkthroughOptions& options) {
   }
   return 0;
 }
-
-}  // namespace
 
 Run addWalkthroughCommand(CLI::App& app) {
   auto options = std::make_shared<WalkthroughOptions>();

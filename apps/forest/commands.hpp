@@ -32,6 +32,24 @@ struct FrameOptions {
   render::FrameSettings settings() const;  // throws InputError for names the checks let through
 };
 
+// The walkthrough (main job) and what `forest budget` runs.
+struct WalkthroughOptions {
+  GlOptions gl;
+  std::string scene;
+  std::string path;
+  std::string out = "out/walkthrough";
+  int width = 1280;
+  int height = 720;
+  double fps = 30.0;
+  int warmup = 0;  // first frames rendered but left out of the summary
+  int frames = 0;  // 0: the whole path
+  int every = 10;  // write every k-th frame as PNG
+  FrameOptions frame;
+  bool quiet = false;
+};
+// Renders the path; writes frames, contact sheet, report.json (with its summary) into out.
+int runWalkthrough(const WalkthroughOptions& options);
+
 // A progress line on stderr: a bar with ETA redrawn in place on a terminal, else a line at every
 // tenth and at the end. Nothing when quiet.
 void showProgress(std::string_view what, std::string_view unit, int done, int total, double elapsedSeconds, bool quiet);
@@ -48,5 +66,6 @@ Run addBenchCommand(CLI::App& app);
 // `forest bench speed-error`, registered under `bench`.
 Run addSpeedErrorCommand(CLI::App& bench);
 Run addWalkthroughCommand(CLI::App& app);
+Run addBudgetCommand(CLI::App& app);
 
 }  // namespace forest::app

@@ -91,6 +91,7 @@ int main(int argc, char** argv) {
   add(forest::app::addStabilityCommand);
   add(forest::app::addBenchCommand);
   add(forest::app::addWalkthroughCommand);
+  add(forest::app::addBudgetCommand);
 
   try {
     app.parse(argc, argv);
