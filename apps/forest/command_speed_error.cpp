@@ -102,6 +102,14 @@ std::string slug(std::string s) {
   return out;
 }
 
+render::FrameSettings settingsFor(const std::string& method, const std::string& focus, int mapSize) {
+  render::FrameSettings settings;
+  settings.method = shadows::parseShadowMethod(method);
+  settings.focus = render::parseFocusBound(focus);
+  settings.shadowMapSize = mapSize;
+  return settings;
+}
+
 const glm::vec3 kMethodColour[] = {{0.85f, 0.2f, 0.15f}, {0.95f, 0.6f, 0.1f}, {0.15f, 0.45f, 0.85f}, {0.2f, 0.65f, 0.3f}};
 
 glm::vec3 methodColour(const std::string& method) {
@@ -174,10 +182,7 @@ int runSpeedError(const SpeedErrorOptions& options) {
     for (const std::string& method : kMethods)
       for (const std::string& focus : kFocus)
         for (int size : sizes) {
-          render::FrameSettings settings;
-          settings.method = shadows::parseShadowMethod(method);
-          settings.focus = render::parseFocusBound(focus);
-          settings.shadowMapSize = size;
+          render::FrameSettings settings = settingsFor(method, focus, size);
           settings.blurRadius = 3.0;
           // One frame to settle CHC and the smoothed z_f, then the measured one.
           frame.resetHistory();
@@ -225,10 +230,7 @@ int runSpeedError(const SpeedErrorOptions& options) {
   for (const std::string& method : kMethods)
     for (const std::string& focus : kFocus)
       for (int size : sizes) {
-        render::FrameSettings settings;
-        settings.method = shadows::parseShadowMethod(method);
-        settings.focus = render::parseFocusBound(focus);
-        settings.shadowMapSize = size;
+        const render::FrameSettings settings = settingsFor(method, focus, size);
         frame.resetHistory();
         const truth::FlickerResult f = truth::measureFlicker(frame, scene, path, 0.0, settings);
         flicker.push_back({{"method", method}, {"focus", focus}, {"map_size", size}, {"share", f.share()},
