@@ -270,6 +270,28 @@ TEST(ForestCli, BudgetsPassFailAndNameTheirBadKeys) {
     EXPECT_NO_THROW(loadBudget(std::string(FOREST_REPO_DATA) + "/budgets/" + name)) << name;
 }
 
+TEST(ForestCli, StressStaysExactWithMovingObjectsAndItsMemoryFlat) {
+  // Up to 10 000 trees (equal density), 2% of them and 20 props moved every frame, a day cycle;
+  // exactness on every 50th frame; RSS after 50 warm-up frames flat over 300 frames.
+  const fs::path folder = fs::path(FOREST_TEST_OUTPUT) / "cli" / "stress";
+  fs::remove_all(folder);
+  const Result r = runForest("stress --trees 2000,6000 --frames 350 --warmup 50 --width 160 --height 90 --check-every 50 --quiet --out " +
+                             folder.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(readTextFile(folder / "stress.json"));
+  ASSERT_EQ(j["runs"].size(), 2u);
+  for (const auto& run : j["runs"]) {
+    EXPECT_EQ(run["exactness"]["checked_frames"].get<int>(), 7);
+    EXPECT_EQ(run["exactness"]["mismatched_pixels"].get<long long>(), 0);
+    EXPECT_GT(run["moved_trees_per_frame"].get<int>(), 0);
+    EXPECT_LT(run["rss_mib"]["slope_percent_per_100_frames"].get<double>(), 1.0) << run["rss_mib"].dump();  // growth
+    EXPECT_GT(run["triangles_geometry_p50"].get<double>(), 0.0);
+  }
+  EXPECT_EQ(j["runs"][0]["trees"].get<int>(), 2000);
+  const Image8 plot = readImage8(folder / "stress.png");
+  EXPECT_GT(plot.width, 500);
+}
+
 TEST(ForestCli, BenchCullingWritesEveryStrategyAndTheOracle) {
   const fs::path json = fs::path(FOREST_TEST_OUTPUT) / "cli" / "bench-culling.json";
   fs::remove(json);

@@ -48,6 +48,8 @@ struct FrameRecord {
   double waitMilliseconds = 0.0;
 };
 
+}  // namespace
+
 // A walker's path: from the scene's start, 1.4 m per frame along the view, turning 0.8° per frame,
 // eye 1.7 m over the ground (or camera.above_ground).
 std::vector<Camera> walkPath(const Scene& scene, const terrain::Terrain& terrain, int frames, double aspect) {
@@ -67,6 +69,8 @@ std::vector<Camera> walkPath(const Scene& scene, const terrain::Terrain& terrain
   }
   return cameras;
 }
+
+namespace {
 
 int runBenchCulling(const BenchOptions& options) {
   const std::string scenePath =

@@ -50,6 +50,10 @@ struct WalkthroughOptions {
 // Renders the path; writes frames, contact sheet, report.json (with its summary) into out.
 int runWalkthrough(const WalkthroughOptions& options);
 
+// A walker's path through a terrain scene: from the scene's start, 1.4 m per frame along the view,
+// turning 0.8° per frame, camera.above_ground (or 1.7 m) over the ground.
+std::vector<Camera> walkPath(const Scene& scene, const terrain::Terrain& terrain, int frames, double aspect);
+
 // A progress line on stderr: a bar with ETA redrawn in place on a terminal, else a line at every
 // tenth and at the end. Nothing when quiet.
 void showProgress(std::string_view what, std::string_view unit, int done, int total, double elapsedSeconds, bool quiet);
@@ -67,5 +71,6 @@ Run addBenchCommand(CLI::App& app);
 Run addSpeedErrorCommand(CLI::App& bench);
 Run addWalkthroughCommand(CLI::App& app);
 Run addBudgetCommand(CLI::App& app);
+Run addStressCommand(CLI::App& app);
 
 }  // namespace forest::app

@@ -92,6 +92,7 @@ int main(int argc, char** argv) {
   add(forest::app::addBenchCommand);
   add(forest::app::addWalkthroughCommand);
   add(forest::app::addBudgetCommand);
+  add(forest::app::addStressCommand);
 
   try {
     app.parse(argc, argv);

@@ -205,6 +205,26 @@ void Frame::ensureLightDepthRenderers() {
   p.propsLightDepth = std::make_unique<PropRenderer>(scene_.props, SurfaceOutput::LightDepth, objects_->propIdBase());
 }
 
+void Frame::moveTrees(std::span<const vegetation::Forest::Move> moves) {
+  if (!forest_) throw InputError("moveTrees: the scene has no trees");
+  forest_->moveTrees(moves);  // the tree renderers read the forest at every draw
+  objectsMoved();
+}
+
+void Frame::propsMoved() {
+  Passes& p = *passes_;
+  for (PropRenderer* r : {p.propsGBuffer.get(), p.propsDepth.get(), p.propsLightDepth.get()})
+    if (r) r->update(scene_.props);
+  objectsMoved();
+}
+
+void Frame::objectsMoved() {
+  objects_->updateBoxes(forest_.get(), scene_.props);
+  bvh_.refit(objects_->boxes());
+  sceneBounds_ = Aabb();
+  for (const Aabb& b : objects_->boxes()) sceneBounds_.extend(b);
+}
+
 void Frame::resetHistory() {
   culler_.reset();
   smoothedFarDepth_ = -1.0;

@@ -11,6 +11,7 @@
 //   5. lighting — Phong with a weak global ambient, sky colour.
 // Eye → light matrices are composed in double, camera-relative.
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -80,6 +81,12 @@ class Frame {
   ~Frame();
 
   FrameStats render(const Camera& camera, double time, const FrameSettings& settings);
+  // Dynamic scenes: moves trees (bases snapped to the terrain), or takes the scene's props again
+  // after the caller moved them (core moveProps on the Scene the frame was built from); both
+  // update the object boxes and refit the culling BVH (rebuilt past kRebuildCostRatio).
+  void moveTrees(std::span<const vegetation::Forest::Move> moves);
+  void propsMoved();
+
   // Forgets the frame-to-frame state — CHC visibility and the smoothed z_f — as after a camera cut.
   void resetHistory();
 
@@ -109,6 +116,7 @@ class Frame {
 
  private:
   void ensureLightDepthRenderers();  // the TSM shadow pass renderers, built on first use
+  void objectsMoved();
   struct Passes;
   const Scene& scene_;
   int width_, height_;

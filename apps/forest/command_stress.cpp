@@ -1,0 +1,307 @@
+// forest stress: polygon-rich dynamic scenes. For each tree count (terrain grown to keep the default
+// density) and LOD0 budget: a walk with a share of the trees and 20 props moved every frame (BVH
+// refit), a day cycle of the sun and wind; per frame times, triangles, queries and RSS; on sampled
+// frames the CHC geometry pass (depth and object IDs) is compared with frustum culling's. Writes
+// stress.json and stress.png (scaling curves); exit 1 when culling was not exact.
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <malloc.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <numbers>
+#include <numeric>
+
+#include "commands.hpp"
+#include "forest/core/error.hpp"
+#include "forest/core/files.hpp"
+#include "forest/core/log.hpp"
+#include "forest/core/plot.hpp"
+#include "forest/core/random.hpp"
+#include "forest/core/resources.hpp"
+#include "forest/core/scene.hpp"
+#include "forest/gl/context.hpp"
+#include "forest/gl/debug.hpp"
+
+namespace forest::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using glm::dvec3;
+using nlohmann::ordered_json;
+
+struct StressOptions {
+  GlOptions gl;
+  std::string scene;
+  std::string out = "out/stress";
+  std::vector<int> trees{1000, 5000, 20000, 100000};
+  std::vector<int> lod0{2000};
+  int frames = 300;
+  int width = 640, height = 360;
+  double moving = 0.02;  // share of the trees moved every frame
+  int checkEvery = 50;   // frames between exactness checks (0: none)
+  int warmup = 50;       // frames before the RSS slope and the frame statistics
+  bool quiet = false;
+};
+
+constexpr int kProps = 20;
+
+double residentMegabytes() {
+  std::ifstream statm("/proc/self/statm");
+  long pages = 0, resident = 0;
+  statm >> pages >> resident;
+  return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1 << 20);
+}
+
+// Least-squares slope of y over x.
+double slope(const std::vector<double>& y) {
+  const double n = static_cast<double>(y.size());
+  if (n < 2) return 0.0;
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (size_t i = 0; i < y.size(); ++i) {
+    const double x = static_cast<double>(i);
+    sx += x;
+    sy += y[i];
+    sxx += x * x;
+    sxy += x * y[i];
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+// The base scene with `trees` trees at the base scene's density: the terrain side grows with
+// √(trees / base count), its sample spacing kept.
+Scene scaledScene(const Scene& base, int trees, int lod0) {
+  Scene scene = base;
+  if (!scene.terrain || !scene.vegetation) throw InputError(base.source + ": stress needs [terrain] and [vegetation]");
+  TerrainSettings& t = *scene.terrain;
+  const double spacing = t.size / (t.samples - 1);
+  t.size *= std::sqrt(static_cast<double>(trees) / std::max(1, base.vegetation->count));
+  t.size = std::clamp(t.size, 64.0, 65536.0);
+  const int quads = std::clamp(static_cast<int>(std::lround(t.size / spacing / 64.0)) * 64, 64, 8192);
+  t.samples = quads + 1;
+  t.feature_size *= t.size / base.terrain->size;
+  scene.vegetation->count = trees;
+  scene.vegetation->lod0_triangles = lod0;
+  return scene;
+}
+
+// The sun over the run: rising at 5°, 85° at the middle, setting again, turning a full circle.
+dvec3 daySun(double phase) {
+  const double elevation = glm::radians(5.0 + 80.0 * std::sin(std::numbers::pi * phase));
+  const double azimuth = 2.0 * std::numbers::pi * phase;
+  return {std::cos(elevation) * std::cos(azimuth), -std::sin(elevation), std::cos(elevation) * std::sin(azimuth)};
+}
+
+struct RunResult {
+  ordered_json json;
+  double frameP50 = 0.0;
+  long long mismatched = 0;
+};
+
+RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& options, int& done, int total, Clock::time_point start) {
+  Scene scene = scaledScene(base, trees, lod0);
+  // Props: 2 m boxes, built first as placeholders (the frame needs their count), then put around the
+  // walk's start on the ground once the terrain exists.
+  scene.props.assign(kProps, PropBox{dvec3(0.0), dvec3(2.0), dvec3(0.7, 0.3, 0.2)});
+  render::Frame frame(scene, options.width, options.height);
+  render::Frame* f = &frame;
+  const std::vector<Camera> path =
+      walkPath(scene, *frame.terrain(), options.frames, static_cast<double>(options.width) / options.height);
+  std::vector<dvec3> centres;
+  for (int i = 0; i < kProps; ++i) {
+    const double a = 2.0 * std::numbers::pi * i / kProps;
+    centres.push_back(path.front().position + dvec3(12.0 * std::cos(a), 0.0, 12.0 * std::sin(a)));
+  }
+  render::FrameSettings settings;
+  settings.blurRadius = 3.0;
+  SplitMix64 random(SplitMix64::substream(scene.vegetation->seed, 0x57e55ull));
+  const int treeCount = static_cast<int>(f->forest()->trees().size());
+  const int movedPerFrame = static_cast<int>(std::lround(options.moving * treeCount));
+  std::vector<double> frameMs, geometryMs, rss;
+  std::vector<long long> trianglesGeometry, trianglesShadow, queries;
+  long long mismatched = 0;
+  int checks = 0;
+  for (int i = 0; i < options.frames; ++i) {
+    // Moves: a share of the trees up to 0.5 m, every prop along its circle.
+    std::vector<vegetation::Forest::Move> moves;
+    for (int k = 0; k < movedPerFrame; ++k) {
+      const auto t = static_cast<std::uint32_t>(random.unit() * treeCount) % static_cast<std::uint32_t>(treeCount);
+      const dvec3 p = f->forest()->trees()[t].position;
+      moves.push_back({t, glm::dvec2(p.x + random.uniform(-0.5, 0.5), p.z + random.uniform(-0.5, 0.5)), f->forest()->trees()[t].yaw});
+    }
+    f->moveTrees(moves);
+    std::vector<PropMove> propMoves;
+    for (int k = 0; k < kProps; ++k) {
+      const double a = 0.05 * i + k;
+      const dvec3 c = centres[static_cast<size_t>(k)] + dvec3(3.0 * std::cos(a), 0.0, 3.0 * std::sin(a));
+      propMoves.push_back({static_cast<std::uint32_t>(k), dvec3(c.x - 1, f->terrain()->heightAt(c.x, c.z), c.z - 1)});
+    }
+    moveProps(scene.props, propMoves);
+    f->propsMoved();
+    scene.sun.direction = daySun(static_cast<double>(i) / options.frames);
+
+    const double time = i / 30.0;
+    const auto frameStart = Clock::now();
+    const render::FrameStats s = f->render(path[static_cast<size_t>(i)], time, settings);
+    const double ms = 1e3 * std::chrono::duration<double>(Clock::now() - frameStart).count();
+    if (options.checkEvery > 0 && i % options.checkEvery == options.checkEvery - 1) {
+      // Exactness: CHC's geometry pass against frustum culling's on the same moved scene.
+      const std::vector<std::uint32_t> ids = f->readObjectIds();
+      const std::vector<float> depth = f->readDepth();
+      render::FrameSettings frustum = settings;
+      frustum.culling = culling::CullingStrategy::Frustum;
+      f->render(path[static_cast<size_t>(i)], time, frustum);
+      const std::vector<std::uint32_t> idsF = f->readObjectIds();
+      const std::vector<float> depthF = f->readDepth();
+      for (size_t p = 0; p < ids.size(); ++p) mismatched += ids[p] != idsF[p] || depth[p] != depthF[p] ? 1 : 0;
+      ++checks;
+    }
+    if (i >= options.warmup) {
+      frameMs.push_back(ms);
+      geometryMs.push_back(s.geometryMs);
+      trianglesGeometry.push_back(s.geometryTriangles);
+      trianglesShadow.push_back(s.shadowTriangles);
+      queries.push_back(s.culling.queriesIssued);
+      rss.push_back(residentMegabytes());
+    }
+    ++done;
+    showProgress("stress", "frames", done, total, std::chrono::duration<double>(Clock::now() - start).count(), options.quiet);
+  }
+  if (gl::debugErrorCount() > 0)
+    throw Error(fmt::format("{} GL errors during the stress run (first: {})", gl::debugErrorCount(), gl::debugErrorMessages().front()));
+  auto asDouble = [](const std::vector<long long>& v) { return std::vector<double>(v.begin(), v.end()); };
+  const double p50 = percentile(frameMs, 0.5);
+  const double rssMean = rss.empty() ? 0.0 : std::accumulate(rss.begin(), rss.end(), 0.0) / static_cast<double>(rss.size());
+  std::vector<double> rssSeries;
+  for (size_t k = 0; k < rss.size(); k += 10) rssSeries.push_back(rss[k]);
+  RunResult r;
+  r.frameP50 = p50;
+  r.mismatched = mismatched;
+  r.json = {{"trees", treeCount},
+            {"lod0_triangles", lod0},
+            {"terrain_size_m", scene.terrain->size},
+            {"frames", options.frames},
+            {"frame_ms", {{"p50", p50}, {"p95", percentile(frameMs, 0.95)}, {"max", frameMs.empty() ? 0.0 : *std::max_element(frameMs.begin(), frameMs.end())}}},
+            {"max_over_median", p50 > 0.0 && !frameMs.empty() ? *std::max_element(frameMs.begin(), frameMs.end()) / p50 : 0.0},
+            {"geometry_ms_p50", percentile(geometryMs, 0.5)},
+            {"triangles_geometry_p50", percentile(asDouble(trianglesGeometry), 0.5)},
+            {"triangles_shadow_p50", percentile(asDouble(trianglesShadow), 0.5)},
+            {"queries_p50", percentile(asDouble(queries), 0.5)},
+            {"moved_trees_per_frame", movedPerFrame},
+            {"moved_props_per_frame", kProps},
+            {"exactness", {{"checked_frames", checks}, {"mismatched_pixels", mismatched}}},
+            {"rss_mib", {{"first", rss.empty() ? 0.0 : rss.front()}, {"last", rss.empty() ? 0.0 : rss.back()},
+                         {"slope_percent_per_100_frames", rssMean > 0.0 ? 100.0 * 100.0 * slope(rss) / rssMean : 0.0},
+                         {"every_10th_frame", rssSeries}}}};
+  return r;
+}
+
+int runStress(const StressOptions& options) {
+  const std::string scenePath =
+      options.scene.empty() ? (resourceDirectory("data") / "scenes" / "forest.toml").string() : options.scene;
+  const Scene base = loadScene(scenePath);
+  for (int n : options.trees)
+    if (n < 1 || n > 1000000) throw InputError(fmt::format("--trees {}: expected 1 to 1000000", n));
+  for (int l : options.lod0)
+    if (l < 1000 || l > 20000) throw InputError(fmt::format("--lod0 {}: expected 1000 to 20000 triangles", l));
+  if (options.frames <= options.warmup) throw InputError(fmt::format("--frames {}: expected more than --warmup {}", options.frames, options.warmup));
+  const std::filesystem::path out = options.out;
+  std::filesystem::create_directories(out);
+  // RSS should show live memory, not glibc's trimming: keep freed heap and large blocks in the
+  // process (no trim, no per-allocation mmap), so RSS is the high-water mark and grows only with a
+  // leak or a growing working set. (Sanitizer builds have their own allocator; mallopt is a no-op.)
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  mallopt(M_MMAP_THRESHOLD, 1 << 30);
+
+  gl::ContextOptions contextOptions;
+  contextOptions.backend = gl::parseBackend(options.gl.backend);
+  contextOptions.width = options.width;
+  contextOptions.height = options.height;
+  auto context = gl::createContext(contextOptions);
+  log::info("{}", gl::describe(context->info()));
+
+  const int total = static_cast<int>(options.trees.size() * options.lod0.size()) * options.frames;
+  int done = 0;
+  const auto start = Clock::now();
+  ordered_json runs = ordered_json::array();
+  long long mismatched = 0;
+  PlotPanel frameTime{"frame time", "trees", "p50 frame ms", {}}, geometry{"geometry pass (culling + drawing)", "trees", "p50 ms", {}},
+      triangles{"triangles", "trees", "p50 per frame (millions)", {}}, queryPanel{"occlusion queries", "trees", "p50 per frame", {}};
+  for (int lod0 : options.lod0) {
+    const glm::vec3 colour = lod0 == options.lod0.front() ? glm::vec3(0.15f, 0.45f, 0.85f) : glm::vec3(0.85f, 0.3f, 0.15f);
+    PlotSeries ft{fmt::format("LOD0 {}", lod0), colour, {}, true}, gm = ft, tg = ft, q = ft;
+    for (int trees : options.trees) {
+      const RunResult r = runOne(base, trees, lod0, options, done, total, start);
+      mismatched += r.mismatched;
+      const double n = r.json["trees"].get<double>();
+      ft.points.emplace_back(n, r.json["frame_ms"]["p50"].get<double>());
+      gm.points.emplace_back(n, r.json["geometry_ms_p50"].get<double>());
+      tg.points.emplace_back(n, (r.json["triangles_geometry_p50"].get<double>() + r.json["triangles_shadow_p50"].get<double>()) / 1e6);
+      q.points.emplace_back(n, r.json["queries_p50"].get<double>());
+      runs.push_back(r.json);
+    }
+    frameTime.series.push_back(ft);
+    geometry.series.push_back(gm);
+    triangles.series.push_back(tg);
+    queryPanel.series.push_back(q);
+  }
+  ordered_json report{{"scene", scenePath}, {"device", gl::describe(context->info())}, {"resolution", {options.width, options.height}},
+                      {"frames", options.frames}, {"warmup", options.warmup}, {"moving_share", options.moving},
+                      {"check_every", options.checkEvery}, {"runs", runs}};
+  writeFileAtomic(out / "stress.json", report.dump(2) + "\n");
+  writeImage(out / "stress.png", plotPanels({frameTime, geometry, triangles, queryPanel}, 2));
+
+  std::cout << fmt::format("stress: {} at {}x{}, {} frames per run ({} warm-up), {:.0f}% of the trees and {} props moved per frame, day cycle\n",
+                           scenePath, options.width, options.height, options.frames, options.warmup, 100 * options.moving, kProps);
+  std::cout << fmt::format("  {:>7} {:>6} {:>9} {:>9} {:>9} {:>8} {:>11} {:>11} {:>8} {:>10} {:>11}\n", "trees", "lod0", "p50 ms",
+                           "p95 ms", "max/p50", "geom ms", "eye tris", "shadow tris", "queries", "exactness", "RSS %/100f");
+  for (const auto& r : runs)
+    std::cout << fmt::format("  {:>7} {:>6} {:>9.1f} {:>9.1f} {:>9.2f} {:>8.1f} {:>11.0f} {:>11.0f} {:>8.0f} {:>10} {:>+11.2f}\n",
+                             r["trees"].get<int>(), r["lod0_triangles"].get<int>(), r["frame_ms"]["p50"].get<double>(),
+                             r["frame_ms"]["p95"].get<double>(), r["max_over_median"].get<double>(), r["geometry_ms_p50"].get<double>(),
+                             r["triangles_geometry_p50"].get<double>(), r["triangles_shadow_p50"].get<double>(),
+                             r["queries_p50"].get<double>(),
+                             r["exactness"]["mismatched_pixels"].get<long long>() == 0 ? std::string("exact")
+                                                                                      : fmt::format("{} px", r["exactness"]["mismatched_pixels"].get<long long>()),
+                             r["rss_mib"]["slope_percent_per_100_frames"].get<double>());
+  std::cout << fmt::format("  wrote {} and {}\n", (out / "stress.json").string(), (out / "stress.png").string());
+  if (mismatched > 0) std::cerr << fmt::format("stress: culling was not exact: {} pixels differ from frustum culling\n", mismatched);
+  return mismatched == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+Run addStressCommand(CLI::App& app) {
+  auto options = std::make_shared<StressOptions>();
+  CLI::App* command = app.add_subcommand(
+      "stress",
+      "Polygon-rich dynamic scenes: for each tree count (terrain grown to keep the density) and LOD0 budget, a walk\n"
+      "with a share of the trees and 20 props moved every frame (BVH refit), a day cycle of the sun and wind;\n"
+      "frame time, geometry pass, triangles, queries and RSS per run, and on sampled frames the CHC geometry pass\n"
+      "(depth and object IDs) against frustum culling's. Writes stress.json and stress.png; exit 1 if not exact.");
+  options->gl.add(*command);
+  command->add_option("--scene", options->scene, "Base scene (default: data/scenes/forest.toml)");
+  command->add_option("--out", options->out, "Output folder")->capture_default_str();
+  command->add_option("--trees", options->trees, "Tree counts (comma-separated)")->delimiter(',')->capture_default_str();
+  command->add_option("--lod0", options->lod0, "LOD0 triangle budgets per tree (comma-separated)")->delimiter(',')->capture_default_str();
+  command->add_option("--frames", options->frames, "Frames per run")->check(CLI::Range(2, 1000000))->capture_default_str();
+  command->add_option("--warmup", options->warmup, "Frames before the statistics and the RSS slope")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  command->add_option("--width", options->width, "Image width")->check(CLI::Range(16, 8192))->capture_default_str();
+  command->add_option("--height", options->height, "Image height")->check(CLI::Range(16, 8192))->capture_default_str();
+  command->add_option("--moving", options->moving, "Share of the trees moved every frame")->check(CLI::Range(0.0, 1.0))->capture_default_str();
+  command->add_option("--check-every", options->checkEvery, "Frames between exactness checks (0: none)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  command->add_flag("--quiet", options->quiet, "No progress bar");
+  return [options] { return runStress(*options); };
+}
+
+}  // namespace forest::app
