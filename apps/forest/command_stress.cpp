@@ -52,12 +52,6 @@ struct StressOptions {
 
 constexpr int kProps = 20;
 
-double residentMegabytes() {
-  std::ifstream statm("/proc/self/statm");
-  long pages = 0, resident = 0;
-  statm >> pages >> resident;
-  return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1 << 20);
-}
 
 // Least-squares slope of y over x.
 double slope(const std::vector<double>& y) {

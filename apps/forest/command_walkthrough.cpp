@@ -38,12 +38,6 @@ using Clock = std::chrono::steady_clock;
 std::atomic<bool> gInterrupted{false};
 extern "C" void onInterrupt(int) { gInterrupted = true; }
 
-double residentMegabytes() {
-  std::ifstream statm("/proc/self/statm");
-  long pages = 0, resident = 0;
-  statm >> pages >> resident;
-  return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1 << 20);
-}
 
 // A grid of up to 16 frames, each scaled down 4× (box filter), evenly spread over the run.
 Image8 contactSheet(const std::vector<Image8>& frames) {

@@ -54,6 +54,9 @@ int runWalkthrough(const WalkthroughOptions& options);
 // turning 0.8° per frame, camera.above_ground (or 1.7 m) over the ground.
 std::vector<Camera> walkPath(const Scene& scene, const terrain::Terrain& terrain, int frames, double aspect);
 
+// Resident memory of this process, MiB (/proc/self/statm).
+double residentMegabytes();
+
 // A progress line on stderr: a bar with ETA redrawn in place on a terminal, else a line at every
 // tenth and at the end. Nothing when quiet.
 void showProgress(std::string_view what, std::string_view unit, int done, int total, double elapsedSeconds, bool quiet);
