@@ -125,7 +125,7 @@ void writeTruth(const render::Frame& frame, const render::FrameStats& stats, con
                   {"selected_triangles", e.casters.selectedTriangles},
                   {"needed_triangles", e.casters.neededTriangles},
                   {"missing_objects", e.casters.missingObjects}};
-  j["frame_ms"] = stats.geometryMs + stats.shadowSetupMs + stats.shadowMs + stats.shadowTermMs + stats.blurMs + stats.lightingMs;
+  j["frame_ms"] = stats.passesMs();
   j["shadow_pass_ms"] = stats.shadowMs;
   j["truth_seconds"] = seconds;
   writeFileAtomic(folder / "truth.json", j.dump(2) + "\n");

@@ -93,15 +93,6 @@ struct Row {
   double softError = 0.0;  // of the term lighting used (blurred or not)
 };
 
-std::string slug(std::string s) {
-  for (char& c : s) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '-';
-  std::string out;
-  for (char c : s)
-    if (!(c == '-' && !out.empty() && out.back() == '-')) out += c;
-  while (!out.empty() && out.back() == '-') out.pop_back();
-  return out;
-}
-
 render::FrameSettings settingsFor(const std::string& method, const std::string& focus, int mapSize) {
   render::FrameSettings settings;
   settings.method = shadows::parseShadowMethod(method);
@@ -195,7 +186,7 @@ int runSpeedError(const SpeedErrorOptions& options) {
           r.mapSize = size;
           r.error = truth::evaluateFrame(frame, stats, scene, camera, 0.0, truthOptions);
           r.shadowMs = stats.shadowMs;
-          const double frameMs = stats.geometryMs + stats.shadowSetupMs + stats.shadowMs + stats.shadowTermMs + stats.blurMs + stats.lightingMs;
+          const double frameMs = stats.passesMs();
           // Blur on (as rendered) and off (the same frame without the blur pass; the lighting then
           // reads the unblurred term): misclassification is of the unblurred term in both.
           Row on = r, off = r;
@@ -370,7 +361,7 @@ int runSpeedError(const SpeedErrorOptions& options) {
     panel.series.push_back({"Pareto front", glm::vec3(0.0f), paretoFront(all), true});
     writeImage(out / "frame-ms-vs-flicker.png", plotPanels({panel}, 1));
   }
-  for (const auto& [method, w] : worst) writeImage(out / fmt::format("worst-{}.png", slug(method)), w.second);
+  for (const auto& [method, w] : worst) writeImage(out / fmt::format("worst-{}.png", method), w.second);
 
   std::cout << md.str() << fmt::format("\nwrote {}/report.json, results.csv, table.md, 5 plots, {} worst-case error images\n",
                                        out.string(), worst.size());

@@ -128,6 +128,17 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+// Medians of the four aliasing columns of a method's rows.
+std::array<double, 4> columnMedians(const std::vector<std::array<double, 4>>& rows) {
+  std::array<double, 4> out{};
+  for (int k = 0; k < 4; ++k) {
+    std::vector<double> column;
+    for (const auto& r : rows) column.push_back(r[k]);
+    out[k] = median(std::move(column));
+  }
+  return out;
+}
+
 int runStability(const StabilityOptions& options) {
   if (options.cases.empty() && options.random == 0)
     throw InputError("stability: give --cases FILE and/or --random N");
@@ -205,14 +216,12 @@ int runStability(const StabilityOptions& options) {
     summary["microseconds_per_setup"] = microseconds;
     summary["failures"] = tally.firstFailures;
     for (const auto& [method, rows] : tally.aliasing) {
-      std::vector<double> columns[4];
-      for (const auto& r : rows)
-        for (int k = 0; k < 4; ++k) columns[k].push_back(r[k]);
+      const std::array<double, 4> columns = columnMedians(rows);
       summary["aliasing_medians"][method] = {{"cases", rows.size()},
-                                             {"perspective_max_relative", median(columns[0])},
-                                             {"perspective_max_over_floor", median(columns[1])},
-                                             {"surface_p95_px_per_texel", median(columns[2])},
-                                             {"storage_factor", median(columns[3])}};
+                                             {"perspective_max_relative", columns[0]},
+                                             {"perspective_max_over_floor", columns[1]},
+                                             {"surface_p95_px_per_texel", columns[2]},
+                                             {"storage_factor", columns[3]}};
     }
     std::cout << summary.dump(2) << '\n';
   } else {
@@ -227,11 +236,9 @@ int runStability(const StabilityOptions& options) {
                                options.screen[0], options.screen[1], "method", "cases", "persp. max (rel)", "max / floor",
                                "surface p95 px/tx", "storage factor");
       for (const auto& [method, rows] : tally.aliasing) {
-        std::vector<double> columns[4];
-        for (const auto& r : rows)
-          for (int k = 0; k < 4; ++k) columns[k].push_back(r[k]);
+        const std::array<double, 4> columns = columnMedians(rows);
         std::cout << fmt::format("  {:<15} {:>6} {:>16.3g} {:>12.3g} {:>18.3g} {:>14.3g}\n", method, rows.size(),
-                                 median(columns[0]), median(columns[1]), median(columns[2]), median(columns[3]));
+                                 columns[0], columns[1], columns[2], columns[3]);
       }
     }
     if (!options.out.empty()) std::cout << fmt::format("  records: {}\n", options.out);

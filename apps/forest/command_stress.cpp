@@ -102,7 +102,6 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
   // walk's start on the ground once the terrain exists.
   scene.props.assign(kProps, PropBox{dvec3(0.0), dvec3(2.0), dvec3(0.7, 0.3, 0.2)});
   render::Frame frame(scene, options.width, options.height);
-  render::Frame* f = &frame;
   const std::vector<Camera> path =
       walkPath(scene, *frame.terrain(), options.frames, static_cast<double>(options.width) / options.height);
   std::vector<dvec3> centres;
@@ -113,7 +112,7 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
   render::FrameSettings settings;
   settings.blurRadius = 3.0;
   SplitMix64 random(SplitMix64::substream(scene.vegetation->seed, 0x57e55ull));
-  const int treeCount = static_cast<int>(f->forest()->trees().size());
+  const int treeCount = static_cast<int>(frame.forest()->trees().size());
   const int movedPerFrame = static_cast<int>(std::lround(options.moving * treeCount));
   std::vector<double> frameMs, geometryMs, rss;
   std::vector<long long> trianglesGeometry, trianglesShadow, queries;
@@ -124,33 +123,33 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
     std::vector<vegetation::Forest::Move> moves;
     for (int k = 0; k < movedPerFrame; ++k) {
       const auto t = static_cast<std::uint32_t>(random.unit() * treeCount) % static_cast<std::uint32_t>(treeCount);
-      const dvec3 p = f->forest()->trees()[t].position;
-      moves.push_back({t, glm::dvec2(p.x + random.uniform(-0.5, 0.5), p.z + random.uniform(-0.5, 0.5)), f->forest()->trees()[t].yaw});
+      const dvec3 p = frame.forest()->trees()[t].position;
+      moves.push_back({t, glm::dvec2(p.x + random.uniform(-0.5, 0.5), p.z + random.uniform(-0.5, 0.5)), frame.forest()->trees()[t].yaw});
     }
-    f->moveTrees(moves);
+    frame.moveTrees(moves);
     std::vector<PropMove> propMoves;
     for (int k = 0; k < kProps; ++k) {
       const double a = 0.05 * i + k;
       const dvec3 c = centres[static_cast<size_t>(k)] + dvec3(3.0 * std::cos(a), 0.0, 3.0 * std::sin(a));
-      propMoves.push_back({static_cast<std::uint32_t>(k), dvec3(c.x - 1, f->terrain()->heightAt(c.x, c.z), c.z - 1)});
+      propMoves.push_back({static_cast<std::uint32_t>(k), dvec3(c.x - 1, frame.terrain()->heightAt(c.x, c.z), c.z - 1)});
     }
     moveProps(scene.props, propMoves);
-    f->propsMoved();
+    frame.propsMoved();
     scene.sun.direction = daySun(static_cast<double>(i) / options.frames);
 
     const double time = i / 30.0;
     const auto frameStart = Clock::now();
-    const render::FrameStats s = f->render(path[static_cast<size_t>(i)], time, settings);
+    const render::FrameStats s = frame.render(path[static_cast<size_t>(i)], time, settings);
     const double ms = 1e3 * std::chrono::duration<double>(Clock::now() - frameStart).count();
     if (options.checkEvery > 0 && i % options.checkEvery == options.checkEvery - 1) {
       // Exactness: CHC's geometry pass against frustum culling's on the same moved scene.
-      const std::vector<std::uint32_t> ids = f->readObjectIds();
-      const std::vector<float> depth = f->readDepth();
+      const std::vector<std::uint32_t> ids = frame.readObjectIds();
+      const std::vector<float> depth = frame.readDepth();
       render::FrameSettings frustum = settings;
       frustum.culling = culling::CullingStrategy::Frustum;
-      f->render(path[static_cast<size_t>(i)], time, frustum);
-      const std::vector<std::uint32_t> idsF = f->readObjectIds();
-      const std::vector<float> depthF = f->readDepth();
+      frame.render(path[static_cast<size_t>(i)], time, frustum);
+      const std::vector<std::uint32_t> idsF = frame.readObjectIds();
+      const std::vector<float> depthF = frame.readDepth();
       for (size_t p = 0; p < ids.size(); ++p) mismatched += ids[p] != idsF[p] || depth[p] != depthF[p] ? 1 : 0;
       ++checks;
     }

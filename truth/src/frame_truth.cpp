@@ -120,7 +120,6 @@ FrameError evaluateFrame(const render::Frame& frame, const render::FrameStats& s
   int wrong = 0, wrongNear = 0, falseShadow = 0, falseLight = 0;
   double softError = 0.0, softErrorUnblurred = 0.0;
   std::vector<double> aliasingPixels, aliasingRelative;
-  std::set<std::int64_t> needed;
   const shadows::ShadowSetup& setup = frame.shadowSetup();
   const int mapSize = frame.shadowMapSize();
   e.errorImage = Image8(width, height, 3);
@@ -159,7 +158,6 @@ FrameError evaluateFrame(const render::Frame& frame, const render::FrameStats& s
       }
       softError += std::abs(static_cast<double>(blurred[i]) - t.soft);
       softErrorUnblurred += std::abs(static_cast<double>(term[i]) - t.soft);
-      if (t.occluder != kNoObject) needed.insert(frame.objects().objectOfId(t.occluder));
       if (!setup.empty) {
         const auto a = shadows::surfaceAliasing(setup, camera, t.position, t.normal, l, mapSize, width, height);
         if (a && std::isfinite(a->footprint)) aliasingPixels.push_back(a->footprint);
@@ -184,7 +182,11 @@ FrameError evaluateFrame(const render::Frame& frame, const render::FrameStats& s
   std::set<std::uint32_t> occluderIds;
   for (const PixelTruth& t : truth)
     if (t.litFacing && t.occluder != kNoObject) occluderIds.insert(t.occluder);
-  for (std::uint32_t id : occluderIds) e.casters.neededTriangles += static_cast<long long>(rays.triangles(id));
+  std::set<std::int64_t> needed;
+  for (std::uint32_t id : occluderIds) {
+    e.casters.neededTriangles += static_cast<long long>(rays.triangles(id));
+    needed.insert(frame.objects().objectOfId(id));
+  }
   const std::set<std::uint32_t> selected(frame.casters().begin(), frame.casters().end());
   e.casters.selected = static_cast<int>(selected.size());
   e.casters.selectedTriangles = stats.shadowTriangles;

@@ -72,6 +72,8 @@ struct FrameStats {
   bool sunBelowHorizon = false;
   shadows::ShadowDiagnostics shadow;
   culling::CullingStats culling;
+
+  double passesMs() const { return geometryMs + shadowSetupMs + shadowMs + shadowTermMs + blurMs + lightingMs; }
 };
 
 class Frame {
