@@ -5,6 +5,7 @@
 
 #include "forest/core/camera_path.hpp"
 #include "forest/core/error.hpp"
+#include "forest/core/input_script.hpp"
 
 namespace forest {
 namespace {
@@ -101,6 +102,57 @@ TEST(CameraPath, BadInputIsNamed) {
   EXPECT_THAT(errorOf("[[key]]\nt = nan\nposition = [0,0,0]\n"), HasSubstr("key[0].t = nan"));
   EXPECT_THAT(errorOf("[[key]]\nt = 0\nposition = [0,0,0]\nroll = 3\n"), HasSubstr("unknown key 'key[0].roll'"));
   EXPECT_THAT(errorOf("[[key]]\nposition = [0,0,0]\n"), HasSubstr("key[0].t: missing"));
+}
+
+const std::vector<std::string> kKeys = {"w", "c", "f"};
+
+TEST(InputScript, ReadsKeysLooksAndQuit) {
+  const InputScript script = InputScript::parse(R"(
+[[event]]
+t = 0.5
+key = "w"
+action = "press"
+[[event]]
+t = 0.5
+look = [120.0, -30.0]
+[[event]]
+t = 1.25
+key = "c"
+[[event]]
+t = 2.0
+quit = true
+)",
+                                                "script.toml", kKeys);
+  ASSERT_EQ(script.events().size(), 4u);
+  EXPECT_EQ(script.events()[0].kind, InputEvent::Kind::Key);
+  EXPECT_EQ(script.events()[0].key, "w");
+  EXPECT_EQ(script.events()[0].action, InputEvent::Action::Press);
+  EXPECT_EQ(script.events()[1].kind, InputEvent::Kind::Look);
+  EXPECT_EQ(script.events()[1].look, glm::dvec2(120.0, -30.0));
+  EXPECT_EQ(script.events()[2].action, InputEvent::Action::Tap);  // the default
+  EXPECT_EQ(script.events()[3].kind, InputEvent::Kind::Quit);
+  EXPECT_EQ(script.endTime(), 2.0);
+}
+
+TEST(InputScript, BadEventsAreNamed) {
+  auto errorOf = [](const std::string& text) {
+    try {
+      InputScript::parse(text, "bad-script.toml", kKeys);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_THAT(errorOf("[[event]]\nt = 0\nkey = \"x\"\n"), HasSubstr("event[0].key = 'x': expected one of \"w\", \"c\", \"f\""));
+  EXPECT_THAT(errorOf("[[event]]\nt = 0\nkey = \"w\"\nlook = [1, 2]\n"),
+              HasSubstr("event[0]: an event needs exactly one of key, look and quit (found 2)"));
+  EXPECT_THAT(errorOf("[[event]]\nt = 1\nquit = true\n[[event]]\nt = 0.5\nkey = \"w\"\n"),
+              HasSubstr("event[1].t: 0.5 is before the previous event's t = 1"));
+  EXPECT_THAT(errorOf("[[event]]\nt = -1\nkey = \"w\"\n"), HasSubstr("event[0].t = -1: expected a finite number >= 0"));
+  EXPECT_THAT(errorOf("[[event]]\nt = 0\nkey = \"w\"\naction = \"hold\"\n"), HasSubstr("event[0].action"));
+  EXPECT_THAT(errorOf("[[event]]\nt = 0\nlook = [1, nan]\n"), HasSubstr("event[0].look"));
+  EXPECT_THAT(errorOf("[[event]]\nt = 0\nquit = false\n"), HasSubstr("event[0].quit: expected true"));
+  EXPECT_THAT(errorOf("[[event]]\nt = 0\nkey = \"w\"\nwhen = 3\n"), HasSubstr("unknown key 'event[0].when'"));
 }
 
 }  // namespace

@@ -60,6 +60,70 @@ Image8 contactSheet(const std::vector<Image8>& frames) {
 
 }  // namespace
 
+nlohmann::ordered_json frameRecord(int index, double time, bool warmup, const Camera& camera, double yawDeg, double frameMs,
+                                   const render::FrameStats& s) {
+  nlohmann::ordered_json r;
+  r["frame"] = index;
+  r["time"] = time;
+  r["warmup"] = warmup;
+  r["eye"] = {camera.position.x, camera.position.y, camera.position.z};
+  r["yaw_deg"] = yawDeg;
+  r["frame_ms"] = frameMs;
+  r["passes_ms"] = {{"geometry", s.geometryMs}, {"shadow_setup", s.shadowSetupMs}, {"shadow", s.shadowMs},
+                    {"shadow_term", s.shadowTermMs}, {"blur", s.blurMs}, {"lighting", s.lightingMs}};
+  r["visible_objects"] = s.visibleObjects;
+  r["casters"] = s.casterObjects;
+  r["triangles"] = {{"geometry", s.geometryTriangles}, {"shadow", s.shadowTriangles}};
+  r["queries"] = s.culling.queriesIssued;
+  r["z_f"] = s.farDepth;
+  r["far"] = camera.far;
+  r["n"] = s.shadow.n;
+  r["gamma_deg"] = s.shadow.gammaDeg;
+  r["sun_below_horizon"] = s.sunBelowHorizon;
+  r["gpu_memory_mib"] = static_cast<double>(gl::gpuMemory().bytes) / (1 << 20);
+  r["rss_mib"] = residentMegabytes();
+  return r;
+}
+
+nlohmann::ordered_json summariseFrames(const nlohmann::ordered_json& records, int measured) {
+  nlohmann::ordered_json summary;
+  auto column = [&](const std::function<double(const nlohmann::ordered_json&)>& get) {
+    std::vector<double> v;
+    for (const auto& r : records)
+      if (!r["warmup"].template get<bool>()) v.push_back(get(r));
+    double sum = 0.0;
+    for (double x : v) sum += x;
+    return nlohmann::ordered_json{{"mean", v.empty() ? 0.0 : sum / static_cast<double>(v.size())},
+                                  {"p50", percentile(v, 0.5)},
+                                  {"p95", percentile(v, 0.95)},
+                                  {"p99", percentile(v, 0.99)}};
+  };
+  summary["frame_ms"] = column([](const auto& r) { return r["frame_ms"].template get<double>(); });
+  for (const char* pass : kPassNames)
+    summary["passes_ms"][pass] = column([pass](const auto& r) { return r["passes_ms"][pass].template get<double>(); });
+  summary["triangles_geometry"] = column([](const auto& r) { return r["triangles"]["geometry"].template get<double>(); });
+  summary["triangles_shadow"] = column([](const auto& r) { return r["triangles"]["shadow"].template get<double>(); });
+  summary["casters"] = column([](const auto& r) { return r["casters"].template get<double>(); });
+  summary["queries"] = column([](const auto& r) { return r["queries"].template get<double>(); });
+  summary["frames_measured"] = measured;
+  return summary;
+}
+
+void printSummary(const nlohmann::ordered_json& summary) {
+  const auto& frameMs = summary["frame_ms"];
+  std::cout << fmt::format("  {:<13} {:>9} {:>9} {:>9} {:>9}\n", "ms", "mean", "p50", "p95", "p99");
+  std::cout << fmt::format("  {:<13} {:>9.2f} {:>9.2f} {:>9.2f} {:>9.2f}\n", "frame", frameMs["mean"].get<double>(),
+                           frameMs["p50"].get<double>(), frameMs["p95"].get<double>(), frameMs["p99"].get<double>());
+  for (const char* pass : kPassNames) {
+    const auto& p = summary["passes_ms"][pass];
+    std::cout << fmt::format("  {:<13} {:>9.2f} {:>9.2f} {:>9.2f} {:>9.2f}\n", pass, p["mean"].get<double>(), p["p50"].get<double>(),
+                             p["p95"].get<double>(), p["p99"].get<double>());
+  }
+  std::cout << fmt::format("  mean per frame: {:.0f} eye triangles, {:.0f} shadow triangles, {:.0f} casters, {:.0f} queries\n",
+                           summary["triangles_geometry"]["mean"].get<double>(), summary["triangles_shadow"]["mean"].get<double>(),
+                           summary["casters"]["mean"].get<double>(), summary["queries"]["mean"].get<double>());
+}
+
 int runWalkthrough(const WalkthroughOptions& options) {
   // Everything that can be wrong with the input is checked before any output exists.
   const std::string scenePath =
@@ -111,27 +175,7 @@ int runWalkthrough(const WalkthroughOptions& options) {
       if (writeFrame) writeImage(out / "frames" / fmt::format("frame{:05d}.png", f), image);
       if (sheet) sheetFrames.push_back(std::move(image));
     }
-    nlohmann::ordered_json r;
-    r["frame"] = f;
-    r["time"] = time;
-    r["warmup"] = f < options.warmup;
-    r["eye"] = {camera.position.x, camera.position.y, camera.position.z};
-    r["yaw_deg"] = pose.yaw_deg;
-    r["frame_ms"] = frameMs;
-    r["passes_ms"] = {{"geometry", s.geometryMs}, {"shadow_setup", s.shadowSetupMs}, {"shadow", s.shadowMs},
-                      {"shadow_term", s.shadowTermMs}, {"blur", s.blurMs}, {"lighting", s.lightingMs}};
-    r["visible_objects"] = s.visibleObjects;
-    r["casters"] = s.casterObjects;
-    r["triangles"] = {{"geometry", s.geometryTriangles}, {"shadow", s.shadowTriangles}};
-    r["queries"] = s.culling.queriesIssued;
-    r["z_f"] = s.farDepth;
-    r["far"] = camera.far;
-    r["n"] = s.shadow.n;
-    r["gamma_deg"] = s.shadow.gammaDeg;
-    r["sun_below_horizon"] = s.sunBelowHorizon;
-    r["gpu_memory_mib"] = static_cast<double>(gl::gpuMemory().bytes) / (1 << 20);
-    r["rss_mib"] = residentMegabytes();
-    records.push_back(r);
+    records.push_back(frameRecord(f, time, f < options.warmup, camera, pose.yaw_deg, frameMs, s));
     ++done;
     showProgress("walkthrough", "frames", done, total, std::chrono::duration<double>(Clock::now() - start).count(), options.quiet);
   }
@@ -139,27 +183,7 @@ int runWalkthrough(const WalkthroughOptions& options) {
   if (gl::debugErrorCount() > 0)
     throw Error(fmt::format("{} GL errors during the walkthrough (first: {})", gl::debugErrorCount(), gl::debugErrorMessages().front()));
 
-  // Summary: p50/p95/p99 per pass and for the frame.
-  nlohmann::ordered_json summary;
-  auto column = [&](const std::function<double(const nlohmann::ordered_json&)>& get) {
-    std::vector<double> v;
-    for (const auto& r : records)
-      if (!r["warmup"].template get<bool>()) v.push_back(get(r));
-    double sum = 0.0;
-    for (double x : v) sum += x;
-    return nlohmann::ordered_json{{"mean", v.empty() ? 0.0 : sum / static_cast<double>(v.size())},
-                                  {"p50", percentile(v, 0.5)},
-                                  {"p95", percentile(v, 0.95)},
-                                  {"p99", percentile(v, 0.99)}};
-  };
-  summary["frame_ms"] = column([](const auto& r) { return r["frame_ms"].template get<double>(); });
-  for (const char* pass : {"geometry", "shadow_setup", "shadow", "shadow_term", "blur", "lighting"})
-    summary["passes_ms"][pass] = column([pass](const auto& r) { return r["passes_ms"][pass].template get<double>(); });
-  summary["triangles_geometry"] = column([](const auto& r) { return r["triangles"]["geometry"].template get<double>(); });
-  summary["triangles_shadow"] = column([](const auto& r) { return r["triangles"]["shadow"].template get<double>(); });
-  summary["casters"] = column([](const auto& r) { return r["casters"].template get<double>(); });
-  summary["queries"] = column([](const auto& r) { return r["queries"].template get<double>(); });
-  summary["frames_measured"] = done - std::min(done, options.warmup);
+  const nlohmann::ordered_json summary = summariseFrames(records, done - std::min(done, options.warmup));
   nlohmann::ordered_json report;
   report["scene"] = scenePath;
   report["path"] = pathPath;
@@ -185,22 +209,11 @@ int runWalkthrough(const WalkthroughOptions& options) {
     video = std::system(command.c_str()) == 0;
   }
 
-  const auto& frameMs = summary["frame_ms"];
   std::cout << fmt::format("walkthrough: {} of {} frames of {} along {} at {}x{} ({}, {}², {})\n", done, total, scenePath,
                            pathPath, options.width, options.height, options.frame.method, options.frame.shadowSize,
                            options.frame.culling);
   if (options.warmup > 0) std::cout << fmt::format("  (the first {} frames are warm-up, not in the summary)\n", options.warmup);
-  std::cout << fmt::format("  {:<13} {:>9} {:>9} {:>9} {:>9}\n", "ms", "mean", "p50", "p95", "p99");
-  std::cout << fmt::format("  {:<13} {:>9.2f} {:>9.2f} {:>9.2f} {:>9.2f}\n", "frame", frameMs["mean"].get<double>(),
-                           frameMs["p50"].get<double>(), frameMs["p95"].get<double>(), frameMs["p99"].get<double>());
-  for (const char* pass : {"geometry", "shadow_setup", "shadow", "shadow_term", "blur", "lighting"}) {
-    const auto& p = summary["passes_ms"][pass];
-    std::cout << fmt::format("  {:<13} {:>9.2f} {:>9.2f} {:>9.2f} {:>9.2f}\n", pass, p["mean"].get<double>(), p["p50"].get<double>(),
-                             p["p95"].get<double>(), p["p99"].get<double>());
-  }
-  std::cout << fmt::format("  mean per frame: {:.0f} eye triangles, {:.0f} shadow triangles, {:.0f} casters, {:.0f} queries\n",
-                           summary["triangles_geometry"]["mean"].get<double>(), summary["triangles_shadow"]["mean"].get<double>(),
-                           summary["casters"]["mean"].get<double>(), summary["queries"]["mean"].get<double>());
+  printSummary(summary);
   std::cout << fmt::format("  wrote {}/report.json, {}/contact-sheet.png, frames every {} in {}/frames{}\n", out.string(),
                            out.string(), options.every, out.string(), video ? ", walkthrough.mp4" : " (no MP4: needs ffmpeg and --every 1)");
   if (gInterrupted) {
@@ -235,7 +248,18 @@ Run addWalkthroughCommand(CLI::App& app) {
       ->capture_default_str();
   options->frame.add(*command);
   command->add_flag("--quiet", options->quiet, "No progress bar");
-  return [options] { return runWalkthrough(*options); };
+  auto window = std::make_shared<WindowOptions>();
+  auto windowed = std::make_shared<bool>(false);
+  CLI::Option* windowFlag = command->add_flag(
+      "--window", *windowed,
+      "Interactive: a GLFW window (needs a display), mouse look and WASD; keys switch culling, shadow method,\n"
+      "map size, blur, move the sun and freeze culling (H shows them). Writes report.json and window.png\n"
+      "into --out; --frames stops after that many frames");
+  command->add_option("--script", window->script, "Drive the window with a timed input script (TOML; see docs/scene-format.md)")
+      ->needs(windowFlag);
+  command->add_option("--record", window->record, "Write the camera path flown in the window (replay it with --path)")
+      ->needs(windowFlag);
+  return [options, window, windowed] { return *windowed ? runWindow(*options, *window) : runWalkthrough(*options); };
 }
 
 }  // namespace forest::app

@@ -2,6 +2,7 @@
 // Subcommands of the `forest` program. Each registers its options on the CLI and returns the
 // function that runs it (exit code).
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <functional>
 #include <string>
@@ -49,6 +50,25 @@ struct WalkthroughOptions {
 };
 // Renders the path; writes frames, contact sheet, report.json (with its summary) into out.
 int runWalkthrough(const WalkthroughOptions& options);
+
+// The interactive window (`walkthrough --window`): GLFW window, mouse look and WASD, keys for the
+// frame's settings, the sun and freezing culling, a stats line and help; or driven by an input
+// script. Writes report.json (each frame with its settings and stats line), the last window image
+// and, with `record`, the camera path flown (replayable with --path).
+struct WindowOptions {
+  std::string script;  // input script (core/input_script.hpp); empty: interactive
+  std::string record;  // camera path file to write; empty: none
+};
+int runWindow(const WalkthroughOptions& options, const WindowOptions& window);
+
+// report.json of walkthrough and window runs: the passes in frame order, one record per frame,
+// the summary (mean, p50, p95, p99 of frame, passes, triangles, casters, queries over the frames
+// not marked warm-up) and its table on stdout.
+inline constexpr const char* kPassNames[] = {"geometry", "shadow_setup", "shadow", "shadow_term", "blur", "lighting"};
+nlohmann::ordered_json frameRecord(int index, double time, bool warmup, const Camera& camera, double yawDeg, double frameMs,
+                                   const render::FrameStats& stats);
+nlohmann::ordered_json summariseFrames(const nlohmann::ordered_json& records, int measured);
+void printSummary(const nlohmann::ordered_json& summary);
 
 // A walker's path through a terrain scene: from the scene's start, 1.4 m per frame along the view,
 // turning 0.8° per frame, camera.above_ground (or 1.7 m) over the ground.

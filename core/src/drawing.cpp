@@ -13,8 +13,17 @@ namespace {
 
 // An ImageBuf over the image's own pixels (no copy).
 OIIO::ImageBuf wrap(Image8& image) {
-  if (image.channels != 3) throw Error("drawing: expected an RGB image");
-  return OIIO::ImageBuf(OIIO::ImageSpec(image.width, image.height, 3, OIIO::TypeDesc::UINT8), image.pixels.data());
+  if (image.channels != 3 && image.channels != 4) throw Error("drawing: expected an RGB or RGBA image");
+  return OIIO::ImageBuf(OIIO::ImageSpec(image.width, image.height, image.channels, OIIO::TypeDesc::UINT8), image.pixels.data());
+}
+
+// The colour per channel of the image; opaque where the image has alpha.
+OIIO::cspan<float> inkFor(const Image8& image, glm::vec3 colour, float (&ink)[4]) {
+  ink[0] = colour.r;
+  ink[1] = colour.g;
+  ink[2] = colour.b;
+  ink[3] = 1.0f;
+  return OIIO::cspan<float>(ink, static_cast<size_t>(image.channels));
 }
 
 int pixel(double v) { return static_cast<int>(std::lround(std::clamp(v, -1e6, 1e6))); }
@@ -23,8 +32,8 @@ int pixel(double v) { return static_cast<int>(std::lround(std::clamp(v, -1e6, 1e
 
 void drawLine(Image8& image, glm::dvec2 a, glm::dvec2 b, glm::vec3 colour) {
   OIIO::ImageBuf buffer = wrap(image);
-  const float c[3] = {colour.r, colour.g, colour.b};
-  OIIO::ImageBufAlgo::render_line(buffer, pixel(a.x), pixel(a.y), pixel(b.x), pixel(b.y), c);
+  float ink[4];
+  OIIO::ImageBufAlgo::render_line(buffer, pixel(a.x), pixel(a.y), pixel(b.x), pixel(b.y), inkFor(image, colour, ink));
 }
 
 void drawPolygon(Image8& image, std::span<const glm::dvec2> polygon, glm::vec3 colour) {
@@ -61,8 +70,8 @@ void fillConvexPolygon(Image8& image, std::span<const glm::dvec2> polygon, glm::
 
 bool drawText(Image8& image, glm::ivec2 at, std::string_view text, glm::vec3 colour, int size) {
   OIIO::ImageBuf buffer = wrap(image);
-  const float c[3] = {colour.r, colour.g, colour.b};
-  const bool drawn = OIIO::ImageBufAlgo::render_text(buffer, at.x, at.y, text, size, "DejaVuSans", c);
+  float ink[4];
+  const bool drawn = OIIO::ImageBufAlgo::render_text(buffer, at.x, at.y, text, size, "DejaVuSans", inkFor(image, colour, ink));
   if (!drawn) (void)buffer.geterror();  // no font: leave the image as it was
   return drawn;
 }

@@ -64,6 +64,7 @@ TomlSection::TomlSection(const toml::table& table, std::string file, std::string
     : table_(&table), file_(std::move(file)), path_(std::move(path)) {}
 
 std::string TomlSection::qualified(std::string_view key) const {
+  if (key.empty()) return path_;  // the table itself
   return path_.empty() ? std::string(key) : path_ + "." + std::string(key);
 }
 

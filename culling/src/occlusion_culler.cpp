@@ -55,6 +55,13 @@ struct Entry {
 
 }  // namespace
 
+double farDepthOf(std::span<const std::uint32_t> objects, std::span<const Aabb> objectBoxes, const Camera& camera) {
+  const glm::dmat4 view = camera.view();
+  double farDepth = camera.near;
+  for (std::uint32_t o : objects) farDepth = std::max(farDepth, depthRange(objectBoxes[o], view).second);
+  return std::min(farDepth, camera.far);
+}
+
 CullingStrategy parseCullingStrategy(std::string_view name) {
   if (name == "none") return CullingStrategy::None;
   if (name == "frustum") return CullingStrategy::Frustum;
@@ -279,9 +286,7 @@ CullingResult OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb> object
 
   std::sort(visible.begin(), visible.end());
   visible.erase(std::unique(visible.begin(), visible.end()), visible.end());
-  double farDepth = camera.near;
-  for (std::uint32_t o : visible) farDepth = std::max(farDepth, depthRange(objectBoxes[o], view).second);
-  result.farDepth = std::min(farDepth, camera.far);
+  result.farDepth = farDepthOf(visible, objectBoxes, camera);
   result.visibleObjects = std::move(visible);
   return result;
 }

@@ -228,6 +228,7 @@ void Frame::objectsMoved() {
 void Frame::resetHistory() {
   culler_.reset();
   smoothedFarDepth_ = -1.0;
+  haveVisibleSet_ = false;
 }
 
 Camera Frame::startCamera() const {
@@ -279,7 +280,16 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   glClearBufferfv(GL_DEPTH, 0, &farDepth);
   SceneDrawer geometry(*objects_, p.terrainGBuffer.get(), p.treesGBuffer.get(), p.propsGBuffer.get(),
                        eye, eyeLod);
-  const culling::CullingResult visible = culler_.cull(bvh_, objects_->boxes(), camera, settings.culling, geometry);
+  culling::CullingResult visible;
+  if (settings.freezeCulling && haveVisibleSet_) {
+    visible.visibleObjects = visibleObjects_;
+    visible.stats.trianglesDrawn = geometry.draw(visible.visibleObjects);
+    visible.stats.objectsDrawn = static_cast<int>(visible.visibleObjects.size());
+    visible.farDepth = culling::farDepthOf(visible.visibleObjects, objects_->boxes(), camera);
+  } else {
+    visible = culler_.cull(bvh_, objects_->boxes(), camera, settings.culling, geometry);
+  }
+  haveVisibleSet_ = true;
   stats.geometryMs = millisecondsSince(start);
   stats.culling = visible.stats;
   stats.visibleObjects = static_cast<int>(visible.visibleObjects.size());
@@ -488,6 +498,11 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   glEnable(GL_CULL_FACE);
   stats.lightingMs = millisecondsSince(start);
   return stats;
+}
+
+void Frame::presentTo(GLuint framebuffer, int width, int height) const {
+  glBlitNamedFramebuffer(passes_->colorFramebuffer.id(), framebuffer, 0, 0, width_, height_, 0, 0, width, height,
+                         GL_COLOR_BUFFER_BIT, GL_LINEAR);
 }
 
 Image8 Frame::readColor() const {

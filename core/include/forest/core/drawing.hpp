@@ -1,5 +1,5 @@
 #pragma once
-// Drawing on 8-bit RGB images for diagrams (OpenImageIO's ImageBufAlgo): lines, filled and
+// Drawing on 8-bit RGB or RGBA images (drawn pixels become opaque) for diagrams and overlays (OpenImageIO's ImageBufAlgo): lines, filled and
 // outlined polygons, text. Coordinates are pixels, x right, y down; anything outside is clipped.
 #include <glm/glm.hpp>
 

@@ -53,6 +53,10 @@ struct CullingResult {
   CullingStats stats;
 };
 
+// z_f of a set of objects: the largest eye depth of their boxes, clamped to [near, far] (near
+// for an empty set).
+double farDepthOf(std::span<const std::uint32_t> objects, std::span<const Aabb> objectBoxes, const Camera& camera);
+
 class OcclusionCuller {
  public:
   OcclusionCuller();  // needs a current GL context

@@ -48,6 +48,10 @@ struct FrameSettings {
   double slopeScaleBias = 0.0;    // glPolygonOffset factor in the shadow pass (0: none)
   bool backside = true;           // cull front faces in the shadow pass (thesis §5.1)
   culling::CullingStrategy culling = culling::CullingStrategy::Chc;
+  // Inspection (window mode): keep the previous frame's visible set — the geometry pass draws
+  // exactly it, without culling, and z_f, B and the casters follow from it — while the camera
+  // moves, to see what was culled. The first frame culls normally.
+  bool freezeCulling = false;
   CasterSelection casters = CasterSelection::Receivers;
   FocusBound focus = FocusBound::Receivers;
   int pcfRadius = 0;              // 0: hardware 2×2 PCF; r: (2r+1)² hardware lookups, [0, 4]
@@ -89,10 +93,13 @@ class Frame {
   void moveTrees(std::span<const vegetation::Forest::Move> moves);
   void propsMoved();
 
-  // Forgets the frame-to-frame state — CHC visibility and the smoothed z_f — as after a camera cut.
+  // Forgets the frame-to-frame state — CHC visibility, the smoothed z_f, a frozen visible set — as
+  // after a camera cut.
   void resetHistory();
 
   Image8 readColor() const;                       // top row first
+  // Copies the lit image into a framebuffer of that size (0: a window's back buffer).
+  void presentTo(GLuint framebuffer, int width, int height) const;
   std::vector<float> readShadowTerm() const;      // bottom row first (GL), 1 lit, 0 shadowed; before the blur
   std::vector<float> readBlurredShadowTerm() const;  // what lighting used (= the term when the blur is off)
   std::vector<std::uint32_t> readObjectIds() const;  // bottom row first, 0 = sky
@@ -133,6 +140,7 @@ class Frame {
   std::vector<std::uint32_t> visibleObjects_, casters_;
   Camera shadowCamera_;
   double smoothedFarDepth_ = -1.0;
+  bool haveVisibleSet_ = false;
   bool haveShadowMap_ = false;
 };
 

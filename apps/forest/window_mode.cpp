@@ -1,0 +1,391 @@
+// forest walkthrough --window: the interactive walkthrough in a GLFW window. Keyboard and mouse —
+// or an input script, for runs without a person — move the camera and change the frame's settings;
+// every frame goes into report.json with the settings it was rendered with and the stats line shown.
+//
+// Time: scripted runs advance exactly 1/fps per frame (so the recorded path and the report repeat
+// from run to run); interactive runs advance by the measured frame time (at most 0.25 s a frame).
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <set>
+
+#include "commands.hpp"
+#include "forest/core/camera_path.hpp"
+#include "forest/core/drawing.hpp"
+#include "forest/core/error.hpp"
+#include "forest/core/files.hpp"
+#include "forest/core/input_script.hpp"
+#include "forest/core/log.hpp"
+#include "forest/core/resources.hpp"
+#include "forest/core/scene.hpp"
+#include "forest/gl/context.hpp"
+#include "forest/gl/debug.hpp"
+#include "forest/render/frame.hpp"
+#include "forest/render/overlay.hpp"
+
+namespace forest::app {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+// Key names (the script's vocabulary) and their GLFW keys.
+const std::map<std::string, int>& keyBindings() {
+  static const std::map<std::string, int> keys = {
+      {"w", GLFW_KEY_W},       {"a", GLFW_KEY_A},          {"s", GLFW_KEY_S},         {"d", GLFW_KEY_D},
+      {"e", GLFW_KEY_E},       {"q", GLFW_KEY_Q},          {"shift", GLFW_KEY_LEFT_SHIFT}, {"ctrl", GLFW_KEY_LEFT_CONTROL},
+      {"c", GLFW_KEY_C},       {"m", GLFW_KEY_M},          {"[", GLFW_KEY_LEFT_BRACKET}, {"]", GLFW_KEY_RIGHT_BRACKET},
+      {"b", GLFW_KEY_B},       {"f", GLFW_KEY_F},          {"h", GLFW_KEY_H},         {"f1", GLFW_KEY_F1},
+      {"left", GLFW_KEY_LEFT}, {"right", GLFW_KEY_RIGHT},  {"up", GLFW_KEY_UP},       {"down", GLFW_KEY_DOWN},
+      {"tab", GLFW_KEY_TAB},   {"escape", GLFW_KEY_ESCAPE}};
+  return keys;
+}
+
+std::vector<std::string> keyNames() {
+  std::vector<std::string> names;
+  for (const auto& [name, key] : keyBindings()) names.push_back(name);
+  return names;
+}
+
+const std::vector<std::string> kHelp = {
+    "W A S D  move          E / Q  up / down",
+    "Shift  5x faster       Ctrl  5x slower",
+    "mouse drag (or Tab: capture)  look",
+    "C  culling strategy    M  shadow method",
+    "[ / ]  shadow map size halved / doubled",
+    "B  blur radius (0, 1.5, 3, 6 px)",
+    "Left / Right  sun azimuth -/+ 10 deg",
+    "Up / Down  sun elevation +/- 5 deg",
+    "F  freeze culling (keep the visible set)",
+    "H or F1  this help     Esc  quit",
+};
+
+constexpr double kWalkSpeed = 6.0;         // m/s
+constexpr double kLookDegreesPerPixel = 0.15;
+constexpr double kMaxPitch = 89.0;
+constexpr double kHeadroom = 0.3;          // metres kept above the terrain
+const double kBlurSteps[] = {0.0, 1.5, 3.0, 6.0};
+const char* const kCullingCycle[] = {"none", "frustum", "stop-and-wait", "chc"};
+
+// Where the sun is, as the keys change it: azimuth from +x toward +z, elevation over the horizon.
+struct SunAngles {
+  double azimuthDeg = 0.0, elevationDeg = 45.0;
+  static SunAngles of(const glm::dvec3& travel) {
+    const glm::dvec3 s = -glm::normalize(travel);  // toward the sun
+    return {glm::degrees(std::atan2(s.z, s.x)), glm::degrees(std::asin(std::clamp(s.y, -1.0, 1.0)))};
+  }
+  glm::dvec3 travel() const {
+    const double az = glm::radians(azimuthDeg), el = glm::radians(elevationDeg);
+    return -glm::dvec3(std::cos(el) * std::cos(az), std::sin(el), std::cos(el) * std::sin(az));
+  }
+};
+
+// What the keys and the mouse change. Movement keys are held; the others act when pressed.
+struct Controls {
+  CameraPose pose;
+  FrameOptions frame;  // culling, method, map size, blur (named as the command line names them)
+  SunAngles sun;
+  bool frozen = false;
+  bool help = true;
+  bool captured = false;  // interactive: the cursor is captured for mouse look
+  bool quit = false;
+  std::set<std::string> held;
+
+  void press(const std::string& key) {
+    held.insert(key);
+    if (key == "c") {
+      auto it = std::find(std::begin(kCullingCycle), std::end(kCullingCycle), frame.culling);
+      frame.culling = it == std::end(kCullingCycle) || it + 1 == std::end(kCullingCycle) ? kCullingCycle[0] : *(it + 1);
+    } else if (key == "m") {
+      const std::vector<std::string> methods = shadows::shadowMethodNames();
+      auto it = std::find(methods.begin(), methods.end(), frame.method);
+      frame.method = it == methods.end() || it + 1 == methods.end() ? methods.front() : *(it + 1);
+    } else if (key == "[") {
+      frame.shadowSize = std::max(512, frame.shadowSize / 2);
+    } else if (key == "]") {
+      frame.shadowSize = std::min(8192, frame.shadowSize * 2);
+    } else if (key == "b") {
+      auto next = std::find_if(std::begin(kBlurSteps), std::end(kBlurSteps), [&](double r) { return r > frame.blur; });
+      frame.blur = next == std::end(kBlurSteps) ? 0.0 : *next;
+    } else if (key == "left" || key == "right") {
+      sun.azimuthDeg = std::remainder(sun.azimuthDeg + (key == "left" ? -10.0 : 10.0), 360.0);
+    } else if (key == "up" || key == "down") {
+      sun.elevationDeg = std::clamp(sun.elevationDeg + (key == "up" ? 5.0 : -5.0), -10.0, 90.0);
+    } else if (key == "f") {
+      frozen = !frozen;
+    } else if (key == "h" || key == "f1") {
+      help = !help;
+    } else if (key == "escape") {
+      quit = true;
+    }
+  }
+  void release(const std::string& key) { held.erase(key); }
+  void look(glm::dvec2 pixels) {
+    pose.yaw_deg -= kLookDegreesPerPixel * pixels.x;  // right turns right (positive yaw turns left)
+    pose.pitch_deg = std::clamp(pose.pitch_deg - kLookDegreesPerPixel * pixels.y, -kMaxPitch, kMaxPitch);
+  }
+  // Moves by the held keys over dt seconds (horizontal moves follow the yaw, not the pitch).
+  void move(double dt) {
+    const double yaw = glm::radians(pose.yaw_deg);
+    const glm::dvec3 forward(-std::sin(yaw), 0.0, -std::cos(yaw)), right(std::cos(yaw), 0.0, -std::sin(yaw));
+    auto down = [&](const char* key) { return held.count(key) ? 1.0 : 0.0; };
+    glm::dvec3 direction = forward * (down("w") - down("s")) + right * (down("d") - down("a")) +
+                           glm::dvec3(0.0, 1.0, 0.0) * (down("e") - down("q"));
+    if (glm::length(direction) == 0.0) return;
+    const double speed = kWalkSpeed * (held.count("shift") ? 5.0 : 1.0) * (held.count("ctrl") ? 0.2 : 1.0);
+    pose.position += glm::normalize(direction) * speed * dt;
+  }
+};
+
+// GLFW callbacks queue events here; the frame loop applies them in order.
+struct WindowInput {
+  std::deque<InputEvent> events;
+  std::map<int, std::string> names;  // GLFW key → key name
+  bool dragging = false;
+  bool captured = false;
+  glm::dvec2 cursor{0.0};
+  bool haveCursor = false;
+};
+
+void onKey(GLFWwindow* window, int key, int, int action, int) {
+  auto* input = static_cast<WindowInput*>(glfwGetWindowUserPointer(window));
+  if (key == GLFW_KEY_RIGHT_SHIFT) key = GLFW_KEY_LEFT_SHIFT;
+  if (key == GLFW_KEY_RIGHT_CONTROL) key = GLFW_KEY_LEFT_CONTROL;
+  const auto name = input->names.find(key);
+  if (name == input->names.end() || action == GLFW_REPEAT) return;
+  InputEvent e;
+  e.key = name->second;
+  e.action = action == GLFW_PRESS ? InputEvent::Action::Press : InputEvent::Action::Release;
+  input->events.push_back(e);
+}
+
+void onMouseButton(GLFWwindow* window, int, int action, int) {
+  static_cast<WindowInput*>(glfwGetWindowUserPointer(window))->dragging = action == GLFW_PRESS;
+}
+
+void onCursor(GLFWwindow* window, double x, double y) {
+  auto* input = static_cast<WindowInput*>(glfwGetWindowUserPointer(window));
+  const glm::dvec2 p(x, y);
+  if (input->haveCursor && (input->dragging || input->captured)) {
+    InputEvent e;
+    e.kind = InputEvent::Kind::Look;
+    e.look = p - input->cursor;
+    input->events.push_back(e);
+  }
+  input->cursor = p;
+  input->haveCursor = true;
+}
+
+// A text panel: white lines on a translucent dark band.
+Image8 textPanel(const std::vector<std::string>& lines, int width, int size) {
+  const int lineHeight = size + 5;
+  Image8 panel(width, lineHeight * static_cast<int>(lines.size()) + 6, 4);
+  for (size_t i = 0; i < panel.pixels.size(); i += 4) panel.pixels[i + 3] = 170;
+  for (size_t k = 0; k < lines.size(); ++k)
+    drawText(panel, {6, 3 + lineHeight * static_cast<int>(k) + size}, lines[k], glm::vec3(1.0f), size);
+  return panel;
+}
+
+std::uint64_t hashOf(const std::vector<std::uint32_t>& ids) {  // FNV-1a
+  std::uint64_t h = 1469598103934665603ull;
+  for (std::uint32_t id : ids) h = (h ^ id) * 1099511628211ull;
+  return h;
+}
+
+Image8 readWindow(int width, int height) {
+  Image8 image(width, height, 4);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  glReadBuffer(GL_BACK);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, image.pixels.data());
+  for (int y = 0; y < height / 2; ++y)  // GL's first row is the bottom one
+    std::swap_ranges(image.pixels.begin() + static_cast<std::ptrdiff_t>(y) * width * 4,
+                     image.pixels.begin() + static_cast<std::ptrdiff_t>(y + 1) * width * 4,
+                     image.pixels.begin() + static_cast<std::ptrdiff_t>(height - 1 - y) * width * 4);
+  return image;
+}
+
+}  // namespace
+
+int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
+  // Input first: nothing is opened or written for a bad scene, path, script or flag.
+  if (options.gl.backend != "auto" && options.gl.backend != "window")
+    throw InputError(fmt::format("--gl {} with --window: the window mode needs the window backend", options.gl.backend));
+  if (!(options.fps > 0.0 && options.fps <= 1000.0)) throw InputError(fmt::format("--fps {}: expected (0, 1000]", options.fps));
+  const std::string scenePath =
+      options.scene.empty() ? (resourceDirectory("data") / "scenes" / "forest.toml").string() : options.scene;
+  Scene scene = loadScene(scenePath);
+  std::optional<CameraPath> start;
+  if (!options.path.empty()) start = CameraPath::load(options.path);
+  if (start && start->aboveGround() && !scene.terrain)
+    throw InputError(options.path + ": heights = \"above_ground\" needs a scene with [terrain]");
+  std::optional<InputScript> script;
+  if (!window.script.empty()) script = InputScript::load(window.script, keyNames());
+  Controls controls;
+  controls.frame = options.frame;
+  (void)controls.frame.settings();  // names checked before the window opens
+  controls.sun = SunAngles::of(scene.sun.direction);
+  scene.render.width = options.width;
+  scene.render.height = options.height;
+
+  gl::ContextOptions contextOptions;
+  contextOptions.backend = gl::Backend::Window;
+  contextOptions.width = options.width;
+  contextOptions.height = options.height;
+  contextOptions.title = "forest walkthrough";
+  auto context = gl::createContext(contextOptions);
+  const std::string device = gl::describe(context->info());
+  log::info("{}", device);
+  GLFWwindow* handle = context->window();
+  WindowInput input;
+  for (const auto& [name, key] : keyBindings()) input.names[key] = name;
+  glfwSetWindowUserPointer(handle, &input);
+  if (!script) {
+    glfwSetKeyCallback(handle, onKey);
+    glfwSetMouseButtonCallback(handle, onMouseButton);
+    glfwSetCursorPosCallback(handle, onCursor);
+  }
+  glfwSwapInterval(0);
+  render::Frame frame(scene, options.width, options.height);
+  render::ImageOverlay overlay;
+  const Image8 helpPanel = textPanel(kHelp, std::min(options.width, 380), 13);
+
+  Camera camera = frame.startCamera();
+  controls.pose = {camera.position, glm::degrees(camera.yaw), glm::degrees(camera.pitch)};
+  if (start) {
+    controls.pose = start->at(start->startTime());
+    if (start->aboveGround()) controls.pose.position.y += frame.terrain()->heightAt(controls.pose.position.x, controls.pose.position.z);
+  }
+
+  const fs::path out(options.out);
+  fs::create_directories(out);
+  nlohmann::ordered_json records = nlohmann::ordered_json::array();
+  std::vector<PathKey> flown;
+  std::vector<std::string> tapped;  // released after the frame they were pressed in
+  size_t nextEvent = 0;
+  double time = 0.0;
+  auto last = Clock::now();
+  Image8 shown;
+  int done = 0;
+  for (int f = 0;; ++f) {
+    // Time and input for this frame.
+    const auto now = Clock::now();
+    const double dt = f == 0 ? 0.0 : script ? 1.0 / options.fps : std::min(0.25, std::chrono::duration<double>(now - last).count());
+    last = now;
+    time = script ? f / options.fps : time + dt;
+    glfwPollEvents();
+    if (glfwWindowShouldClose(handle)) break;
+    std::deque<InputEvent> events;
+    if (script) {
+      for (; nextEvent < script->events().size() && script->events()[nextEvent].time <= time + 1e-9; ++nextEvent)
+        events.push_back(script->events()[nextEvent]);
+    } else {
+      events.swap(input.events);
+    }
+    for (const InputEvent& e : events) {
+      if (e.kind == InputEvent::Kind::Quit) controls.quit = true;
+      if (e.kind == InputEvent::Kind::Look) controls.look(e.look);
+      if (e.kind != InputEvent::Kind::Key) continue;
+      if (e.action == InputEvent::Action::Release) {
+        controls.release(e.key);
+        continue;
+      }
+      controls.press(e.key);
+      if (e.action == InputEvent::Action::Tap) tapped.push_back(e.key);
+      if (e.key == "tab" && !script) {
+        input.captured = !input.captured;
+        glfwSetInputMode(handle, GLFW_CURSOR, input.captured ? GLFW_CURSOR_DISABLED : GLFW_CURSOR_NORMAL);
+      }
+    }
+    // The frame of a quit event, of the script's last event or the --frames-th is the last one.
+    const bool lastFrame = controls.quit || (script && nextEvent == script->events().size()) ||
+                           (options.frames > 0 && f + 1 == options.frames);
+    controls.move(dt);
+    if (frame.terrain()) {
+      const double ground = frame.terrain()->heightAt(controls.pose.position.x, controls.pose.position.z);
+      controls.pose.position.y = std::max(controls.pose.position.y, ground + kHeadroom);
+    }
+    for (const std::string& key : tapped) controls.release(key);
+    tapped.clear();
+
+    // Render with this frame's settings and sun.
+    render::FrameSettings settings = controls.frame.settings();
+    settings.freezeCulling = controls.frozen;
+    scene.sun.direction = controls.sun.travel();
+    camera.position = controls.pose.position;
+    camera.yaw = glm::radians(controls.pose.yaw_deg);
+    camera.pitch = glm::radians(controls.pose.pitch_deg);
+    const auto frameStart = Clock::now();
+    const render::FrameStats s = frame.render(camera, time, settings);
+    const double frameMs = 1e3 * std::chrono::duration<double>(Clock::now() - frameStart).count();
+
+    // Show it: the image, the stats line, the help.
+    int width = 0, height = 0;
+    glfwGetFramebufferSize(handle, &width, &height);
+    const std::string statsLine = fmt::format(
+        "{:.1f} ms | {} | {} {} | blur {} | visible {} | casters {} | tris {:.2f}M + {:.2f}M | n {:.3g} | z_f {:.0f} m | sun {:.0f}/{:.0f} deg{}",
+        frameMs, controls.frame.culling, controls.frame.method, controls.frame.shadowSize, controls.frame.blur, s.visibleObjects,
+        s.casterObjects, static_cast<double>(s.geometryTriangles) * 1e-6, static_cast<double>(s.shadowTriangles) * 1e-6, s.shadow.n, s.farDepth, controls.sun.azimuthDeg,
+        controls.sun.elevationDeg, controls.frozen ? " | CULLING FROZEN" : "");
+    if (width > 0 && height > 0) {
+      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+      frame.presentTo(0, width, height);
+      glBindFramebuffer(GL_FRAMEBUFFER, 0);
+      // One line where it fits (about 7 px a character at 13 px), else split before "visible".
+      std::vector<std::string> statsLines{statsLine};
+      const size_t split = statsLine.find(" | visible");
+      if (static_cast<double>(statsLine.size()) * 7.0 > width && split != std::string::npos)
+        statsLines = {statsLine.substr(0, split), statsLine.substr(split + 3)};
+      const Image8 statsPanel = textPanel(statsLines, width, 13);
+      overlay.draw(statsPanel, {0, height - statsPanel.height}, width, height);
+      if (controls.help) overlay.draw(helpPanel, {0, 0}, width, height);
+      if (lastFrame) shown = readWindow(width, height);
+      context->swapBuffers();
+    }
+
+    nlohmann::ordered_json r = frameRecord(f, time, f < options.warmup, camera, controls.pose.yaw_deg, frameMs, s);
+    r["settings"] = {{"culling", controls.frame.culling},     {"method", controls.frame.method},
+                     {"shadow_size", controls.frame.shadowSize}, {"blur_px", controls.frame.blur},
+                     {"sun_azimuth_deg", controls.sun.azimuthDeg}, {"sun_elevation_deg", controls.sun.elevationDeg},
+                     {"frozen", controls.frozen},              {"help", controls.help}};
+    r["visible_set_hash"] = fmt::format("{:016x}", hashOf(frame.visibleObjects()));
+    r["stats_line"] = statsLine;
+    records.push_back(std::move(r));
+    if (flown.empty() || time > flown.back().time) flown.push_back({time, controls.pose});
+    ++done;
+    if (lastFrame) break;
+  }
+  if (gl::debugErrorCount() > 0)
+    throw Error(fmt::format("{} GL errors in the window (first: {})", gl::debugErrorCount(), gl::debugErrorMessages().front()));
+
+  const nlohmann::ordered_json summary = summariseFrames(records, done - std::min(done, options.warmup));
+  nlohmann::ordered_json report;
+  report["scene"] = scenePath;
+  report["input"] = script ? window.script : "interactive";
+  report["device"] = device;
+  report["resolution"] = {options.width, options.height};
+  report["fps"] = options.fps;
+  report["frames_done"] = done;
+  report["summary"] = summary;
+  report["frames"] = records;
+  writeFileAtomic(out / "report.json", report.dump(1) + "\n");
+  if (shown.width > 0) writeImage(out / "window.png", shown);  // not when the window was closed
+  if (!window.record.empty() && !flown.empty()) writeFileAtomic(window.record, CameraPath(flown, window.record).toToml());
+
+  std::cout << fmt::format("window: {} frames of {} ({})\n", done, scenePath, script ? "scripted by " + window.script : "interactive");
+  printSummary(summary);
+  std::cout << fmt::format("  wrote {}/report.json, {}/window.png{}\n", out.string(), out.string(),
+                           window.record.empty() ? "" : ", the camera path " + window.record);
+  return 0;
+}
+
+}  // namespace forest::app
