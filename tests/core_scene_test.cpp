@@ -35,7 +35,14 @@ TEST(SceneFile, RoundTripsThroughToml) {
   Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/boxes.toml");
   scene.camera.near = 0.123456789012345;  // needs all 17 digits to survive
   scene.camera.position = {1e6 + 0.1, -3.0, 1.0 / 3.0};
+  scene.culling.batch_size = 17;
+  scene.culling.multiqueries = false;
+  scene.culling.tight_box_area_ratio = 1.0 / 3.0;
   const Scene back = parseScene(sceneToToml(scene), "roundtrip.toml");
+  EXPECT_EQ(back.culling.batch_size, 17);
+  EXPECT_FALSE(back.culling.multiqueries);
+  EXPECT_EQ(back.culling.tight_box_area_ratio, scene.culling.tight_box_area_ratio);
+  EXPECT_EQ(back.culling.visible_requery_frames, scene.culling.visible_requery_frames);
   EXPECT_EQ(back.camera.position, scene.camera.position);
   EXPECT_EQ(back.camera.near, scene.camera.near);
   EXPECT_EQ(back.camera.far, scene.camera.far);
@@ -69,6 +76,14 @@ TEST(SceneFile, TerrainSectionLoadsAndRoundTrips) {
   EXPECT_EQ(back.terrain->samples, scene.terrain->samples);
   EXPECT_EQ(back.terrain->albedo, scene.terrain->albedo);
   EXPECT_FALSE(parseScene("", "empty.toml").terrain.has_value());  // no section, no terrain
+}
+
+TEST(SceneFile, BadCullingValuesNameTheKey) {
+  EXPECT_THAT(errorOf("[culling]\nbatch_size = 0\n"), HasSubstr("culling.batch_size = 0: expected an integer in [1, 1000]"));
+  EXPECT_THAT(errorOf("[culling]\nvisible_requery_frames = 101\n"), HasSubstr("culling.visible_requery_frames = 101"));
+  EXPECT_THAT(errorOf("[culling]\ntight_box_area_ratio = nan\n"), HasSubstr("culling.tight_box_area_ratio = nan"));
+  EXPECT_THAT(errorOf("[culling]\nmultiqueries = 1\n"), HasSubstr("culling.multiqueries = 1: expected true or false"));
+  EXPECT_THAT(errorOf("[culling]\nbatch = 3\n"), HasSubstr("unknown key 'culling.batch'"));
 }
 
 TEST(SceneFile, BadTerrainValuesNameTheKey) {

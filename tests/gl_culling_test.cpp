@@ -1,8 +1,8 @@
 // Culling on the GPU. Exactness on the geometry pass (DESIGN §4): along 60 views of the default
 // forest — a ground-level walk, above the canopy, facing a hill, facing the sky, the eye inside a
-// cluster's box, trees and props moving between frames — frustum, stop-and-wait and CHC draw the
-// same depth and object-ID images as drawing everything. The CHC visible set holds every object
-// with a visible pixel, and z_f reaches the farthest depth drawn. A synthetic box scene (a wall
+// cluster's box, trees and props moving between frames — frustum, stop-and-wait, CHC and CHC++
+// draw the same depth and object-ID images as drawing everything. The CHC and CHC++ visible sets
+// hold every object with a visible pixel, and z_f reaches the farthest depth drawn. A synthetic box scene (a wall
 // hiding rows of boxes) gives the expected visible sets and query counts.
 #include <algorithm>
 #include <cmath>
@@ -50,7 +50,7 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongSixtyViews) {
   render::PropRenderer propIds(scene.props, render::PropRenderer::Output::ObjectId, objects.propIdBase());
   culling::Bvh bvh(objects.boxes(), 1);
   const CullingStrategy strategies[] = {CullingStrategy::None, CullingStrategy::Frustum, CullingStrategy::StopAndWait,
-                                        CullingStrategy::Chc};
+                                        CullingStrategy::Chc, CullingStrategy::ChcPlusPlus};
   std::map<CullingStrategy, culling::OcclusionCuller> cullers;
   for (CullingStrategy s : strategies) cullers.try_emplace(s);
   const GeometryTarget target;
@@ -96,7 +96,8 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongSixtyViews) {
     views.push_back({camera(start.x - 5.0, start.z + 5.0, 1.7, 225.0, -3.0), "moving objects", true});
   ASSERT_GE(views.size(), 50u);
 
-  int differingPixels = 0, compared = 0, queries = 0;
+  int differingPixels = 0, compared = 0;
+  std::map<CullingStrategy, int> queries;
   for (size_t v = 0; v < views.size(); ++v) {
     const View& view = views[v];
     if (view.moveObjects) {
@@ -136,8 +137,8 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongSixtyViews) {
       differingPixels += differ;
       compared += static_cast<int>(ids.size());
       EXPECT_EQ(differ, 0) << "view " << v << " (" << view.kind << "), " << culling::cullingStrategyName(s);
-      if (s != CullingStrategy::Chc) continue;
-      queries += r.stats.queriesIssued;
+      if (s != CullingStrategy::Chc && s != CullingStrategy::ChcPlusPlus) continue;
+      queries[s] += r.stats.queriesIssued;
       // The oracle: every object with a pixel is in the visible set.
       const std::set<std::uint32_t> visible(r.visibleObjects.begin(), r.visibleObjects.end());
       double farthest = 0.0;
@@ -152,9 +153,10 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongSixtyViews) {
       EXPECT_LE(r.farDepth, view.camera.far);
     }
   }
-  std::printf("[culling] %zu views, %d of %d compared pixels differ, %d CHC queries\n", views.size(), differingPixels,
-              compared, queries);
-  EXPECT_GT(queries, 0);
+  std::printf("[culling] %zu views, %d of %d compared pixels differ, %d CHC and %d CHC++ queries\n", views.size(),
+              differingPixels, compared, queries[CullingStrategy::Chc], queries[CullingStrategy::ChcPlusPlus]);
+  EXPECT_GT(queries[CullingStrategy::Chc], 0);
+  EXPECT_GT(queries[CullingStrategy::ChcPlusPlus], 0);
 }
 
 // A wall 5 m ahead hides two rows of boxes; two boxes stand in front of it; one box lies far
@@ -202,6 +204,77 @@ TEST_F(CullingGl, WallHidesTheRowsBehindIt) {
   const culling::CullingResult r = culler.cull(bvh, objects.boxes(), camera, CullingStrategy::Frustum, drawer);
   EXPECT_EQ(r.visibleObjects.size(), 19u);
   EXPECT_FALSE(std::binary_search(r.visibleObjects.begin(), r.visibleObjects.end(), 19u));
+}
+
+// Walls hiding many boxes (CHC++ §3.4): the hidden subtrees stay hidden frame after frame, so after
+// a few frames chc++ groups their queries into multiqueries. Along 12 frames of a slow strafe,
+// chc, chc++ without and chc++ with multiqueries all draw the brute-force ID and depth images, and
+// chc++ with multiqueries issues the fewest queries.
+TEST_F(CullingGl, MultiqueriesCutTheQueriesForBoxesBehindWalls) {
+  std::vector<PropBox> props;
+  for (int w = 0; w < 4; ++w)  // 0…3: four walls side by side, 6 m ahead, with 0.5 m gaps
+    props.push_back({dvec3(-40.0 + 20.0 * w, -10, -7), dvec3(-20.5 + 20.0 * w, 30, -6), dvec3(0.5)});
+  for (int k = 0; k < 6; ++k)  // 4…9: pillars in front of the walls
+    props.push_back({dvec3(-5.0 + 2.0 * k, -1, -4), dvec3(-4.5 + 2.0 * k, 1, -3.5), dvec3(0.5)});
+  for (int row = 0; row < 8; ++row)  // 10…: rows of boxes behind the walls
+    for (int k = 0; k < 24; ++k) {
+      const double x = -46.0 + 4.0 * k + (row % 2), z = -12.0 - 4.0 * row;
+      props.push_back({dvec3(x, -1, z), dvec3(x + 1.0, 1, z + 1.0), dvec3(0.5)});
+    }
+  const render::SceneObjects objects(nullptr, nullptr, props);
+  const render::PropRenderer propIds(props, render::PropRenderer::Output::ObjectId, objects.propIdBase());
+  const culling::Bvh bvh(objects.boxes(), 1);
+  const GeometryTarget target;
+  struct Run {
+    const char* name;
+    CullingStrategy strategy;
+    bool multiqueries;
+    culling::OcclusionCuller culler;
+    int queries = 0, multiQueries = 0;
+  };
+  Run runs[] = {{"chc", CullingStrategy::Chc, false, {}}, {"chc++ single", CullingStrategy::ChcPlusPlus, false, {}},
+                {"chc++", CullingStrategy::ChcPlusPlus, true, {}}};
+  for (Run& run : runs) {
+    CullingSettings parameters;
+    parameters.multiqueries = run.multiqueries;
+    run.culler.setParameters(parameters);
+  }
+  culling::OcclusionCuller bruteForce;
+  for (int frame = 0; frame < 12; ++frame) {
+    Camera camera;
+    camera.position = {0.02 * frame, 0, 0};
+    camera.aspect = static_cast<double>(kWidth) / kHeight;
+    camera.far = 100.0;
+    target.bindAndClear();
+    render::SceneDrawer all(objects, nullptr, nullptr, &propIds, camera, nullptr, 0.0, SunSettings{});
+    bruteForce.cull(bvh, objects.boxes(), camera, CullingStrategy::None, all);
+    const std::vector<std::uint32_t> ids = target.readIds();
+    const std::vector<float> depth = target.readDepth();
+    std::set<std::uint32_t> seen;
+    for (std::uint32_t id : ids)
+      if (objects.objectOfId(id) >= 0) seen.insert(static_cast<std::uint32_t>(objects.objectOfId(id)));
+    EXPECT_GT(seen.size(), 4u);
+    for (Run& run : runs) {
+      target.bindAndClear();
+      render::SceneDrawer drawer(objects, nullptr, nullptr, &propIds, camera, nullptr, 0.0, SunSettings{});
+      const culling::CullingResult r = run.culler.cull(bvh, objects.boxes(), camera, run.strategy, drawer);
+      EXPECT_EQ(target.readIds(), ids) << run.name << " frame " << frame;
+      EXPECT_EQ(target.readDepth(), depth) << run.name << " frame " << frame;
+      for (std::uint32_t o : seen)
+        EXPECT_TRUE(std::binary_search(r.visibleObjects.begin(), r.visibleObjects.end(), o)) << run.name << " object " << o;
+      if (frame >= 4) {  // after the first frames, once the hidden subtrees have been hidden for a while
+        run.queries += r.stats.queriesIssued;
+        run.multiQueries += r.stats.multiQueries;
+      }
+    }
+  }
+  std::printf("[multiqueries] queries in frames 4-11: chc %d, chc++ without multiqueries %d, chc++ %d (%d multiqueries)\n",
+              runs[0].queries, runs[1].queries, runs[2].queries, runs[2].multiQueries);
+  EXPECT_EQ(runs[0].multiQueries, 0);
+  EXPECT_EQ(runs[1].multiQueries, 0);
+  EXPECT_GT(runs[2].multiQueries, 0);
+  EXPECT_LT(runs[2].queries, runs[1].queries);
+  EXPECT_LT(runs[2].queries, runs[0].queries);
 }
 
 TEST(Bvh, EveryObjectInsideItsLeafAfterBuildAndRefit) {

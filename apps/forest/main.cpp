@@ -28,7 +28,7 @@ void FrameOptions::add(CLI::App& command) {
       ->capture_default_str();
   command.add_option("--shadow-size", shadowSize, "Shadow map texels per side")->check(CLI::Range(512, 8192))->capture_default_str();
   command.add_option("--culling", culling, "Culling strategy")
-      ->check(CLI::IsMember({"none", "frustum", "stop-and-wait", "chc"}))
+      ->check(CLI::IsMember(culling::cullingStrategyNames()))
       ->capture_default_str();
   command.add_option("--pcf", pcf, "Wider PCF: (2r+1)² hardware 2×2 lookups (0: one)")->check(CLI::Range(0, 4))->capture_default_str();
   command.add_option("--blur", blur, "Eye-space blur of the shadow term: radius in pixels up to --blur-depth, then shrinking as 1/depth (0: off)")

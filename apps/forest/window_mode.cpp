@@ -74,7 +74,6 @@ constexpr double kLookDegreesPerPixel = 0.15;
 constexpr double kMaxPitch = 89.0;
 constexpr double kHeadroom = 0.3;          // metres kept above the terrain
 const double kBlurSteps[] = {0.0, 1.5, 3.0, 6.0};
-const char* const kCullingCycle[] = {"none", "frustum", "stop-and-wait", "chc"};
 
 // Where the sun is, as the keys change it: azimuth from +x toward +z, elevation over the horizon.
 struct SunAngles {
@@ -103,8 +102,9 @@ struct Controls {
   void press(const std::string& key) {
     held.insert(key);
     if (key == "c") {
-      auto it = std::find(std::begin(kCullingCycle), std::end(kCullingCycle), frame.culling);
-      frame.culling = it == std::end(kCullingCycle) || it + 1 == std::end(kCullingCycle) ? kCullingCycle[0] : *(it + 1);
+      const std::vector<std::string> strategies = culling::cullingStrategyNames();
+      auto it = std::find(strategies.begin(), strategies.end(), frame.culling);
+      frame.culling = it == strategies.end() || it + 1 == strategies.end() ? strategies.front() : *(it + 1);
     } else if (key == "m") {
       const std::vector<std::string> methods = shadows::shadowMethodNames();
       auto it = std::find(methods.begin(), methods.end(), frame.method);

@@ -50,6 +50,15 @@ void readRender(TomlSection& s, RenderSettings& r) {
   s.finish();
 }
 
+void readCulling(TomlSection& s, CullingSettings& c) {
+  c.batch_size = static_cast<int>(s.integer("batch_size", c.batch_size, 1, 1000));
+  c.visible_requery_frames = static_cast<int>(s.integer("visible_requery_frames", c.visible_requery_frames, 1, 100));
+  c.multiqueries = s.boolean("multiqueries", c.multiqueries);
+  c.tight_box_depth = static_cast<int>(s.integer("tight_box_depth", c.tight_box_depth, 0, 8));
+  c.tight_box_area_ratio = s.number("tight_box_area_ratio", c.tight_box_area_ratio, detail::closed(0.1, 10.0));
+  s.finish();
+}
+
 PropBox readProp(TomlSection& s) {
   s.oneOf("shape", "box", {"box"});
   PropBox box;
@@ -153,6 +162,7 @@ Scene parseScene(const std::string& text, const std::string& name) {
   if (auto s = root.table("camera")) readCamera(*s, scene.camera);
   if (auto s = root.table("sun")) readSun(*s, scene.sun);
   if (auto s = root.table("render")) readRender(*s, scene.render);
+  if (auto s = root.table("culling")) readCulling(*s, scene.culling);
   for (auto& s : root.tables("props")) scene.props.push_back(readProp(s));
   if (auto s = root.table("terrain")) readTerrain(*s, scene.terrain.emplace());
   if (scene.camera.above_ground && !scene.terrain)
@@ -191,7 +201,13 @@ std::string sceneToToml(const Scene& scene) {
                                 {"max", tomlArray(p.max)},
                                 {"albedo", tomlArray(p.albedo)}});
   }
-  toml::table document{{"camera", camera}, {"sun", sun}, {"render", render}};
+  const CullingSettings& c = scene.culling;
+  toml::table culling{{"batch_size", c.batch_size},
+                      {"visible_requery_frames", c.visible_requery_frames},
+                      {"multiqueries", c.multiqueries},
+                      {"tight_box_depth", c.tight_box_depth},
+                      {"tight_box_area_ratio", c.tight_box_area_ratio}};
+  toml::table document{{"camera", camera}, {"sun", sun}, {"render", render}, {"culling", culling}};
   if (!props.empty()) document.insert("props", props);
   if (scene.terrain) {
     const TerrainSettings& t = *scene.terrain;

@@ -10,50 +10,11 @@
 #include <queue>
 
 #include "forest/core/error.hpp"
-#include "forest/core/frustum.hpp"
+#include "traversal.hpp"
 
 namespace forest::culling {
-namespace {
 
 using glm::dvec3;
-
-// Query results are collected at batch boundaries, every kBatchSteps traversal steps: the queries
-// issued before the previous boundary are taken (waiting if need be), the newer ones stay pending
-// while traversal and drawing go on. Taking results at fixed points, not whenever the driver
-// happens to have them, makes the traversal — and so the visible set, z_f and the shadows —
-// identical from run to run; polling for availability would also flush llvmpipe's command stream.
-constexpr int kBatchSteps = 64;
-
-// Eye-space depth range of a box's corners.
-std::pair<double, double> depthRange(const Aabb& box, const glm::dmat4& view) {
-  double nearest = std::numeric_limits<double>::infinity(), farthest = -nearest;
-  for (int c = 0; c < 8; ++c) {
-    const double depth = -(view * glm::dvec4(box.corner(c), 1.0)).z;
-    nearest = std::min(nearest, depth);
-    farthest = std::max(farthest, depth);
-  }
-  return {nearest, farthest};
-}
-
-// Visible without a query: the box holds the eye (grown by z_n) or reaches in front of the near
-// plane, where its rasterised faces would be clipped away.
-bool visibleWithoutQuery(const Aabb& box, const Camera& camera, const glm::dmat4& view) {
-  const Aabb grown{box.min - dvec3(camera.near), box.max + dvec3(camera.near)};
-  if (grown.contains(camera.position)) return true;
-  return depthRange(box, view).first <= camera.near;
-}
-
-double distanceToBox(const Aabb& box, const dvec3& p) {
-  return glm::length(glm::max(glm::max(box.min - p, p - box.max), dvec3(0.0)));
-}
-
-struct Entry {
-  double distance;
-  std::int32_t node;
-  bool operator<(const Entry& other) const { return distance > other.distance; }  // nearest first
-};
-
-}  // namespace
 
 double farDepthOf(std::span<const std::uint32_t> objects, std::span<const Aabb> objectBoxes, const Camera& camera) {
   const glm::dmat4 view = camera.view();
@@ -67,7 +28,8 @@ CullingStrategy parseCullingStrategy(std::string_view name) {
   if (name == "frustum") return CullingStrategy::Frustum;
   if (name == "stop-and-wait") return CullingStrategy::StopAndWait;
   if (name == "chc") return CullingStrategy::Chc;
-  throw InputError(fmt::format("culling strategy '{}': expected none, frustum, stop-and-wait or chc", name));
+  if (name == "chc++") return CullingStrategy::ChcPlusPlus;
+  throw InputError(fmt::format("culling strategy '{}': expected none, frustum, stop-and-wait, chc or chc++", name));
 }
 
 std::string_view cullingStrategyName(CullingStrategy strategy) {
@@ -76,9 +38,12 @@ std::string_view cullingStrategyName(CullingStrategy strategy) {
     case CullingStrategy::Frustum: return "frustum";
     case CullingStrategy::StopAndWait: return "stop-and-wait";
     case CullingStrategy::Chc: return "chc";
+    case CullingStrategy::ChcPlusPlus: return "chc++";
   }
   return "?";
 }
+
+std::vector<std::string> cullingStrategyNames() { return {"none", "frustum", "stop-and-wait", "chc", "chc++"}; }
 
 OcclusionCuller::OcclusionCuller() : program_(gl::loadProgram({"query_box.vert", "query_box.frag"})) {
   const float corners[8][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
@@ -103,6 +68,7 @@ void OcclusionCuller::reset() {
 void OcclusionCuller::beginQueries() {
   if (queryState_) return;
   queryState_ = true;
+  ++switches_;
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   glDepthMask(GL_FALSE);
   glDisable(GL_CULL_FACE);
@@ -113,25 +79,28 @@ void OcclusionCuller::beginQueries() {
 void OcclusionCuller::endQueries() {
   if (!queryState_) return;
   queryState_ = false;
+  ++switches_;
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDepthMask(GL_TRUE);
   glEnable(GL_CULL_FACE);
   glBindVertexArray(0);
 }
 
-std::size_t OcclusionCuller::issueQuery(const Aabb& box) {
+std::size_t OcclusionCuller::issueQuery(std::span<const Aabb> boxes) {
   if (used_ == pool_.size()) pool_.emplace_back(GL_SAMPLES_PASSED);
   const std::size_t slot = used_++;
   beginQueries();
-  // Camera-relative in double, grown by 4 float ulps of its largest coordinate so that a face never
-  // sits behind the geometry it bounds after rounding.
-  const dvec3 lo = box.min - eye_, hi = box.max - eye_;
-  const double magnitude = std::max(glm::length(glm::max(glm::abs(lo), glm::abs(hi))), 1.0);
-  const double grow = 4.0 * 0x1p-23 * magnitude;
-  program_.set("uMin", glm::vec3(lo - grow));
-  program_.set("uMax", glm::vec3(hi + grow));
   glBeginQuery(GL_SAMPLES_PASSED, pool_[slot].id());
-  glDrawElements(GL_TRIANGLES, 36, GL_UNSIGNED_INT, nullptr);
+  for (const Aabb& box : boxes) {
+    // Camera-relative in double, grown by 4 float ulps of its largest coordinate so that a face
+    // never sits behind the geometry it bounds after rounding.
+    const dvec3 lo = box.min - eye_, hi = box.max - eye_;
+    const double magnitude = std::max(glm::length(glm::max(glm::abs(lo), glm::abs(hi))), 1.0);
+    const double grow = 4.0 * 0x1p-23 * magnitude;
+    program_.set("uMin", glm::vec3(lo - grow));
+    program_.set("uMax", glm::vec3(hi + grow));
+    glDrawElements(GL_TRIANGLES, 36, GL_UNSIGNED_INT, nullptr);
+  }
   glEndQuery(GL_SAMPLES_PASSED);
   return slot;
 }
@@ -144,6 +113,22 @@ std::uint32_t OcclusionCuller::waitResult(std::size_t slot, CullingStats& stats)
   return samples;
 }
 
+void OcclusionCuller::drawObjects(Traversal& t, std::span<const std::uint32_t> objects) {
+  if (objects.empty()) return;
+  endQueries();
+  t.stats.trianglesDrawn += t.drawer.draw(objects);
+  t.stats.objectsDrawn += static_cast<int>(objects.size());
+  ++t.stats.drawCalls;
+}
+
+void OcclusionCuller::pullUpVisibility(std::int32_t n) {
+  const std::vector<BvhNode>& nodes = stateOf_->nodes();
+  while (n >= 0 && !state_[n].visible) {
+    state_[n].visible = true;
+    n = nodes[n].parent;
+  }
+}
+
 CullingResult OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb> objectBoxes, const Camera& camera,
                                     CullingStrategy strategy, ObjectDrawer& drawer) {
   if (objectBoxes.size() != bvh.objectCount())
@@ -151,6 +136,7 @@ CullingResult OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb> object
   CullingResult result;
   ++frame_;
   used_ = 0;
+  switches_ = 0;
   eye_ = camera.position;
   const glm::dmat4 view = camera.view();
   viewProjectionRelative_ = camera.projection() * view * glm::translate(glm::dmat4(1.0), eye_);
@@ -159,136 +145,129 @@ CullingResult OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb> object
     state_.assign(bvh.nodes().size(), NodeState{});
     stateOf_ = &bvh;
   }
+  Traversal t{bvh, camera, view, Frustum(camera), drawer, result.stats, {}};
   const std::vector<BvhNode>& nodes = bvh.nodes();
-  const Frustum frustum(camera);
-  std::vector<std::uint32_t> visible;
 
-  auto drawLeaf = [&](std::int32_t n) {
-    const BvhNode& node = nodes[n];
-    const std::span<const std::uint32_t> objects(bvh.objects().data() + node.first, node.count);
-    endQueries();
-    result.stats.trianglesDrawn += drawer.draw(objects);
-    result.stats.objectsDrawn += static_cast<int>(node.count);
-  };
-  auto markVisible = [&](std::int32_t n) {
-    const BvhNode& node = nodes[n];
-    for (std::uint32_t k = node.first; k < node.first + node.count; ++k) visible.push_back(bvh.objects()[k]);
-  };
-
-  if (strategy == CullingStrategy::None || strategy == CullingStrategy::Frustum) {
-    std::vector<std::uint32_t> drawn;
-    std::vector<std::int32_t> stack;
-    if (!nodes.empty()) stack.push_back(0);
-    while (!stack.empty()) {
-      const std::int32_t n = stack.back();
-      stack.pop_back();
-      if (strategy == CullingStrategy::Frustum && !frustum.mayIntersect(nodes[n].bounds)) continue;
-      ++result.stats.nodesVisited;
-      if (nodes[n].leaf()) {
-        for (std::uint32_t k = nodes[n].first; k < nodes[n].first + nodes[n].count; ++k) drawn.push_back(bvh.objects()[k]);
-      } else {
-        stack.push_back(nodes[n].right);
-        stack.push_back(nodes[n].left);
+  switch (strategy) {
+    case CullingStrategy::None:
+    case CullingStrategy::Frustum: {
+      std::vector<std::int32_t> stack;
+      if (!nodes.empty()) stack.push_back(0);
+      while (!stack.empty()) {
+        const std::int32_t n = stack.back();
+        stack.pop_back();
+        if (strategy == CullingStrategy::Frustum && !t.frustum.mayIntersect(nodes[n].bounds)) continue;
+        ++result.stats.nodesVisited;
+        if (nodes[n].leaf()) {
+          t.markVisible(n);
+        } else {
+          stack.push_back(nodes[n].right);
+          stack.push_back(nodes[n].left);
+        }
       }
+      std::sort(t.visible.begin(), t.visible.end());
+      drawObjects(t, t.visible);
+      break;
     }
-    std::sort(drawn.begin(), drawn.end());
-    result.stats.trianglesDrawn = drawer.draw(drawn);
-    result.stats.objectsDrawn = static_cast<int>(drawn.size());
-    visible = std::move(drawn);
-  } else if (strategy == CullingStrategy::StopAndWait) {
-    std::priority_queue<Entry> traversal;
-    if (!nodes.empty()) traversal.push({distanceToBox(nodes[0].bounds, eye_), 0});
-    while (!traversal.empty()) {
-      const std::int32_t n = traversal.top().node;
-      traversal.pop();
-      if (!frustum.mayIntersect(nodes[n].bounds)) continue;
-      ++result.stats.nodesVisited;
-      bool isVisible = true;
-      if (!visibleWithoutQuery(nodes[n].bounds, camera, view)) {
-        const std::size_t slot = issueQuery(nodes[n].bounds);
-        ++result.stats.queriesIssued;
-        isVisible = waitResult(slot, result.stats) > 0;
+    case CullingStrategy::StopAndWait: {
+      std::priority_queue<Entry> traversal;
+      if (!nodes.empty()) traversal.push(t.entry(0));
+      while (!traversal.empty()) {
+        const std::int32_t n = traversal.top().node;
+        traversal.pop();
+        if (!t.frustum.mayIntersect(nodes[n].bounds)) continue;
+        ++result.stats.nodesVisited;
+        bool isVisible = true;
+        if (!t.visibleWithoutQuery(n)) {
+          const std::size_t slot = issueQuery({&nodes[n].bounds, 1});
+          ++result.stats.queriesIssued;
+          isVisible = waitResult(slot, result.stats) > 0;
+        }
+        if (!isVisible) continue;
+        if (nodes[n].leaf()) {
+          drawObjects(t, t.objectsOf(n));
+          t.markVisible(n);
+        } else {
+          traversal.push(t.entry(nodes[n].left));
+          traversal.push(t.entry(nodes[n].right));
+        }
       }
-      if (!isVisible) continue;
-      if (nodes[n].leaf()) {
-        drawLeaf(n);
-        markVisible(n);
-      } else {
-        traversal.push({distanceToBox(nodes[nodes[n].left].bounds, eye_), nodes[n].left});
-        traversal.push({distanceToBox(nodes[nodes[n].right].bounds, eye_), nodes[n].right});
-      }
+      break;
     }
-  } else {  // CHC (Bittner et al. 2004, fig. 4)
-    std::priority_queue<Entry> traversal;
-    struct Pending {
-      std::int32_t node;
-      std::size_t slot;
-      bool leafAlreadyDrawn;  // a previously visible leaf: drawn at once, queried for the next frame
-      int step;               // traversal step at which it was issued
-    };
-    std::deque<Pending> queries;
-    auto traverseNode = [&](std::int32_t n) {
-      if (nodes[n].leaf()) {
-        drawLeaf(n);
-      } else {
-        traversal.push({distanceToBox(nodes[nodes[n].left].bounds, eye_), nodes[n].left});
-        traversal.push({distanceToBox(nodes[nodes[n].right].bounds, eye_), nodes[n].right});
-      }
-    };
-    auto pullUpVisibility = [&](std::int32_t n) {
-      while (n >= 0 && !state_[n].visible) {
-        state_[n].visible = true;
-        n = nodes[n].parent;
-      }
-    };
-    auto handleResult = [&](const Pending& p, std::uint32_t samples) {
-      if (samples == 0) return;
-      pullUpVisibility(p.node);
-      if (nodes[p.node].leaf()) markVisible(p.node);
-      if (!p.leafAlreadyDrawn) traverseNode(p.node);
-    };
-    if (!nodes.empty()) traversal.push({distanceToBox(nodes[0].bounds, eye_), 0});
-    int steps = 0;
-    while (!traversal.empty() || !queries.empty()) {
-      // Results: at each batch boundary those issued a batch ago; all when nothing is left to traverse.
-      while (!queries.empty() &&
-             (traversal.empty() || (steps % kBatchSteps == 0 && queries.front().step <= steps - kBatchSteps))) {
-        const Pending p = queries.front();
-        queries.pop_front();
-        handleResult(p, waitResult(p.slot, result.stats));
-      }
-      if (traversal.empty()) continue;
-      ++steps;
-      const std::int32_t n = traversal.top().node;
-      traversal.pop();
-      if (!frustum.mayIntersect(nodes[n].bounds)) continue;
-      ++result.stats.nodesVisited;
-      NodeState& s = state_[n];
-      if (visibleWithoutQuery(nodes[n].bounds, camera, view)) {
-        s.lastVisited = frame_;
-        pullUpVisibility(n);
-        if (nodes[n].leaf()) markVisible(n);
-        traverseNode(n);
-        continue;
-      }
-      const bool wasVisible = s.visible && s.lastVisited + 1 == frame_;
-      const bool opened = wasVisible && !nodes[n].leaf();
-      s.visible = false;
-      s.lastVisited = frame_;
-      if (!opened) {
-        queries.push_back({n, issueQuery(nodes[n].bounds), wasVisible, steps});
-        ++result.stats.queriesIssued;
-      }
-      if (wasVisible) traverseNode(n);
-    }
+    case CullingStrategy::Chc: cullChc(t); break;
+    case CullingStrategy::ChcPlusPlus: cullChcPlusPlus(t); break;
   }
   endQueries();
+  result.stats.stateSwitches = switches_;
 
+  std::vector<std::uint32_t>& visible = t.visible;
   std::sort(visible.begin(), visible.end());
   visible.erase(std::unique(visible.begin(), visible.end()), visible.end());
   result.farDepth = farDepthOf(visible, objectBoxes, camera);
   result.visibleObjects = std::move(visible);
   return result;
+}
+
+// CHC (Bittner et al. 2004, fig. 4).
+void OcclusionCuller::cullChc(Traversal& t) {
+  const std::vector<BvhNode>& nodes = t.nodes();
+  std::priority_queue<Entry> traversal;
+  struct Pending {
+    std::int32_t node;
+    std::size_t slot;
+    bool leafAlreadyDrawn;  // a previously visible leaf: drawn at once, queried for the next frame
+    int step;               // traversal step at which it was issued
+  };
+  std::deque<Pending> queries;
+  auto traverseNode = [&](std::int32_t n) {
+    if (nodes[n].leaf()) {
+      drawObjects(t, t.objectsOf(n));
+    } else {
+      traversal.push(t.entry(nodes[n].left));
+      traversal.push(t.entry(nodes[n].right));
+    }
+  };
+  auto handleResult = [&](const Pending& p, std::uint32_t samples) {
+    if (samples == 0) return;
+    pullUpVisibility(p.node);
+    if (nodes[p.node].leaf()) t.markVisible(p.node);
+    if (!p.leafAlreadyDrawn) traverseNode(p.node);
+  };
+  if (!nodes.empty()) traversal.push(t.entry(0));
+  int steps = 0;
+  while (!traversal.empty() || !queries.empty()) {
+    // Results: at each batch boundary those issued a batch ago; all when nothing is left to traverse.
+    while (!queries.empty() &&
+           (traversal.empty() || (steps % kBatchSteps == 0 && queries.front().step <= steps - kBatchSteps))) {
+      const Pending p = queries.front();
+      queries.pop_front();
+      handleResult(p, waitResult(p.slot, t.stats));
+    }
+    if (traversal.empty()) continue;
+    ++steps;
+    const std::int32_t n = traversal.top().node;
+    traversal.pop();
+    if (!t.frustum.mayIntersect(nodes[n].bounds)) continue;
+    ++t.stats.nodesVisited;
+    NodeState& s = state_[n];
+    if (t.visibleWithoutQuery(n)) {
+      s.lastVisited = frame_;
+      s.visible = false;  // so that the pull-up reaches the ancestors opened this frame
+      pullUpVisibility(n);
+      if (nodes[n].leaf()) t.markVisible(n);
+      traverseNode(n);
+      continue;
+    }
+    const bool wasVisible = s.visible && s.lastVisited + 1 == frame_;
+    const bool opened = wasVisible && !nodes[n].leaf();
+    s.visible = false;
+    s.lastVisited = frame_;
+    if (!opened) {
+      queries.push_back({n, issueQuery({&nodes[n].bounds, 1}), wasVisible, steps});
+      ++t.stats.queriesIssued;
+    }
+    if (wasVisible) traverseNode(n);
+  }
 }
 
 }  // namespace forest::culling

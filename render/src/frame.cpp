@@ -192,6 +192,7 @@ Frame::Frame(const Scene& scene, int width, int height) : scene_(scene), width_(
   p.propsGBuffer = std::make_unique<PropRenderer>(scene.props, SurfaceOutput::GBuffer, objects_->propIdBase());
   p.propsDepth = std::make_unique<PropRenderer>(scene.props, SurfaceOutput::ObjectId, objects_->propIdBase());
   bvh_ = culling::Bvh(objects_->boxes(), 1);
+  culler_.setParameters(scene_.culling);
   for (const Aabb& b : objects_->boxes()) sceneBounds_.extend(b);
 }
 

@@ -102,6 +102,15 @@ struct VegetationSettings {
   SpeciesPlacementSettings broadleaf{0.4, 6.0, 25.0, -1e4, 1e4};
 };
 
+// [culling]: parameters of the chc++ strategy (Mattausch, Bittner, Wimmer, EG 2008).
+struct CullingSettings {
+  int batch_size = 50;              // previously invisible nodes queued before their queries are issued, [1, 1000]
+  int visible_requery_frames = 8;   // n_av: a visible leaf is queried again every n_av frames, [1, 100]
+  bool multiqueries = true;         // one query for a group of nodes likely to stay invisible
+  int tight_box_depth = 3;          // query a node with its descendants' boxes down to this depth, [0, 8] (0: own box)
+  double tight_box_area_ratio = 1.4;  // ... when their total area is at most this × the node's box area, [0.1, 10]
+};
+
 struct Scene {
   std::string source = "<built-in>";  // file the scene was read from
   CameraSettings camera;
@@ -110,6 +119,7 @@ struct Scene {
   std::vector<PropBox> props;
   std::optional<TerrainSettings> terrain;
   std::optional<VegetationSettings> vegetation;
+  CullingSettings culling;
 
   // The eye camera at the scene's start pose, with the render aspect ratio.
   Camera startCamera() const;

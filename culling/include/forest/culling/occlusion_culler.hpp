@@ -9,27 +9,39 @@
 //                   invisible nodes are queried and opened only when their result says visible;
 //                   traversal continues while results are pending (results are taken in batches
 //                   at fixed traversal steps, so every run traverses alike), a visible result
-//                   pulls visibility up to the root.
+//                   pulls visibility up to the root;
+//   chc++         — CHC++ (Mattausch, Bittner, Wimmer, EG 2008): previously invisible nodes wait in
+//                   an i-queue and are queried in batches (§3.1), visible leaves are drawn from a
+//                   render queue flushed only before queries are issued (fewer state switches) and
+//                   their queries wait in a v-queue issued while the CPU would otherwise wait
+//                   (§3.2); a visible leaf is queried again only every n_av frames, the first time
+//                   after a random 1…n_av (§3.3); nodes likely to stay invisible share one
+//                   multiquery, grouped greedily by p_keep(i) = 0.99 − 0.7·e^(−i) after i invisible
+//                   frames — a visible multiquery re-queries its nodes one by one (§3.4); queries
+//                   draw the boxes of a node's descendants when they are tighter (§3.5).
 // A query tests the node's box (grown by a few ulps) against the depth of what has been drawn so
 // far, which only gets nearer as more is drawn: a box found hidden holds nothing visible, so the
 // geometry pass equals drawing everything (exactness). Boxes holding the eye (grown by z_n) or
 // crossing the near plane count as visible without a query.
 #include <cstdint>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
 #include "forest/core/bounds.hpp"
 #include "forest/core/camera.hpp"
+#include "forest/core/scene.hpp"
 #include "forest/culling/bvh.hpp"
 #include "forest/gl/objects.hpp"
 #include "forest/gl/shader.hpp"
 
 namespace forest::culling {
 
-enum class CullingStrategy { None, Frustum, StopAndWait, Chc };
+enum class CullingStrategy { None, Frustum, StopAndWait, Chc, ChcPlusPlus };
 CullingStrategy parseCullingStrategy(std::string_view name);  // throws InputError
 std::string_view cullingStrategyName(CullingStrategy strategy);
+std::vector<std::string> cullingStrategyNames();  // "none", "frustum", "stop-and-wait", "chc", "chc++"
 
 // What the renderer implements: draw these objects (indices into the BVH's object boxes) into the
 // bound framebuffer with the pass's state; return the triangles drawn.
@@ -41,7 +53,10 @@ class ObjectDrawer {
 
 struct CullingStats {
   int nodesVisited = 0;      // nodes taken from the traversal queue inside the frustum
-  int queriesIssued = 0;
+  int queriesIssued = 0;     // all queries, multiqueries included
+  int multiQueries = 0;      // queries covering several nodes (chc++)
+  int stateSwitches = 0;     // changes between drawing and querying (colour/depth writes, program)
+  int drawCalls = 0;         // ObjectDrawer::draw calls
   int objectsDrawn = 0;
   long long trianglesDrawn = 0;
   double waitMilliseconds = 0.0;  // CPU time blocked on query results
@@ -67,14 +82,23 @@ class OcclusionCuller {
                      ObjectDrawer& drawer);
   // Forgets the previous frame's visibility (after a BVH rebuild or a camera cut).
   void reset();
+  // The chc++ parameters (the scene file's [culling] section); takes effect next frame.
+  void setParameters(const CullingSettings& parameters) { parameters_ = parameters; }
 
  private:
   struct NodeState {
     bool visible = false;
     std::uint64_t lastVisited = 0;
+    int invisibleFrames = 0;          // chc++: frames found invisible in a row (p_keep's i)
+    std::uint64_t nextQueryFrame = 0;  // chc++: a visible leaf is queried again from this frame
   };
-  // Issues a query for a node's box; returns its slot in the pool.
-  std::size_t issueQuery(const Aabb& box);
+  struct Traversal;  // one frame's shared state (src/traversal.hpp)
+  // Issues one query for the boxes; returns its slot in the pool.
+  std::size_t issueQuery(std::span<const Aabb> boxes);
+  void cullChc(Traversal& t);
+  void drawObjects(Traversal& t, std::span<const std::uint32_t> objects);
+  void pullUpVisibility(std::int32_t node);  // marks the node and its ancestors visible
+  void cullChcPlusPlus(Traversal& t);
   std::uint32_t waitResult(std::size_t slot, CullingStats& stats) const;
   void beginQueries();
   void endQueries();
@@ -89,6 +113,8 @@ class OcclusionCuller {
   glm::dmat4 viewProjectionRelative_{1.0};
   bool queryState_ = false;
 
+  CullingSettings parameters_;
+  int switches_ = 0;
   std::vector<NodeState> state_;
   const Bvh* stateOf_ = nullptr;
   std::uint64_t frame_ = 0;
