@@ -293,22 +293,44 @@ TEST(ForestCli, StressStaysExactWithMovingObjectsAndItsMemoryFlat) {
 }
 
 TEST(ForestCli, BenchCullingWritesEveryStrategyAndTheOracle) {
-  const fs::path json = fs::path(FOREST_TEST_OUTPUT) / "cli" / "bench-culling.json";
-  fs::remove(json);
-  const Result r = runForest("bench culling --frames 3 --width 160 --height 90 --out " + json.string());
+  const fs::path out = fs::path(FOREST_TEST_OUTPUT) / "cli" / "bench-culling";
+  fs::remove_all(out);
+  const Result r = runForest("bench culling --trees 300,600 --paths ground,hill --frames 4 --width 160 --height 90 --quiet --out " +
+                             out.string());
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_THAT(r.out, HasSubstr("chc / frustum frame time"));
-  const nlohmann::json j = nlohmann::json::parse(readTextFile(json));
-  for (const char* s : {"none", "frustum", "stop-and-wait", "chc"}) {
-    ASSERT_TRUE(j["strategies"].contains(s)) << s;
-    EXPECT_GT(j["strategies"][s]["triangles_p50"].get<double>(), 0.0) << s;
+  EXPECT_THAT(r.out, HasSubstr("chc++ ground-path p50 frame, 600 trees over 300 trees"));
+  EXPECT_TRUE(fs::exists(out / "bench-culling.md"));
+  EXPECT_GT(readImage8(out / "bench-culling.png").width, 0);
+  const nlohmann::json j = nlohmann::json::parse(readTextFile(out / "bench-culling.json"));
+  ASSERT_EQ(j["runs"].size(), 2u);
+  for (const auto& [trees, paths] : j["runs"].items()) {
+    ASSERT_EQ(paths.size(), 2u) << trees;
+    for (const auto& [path, run] : paths.items()) {
+      const auto& s = run["strategies"];
+      for (const char* name : {"none", "frustum", "stop-and-wait", "chc", "chc++", "oracle"}) {
+        ASSERT_TRUE(s.contains(name)) << trees << " " << path << " " << name;
+        EXPECT_GT(s[name]["triangles_p50"].get<double>(), 0.0) << name;
+        EXPECT_GT(s[name]["p50_ms"].get<double>(), 0.0) << name;
+      }
+      // Exact culling never draws fewer triangles than the visible set needs, nor more than all.
+      const double oracle = s["oracle"]["triangles_p50"].get<double>();
+      for (const char* name : {"frustum", "stop-and-wait", "chc", "chc++"}) {
+        EXPECT_GE(s[name]["triangles_p50"].get<double>(), oracle) << trees << " " << path << " " << name;
+        EXPECT_LE(s[name]["triangles_p50"].get<double>(), s["none"]["triangles_p50"].get<double>()) << name;
+      }
+      EXPECT_EQ(s["none"]["queries_p50"].get<double>(), 0.0);
+      EXPECT_GT(s["stop-and-wait"]["queries_p50"].get<double>(), 0.0);
+      EXPECT_DOUBLE_EQ(s["frustum"]["over_frustum"].get<double>(), 1.0);
+      EXPECT_DOUBLE_EQ(s["oracle"]["over_oracle"].get<double>(), 1.0);
+      // chc++ draws from its render queue: far fewer draw calls and state switches than chc.
+      EXPECT_LT(s["chc++"]["draw_calls_p50"].get<double>(), s["chc"]["draw_calls_p50"].get<double>()) << trees << " " << path;
+      EXPECT_LT(s["chc++"]["state_switches_p50"].get<double>(), s["chc"]["state_switches_p50"].get<double>()) << trees << " " << path;
+    }
   }
-  // Culling never draws fewer triangles than the exact visible set needs, nor more than all.
-  const double oracle = j["oracle"]["triangles_p50"].get<double>();
-  EXPECT_GE(j["strategies"]["chc"]["triangles_p50"].get<double>(), oracle);
-  EXPECT_LE(j["strategies"]["chc"]["triangles_p50"].get<double>(), j["strategies"]["none"]["triangles_p50"].get<double>());
-  EXPECT_EQ(j["strategies"]["none"]["queries_p50"].get<double>(), 0.0);
-  EXPECT_GT(j["strategies"]["stop-and-wait"]["queries_p50"].get<double>(), 0.0);
+  const Result bad = runForest("bench culling --trees 0 --out " + (out / "bad").string());
+  EXPECT_EQ(bad.exitCode, 2);
+  EXPECT_THAT(bad.err, HasSubstr("--trees 0: expected 1 to 1000000"));
+  EXPECT_FALSE(fs::exists(out / "bad"));
 }
 
 TEST(ForestCli, WalkthroughWritesConsistentOutputsAndRepeatsExactly) {

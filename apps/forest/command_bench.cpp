@@ -1,11 +1,15 @@
-// forest bench culling: every culling strategy along a ground-level path through a forest scene,
-// with per-frame time, triangles, queries and CPU wait, against the oracle (the exact visible set
-// from the object-ID buffer). Prints a table and writes JSON.
+// forest bench culling: the culling strategies along three paths — a ground-level walk through the
+// forest, an open view above the canopy, a crossing of the highest hill — in scenes of several
+// tree counts at equal density. Per frame: time (culling + geometry drawn, to glFinish), triangles,
+// draw calls, queries (single and multi), state switches, CPU wait. Against frustum culling and the
+// oracle: drawing exactly the visible set (from the brute-force object-ID buffer) with no queries.
+// Writes JSON, a Markdown table and a PNG of frame time along each path.
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -14,7 +18,9 @@
 #include "commands.hpp"
 #include "forest/core/error.hpp"
 #include "forest/core/files.hpp"
+#include "forest/core/image.hpp"
 #include "forest/core/log.hpp"
+#include "forest/core/plot.hpp"
 #include "forest/core/resources.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/culling/bvh.hpp"
@@ -27,26 +33,31 @@
 namespace forest::app {
 namespace {
 
+namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 using culling::CullingStrategy;
+using nlohmann::ordered_json;
 
 struct BenchOptions {
   GlOptions gl;
   std::string scene;
+  std::vector<int> trees{5000, 50000};
+  std::vector<std::string> paths{"ground", "canopy", "hill"};
+  std::vector<std::string> strategies = culling::cullingStrategyNames();
   int frames = 60;
   int width = 640;
   int height = 360;
   int leafSize = 1;
-  std::string out = "out/bench-culling.json";
+  std::string out = "out/bench-culling";
+  bool quiet = false;
 };
 
 struct FrameRecord {
   double milliseconds = 0.0;
-  long long triangles = 0;
-  int queries = 0;
-  int objects = 0;
-  double waitMilliseconds = 0.0;
+  culling::CullingStats stats;
 };
+
+const char* const kOracle = "oracle";
 
 }  // namespace
 
@@ -72,151 +83,280 @@ std::vector<Camera> walkPath(const Scene& scene, const terrain::Terrain& terrain
 
 namespace {
 
+// Above the canopy: 40 m over the ground, looking 10° down, 2 m and 1.5° of turn per frame.
+std::vector<Camera> canopyPath(const Scene& scene, const terrain::Terrain& terrain, int frames, double aspect) {
+  std::vector<Camera> cameras = walkPath(scene, terrain, 1, aspect);
+  Camera c = cameras.front();
+  cameras.clear();
+  const Aabb bounds = terrain.bounds();
+  c.pitch = glm::radians(-10.0);
+  for (int f = 0; f < frames; ++f) {
+    c.position.x = std::clamp(c.position.x, bounds.min.x + 1.0, bounds.max.x - 1.0);
+    c.position.z = std::clamp(c.position.z, bounds.min.z + 1.0, bounds.max.z - 1.0);
+    c.position.y = terrain.heightAt(c.position.x, c.position.z) + 40.0;
+    cameras.push_back(c);
+    c.position += 2.0 * directionFromYawPitch(c.yaw, 0.0);
+    c.yaw += glm::radians(1.5);
+  }
+  return cameras;
+}
+
+// Over the highest hill: at eye height from 250 m before its top to 250 m past it, on the line
+// from the scene's start through the top — first facing the hill, then the open view beyond.
+std::vector<Camera> hillPath(const Scene& scene, const terrain::Terrain& terrain, int frames, double aspect) {
+  const Camera start = walkPath(scene, terrain, 1, aspect).front();
+  int highest = 0;
+  for (int t = 1; t < terrain.tileCount(); ++t)
+    if (terrain.tileBox(t).max.y > terrain.tileBox(highest).max.y) highest = t;
+  const glm::dvec3 centre = terrain.tileBox(highest).centre();
+  glm::dvec2 top(centre.x, centre.z), direction = top - glm::dvec2(start.position.x, start.position.z);
+  direction = glm::length(direction) > 1.0 ? glm::normalize(direction) : glm::dvec2(1.0, 0.0);
+  const Aabb bounds = terrain.bounds();
+  std::vector<Camera> cameras;
+  Camera c = start;
+  c.yaw = std::atan2(-direction.x, -direction.y);
+  c.pitch = 0.0;
+  for (int f = 0; f < frames; ++f) {
+    const double s = frames > 1 ? static_cast<double>(f) / (frames - 1) : 0.5;
+    const glm::dvec2 p = top + (-250.0 + 500.0 * s) * direction;
+    c.position.x = std::clamp(p.x, bounds.min.x + 1.0, bounds.max.x - 1.0);
+    c.position.z = std::clamp(p.y, bounds.min.z + 1.0, bounds.max.z - 1.0);
+    c.position.y = terrain.heightAt(c.position.x, c.position.z) + 1.7;
+    cameras.push_back(c);
+  }
+  return cameras;
+}
+
+std::vector<Camera> benchPath(const std::string& kind, const Scene& scene, const terrain::Terrain& terrain, int frames, double aspect) {
+  if (kind == "ground") return walkPath(scene, terrain, frames, aspect);
+  if (kind == "canopy") return canopyPath(scene, terrain, frames, aspect);
+  return hillPath(scene, terrain, frames, aspect);
+}
+
+const std::map<std::string, std::string>& pathDescriptions() {
+  static const std::map<std::string, std::string> d = {{"ground", "ground-level walk through the forest"},
+                                                        {"canopy", "open view 40 m above the canopy"},
+                                                        {"hill", "crossing the highest hill at eye height"}};
+  return d;
+}
+
+ordered_json summarise(const std::vector<FrameRecord>& frames) {
+  std::vector<double> ms, triangles, draws, queries, multi, switches, wait, objects;
+  for (const FrameRecord& r : frames) {
+    ms.push_back(r.milliseconds);
+    triangles.push_back(static_cast<double>(r.stats.trianglesDrawn));
+    draws.push_back(r.stats.drawCalls);
+    queries.push_back(r.stats.queriesIssued);
+    multi.push_back(r.stats.multiQueries);
+    switches.push_back(r.stats.stateSwitches);
+    wait.push_back(r.stats.waitMilliseconds);
+    objects.push_back(r.stats.objectsDrawn);
+  }
+  return {{"p50_ms", percentile(ms, 0.5)},          {"p95_ms", percentile(ms, 0.95)},
+          {"triangles_p50", percentile(triangles, 0.5)}, {"objects_p50", percentile(objects, 0.5)},
+          {"draw_calls_p50", percentile(draws, 0.5)},   {"queries_p50", percentile(queries, 0.5)},
+          {"multiqueries_p50", percentile(multi, 0.5)}, {"state_switches_p50", percentile(switches, 0.5)},
+          {"wait_ms_p50", percentile(wait, 0.5)}};
+}
+
+glm::vec3 strategyColour(const std::string& name) {
+  static const std::map<std::string, glm::vec3> colours = {
+      {"none", {0.6f, 0.6f, 0.6f}},          {"frustum", {0.1f, 0.45f, 0.85f}}, {"stop-and-wait", {0.55f, 0.3f, 0.75f}},
+      {"chc", {0.95f, 0.55f, 0.1f}},         {"chc++", {0.85f, 0.1f, 0.1f}},    {kOracle, {0.1f, 0.6f, 0.2f}}};
+  const auto it = colours.find(name);
+  return it == colours.end() ? glm::vec3(0.0f) : it->second;
+}
+
 int runBenchCulling(const BenchOptions& options) {
   const std::string scenePath =
       options.scene.empty() ? (resourceDirectory("data") / "scenes" / "forest.toml").string() : options.scene;
-  const Scene scene = loadScene(scenePath);
-  if (!scene.terrain) throw InputError(scenePath + ": bench culling needs a scene with [terrain]");
-  if (options.frames < 1 || options.frames > 100000) throw InputError("--frames: expected 1 to 100000");
+  const Scene base = loadScene(scenePath);
+  if (!base.terrain || !base.vegetation) throw InputError(scenePath + ": bench culling needs a scene with [terrain] and [vegetation]");
+  if (options.frames < 2 || options.frames > 100000) throw InputError(fmt::format("--frames {}: expected 2 to 100000", options.frames));
+  for (int n : options.trees)
+    if (n < 1 || n > 1000000) throw InputError(fmt::format("--trees {}: expected 1 to 1000000", n));
+  std::vector<CullingStrategy> strategies;
+  for (const std::string& s : options.strategies) strategies.push_back(culling::parseCullingStrategy(s));
+  const fs::path out(options.out);
 
   gl::ContextOptions contextOptions;
   contextOptions.backend = gl::parseBackend(options.gl.backend);
   auto context = gl::createContext(contextOptions);
   const std::string device = gl::describe(context->info());
   log::info("{}", device);
+  fs::create_directories(out);
 
-  const terrain::Terrain terrain(*scene.terrain);
-  std::unique_ptr<vegetation::Forest> forest;
-  if (scene.vegetation) forest = std::make_unique<vegetation::Forest>(*scene.vegetation, terrain);
-  const render::SceneObjects objects(&terrain, forest.get(), scene.props);
-  const render::TerrainRenderer terrainLit(terrain), terrainIds(terrain, render::TerrainRenderer::Output::ObjectId, objects.terrainIdBase());
-  std::unique_ptr<render::TreeRenderer> treesLit, treeIds;
-  if (forest) {
-    treesLit = std::make_unique<render::TreeRenderer>(*forest);
-    treeIds = std::make_unique<render::TreeRenderer>(*forest, render::TreeRenderer::Output::ObjectId, objects.treeIdBase());
-  }
-  const render::PropRenderer propsLit(scene.props), propIds(scene.props, render::PropRenderer::Output::ObjectId, objects.propIdBase());
-  const culling::Bvh bvh(objects.boxes(), options.leafSize);
-  const std::vector<Camera> path = walkPath(scene, terrain, options.frames, static_cast<double>(options.width) / options.height);
-
-  render::OffscreenTarget target(options.width, options.height);
-  gl::Texture idTexture(GL_R32UI, options.width, options.height), idDepth(GL_DEPTH_COMPONENT32F, options.width, options.height);
-  gl::Framebuffer idFramebuffer;
-  idFramebuffer.attach(GL_COLOR_ATTACHMENT0, idTexture);
-  idFramebuffer.attach(GL_DEPTH_ATTACHMENT, idDepth);
-  auto beginPass = [&](GLuint framebuffer, bool ids) {
-    glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-    glViewport(0, 0, options.width, options.height);
-    glClearDepth(0.0);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_GREATER);
-    glEnable(GL_CULL_FACE);
-    glCullFace(GL_BACK);
-    if (ids) {
-      const GLuint zero[4] = {0, 0, 0, 0};
-      glClearBufferuiv(GL_COLOR, 0, zero);
-      glClear(GL_DEPTH_BUFFER_BIT);
-    } else {
-      const glm::vec3 sky(scene.render.sky_color);
-      glClearColor(sky.r, sky.g, sky.b, 1.0f);
-      glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    }
-  };
-
-  // The oracle: objects with at least one pixel in the ID buffer of the full scene, and the
-  // triangles it takes to draw exactly those.
-  std::vector<FrameRecord> oracle(path.size());
-  {
-    culling::OcclusionCuller culler;
-    std::vector<std::uint32_t> pixels(static_cast<size_t>(options.width) * options.height);
-    for (size_t f = 0; f < path.size(); ++f) {
-      const terrain::TerrainLod lod = terrain.lodFor(path[f], options.height);
-      beginPass(idFramebuffer.id(), true);
-      render::SceneDrawer ids(objects, &terrainIds, treeIds.get(), &propIds, path[f], &lod, 0.0, scene.sun);
-      culler.cull(bvh, objects.boxes(), path[f], CullingStrategy::None, ids);
-      glGetTextureImage(idTexture.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(pixels.size() * 4),
-                        pixels.data());
-      std::set<std::uint32_t> seen;
-      for (std::uint32_t id : pixels)
-        if (const std::int64_t o = objects.objectOfId(id); o >= 0) seen.insert(static_cast<std::uint32_t>(o));
-      const std::vector<std::uint32_t> visible(seen.begin(), seen.end());
-      beginPass(target.framebuffer().id(), false);
-      render::SceneDrawer lit(objects, &terrainLit, treesLit.get(), &propsLit, path[f], &lod, 0.0, scene.sun);
-      oracle[f].triangles = lit.draw(visible);
-      oracle[f].objects = static_cast<int>(visible.size());
-    }
-  }
-
-  const CullingStrategy strategies[] = {CullingStrategy::None, CullingStrategy::Frustum, CullingStrategy::StopAndWait,
-                                        CullingStrategy::Chc};
-  nlohmann::ordered_json json;
+  ordered_json json;
   json["scene"] = scenePath;
   json["device"] = device;
-  json["frames"] = options.frames;
+  json["frames_per_path"] = options.frames;
   json["resolution"] = {options.width, options.height};
-  json["objects"] = objects.boxes().size();
-  json["bvh_nodes"] = bvh.nodes().size();
-  std::map<CullingStrategy, std::vector<FrameRecord>> records;
-  for (CullingStrategy s : strategies) {
-    culling::OcclusionCuller culler;
-    std::vector<FrameRecord>& frames = records[s];
-    for (size_t f = 0; f < path.size(); ++f) {
-      const auto start = Clock::now();
-      const terrain::TerrainLod lod = terrain.lodFor(path[f], options.height);
-      beginPass(target.framebuffer().id(), false);
-      render::SceneDrawer lit(objects, &terrainLit, treesLit.get(), &propsLit, path[f], &lod, 0.0, scene.sun);
-      const culling::CullingResult r = culler.cull(bvh, objects.boxes(), path[f], s, lit);
-      glFinish();
-      frames.push_back({1e3 * std::chrono::duration<double>(Clock::now() - start).count(), r.stats.trianglesDrawn,
-                        r.stats.queriesIssued, r.stats.objectsDrawn, r.stats.waitMilliseconds});
-    }
-    log::info("bench culling: {} done", culling::cullingStrategyName(s));
-  }
-  if (gl::debugErrorCount() > 0) throw Error(fmt::format("{} GL errors during the benchmark", gl::debugErrorCount()));
+  json["leaf_size"] = options.leafSize;
+  json["culling_parameters"] = {{"batch_size", base.culling.batch_size},
+                                {"visible_requery_frames", base.culling.visible_requery_frames},
+                                {"multiqueries", base.culling.multiqueries},
+                                {"tight_box_depth", base.culling.tight_box_depth},
+                                {"tight_box_area_ratio", base.culling.tight_box_area_ratio}};
+  std::vector<PlotPanel> panels;
+  std::string markdown = fmt::format(
+      "# Culling benchmark\n\n{} at {}x{}, {} frames per path, {}.\nFrame = culling + the geometry it draws (lit, no shadows), to "
+      "glFinish. Oracle = drawing exactly the visible set (from the brute-force object-ID buffer) with no queries.\n\n",
+      scenePath, options.width, options.height, options.frames, device);
+  const int total = static_cast<int>(options.trees.size() * options.paths.size()) * options.frames * static_cast<int>(strategies.size() + 2);
+  int done = 0;
+  const auto benchStart = Clock::now();
+  std::map<std::string, double> groundChcPlusPlus;  // per tree count, for the scaling ratio
 
-  auto summary = [&](const std::vector<FrameRecord>& frames) {
-    std::vector<double> ms, tris, queries, wait, drawn;
-    for (const FrameRecord& r : frames) {
-      ms.push_back(r.milliseconds);
-      tris.push_back(static_cast<double>(r.triangles));
-      queries.push_back(r.queries);
-      wait.push_back(r.waitMilliseconds);
-      drawn.push_back(r.objects);
+  for (int trees : options.trees) {
+    const Scene scene = scaledScene(base, trees, base.vegetation->lod0_triangles);
+    const terrain::Terrain terrain(*scene.terrain);
+    const vegetation::Forest forest(*scene.vegetation, terrain);
+    const render::SceneObjects objects(&terrain, &forest, scene.props);
+    const render::TerrainRenderer terrainLit(terrain), terrainIds(terrain, render::TerrainRenderer::Output::ObjectId, objects.terrainIdBase());
+    const render::TreeRenderer treesLit(forest), treeIds(forest, render::TreeRenderer::Output::ObjectId, objects.treeIdBase());
+    const render::PropRenderer propsLit(scene.props), propIds(scene.props, render::PropRenderer::Output::ObjectId, objects.propIdBase());
+    const culling::Bvh bvh(objects.boxes(), options.leafSize);
+    const std::string size = std::to_string(forest.trees().size());
+    json["scenes"][size] = {{"trees", forest.trees().size()}, {"terrain_size_m", scene.terrain->size},
+                            {"objects", objects.boxes().size()}, {"bvh_nodes", bvh.nodes().size()}};
+
+    render::OffscreenTarget target(options.width, options.height);
+    gl::Texture idTexture(GL_R32UI, options.width, options.height), idDepth(GL_DEPTH_COMPONENT32F, options.width, options.height);
+    gl::Framebuffer idFramebuffer;
+    idFramebuffer.attach(GL_COLOR_ATTACHMENT0, idTexture);
+    idFramebuffer.attach(GL_DEPTH_ATTACHMENT, idDepth);
+    auto beginPass = [&](GLuint framebuffer, bool ids) {
+      glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+      glViewport(0, 0, options.width, options.height);
+      glClearDepth(0.0);
+      glEnable(GL_DEPTH_TEST);
+      glDepthFunc(GL_GREATER);
+      glEnable(GL_CULL_FACE);
+      glCullFace(GL_BACK);
+      if (ids) {
+        const GLuint zero[4] = {0, 0, 0, 0};
+        glClearBufferuiv(GL_COLOR, 0, zero);
+        glClear(GL_DEPTH_BUFFER_BIT);
+      } else {
+        const glm::vec3 sky(scene.render.sky_color);
+        glClearColor(sky.r, sky.g, sky.b, 1.0f);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+      }
+    };
+
+    for (const std::string& pathName : options.paths) {
+      const std::vector<Camera> path =
+          benchPath(pathName, scene, terrain, options.frames, static_cast<double>(options.width) / options.height);
+      // The visible set of every frame: objects with a pixel in the brute-force ID buffer.
+      std::vector<std::vector<std::uint32_t>> visibleSets(path.size());
+      {
+        culling::OcclusionCuller culler;
+        std::vector<std::uint32_t> pixels(static_cast<size_t>(options.width) * options.height);
+        for (size_t f = 0; f < path.size(); ++f) {
+          const terrain::TerrainLod lod = terrain.lodFor(path[f], options.height);
+          beginPass(idFramebuffer.id(), true);
+          render::SceneDrawer ids(objects, &terrainIds, &treeIds, &propIds, path[f], &lod, 0.0, scene.sun);
+          culler.cull(bvh, objects.boxes(), path[f], CullingStrategy::None, ids);
+          glGetTextureImage(idTexture.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(pixels.size() * 4),
+                            pixels.data());
+          std::set<std::uint32_t> seen;
+          for (std::uint32_t id : pixels)
+            if (const std::int64_t o = objects.objectOfId(id); o >= 0) seen.insert(static_cast<std::uint32_t>(o));
+          visibleSets[f].assign(seen.begin(), seen.end());
+          showProgress("bench culling", "frames", ++done, total, std::chrono::duration<double>(Clock::now() - benchStart).count(), options.quiet);
+        }
+      }
+      std::map<std::string, std::vector<FrameRecord>> records;
+      // The oracle: exactly the visible set, one draw call, no queries.
+      for (size_t f = 0; f < path.size(); ++f) {
+        const auto start = Clock::now();
+        const terrain::TerrainLod lod = terrain.lodFor(path[f], options.height);
+        beginPass(target.framebuffer().id(), false);
+        render::SceneDrawer lit(objects, &terrainLit, &treesLit, &propsLit, path[f], &lod, 0.0, scene.sun);
+        FrameRecord r;
+        r.stats.trianglesDrawn = lit.draw(visibleSets[f]);
+        r.stats.objectsDrawn = static_cast<int>(visibleSets[f].size());
+        r.stats.drawCalls = 1;
+        glFinish();
+        r.milliseconds = 1e3 * std::chrono::duration<double>(Clock::now() - start).count();
+        records[kOracle].push_back(r);
+        showProgress("bench culling", "frames", ++done, total, std::chrono::duration<double>(Clock::now() - benchStart).count(), options.quiet);
+      }
+      for (CullingStrategy s : strategies) {
+        culling::OcclusionCuller culler;
+        culler.setParameters(scene.culling);
+        std::vector<FrameRecord>& frames = records[std::string(culling::cullingStrategyName(s))];
+        for (size_t f = 0; f < path.size(); ++f) {
+          const auto start = Clock::now();
+          const terrain::TerrainLod lod = terrain.lodFor(path[f], options.height);
+          beginPass(target.framebuffer().id(), false);
+          render::SceneDrawer lit(objects, &terrainLit, &treesLit, &propsLit, path[f], &lod, 0.0, scene.sun);
+          const culling::CullingResult r = culler.cull(bvh, objects.boxes(), path[f], s, lit);
+          glFinish();
+          frames.push_back({1e3 * std::chrono::duration<double>(Clock::now() - start).count(), r.stats});
+          showProgress("bench culling", "frames", ++done, total, std::chrono::duration<double>(Clock::now() - benchStart).count(), options.quiet);
+        }
+      }
+      if (gl::debugErrorCount() > 0)
+        throw Error(fmt::format("{} GL errors during the benchmark (first: {})", gl::debugErrorCount(), gl::debugErrorMessages().front()));
+
+      // Summaries, ratios, the table and the plot panel of this (scene size, path).
+      ordered_json& entry = json["runs"][size][pathName];
+      entry["description"] = pathDescriptions().at(pathName);
+      const ordered_json oracle = summarise(records[kOracle]);
+      const double frustumMs = records.count("frustum") ? summarise(records["frustum"])["p50_ms"].get<double>() : 0.0;
+      markdown += fmt::format("## {} trees, {} ({})\n\n", size, pathName, pathDescriptions().at(pathName));
+      markdown += "| strategy | p50 ms | p95 ms | / frustum | / oracle | triangles | draws | queries | multi | switches | wait ms |\n";
+      markdown += "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+      std::cout << fmt::format("\n{} trees, {} path ({}), {} frames:\n", size, pathName, pathDescriptions().at(pathName), options.frames);
+      std::cout << fmt::format("  {:<14} {:>8} {:>8} {:>9} {:>8} {:>11} {:>7} {:>8} {:>6} {:>8} {:>8}\n", "strategy", "p50 ms", "p95 ms",
+                               "/frustum", "/oracle", "triangles", "draws", "queries", "multi", "switches", "wait ms");
+      PlotPanel panel{fmt::format("{} trees, {}", size, pathName), "frame", "ms (culling + geometry)", {}};
+      std::vector<std::string> order = options.strategies;
+      order.push_back(kOracle);
+      for (const std::string& name : order) {
+        ordered_json j = summarise(records[name]);
+        const double ms = j["p50_ms"].get<double>();
+        j["over_frustum"] = frustumMs > 0.0 ? ms / frustumMs : 0.0;
+        j["over_oracle"] = ms / std::max(1e-9, oracle["p50_ms"].get<double>());
+        entry["strategies"][name] = j;
+        const std::string row = fmt::format(
+            "{:.2f} | {:.2f} | {:.3f} | {:.3f} | {:.0f} | {:.0f} | {:.0f} | {:.0f} | {:.0f} | {:.2f}", ms, j["p95_ms"].get<double>(),
+            j["over_frustum"].get<double>(), j["over_oracle"].get<double>(), j["triangles_p50"].get<double>(),
+            j["draw_calls_p50"].get<double>(), j["queries_p50"].get<double>(), j["multiqueries_p50"].get<double>(),
+            j["state_switches_p50"].get<double>(), j["wait_ms_p50"].get<double>());
+        markdown += fmt::format("| {} | {} |\n", name, row);
+        std::cout << fmt::format("  {:<14} {:>8.2f} {:>8.2f} {:>9.3f} {:>8.3f} {:>11.0f} {:>7.0f} {:>8.0f} {:>6.0f} {:>8.0f} {:>8.2f}\n", name, ms,
+                                 j["p95_ms"].get<double>(), j["over_frustum"].get<double>(), j["over_oracle"].get<double>(),
+                                 j["triangles_p50"].get<double>(), j["draw_calls_p50"].get<double>(), j["queries_p50"].get<double>(),
+                                 j["multiqueries_p50"].get<double>(), j["state_switches_p50"].get<double>(), j["wait_ms_p50"].get<double>());
+        PlotSeries series{name, strategyColour(name), {}, true};
+        for (size_t f = 0; f < records[name].size(); ++f) series.points.push_back({static_cast<double>(f), records[name][f].milliseconds});
+        panel.series.push_back(std::move(series));
+      }
+      markdown += "\n";
+      panels.push_back(std::move(panel));
+      if (pathName == "ground" && records.count("chc++")) groundChcPlusPlus[size] = summarise(records["chc++"])["p50_ms"].get<double>();
     }
-    nlohmann::ordered_json j;
-    j["p50_ms"] = percentile(ms, 0.5);
-    j["p95_ms"] = percentile(ms, 0.95);
-    j["triangles_p50"] = percentile(tris, 0.5);
-    j["queries_p50"] = percentile(queries, 0.5);
-    j["wait_ms_p50"] = percentile(wait, 0.5);
-    j["objects_p50"] = percentile(drawn, 0.5);
-    return j;
-  };
-  std::cout << fmt::format("culling along {} frames at {}x{} ({} objects, BVH {} nodes) — {}\n", options.frames,
-                           options.width, options.height, objects.boxes().size(), bvh.nodes().size(), device);
-  std::cout << fmt::format("{:<14} {:>9} {:>9} {:>12} {:>9} {:>9} {:>9}\n", "strategy", "p50 ms", "p95 ms", "triangles",
-                           "objects", "queries", "wait ms");
-  for (CullingStrategy s : strategies) {
-    const nlohmann::ordered_json j = summary(records[s]);
-    json["strategies"][std::string(culling::cullingStrategyName(s))] = j;
-    std::cout << fmt::format("{:<14} {:>9.2f} {:>9.2f} {:>12.0f} {:>9.0f} {:>9.0f} {:>9.2f}\n", culling::cullingStrategyName(s),
-                             j["p50_ms"].get<double>(), j["p95_ms"].get<double>(), j["triangles_p50"].get<double>(),
-                             j["objects_p50"].get<double>(), j["queries_p50"].get<double>(), j["wait_ms_p50"].get<double>());
   }
-  const nlohmann::ordered_json o = summary(oracle);
-  json["oracle"] = {{"triangles_p50", o["triangles_p50"]}, {"objects_p50", o["objects_p50"]}};
-  std::cout << fmt::format("{:<14} {:>9} {:>9} {:>12.0f} {:>9.0f}\n", "oracle", "", "", o["triangles_p50"].get<double>(),
-                           o["objects_p50"].get<double>());
-  const double chcTime = json["strategies"]["chc"]["p50_ms"].get<double>();
-  const double frustumTime = json["strategies"]["frustum"]["p50_ms"].get<double>();
-  const double chcTriangles = json["strategies"]["chc"]["triangles_p50"].get<double>();
-  json["ratios"] = {{"chc_over_frustum_time", chcTime / frustumTime},
-                    {"chc_over_oracle_triangles", chcTriangles / std::max(1.0, o["triangles_p50"].get<double>())}};
-  std::cout << fmt::format("chc / frustum frame time (p50): {:.3f}; chc / oracle triangles (p50): {:.3f}\n",
-                           json["ratios"]["chc_over_frustum_time"].get<double>(),
-                           json["ratios"]["chc_over_oracle_triangles"].get<double>());
-  writeFileAtomic(options.out, json.dump(2) + "\n");
-  std::cout << "wrote " << options.out << "\n";
+
+  // Scaling: the chc++ ground-path frame of the largest scene over the smallest's (equal density).
+  if (groundChcPlusPlus.size() >= 2) {
+    auto smallest = std::min_element(groundChcPlusPlus.begin(), groundChcPlusPlus.end(),
+                                     [](const auto& a, const auto& b) { return std::stoi(a.first) < std::stoi(b.first); });
+    auto largest = std::max_element(groundChcPlusPlus.begin(), groundChcPlusPlus.end(),
+                                    [](const auto& a, const auto& b) { return std::stoi(a.first) < std::stoi(b.first); });
+    const double ratio = largest->second / smallest->second;
+    json["scaling"] = {{"small_trees", smallest->first}, {"large_trees", largest->first}, {"chc++_ground_p50_ratio", ratio}};
+    const std::string line = fmt::format("chc++ ground-path p50 frame, {} trees over {} trees (equal density): {:.3f}", largest->first,
+                                         smallest->first, ratio);
+    std::cout << "\n" << line << "\n";
+    markdown += line + "\n";
+  }
+  writeFileAtomic(out / "bench-culling.json", json.dump(2) + "\n");
+  writeFileAtomic(out / "bench-culling.md", markdown);
+  writeImage(out / "bench-culling.png", plotPanels(panels, static_cast<int>(std::min<size_t>(3, options.paths.size()))));
+  std::cout << fmt::format("wrote {0}/bench-culling.json, {0}/bench-culling.md, {0}/bench-culling.png\n", out.string());
   return 0;
 }
 
@@ -226,19 +366,33 @@ Run addBenchCommand(CLI::App& app) {
   auto options = std::make_shared<BenchOptions>();
   CLI::App* bench = app.add_subcommand("bench", "Benchmarks that print measured numbers and ratios (and write JSON)");
   bench->require_subcommand(1);
-  CLI::App* culling = bench->add_subcommand(
+  CLI::App* cullingBench = bench->add_subcommand(
       "culling",
-      "Every culling strategy (none, frustum, stop-and-wait, chc) along a ground-level walk through a scene:\n"
-      "p50/p95 frame time, triangles, queries, CPU wait, and the oracle's triangles (exact visible set)");
-  options->gl.add(*culling);
-  culling->add_option("--scene", options->scene, "Scene file (default: data/scenes/forest.toml)");
-  culling->add_option("--frames", options->frames, "Frames along the walk")->capture_default_str();
-  culling->add_option("--width", options->width, "Image width")->check(CLI::Range(16, 8192))->capture_default_str();
-  culling->add_option("--height", options->height, "Image height")->check(CLI::Range(16, 8192))->capture_default_str();
-  culling->add_option("--leaf-size", options->leafSize, "Objects per BVH leaf")->check(CLI::Range(1, 64))->capture_default_str();
-  culling->add_option("--out", options->out, "JSON results")->capture_default_str();
+      "The culling strategies along a ground-level walk, an open view above the canopy and a hill crossing, in\n"
+      "scenes of several tree counts at equal density: p50/p95 frame time, triangles, draw calls, queries\n"
+      "(single and multi), state switches, CPU wait; ratios to frustum culling and to the oracle (the exact\n"
+      "visible set drawn without queries). Writes JSON, a Markdown table and a PNG plot");
+  options->gl.add(*cullingBench);
+  cullingBench->add_option("--scene", options->scene, "Base scene file (default: data/scenes/forest.toml)");
+  cullingBench->add_option("--trees", options->trees, "Tree counts (terrain grown to keep the base scene's density)")
+      ->delimiter(',')
+      ->capture_default_str();
+  cullingBench->add_option("--paths", options->paths, "Paths: ground, canopy, hill")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"ground", "canopy", "hill"}))
+      ->capture_default_str();
+  cullingBench->add_option("--strategies", options->strategies, "Culling strategies")
+      ->delimiter(',')
+      ->check(CLI::IsMember(culling::cullingStrategyNames()))
+      ->capture_default_str();
+  cullingBench->add_option("--frames", options->frames, "Frames along each path")->capture_default_str();
+  cullingBench->add_option("--width", options->width, "Image width")->check(CLI::Range(16, 8192))->capture_default_str();
+  cullingBench->add_option("--height", options->height, "Image height")->check(CLI::Range(16, 8192))->capture_default_str();
+  cullingBench->add_option("--leaf-size", options->leafSize, "Objects per BVH leaf")->check(CLI::Range(1, 64))->capture_default_str();
+  cullingBench->add_option("--out", options->out, "Output folder")->capture_default_str();
+  cullingBench->add_flag("--quiet", options->quiet, "No progress bar");
   const Run speedError = addSpeedErrorCommand(*bench);
-  return [options, culling, speedError] { return culling->parsed() ? runBenchCulling(*options) : speedError(); };
+  return [options, cullingBench, speedError] { return cullingBench->parsed() ? runBenchCulling(*options) : speedError(); };
 }
 
 }  // namespace forest::app

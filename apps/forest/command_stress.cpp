@@ -28,6 +28,22 @@
 #include "forest/gl/debug.hpp"
 
 namespace forest::app {
+
+Scene scaledScene(const Scene& base, int trees, int lod0) {
+  Scene scene = base;
+  if (!scene.terrain || !scene.vegetation) throw InputError(base.source + ": scaling the tree count needs [terrain] and [vegetation]");
+  TerrainSettings& t = *scene.terrain;
+  const double spacing = t.size / (t.samples - 1);
+  t.size *= std::sqrt(static_cast<double>(trees) / std::max(1, base.vegetation->count));
+  t.size = std::clamp(t.size, 64.0, 65536.0);
+  const int quads = std::clamp(static_cast<int>(std::lround(t.size / spacing / 64.0)) * 64, 64, 8192);
+  t.samples = quads + 1;
+  t.feature_size *= t.size / base.terrain->size;
+  scene.vegetation->count = trees;
+  scene.vegetation->lod0_triangles = lod0;
+  return scene;
+}
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -64,23 +80,6 @@ double slope(const std::vector<double>& y) {
     sxy += x * y[i];
   }
   return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
-
-// The base scene with `trees` trees at the base scene's density: the terrain side grows with
-// √(trees / base count), its sample spacing kept.
-Scene scaledScene(const Scene& base, int trees, int lod0) {
-  Scene scene = base;
-  if (!scene.terrain || !scene.vegetation) throw InputError(base.source + ": stress needs [terrain] and [vegetation]");
-  TerrainSettings& t = *scene.terrain;
-  const double spacing = t.size / (t.samples - 1);
-  t.size *= std::sqrt(static_cast<double>(trees) / std::max(1, base.vegetation->count));
-  t.size = std::clamp(t.size, 64.0, 65536.0);
-  const int quads = std::clamp(static_cast<int>(std::lround(t.size / spacing / 64.0)) * 64, 64, 8192);
-  t.samples = quads + 1;
-  t.feature_size *= t.size / base.terrain->size;
-  scene.vegetation->count = trees;
-  scene.vegetation->lod0_triangles = lod0;
-  return scene;
 }
 
 // The sun over the run: rising at 5°, 85° at the middle, setting again, turning a full circle.

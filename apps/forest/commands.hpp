@@ -74,6 +74,10 @@ void printSummary(const nlohmann::ordered_json& summary);
 // turning 0.8° per frame, camera.above_ground (or 1.7 m) over the ground.
 std::vector<Camera> walkPath(const Scene& scene, const terrain::Terrain& terrain, int frames, double aspect);
 
+// The base scene with `trees` trees at the base scene's density: the terrain side grows with
+// √(trees / base count), its sample spacing kept; LOD0 trees of `lod0` triangles.
+Scene scaledScene(const Scene& base, int trees, int lod0);
+
 // Resident memory of this process, MiB (/proc/self/statm).
 double residentMegabytes();
 
