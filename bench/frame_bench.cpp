@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
     hill.yaw = glm::radians(90.0);  // looking along −x, at the hill
     hill.pitch = glm::radians(5.0);
   }
-  std::printf("%dx%d, lispsm 2048², CHC, %d frames each (after one warm-up)\n", frame.width(), frame.height(), frames);
+  std::printf("%dx%d, lispsm 2048², CHC++, %d frames each (after one warm-up)\n", frame.width(), frame.height(), frames);
   for (const auto& [name, camera] : {std::pair<const char*, Camera>{"walkthrough start", start}, {"facing a hill", hill}}) {
   std::printf("\n%s:\n%-13s %8s %8s %8s %8s %8s | %9s %10s %8s %10s\n", name, "casters", "geom ms", "setup ms", "shadow", "term ms",
               "light ms", "visible", "geom tris", "casters", "shadow tris");

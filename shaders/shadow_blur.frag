@@ -2,7 +2,8 @@
 // Eye-space blur of the shadow term (thesis §6.3, §9.4.2), one direction per pass (separable).
 // The radius shrinks with view depth so distant small shadows keep their detail:
 //   r(z) = uRadius · min(1, uReferenceDepth / z)   pixels, z the eye depth of the centre pixel
-// (a Gaussian with σ = r/2 over a fixed number of taps, so SIMD lanes stay together).
+// (a Gaussian with σ = r/2, cut at 3.5σ where its weight is below 0.3% of the centre's, and at
+// uRadius taps: distant pixels, where r shrinks below 0.6 px, read no neighbours at all).
 // Depth-aware: a sample counts only when its eye depth is within uDepthTolerance (relative) of the
 // centre's, so a shadow does not bleed across a silhouette. Input and output: r = term, g = eye
 // depth (0 = sky, kept as is).
@@ -25,7 +26,7 @@ void main() {
   if (z == 0.0) { blurred = centre; return; }  // sky
   float r = uRadius * min(1.0, uReferenceDepth / z);
   float sigma = max(r / 2.0, 0.25);
-  int taps = min(kMaxTaps, int(ceil(uRadius)));
+  int taps = min(min(kMaxTaps, int(ceil(uRadius))), int(3.5 * sigma));
   ivec2 last = textureSize(uShadowTerm, 0) - 1;
   float sum = centre.r, weights = 1.0;
   for (int i = 1; i <= taps; ++i) {

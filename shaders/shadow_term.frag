@@ -3,13 +3,11 @@
 // from its depth, into the shadow map with the eye-relative light matrix, hardware 2×2 PCF
 // (sampler2DShadow with linear filtering). Forced to 0 where the geometric normal faces away from
 // the sun: backside rendering leaves noise on lee faces, and the eye-space blur must not spread it.
-in vec2 vUv;
+in vec3 vRay;                          // eye depth z → camera-relative position z · vRay
 
-uniform sampler2D uDepth;              // reversed-Z
+uniform sampler2D uDepth;              // reversed-Z: 0 where nothing was drawn (sky)
 uniform sampler2D uGeometricNormal;
-uniform usampler2D uObjectId;
 uniform sampler2DShadow uShadowMap;    // depth in [0, 1], near the light = 0
-uniform mat4 uInverseViewProjectionRelative;  // clip → (p − eye)
 uniform mat4 uEyeRelativeToShadow;     // (p − eye) → shadow clip with z already in [0, 1]
 uniform bool uLinearDepth;             // tsm: compare with the linear light depth (TSM §4)
 uniform vec4 uEyeRelativeLightDepth;   // tsm: (p − eye, 1) → z_L in [−1, 1]
@@ -28,13 +26,12 @@ float eyeDepth(float d) { return uNear * uFar / (uNear + d * (uFar - uNear)); } 
 
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
-  if (texelFetch(uObjectId, pixel, 0).r == 0u) { shadowTerm = vec2(1.0, 0.0); return; }  // sky
   float depth = texelFetch(uDepth, pixel, 0).r;
+  if (depth == 0.0) { shadowTerm = vec2(1.0, 0.0); return; }  // sky: the cleared far depth
   float z = eyeDepth(depth);
   vec3 n = texelFetch(uGeometricNormal, pixel, 0).xyz;
   if (!uSunUp || dot(n, uToSun) <= 0.0) { shadowTerm = vec2(0.0, z); return; }
-  vec4 h = uInverseViewProjectionRelative * vec4(2.0 * vUv - 1.0, depth, 1.0);
-  vec3 relative = h.xyz / h.w;
+  vec3 relative = z * vRay;
   vec4 s = uEyeRelativeToShadow * vec4(relative, 1.0);
   vec3 ndc = s.xyz / s.w;
   // TSM: texture(s, vec3(xy_T / w_T, z_L / w_L)), w_L = 1 for the sun's orthographic L.

@@ -578,8 +578,8 @@ key = "h"
     EXPECT_EQ(setting(sw.frame - 1, sw.name), setting(0, sw.name)) << sw.name;
     EXPECT_NE(setting(sw.frame, sw.name), setting(sw.frame - 1, sw.name)) << sw.name;
   }
-  EXPECT_EQ(setting(12, "culling"), "chc++");  // chc → chc++
-  EXPECT_THAT(at(12)["stats_line"].get<std::string>(), HasSubstr("| chc++ |"));
+  EXPECT_EQ(setting(12, "culling"), "none");  // chc++ (the default) → none: the cycle wraps
+  EXPECT_THAT(at(12)["stats_line"].get<std::string>(), HasSubstr("| none |"));
   EXPECT_EQ(setting(15, "method"), "tsm");  // lispsm → tsm
   EXPECT_THAT(at(15)["stats_line"].get<std::string>(), HasSubstr("| tsm 2048 |"));
   EXPECT_EQ(setting(18, "shadow_size").get<int>(), 1024);

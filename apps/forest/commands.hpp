@@ -25,7 +25,7 @@ struct GlOptions {
 struct FrameOptions {
   std::string method = "lispsm";
   int shadowSize = 2048;
-  std::string culling = "chc";
+  std::string culling = "chc++";
   int pcf = 0;
   double blur = 0.0;         // eye-space blur radius, pixels (0: off)
   double blurDepth = 10.0;   // metres up to which the full radius applies

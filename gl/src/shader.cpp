@@ -79,6 +79,10 @@ void Program::set(const char* uniform, const glm::vec3& v) const {
 void Program::set(const char* uniform, const glm::vec4& v) const {
   glProgramUniform4fv(id(), glGetUniformLocation(id(), uniform), 1, glm::value_ptr(v));
 }
+void Program::set(const char* uniform, const glm::mat3& v) const {
+  glProgramUniformMatrix3fv(id(), glGetUniformLocation(id(), uniform), 1, GL_FALSE, glm::value_ptr(v));
+}
+
 void Program::set(const char* uniform, const glm::mat4& v) const {
   glProgramUniformMatrix4fv(id(), glGetUniformLocation(id(), uniform), 1, GL_FALSE, glm::value_ptr(v));
 }

@@ -17,6 +17,20 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using glm::dvec3;
 
+// uRays of shaders/fullscreen.vert: A with A·(x_ndc, y_ndc, −1) = the camera-relative direction
+// through that pixel scaled to eye depth 1 (the position of a pixel at eye depth z is z times it).
+glm::mat3 pixelRays(const Camera& camera) {
+  const glm::dmat4 inverse = glm::inverse(camera.projection() * camera.view() * glm::translate(glm::dmat4(1.0), camera.position));
+  const dvec3 forward = camera.forward();
+  auto ray = [&](double x, double y) {
+    const glm::dvec4 h = inverse * glm::dvec4(x, y, 0.5, 1.0);
+    const dvec3 p = dvec3(h) / h.w;
+    return p / glm::dot(p, forward);
+  };
+  const dvec3 centre = ray(0.0, 0.0);
+  return glm::mat3(glm::dmat3(ray(1.0, 0.0) - centre, ray(0.0, 1.0) - centre, -centre));
+}
+
 double millisecondsSince(Clock::time_point start) {
   glFinish();  // per-pass times include the GPU's work
   return 1e3 * std::chrono::duration<double>(Clock::now() - start).count();
@@ -406,7 +420,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
 
   // 4. Shadow term.
   start = Clock::now();
-  const glm::mat4 inverseViewProjectionRelative(glm::inverse(eye.viewProjectionRelative));
+  const glm::mat3 rays = pixelRays(camera);
   glBindFramebuffer(GL_FRAMEBUFFER, p.shadowTermFramebuffer.id());
   glViewport(0, 0, width_, height_);
   glDisable(GL_DEPTH_TEST);
@@ -414,9 +428,8 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   gl::Program& term = p.shadowTermProgram;
   term.set("uDepth", 0);
   term.set("uGeometricNormal", 1);
-  term.set("uObjectId", 2);
   term.set("uShadowMap", 3);
-  term.set("uInverseViewProjectionRelative", inverseViewProjectionRelative);
+  term.set("uRays", rays);
   glm::dmat4 lookup = eyeRelativeToShadow;
   if (settings.lookupShiftTexels != glm::dvec2(0.0)) {
     glm::dmat4 shift(1.0);  // clip x, y += 2·shift/size · w
@@ -434,7 +447,6 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   term.set("uFar", static_cast<float>(camera.far));
   glBindTextureUnit(0, p.depth.id());
   glBindTextureUnit(1, p.geometricNormal.id());
-  glBindTextureUnit(2, p.objectId.id());
   glBindTextureUnit(3, p.shadowMap.id());
   term.use();
   glBindVertexArray(p.empty.id());
@@ -476,10 +488,8 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   gl::Program& lighting = p.lightingProgram;
   lighting.set("uAlbedo", 0);
   lighting.set("uShadingNormal", 1);
-  lighting.set("uDepth", 2);
-  lighting.set("uObjectId", 3);
   lighting.set("uShadowTerm", 4);
-  lighting.set("uInverseViewProjectionRelative", inverseViewProjectionRelative);
+  lighting.set("uRays", rays);
   lighting.set("uToSun", glm::vec3(-l));
   lighting.set("uSunColor", glm::vec3(sun.color));
   lighting.set("uAmbient", static_cast<float>(sun.ambient));
@@ -488,8 +498,6 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   lighting.set("uFogDensity", static_cast<float>(settings.fogDensity));
   glBindTextureUnit(0, p.albedo.id());
   glBindTextureUnit(1, p.shadingNormal.id());
-  glBindTextureUnit(2, p.depth.id());
-  glBindTextureUnit(3, p.objectId.id());
   glBindTextureUnit(4, termForLighting->id());
   lighting.use();
   glDrawArrays(GL_TRIANGLES, 0, 3);

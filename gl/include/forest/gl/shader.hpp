@@ -33,6 +33,7 @@ class Program {
   void set(const char* uniform, const glm::vec2& v) const;
   void set(const char* uniform, const glm::vec3& v) const;
   void set(const char* uniform, const glm::vec4& v) const;
+  void set(const char* uniform, const glm::mat3& v) const;
   void set(const char* uniform, const glm::mat4& v) const;
 
  private:

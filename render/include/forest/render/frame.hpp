@@ -47,7 +47,7 @@ struct FrameSettings {
   int shadowMapSize = 2048;       // texels per side, [512, 8192]
   double slopeScaleBias = 0.0;    // glPolygonOffset factor in the shadow pass (0: none)
   bool backside = true;           // cull front faces in the shadow pass (thesis §5.1)
-  culling::CullingStrategy culling = culling::CullingStrategy::Chc;
+  culling::CullingStrategy culling = culling::CullingStrategy::ChcPlusPlus;
   // Inspection (window mode): keep the previous frame's visible set — the geometry pass draws
   // exactly it, without culling, and z_f, B and the casters follow from it — while the camera
   // moves, to see what was culled. The first frame culls normally.
