@@ -36,9 +36,11 @@ int main(int argc, char** argv) {
   const render::TreeRenderer renderer(forest), rendererLod0(forestLod0);
   std::printf("%zu trees in %zu clusters, built in %.2f s (species, LODs, placement)\n", forest.trees().size(),
               forest.clusters().size(), buildSeconds);
-  for (const vegetation::SpeciesModel& m : forest.species())
-    std::printf("  %-9s LOD triangles %d / %d / %d\n", std::string(vegetation::speciesName(m.species)).c_str(),
-                m.lods[0].triangleCount(), m.lods[1].triangleCount(), m.lods[2].triangleCount());
+  for (const vegetation::SpeciesModel& m : forest.species()) {
+    std::printf("  %-9s LOD triangles", std::string(vegetation::speciesName(m.species)).c_str());
+    for (int lod = 0; lod < vegetation::kTreeLods; ++lod) std::printf("%s%d", lod == 0 ? " " : " / ", m.lods[lod].triangleCount());
+    std::printf("\n");
+  }
   std::printf("memory: meshes %.1f KiB on the GPU; instances %.1f KiB on the GPU (64 B each), %.1f KiB on the CPU\n",
               static_cast<double>(renderer.meshBytes()) / 1024.0, static_cast<double>(renderer.instanceBytes()) / 1024.0,
               static_cast<double>(forest.trees().size() * sizeof(vegetation::TreeInstance)) / 1024.0);

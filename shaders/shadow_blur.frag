@@ -29,8 +29,9 @@ void main() {
   int taps = min(min(kMaxTaps, int(ceil(uRadius))), int(3.5 * sigma));
   ivec2 last = textureSize(uShadowTerm, 0) - 1;
   float sum = centre.r, weights = 1.0;
-  for (int i = 1; i <= taps; ++i) {
-    float w = exp(-float(i * i) / (2.0 * sigma * sigma));
+  // Gaussian weights w_i = q^(i²), q = e^(−1/(2σ²)), by recurrence: w_(i+1) = w_i · q^(2i+1).
+  float q = exp(-0.5 / (sigma * sigma)), w = q, ratio = q * q * q;
+  for (int i = 1; i <= taps; ++i, w *= ratio, ratio *= q * q) {
     for (int side = -1; side <= 1; side += 2) {
       vec2 q = texelFetch(uShadowTerm, clamp(pixel + side * i * uDirection, ivec2(0), last), 0).rg;
       float same = (q.g != 0.0 && abs(q.g - z) <= uDepthTolerance * z) ? 1.0 : 0.0;

@@ -105,7 +105,8 @@ TEST(SceneFile, VegetationSectionLoadsRoundTripsAndNeedsTerrain) {
   const Scene scene = parseScene(text, "v.toml");
   ASSERT_TRUE(scene.vegetation.has_value());
   EXPECT_EQ(scene.vegetation->count, 300);
-  EXPECT_EQ(scene.vegetation->lod_distances, glm::dvec2(40.0, 90.0));
+  EXPECT_EQ(glm::dvec2(scene.vegetation->lod_distances), glm::dvec2(40.0, 90.0));
+  EXPECT_TRUE(std::isinf(scene.vegetation->lod_distances.z));  // two distances: no LOD3
   EXPECT_EQ(scene.vegetation->wind_direction, glm::dvec2(0.0, 1.0));  // normalised
   EXPECT_EQ(scene.vegetation->broadleaf.share, 0.25);
   EXPECT_EQ(scene.vegetation->conifer.share, VegetationSettings{}.conifer.share);
@@ -120,7 +121,12 @@ TEST(SceneFile, VegetationSectionLoadsRoundTripsAndNeedsTerrain) {
 TEST(SceneFile, BadVegetationValuesNameTheKey) {
   EXPECT_THAT(errorOf("[terrain]\n[vegetation]\ncount = -5\n"), HasSubstr("vegetation.count = -5: expected an integer in [0, 1000000]"));
   EXPECT_THAT(errorOf("[terrain]\n[vegetation]\nlod0_triangles = 50000\n"), HasSubstr("vegetation.lod0_triangles = 50000"));
-  EXPECT_THAT(errorOf("[terrain]\n[vegetation]\nlod_distances = [90.0, 40.0]\n"), HasSubstr("vegetation.lod_distances: the second distance"));
+  EXPECT_THAT(errorOf("[terrain]\n[vegetation]\nlod_distances = [90.0, 40.0]\n"), HasSubstr("vegetation.lod_distances: each distance must be greater"));
+  EXPECT_THAT(errorOf("[terrain]\n[vegetation]\nlod_distances = [40.0, 90.0, 80.0]\n"), HasSubstr("vegetation.lod_distances: each distance must be greater"));
+  EXPECT_THAT(errorOf("[terrain]\n[vegetation]\nlod_distances = [40.0]\n"), HasSubstr("vegetation.lod_distances = [ 40.0 ]: expected an array of 3 numbers"));
+  const Scene three = parseScene("[terrain]\n[vegetation]\nlod_distances = [40.0, 90.0, 300.0]\n", "v3.toml");
+  EXPECT_EQ(three.vegetation->lod_distances, glm::dvec3(40.0, 90.0, 300.0));
+  EXPECT_EQ(parseScene(sceneToToml(three), "roundtrip.toml").vegetation->lod_distances, three.vegetation->lod_distances);
   EXPECT_THAT(errorOf("[terrain]\n[vegetation]\nwind_direction = [0.0, 0.0]\n"), HasSubstr("vegetation.wind_direction: must be a non-zero"));
   EXPECT_THAT(errorOf("[terrain]\n[vegetation.conifer]\nspacing = 0.1\n"), HasSubstr("vegetation.conifer.spacing = 0.1"));
   EXPECT_THAT(errorOf("[terrain]\n[vegetation.oak]\nshare = 1.0\n"), HasSubstr("unknown key 'vegetation.oak'"));

@@ -165,7 +165,8 @@ TEST(TreeLod, DistanceBandsFromTheEyeOnly) {
   const dvec3 base = f.trees()[0].position;
   EXPECT_EQ(f.lodFor(0, base + dvec3(0, 2, 10)), 0);
   EXPECT_EQ(f.lodFor(0, base + dvec3(100, 2, 0)), 1);
-  EXPECT_EQ(f.lodFor(0, base + dvec3(0, 2, 500)), 2);
+  EXPECT_EQ(f.lodFor(0, base + dvec3(0, 2, 300)), 2);
+  EXPECT_EQ(f.lodFor(0, base + dvec3(0, 2, 500)), 3);
   VegetationSettings v = testVegetation(50);
   v.force_lod0 = true;
   const Forest forced(v, testTerrain());

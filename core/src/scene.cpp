@@ -109,8 +109,13 @@ void readVegetation(TomlSection& s, VegetationSettings& v) {
       s.integer("seed", static_cast<std::int64_t>(v.seed), 0, std::numeric_limits<std::int64_t>::max()));
   v.lod0_triangles = static_cast<int>(s.integer("lod0_triangles", v.lod0_triangles, 1000, 20000));
   v.force_lod0 = s.boolean("force_lod0", v.force_lod0);
-  v.lod_distances = s.vec2("lod_distances", v.lod_distances, detail::positive());
-  if (!(v.lod_distances.y > v.lod_distances.x)) s.fail(nullptr, "lod_distances", "the second distance must be greater than the first");
+  if (s.arraySize("lod_distances") == 2) {
+    v.lod_distances = glm::dvec3(s.vec2("lod_distances", std::nullopt, detail::positive()), std::numeric_limits<double>::infinity());
+  } else {
+    v.lod_distances = s.vec3("lod_distances", v.lod_distances, detail::positive());
+  }
+  if (!(v.lod_distances.y > v.lod_distances.x && v.lod_distances.z > v.lod_distances.y))
+    s.fail(nullptr, "lod_distances", "each distance must be greater than the one before");
   v.wind_strength = s.number("wind_strength", v.wind_strength, detail::closed(0.0, 0.2));
   v.wind_period = s.number("wind_period", v.wind_period, detail::positive());
   v.wind_direction = s.vec2("wind_direction", v.wind_direction, detail::anyFinite());
@@ -238,7 +243,8 @@ std::string sceneToToml(const Scene& scene) {
                                               {"seed", static_cast<std::int64_t>(v.seed)},
                                               {"lod0_triangles", v.lod0_triangles},
                                               {"force_lod0", v.force_lod0},
-                                              {"lod_distances", tomlArray(v.lod_distances)},
+                                              {"lod_distances", std::isinf(v.lod_distances.z) ? tomlArray(glm::dvec2(v.lod_distances))
+                                                                                              : tomlArray(v.lod_distances)},
                                               {"wind_strength", v.wind_strength},
                                               {"wind_period", v.wind_period},
                                               {"wind_direction", tomlArray(v.wind_direction)},

@@ -127,6 +127,11 @@ std::vector<double> TomlSection::numbers(std::string_view key, const std::vector
   return v;
 }
 
+size_t TomlSection::arraySize(std::string_view key) const {
+  const toml::node* node = table_->get(key);
+  return node != nullptr && node->is_array() ? node->as_array()->size() : 0;
+}
+
 glm::dvec3 TomlSection::vec3(std::string_view key, std::optional<glm::dvec3> fallback, const NumberRange& range) {
   const std::vector<double> f = fallback ? std::vector<double>{fallback->x, fallback->y, fallback->z} : std::vector<double>{};
   const std::vector<double> v = numbers(key, fallback ? &f : nullptr, 3, range);

@@ -50,6 +50,8 @@ class TomlSection {
   std::vector<TomlSection> tables(std::string_view key);
 
   bool has(std::string_view key) const { return table_->contains(key); }
+  // Elements of the array at `key` (0 when absent or not an array): for keys of 2 or 3 numbers.
+  size_t arraySize(std::string_view key) const;
   // Throws for the first key of this table that no reader asked for.
   void finish() const;
 

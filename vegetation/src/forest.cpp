@@ -185,7 +185,8 @@ Aabb Forest::treeBounds(std::uint32_t index) const {
 int Forest::lodFor(std::uint32_t tree, const glm::dvec3& eye) const {
   if (settings_.force_lod0) return 0;
   const double distance = glm::distance(eye, trees_[tree].position);
-  return distance < settings_.lod_distances.x ? 0 : distance < settings_.lod_distances.y ? 1 : 2;
+  const glm::dvec3& d = settings_.lod_distances;
+  return distance < d.x ? 0 : distance < d.y ? 1 : distance < d.z ? 2 : 3;
 }
 
 Aabb Forest::clusterBounds(const TreeCluster& cluster) const {

@@ -329,7 +329,7 @@ SpeciesModel buildThesisTree(Species species) {
 std::string_view speciesName(Species species) { return species == Species::Conifer ? "conifer" : "broadleaf"; }
 
 std::array<int, kTreeLods> lodTriangleTargets(int lod0Triangles) {
-  return {lod0Triangles, std::max(120, lod0Triangles / 4), std::max(120, lod0Triangles / 16)};
+  return {lod0Triangles, std::max(120, lod0Triangles / 4), std::max(120, lod0Triangles / 16), std::max(48, lod0Triangles / 64)};
 }
 
 SpeciesModel buildSpecies(Species species, int lod0Triangles, std::uint64_t seed) {
@@ -355,7 +355,10 @@ SpeciesModel buildSpecies(Species species, int lod0Triangles, std::uint64_t seed
   // a stricter normal-deviation limit.
   for (int lod = 0; lod < kTreeLods; ++lod) {
     OMesh attempt;
-    for (double deviation : {45.0, 30.0, 20.0, 10.0}) {
+    // LOD3 (tens of pixels high) may turn normals further to reach its small budget.
+    const std::vector<double> deviations =
+        lod == 3 ? std::vector<double>{75.0, 60.0, 45.0, 30.0, 20.0, 10.0} : std::vector<double>{45.0, 30.0, 20.0, 10.0};
+    for (double deviation : deviations) {
       attempt = mesh;
       decimate(attempt, model.targetTriangles[lod], deviation);
       model.lods[lod] = exportMesh(attempt, component);

@@ -94,7 +94,9 @@ struct VegetationSettings {
   std::uint64_t seed = 1;         // placement, species shapes, instance variation
   int lod0_triangles = 2000;      // LOD0 budget per tree, [1000, 20000]; LOD1/LOD2 a quarter/sixteenth
   bool force_lod0 = false;        // every tree at LOD0 (stress runs)
-  glm::dvec2 lod_distances{60.0, 180.0};  // metres: LOD0 below the first, LOD1 below the second, then LOD2
+  // Metres: LOD0 below the first, LOD1 below the second, LOD2 below the third, then LOD3. A file
+  // may give two (no LOD3: the third is +∞).
+  glm::dvec3 lod_distances{60.0, 180.0, 450.0};
   double wind_strength = 0.02;    // largest sway: horizontal shift per metre of height, [0, 0.2]
   double wind_period = 4.0;       // seconds, > 0
   glm::dvec2 wind_direction{1.0, 0.3};    // (x, z), non-zero; normalised on load

@@ -17,7 +17,7 @@ namespace forest::vegetation {
 
 enum class Species { Conifer, Broadleaf };
 constexpr int kSpeciesCount = 2;
-constexpr int kTreeLods = 3;
+constexpr int kTreeLods = 4;
 std::string_view speciesName(Species species);
 
 // One LOD of a species in object space: base at the origin, up +y, metres.
@@ -40,7 +40,8 @@ struct SpeciesModel {
 };
 
 // Triangle budget of LOD0: [1000, 20000]; LOD1 and LOD2 get a quarter and a sixteenth, at least
-// 120 (11 closed components need ~4 triangles each, and a few more to keep their shape).
+// 120 (11 closed components need ~4 triangles each, and a few more to keep their shape); LOD3, for
+// trees a few tens of pixels high, a sixty-fourth, at least 48.
 constexpr int kMinLod0Triangles = 1000;
 constexpr int kMaxLod0Triangles = 20000;
 std::array<int, kTreeLods> lodTriangleTargets(int lod0Triangles);
