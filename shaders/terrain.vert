@@ -6,6 +6,7 @@ layout(location = 0) in ivec2 aLocal;   // (i, j) in the tile, 0…kTileQuads
 layout(location = 1) in ivec2 iTile;    // (tx, tz)
 
 uniform sampler2D uHeights;   // R32F, one texel per sample, fetched exactly
+uniform sampler2D uNormals;   // RG16 snorm: the sample normal's (x, z) (bound for the lit output only)
 uniform int uTileQuads;
 uniform int uLevel;
 uniform float uMorphStart;    // metres; the morph toward uLevel + 1 ramps between these
@@ -33,13 +34,11 @@ vec3 samplePosition(ivec2 s) {
   return vec3(uOriginRelative.x + float(s.x) * uSpacing, h - uEyeY, uOriginRelative.y + float(s.y) * uSpacing);
 }
 
-// Central differences, one-sided at the border (Heightfield::sampleNormal).
+// The sample's normal (Heightfield::sampleNormal: central differences, one-sided at the border),
+// stored as (x, z); y > 0 for a heightfield.
 vec3 sampleNormal(ivec2 s) {
-  ivec2 last = textureSize(uHeights, 0) - 1;
-  ivec2 a = max(s - 1, ivec2(0)), b = min(s + 1, last);
-  float dhdx = (texelFetch(uHeights, ivec2(b.x, s.y), 0).r - texelFetch(uHeights, ivec2(a.x, s.y), 0).r) / (float(b.x - a.x) * uSpacing);
-  float dhdz = (texelFetch(uHeights, ivec2(s.x, b.y), 0).r - texelFetch(uHeights, ivec2(s.x, a.y), 0).r) / (float(b.y - a.y) * uSpacing);
-  return normalize(vec3(-dhdx, 1.0, -dhdz));
+  vec2 q = texelFetch(uNormals, s, 0).xy;
+  return vec3(q.x, sqrt(max(1.0 - dot(q, q), 0.0)), q.y);
 }
 
 void main() {

@@ -38,6 +38,23 @@ TerrainRenderer::TerrainRenderer(const terrain::Terrain& terrain, Output output,
   glTextureSubImage2D(heights_.id(), 0, 0, 0, h.samples(), h.samples(), GL_RED, GL_FLOAT, h.heights().data());
   glTextureParameteri(heights_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTextureParameteri(heights_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  // The sample normals (Heightfield::sampleNormal, in double) as (x, z) in 16-bit snorm; y > 0 is
+  // rebuilt in the shader. One fetch per sample instead of four heights: vertex shading runs on a
+  // single thread on llvmpipe, and the terrain's is most of the geometry pass.
+  if (output == Output::Lit || output == Output::GBuffer) {
+    std::vector<std::int16_t> packed(static_cast<size_t>(h.samples()) * h.samples() * 2);
+    for (int j = 0; j < h.samples(); ++j)
+      for (int i = 0; i < h.samples(); ++i) {
+        const glm::dvec3 n = h.sampleNormal(i, j);
+        const size_t k = 2 * (static_cast<size_t>(j) * h.samples() + i);
+        packed[k] = static_cast<std::int16_t>(std::lround(std::clamp(n.x, -1.0, 1.0) * 32767.0));
+        packed[k + 1] = static_cast<std::int16_t>(std::lround(std::clamp(n.z, -1.0, 1.0) * 32767.0));
+      }
+    normals_ = gl::Texture(GL_RG16_SNORM, h.samples(), h.samples());
+    glTextureSubImage2D(normals_.id(), 0, 0, 0, h.samples(), h.samples(), GL_RG, GL_SHORT, packed.data());
+    glTextureParameteri(normals_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(normals_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  }
 
   std::vector<glm::ivec2> local;
   for (int j = 0; j <= kTileQuads; ++j)
@@ -116,12 +133,15 @@ TerrainRenderer::Stats TerrainRenderer::draw(const DrawView& view, const terrain
   program_.set("uObjectIdBase", objectIdBase_);
   program_.set("uMorphSlack", static_cast<float>(terrain::TerrainLod::kMorphSlack));
   program_.set("uHeights", 0);
+  program_.set("uNormals", 1);
   program_.set("uToSun", glm::vec3(-sun.direction));
   program_.set("uSunColor", glm::vec3(sun.color));
   program_.set("uAmbient", static_cast<float>(sun.ambient));
   program_.set("uAlbedo", glm::vec3(terrain_.settings().albedo));
   program_.use();
   glBindTextureUnit(0, heights_.id());
+  // Outputs without normals never read unit 1; a valid texture stays bound there all the same.
+  glBindTextureUnit(1, normals_.id() != 0 ? normals_.id() : heights_.id());
   glBindVertexArray(vertexArray_.id());
   for (int level = 0; level < kLevels; ++level) {
     const int count = static_cast<int>(byLevel[level].size());
@@ -143,7 +163,7 @@ TerrainRenderer::Stats TerrainRenderer::draw(const DrawView& view, const terrain
 }
 
 std::size_t TerrainRenderer::gpuBytes() const {
-  return heights_.bytes() + grid_.size() + indices_.size() + instances_.size();
+  return heights_.bytes() + normals_.bytes() + grid_.size() + indices_.size() + instances_.size();
 }
 
 }  // namespace forest::render

@@ -48,6 +48,7 @@ class TerrainRenderer {
   std::uint32_t objectIdBase_;
   gl::Program program_;
   gl::Texture heights_;
+  gl::Texture normals_;  // vertex normals of the lit and G-buffer outputs (empty for the others)
   gl::VertexArray vertexArray_;
   gl::Buffer grid_;
   gl::Buffer indices_;
