@@ -1,11 +1,14 @@
 #version 450 core
 // Lighting (thesis §6.2): Phong — Lambert diffuse and a weak Blinn-Phong highlight from the sun,
 // both times the shadow term — plus a weak global ambient; the sky colour where nothing was drawn.
+// With the blur on, uShadowTerm is the horizontally blurred term and the vertical pass of the
+// blur happens here (blur_taps.frag), saving a full-screen pass; the term used is written out too.
 in vec3 vRay;                 // eye depth z → camera-relative position z · vRay
 
 uniform sampler2D uAlbedo;
 uniform sampler2D uShadingNormal;
 uniform sampler2D uShadowTerm;  // r: term, g: eye depth (0: sky)
+uniform bool uBlurVertical;     // blur uShadowTerm vertically (it holds the horizontal pass)
 uniform vec3 uToSun;
 uniform vec3 uSunColor;
 uniform float uAmbient;
@@ -13,11 +16,15 @@ uniform vec3 uSky;
 uniform bool uSunUp;
 uniform float uFogDensity;   // per metre; 0: no fog (exponential fog toward the sky colour)
 
-out vec4 fragColor;
+layout(location = 0) out vec4 fragColor;
+layout(location = 1) out vec2 usedTerm;  // the (blurred) term lit with: Frame::readBlurredShadowTerm
+
+vec2 blurTaps(sampler2D term, ivec2 pixel, ivec2 direction);
 
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
-  vec2 term = texelFetch(uShadowTerm, pixel, 0).rg;
+  vec2 term = uBlurVertical ? blurTaps(uShadowTerm, pixel, ivec2(0, 1)) : texelFetch(uShadowTerm, pixel, 0).rg;
+  usedTerm = term;
   if (term.g == 0.0) { fragColor = vec4(uSky, 1.0); return; }
   vec3 albedo = texelFetch(uAlbedo, pixel, 0).rgb;
   vec3 n = normalize(texelFetch(uShadingNormal, pixel, 0).xyz);

@@ -129,7 +129,7 @@ struct Frame::Passes {
   int shadowMapSize = 0;
   // Shadow term and lighting.
   gl::Texture shadowTerm, blurTemporary, blurred, color;
-  gl::Framebuffer shadowTermFramebuffer, blurTemporaryFramebuffer, blurredFramebuffer, colorFramebuffer;
+  gl::Framebuffer shadowTermFramebuffer, blurTemporaryFramebuffer, colorFramebuffer;  // colour: + the blurred term
   gl::Program shadowTermProgram, blurProgram, lightingProgram;
   gl::VertexArray empty;
 
@@ -144,8 +144,8 @@ struct Frame::Passes {
         blurred(GL_RG16F, width, height),
         color(GL_RGBA8, width, height),
         shadowTermProgram(gl::loadProgram({"fullscreen.vert", "shadow_term.frag"})),
-        blurProgram(gl::loadProgram({"fullscreen.vert", "shadow_blur.frag"})),
-        lightingProgram(gl::loadProgram({"fullscreen.vert", "lighting.frag"})) {
+        blurProgram(gl::loadProgram({"fullscreen.vert", "shadow_blur.frag", "blur_taps.frag"})),
+        lightingProgram(gl::loadProgram({"fullscreen.vert", "lighting.frag", "blur_taps.frag"})) {
     gbuffer.attach(GL_COLOR_ATTACHMENT0, albedo);
     gbuffer.attach(GL_COLOR_ATTACHMENT1, shadingNormal);
     gbuffer.attach(GL_COLOR_ATTACHMENT2, geometricNormal);
@@ -158,9 +158,10 @@ struct Frame::Passes {
     shadowTermFramebuffer.checkComplete("shadow term");
     blurTemporaryFramebuffer.attach(GL_COLOR_ATTACHMENT0, blurTemporary);
     blurTemporaryFramebuffer.checkComplete("blur");
-    blurredFramebuffer.attach(GL_COLOR_ATTACHMENT0, blurred);
-    blurredFramebuffer.checkComplete("blurred shadow term");
     colorFramebuffer.attach(GL_COLOR_ATTACHMENT0, color);
+    colorFramebuffer.attach(GL_COLOR_ATTACHMENT1, blurred);
+    const GLenum colorBuffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glNamedFramebufferDrawBuffers(colorFramebuffer.id(), 2, colorBuffers);
     colorFramebuffer.checkComplete("colour");
     for (const gl::Texture* t : {&albedo, &shadingNormal, &geometricNormal, &objectId, &depth, &shadowTerm, &blurTemporary, &blurred}) {
       glTextureParameteri(t->id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
@@ -453,33 +454,24 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   glDrawArrays(GL_TRIANGLES, 0, 3);
   stats.shadowTermMs = millisecondsSince(start);
 
-  // 4b. Eye-space blur, horizontal then vertical (off: lighting reads the term itself).
+  // 4b. Eye-space blur: the horizontal pass here, the vertical one inside lighting (off: lighting
+  // reads the term itself).
   start = Clock::now();
-  const gl::Texture* termForLighting = &p.shadowTerm;
-  if (settings.blurRadius > 0.0) {
+  const bool blurOn = settings.blurRadius > 0.0;
+  for (gl::Program* program : {&p.blurProgram, &p.lightingProgram}) {
+    program->set("uRadius", static_cast<float>(settings.blurRadius));
+    program->set("uReferenceDepth", static_cast<float>(settings.blurReferenceDepth));
+    program->set("uDepthTolerance", static_cast<float>(kBlurDepthTolerance));
+  }
+  if (blurOn) {
     gl::Program& blur = p.blurProgram;
     blur.set("uShadowTerm", 0);
-    blur.set("uRadius", static_cast<float>(settings.blurRadius));
-    blur.set("uReferenceDepth", static_cast<float>(settings.blurReferenceDepth));
-    blur.set("uDepthTolerance", static_cast<float>(kBlurDepthTolerance));
     blur.use();
-    const struct {
-      const gl::Texture* from;
-      GLuint to;
-      glm::ivec2 direction;
-    } passes[2] = {{&p.shadowTerm, p.blurTemporaryFramebuffer.id(), {1, 0}}, {&p.blurTemporary, p.blurredFramebuffer.id(), {0, 1}}};
-    for (const auto& pass : passes) {
-      glBindFramebuffer(GL_FRAMEBUFFER, pass.to);
-      glBindTextureUnit(0, pass.from->id());
-      blur.set("uDirection", pass.direction);
-      glDrawArrays(GL_TRIANGLES, 0, 3);
-    }
-    termForLighting = &p.blurred;
-  } else {
-    glCopyImageSubData(p.shadowTerm.id(), GL_TEXTURE_2D, 0, 0, 0, 0, p.blurred.id(), GL_TEXTURE_2D, 0, 0, 0, 0, width_,
-                       height_, 1);
-    termForLighting = &p.blurred;
+    glBindFramebuffer(GL_FRAMEBUFFER, p.blurTemporaryFramebuffer.id());
+    glBindTextureUnit(0, p.shadowTerm.id());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
   }
+  const gl::Texture* termForLighting = blurOn ? &p.blurTemporary : &p.shadowTerm;
   stats.blurMs = millisecondsSince(start);
 
   // 5. Lighting.
@@ -489,6 +481,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   lighting.set("uAlbedo", 0);
   lighting.set("uShadingNormal", 1);
   lighting.set("uShadowTerm", 4);
+  lighting.set("uBlurVertical", blurOn ? 1 : 0);
   lighting.set("uRays", rays);
   lighting.set("uToSun", glm::vec3(-l));
   lighting.set("uSunColor", glm::vec3(sun.color));

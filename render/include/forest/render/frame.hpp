@@ -7,8 +7,9 @@
 //   3. shadow pass — only the selected casters, front faces culled (backside rendering), into a
 //      float depth map; casters drawn at the eye's LOD;
 //   4. shadow term — full screen from the G-buffer, hardware 2×2 PCF (sampler2DShadow), 0 where the
-//      geometric N·L ≤ 0; then an optional depth-aware eye-space blur (separable, shrinking with depth);
-//   5. lighting — Phong with a weak global ambient, sky colour.
+//      geometric N·L ≤ 0; then an optional depth-aware eye-space blur (separable, shrinking with
+//      depth): its horizontal pass;
+//   5. lighting — the blur's vertical pass, Phong with a weak global ambient, sky colour.
 // Eye → light matrices are composed in double, camera-relative.
 #include <memory>
 #include <span>
@@ -66,6 +67,7 @@ struct FrameSettings {
 };
 
 struct FrameStats {
+  // blurMs: the blur's horizontal pass; its vertical pass is part of lightingMs.
   double geometryMs = 0.0, shadowSetupMs = 0.0, shadowMs = 0.0, shadowTermMs = 0.0, blurMs = 0.0, lightingMs = 0.0;
   int visibleObjects = 0;
   int casterObjects = 0;
