@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -34,7 +35,9 @@ struct Result {
 Result runForest(const std::string& arguments) {
   const fs::path folder = fs::path(FOREST_TEST_OUTPUT) / "cli";
   fs::create_directories(folder);
-  const fs::path out = folder / "stdout.txt", err = folder / "stderr.txt";
+  // Per process: cli_tests and cli_window (this program under xvfb-run) may run at the same time.
+  const std::string pid = std::to_string(getpid());
+  const fs::path out = folder / ("stdout-" + pid + ".txt"), err = folder / ("stderr-" + pid + ".txt");
   const std::string command =
       std::string(FOREST_EXE) + " " + arguments + " > " + out.string() + " 2> " + err.string() + " < /dev/null";
   const int status = std::system(command.c_str());
