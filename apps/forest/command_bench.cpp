@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <iterator>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -21,7 +22,6 @@
 #include "forest/core/image.hpp"
 #include "forest/core/log.hpp"
 #include "forest/core/plot.hpp"
-#include "forest/core/resources.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/culling/bvh.hpp"
 #include "forest/culling/occlusion_culler.hpp"
@@ -168,8 +168,7 @@ glm::vec3 strategyColour(const std::string& name) {
 }
 
 int runBenchCulling(const BenchOptions& options) {
-  const std::string scenePath =
-      options.scene.empty() ? (resourceDirectory("data") / "scenes" / "forest.toml").string() : options.scene;
+  const std::string scenePath = sceneFileOr(options.scene);
   const Scene base = loadScene(scenePath);
   if (!base.terrain || !base.vegetation) throw InputError(scenePath + ": bench culling needs a scene with [terrain] and [vegetation]");
   if (options.frames < 2 || options.frames > 100000) throw InputError(fmt::format("--frames {}: expected 2 to 100000", options.frames));
@@ -206,7 +205,7 @@ int runBenchCulling(const BenchOptions& options) {
   const int total = static_cast<int>(options.trees.size() * options.paths.size()) * options.frames * static_cast<int>(strategies.size() + 2);
   int done = 0;
   const auto benchStart = Clock::now();
-  std::map<std::string, double> groundChcPlusPlus;  // per tree count, for the scaling ratio
+  std::map<std::size_t, double> groundChcPlusPlus;  // p50 per tree count, for the scaling ratio
 
   for (int trees : options.trees) {
     const Scene scene = scaledScene(base, trees, base.vegetation->lod0_triangles);
@@ -302,8 +301,12 @@ int runBenchCulling(const BenchOptions& options) {
       // Summaries, ratios, the table and the plot panel of this (scene size, path).
       ordered_json& entry = json["runs"][size][pathName];
       entry["description"] = pathDescriptions().at(pathName);
-      const ordered_json oracle = summarise(records[kOracle]);
-      const double frustumMs = records.count("frustum") ? summarise(records["frustum"])["p50_ms"].get<double>() : 0.0;
+      std::vector<std::string> order = options.strategies;
+      order.push_back(kOracle);
+      std::map<std::string, ordered_json> summaries;
+      for (const std::string& name : order) summaries[name] = summarise(records[name]);
+      const double oracleMs = summaries[kOracle]["p50_ms"].get<double>();
+      const double frustumMs = summaries.count("frustum") ? summaries["frustum"]["p50_ms"].get<double>() : 0.0;
       markdown += fmt::format("## {} trees, {} ({})\n\n", size, pathName, pathDescriptions().at(pathName));
       markdown += "| strategy | p50 ms | p95 ms | / frustum | / oracle | triangles | draws | queries | multi | switches | wait ms |\n";
       markdown += "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
@@ -311,13 +314,11 @@ int runBenchCulling(const BenchOptions& options) {
       std::cout << fmt::format("  {:<14} {:>8} {:>8} {:>9} {:>8} {:>11} {:>7} {:>8} {:>6} {:>8} {:>8}\n", "strategy", "p50 ms", "p95 ms",
                                "/frustum", "/oracle", "triangles", "draws", "queries", "multi", "switches", "wait ms");
       PlotPanel panel{fmt::format("{} trees, {}", size, pathName), "frame", "ms (culling + geometry)", {}};
-      std::vector<std::string> order = options.strategies;
-      order.push_back(kOracle);
       for (const std::string& name : order) {
-        ordered_json j = summarise(records[name]);
+        ordered_json& j = summaries[name];
         const double ms = j["p50_ms"].get<double>();
         j["over_frustum"] = frustumMs > 0.0 ? ms / frustumMs : 0.0;
-        j["over_oracle"] = ms / std::max(1e-9, oracle["p50_ms"].get<double>());
+        j["over_oracle"] = ms / std::max(1e-9, oracleMs);
         entry["strategies"][name] = j;
         const std::string row = fmt::format(
             "{:.2f} | {:.2f} | {:.3f} | {:.3f} | {:.0f} | {:.0f} | {:.0f} | {:.0f} | {:.0f} | {:.2f}", ms, j["p95_ms"].get<double>(),
@@ -335,18 +336,18 @@ int runBenchCulling(const BenchOptions& options) {
       }
       markdown += "\n";
       panels.push_back(std::move(panel));
-      if (pathName == "ground" && records.count("chc++")) groundChcPlusPlus[size] = summarise(records["chc++"])["p50_ms"].get<double>();
+      if (pathName == "ground" && summaries.count("chc++")) groundChcPlusPlus[forest.trees().size()] = summaries["chc++"]["p50_ms"].get<double>();
     }
   }
 
   // Scaling: the chc++ ground-path frame of the largest scene over the smallest's (equal density).
   if (groundChcPlusPlus.size() >= 2) {
-    auto smallest = std::min_element(groundChcPlusPlus.begin(), groundChcPlusPlus.end(),
-                                     [](const auto& a, const auto& b) { return std::stoi(a.first) < std::stoi(b.first); });
-    auto largest = std::max_element(groundChcPlusPlus.begin(), groundChcPlusPlus.end(),
-                                    [](const auto& a, const auto& b) { return std::stoi(a.first) < std::stoi(b.first); });
+    const auto smallest = groundChcPlusPlus.begin();  // the map is ordered by tree count
+    const auto largest = std::prev(groundChcPlusPlus.end());
     const double ratio = largest->second / smallest->second;
-    json["scaling"] = {{"small_trees", smallest->first}, {"large_trees", largest->first}, {"chc++_ground_p50_ratio", ratio}};
+    json["scaling"] = {{"small_trees", std::to_string(smallest->first)},
+                       {"large_trees", std::to_string(largest->first)},
+                       {"chc++_ground_p50_ratio", ratio}};
     const std::string line = fmt::format("chc++ ground-path p50 frame, {} trees over {} trees (equal density): {:.3f}", largest->first,
                                          smallest->first, ratio);
     std::cout << "\n" << line << "\n";

@@ -18,7 +18,6 @@
 #include "forest/core/files.hpp"
 #include "forest/core/log.hpp"
 #include "forest/core/plot.hpp"
-#include "forest/core/resources.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/gl/context.hpp"
 #include "forest/gl/debug.hpp"
@@ -133,8 +132,7 @@ void writePlot(const std::filesystem::path& file, const std::vector<Scenario>& s
 }
 
 int runSpeedError(const SpeedErrorOptions& options) {
-  const std::string scenePath =
-      options.scene.empty() ? (resourceDirectory("data") / "scenes" / "forest.toml").string() : options.scene;
+  const std::string scenePath = sceneFileOr(options.scene);
   Scene scene = loadScene(scenePath);
   for (int size : options.sizes)
     if (size < 512 || size > 8192) throw InputError(fmt::format("--sizes {}: expected 512 to 8192 texels", size));

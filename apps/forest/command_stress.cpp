@@ -1,7 +1,7 @@
 // forest stress: polygon-rich dynamic scenes. For each tree count (terrain grown to keep the default
 // density) and LOD0 budget: a walk with a share of the trees and 20 props moved every frame (BVH
 // refit), a day cycle of the sun and wind; per frame times, triangles, queries and RSS; on sampled
-// frames the CHC geometry pass (depth and object IDs) is compared with frustum culling's. Writes
+// frames the culled (chc++) geometry pass (depth and object IDs) is compared with frustum culling's. Writes
 // stress.json and stress.png (scaling curves); exit 1 when culling was not exact.
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -22,7 +22,6 @@
 #include "forest/core/log.hpp"
 #include "forest/core/plot.hpp"
 #include "forest/core/random.hpp"
-#include "forest/core/resources.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/gl/context.hpp"
 #include "forest/gl/debug.hpp"
@@ -141,7 +140,7 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
     const render::FrameStats s = frame.render(path[static_cast<size_t>(i)], time, settings);
     const double ms = 1e3 * std::chrono::duration<double>(Clock::now() - frameStart).count();
     if (options.checkEvery > 0 && i % options.checkEvery == options.checkEvery - 1) {
-      // Exactness: CHC's geometry pass against frustum culling's on the same moved scene.
+      // Exactness: the culled geometry pass against frustum culling's on the same moved scene.
       const std::vector<std::uint32_t> ids = frame.readObjectIds();
       const std::vector<float> depth = frame.readDepth();
       render::FrameSettings frustum = settings;
@@ -193,8 +192,7 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
 }
 
 int runStress(const StressOptions& options) {
-  const std::string scenePath =
-      options.scene.empty() ? (resourceDirectory("data") / "scenes" / "forest.toml").string() : options.scene;
+  const std::string scenePath = sceneFileOr(options.scene);
   const Scene base = loadScene(scenePath);
   for (int n : options.trees)
     if (n < 1 || n > 1000000) throw InputError(fmt::format("--trees {}: expected 1 to 1000000", n));
@@ -273,7 +271,7 @@ Run addStressCommand(CLI::App& app) {
       "stress",
       "Polygon-rich dynamic scenes: for each tree count (terrain grown to keep the density) and LOD0 budget, a walk\n"
       "with a share of the trees and 20 props moved every frame (BVH refit), a day cycle of the sun and wind;\n"
-      "frame time, geometry pass, triangles, queries and RSS per run, and on sampled frames the CHC geometry pass\n"
+      "frame time, geometry pass, triangles, queries and RSS per run, and on sampled frames the culled geometry pass\n"
       "(depth and object IDs) against frustum culling's. Writes stress.json and stress.png; exit 1 if not exact.");
   options->gl.add(*command);
   command->add_option("--scene", options->scene, "Base scene (default: data/scenes/forest.toml)");

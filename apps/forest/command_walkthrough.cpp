@@ -126,8 +126,7 @@ void printSummary(const nlohmann::ordered_json& summary) {
 
 int runWalkthrough(const WalkthroughOptions& options) {
   // Everything that can be wrong with the input is checked before any output exists.
-  const std::string scenePath =
-      options.scene.empty() ? (resourceDirectory("data") / "scenes" / "forest.toml").string() : options.scene;
+  const std::string scenePath = sceneFileOr(options.scene);
   const std::string pathPath =
       options.path.empty() ? (resourceDirectory("data") / "paths" / "walk.toml").string() : options.path;
   Scene scene = loadScene(scenePath);

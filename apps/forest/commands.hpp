@@ -78,6 +78,9 @@ std::vector<Camera> walkPath(const Scene& scene, const terrain::Terrain& terrain
 // √(trees / base count), its sample spacing kept; LOD0 trees of `lod0` triangles.
 Scene scaledScene(const Scene& base, int trees, int lod0);
 
+// The scene file given, or the default forest (data/scenes/forest.toml, 5000 trees) when empty.
+std::string sceneFileOr(const std::string& given);
+
 // Resident memory of this process, MiB (/proc/self/statm).
 double residentMegabytes();
 

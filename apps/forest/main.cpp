@@ -11,6 +11,7 @@
 
 #include "commands.hpp"
 #include "forest/core/error.hpp"
+#include "forest/core/resources.hpp"
 
 namespace forest::app {
 
@@ -57,6 +58,10 @@ double percentile(std::vector<double> values, double p) {
   const size_t below = static_cast<size_t>(position);
   const size_t above = std::min(below + 1, values.size() - 1);
   return values[below] + (values[above] - values[below]) * (position - static_cast<double>(below));
+}
+
+std::string sceneFileOr(const std::string& given) {
+  return given.empty() ? (resourceDirectory("data") / "scenes" / "forest.toml").string() : given;
 }
 
 double residentMegabytes() {

@@ -25,7 +25,6 @@
 #include "forest/core/files.hpp"
 #include "forest/core/input_script.hpp"
 #include "forest/core/log.hpp"
-#include "forest/core/resources.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/gl/context.hpp"
 #include "forest/gl/debug.hpp"
@@ -88,6 +87,12 @@ struct SunAngles {
   }
 };
 
+// The name after `current` in `names`, wrapping round (the first for an unknown one).
+std::string nextOf(const std::vector<std::string>& names, const std::string& current) {
+  const auto it = std::find(names.begin(), names.end(), current);
+  return it == names.end() || it + 1 == names.end() ? names.front() : *(it + 1);
+}
+
 // What the keys and the mouse change. Movement keys are held; the others act when pressed.
 struct Controls {
   CameraPose pose;
@@ -102,13 +107,9 @@ struct Controls {
   void press(const std::string& key) {
     held.insert(key);
     if (key == "c") {
-      const std::vector<std::string> strategies = culling::cullingStrategyNames();
-      auto it = std::find(strategies.begin(), strategies.end(), frame.culling);
-      frame.culling = it == strategies.end() || it + 1 == strategies.end() ? strategies.front() : *(it + 1);
+      frame.culling = nextOf(culling::cullingStrategyNames(), frame.culling);
     } else if (key == "m") {
-      const std::vector<std::string> methods = shadows::shadowMethodNames();
-      auto it = std::find(methods.begin(), methods.end(), frame.method);
-      frame.method = it == methods.end() || it + 1 == methods.end() ? methods.front() : *(it + 1);
+      frame.method = nextOf(shadows::shadowMethodNames(), frame.method);
     } else if (key == "[") {
       frame.shadowSize = std::max(512, frame.shadowSize / 2);
     } else if (key == "]") {
@@ -207,10 +208,7 @@ Image8 readWindow(int width, int height) {
   glReadBuffer(GL_BACK);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, image.pixels.data());
-  for (int y = 0; y < height / 2; ++y)  // GL's first row is the bottom one
-    std::swap_ranges(image.pixels.begin() + static_cast<std::ptrdiff_t>(y) * width * 4,
-                     image.pixels.begin() + static_cast<std::ptrdiff_t>(y + 1) * width * 4,
-                     image.pixels.begin() + static_cast<std::ptrdiff_t>(height - 1 - y) * width * 4);
+  flipRows(image);  // GL's first row is the bottom one
   return image;
 }
 
@@ -221,8 +219,7 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
   if (options.gl.backend != "auto" && options.gl.backend != "window")
     throw InputError(fmt::format("--gl {} with --window: the window mode needs the window backend", options.gl.backend));
   if (!(options.fps > 0.0 && options.fps <= 1000.0)) throw InputError(fmt::format("--fps {}: expected (0, 1000]", options.fps));
-  const std::string scenePath =
-      options.scene.empty() ? (resourceDirectory("data") / "scenes" / "forest.toml").string() : options.scene;
+  const std::string scenePath = sceneFileOr(options.scene);
   Scene scene = loadScene(scenePath);
   std::optional<CameraPath> start;
   if (!options.path.empty()) start = CameraPath::load(options.path);

@@ -189,7 +189,6 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     const bool wasVisible = s.visible && s.lastVisited + 1 == frame_;
     s.lastVisited = frame_;
     if (t.visibleWithoutQuery(n)) {  // §3.6: the camera is in (or at) the box
-      s.visible = false;  // so that the pull-up reaches the ancestors opened this frame
       pullUpVisibility(n);
       s.invisibleFrames = 0;
       if (nodes[n].leaf()) t.markVisible(n);
@@ -214,7 +213,6 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
       s.nextQueryFrame = frame_ + requery;
       visibleQueue.push_back(n);
     } else {
-      s.visible = false;  // so that the pull-up reaches the ancestors opened this frame
       pullUpVisibility(n);
       t.markVisible(n);
     }

@@ -122,11 +122,11 @@ void OcclusionCuller::drawObjects(Traversal& t, std::span<const std::uint32_t> o
 }
 
 void OcclusionCuller::pullUpVisibility(std::int32_t n) {
+  // The node itself always (it may still carry last frame's flag); then its ancestors up to the
+  // first one already visible this frame (the ones opened this frame were reset to invisible).
   const std::vector<BvhNode>& nodes = stateOf_->nodes();
-  while (n >= 0 && !state_[n].visible) {
-    state_[n].visible = true;
-    n = nodes[n].parent;
-  }
+  state_[n].visible = true;
+  for (n = nodes[n].parent; n >= 0 && !state_[n].visible; n = nodes[n].parent) state_[n].visible = true;
 }
 
 CullingResult OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb> objectBoxes, const Camera& camera,
@@ -252,7 +252,6 @@ void OcclusionCuller::cullChc(Traversal& t) {
     NodeState& s = state_[n];
     if (t.visibleWithoutQuery(n)) {
       s.lastVisited = frame_;
-      s.visible = false;  // so that the pull-up reaches the ancestors opened this frame
       pullUpVisibility(n);
       if (nodes[n].leaf()) t.markVisible(n);
       traverseNode(n);

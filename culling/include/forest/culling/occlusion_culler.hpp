@@ -97,7 +97,7 @@ class OcclusionCuller {
   std::size_t issueQuery(std::span<const Aabb> boxes);
   void cullChc(Traversal& t);
   void drawObjects(Traversal& t, std::span<const std::uint32_t> objects);
-  void pullUpVisibility(std::int32_t node);  // marks the node and its ancestors visible
+  void pullUpVisibility(std::int32_t node);  // marks the node and its not yet visible ancestors visible
   void cullChcPlusPlus(Traversal& t);
   std::uint32_t waitResult(std::size_t slot, CullingStats& stats) const;
   void beginQueries();
