@@ -116,19 +116,18 @@ class Frame {
   const terrain::Terrain* terrain() const { return terrain_.get(); }
   const vegetation::Forest* forest() const { return forest_.get(); }
   // The last frame's shadow setup (tests compare against it).
-  const shadows::ShadowSetup& shadowSetup() const { return shadowSetup_; }
+  const shadows::ShadowSetup& shadowSetup() const;
   // The last frame's visible set, selected casters (object indices) and the camera whose far plane
   // is the visible set's z_f (what B was built from) — for debug views.
   const std::vector<std::uint32_t>& visibleObjects() const { return visibleObjects_; }
-  const std::vector<std::uint32_t>& casters() const { return casters_; }
-  const Camera& shadowCamera() const { return shadowCamera_; }
+  const std::vector<std::uint32_t>& casters() const;
+  const Camera& shadowCamera() const;
   // The scene's start camera for this image (camera.above_ground applied).
   Camera startCamera() const;
 
  private:
-  void ensureLightDepthRenderers();  // the TSM shadow pass renderers, built on first use
   void objectsMoved();
-  struct Passes;
+  struct Passes;  // the passes in order (src/*_pass.hpp)
   const Scene& scene_;
   int width_, height_;
   std::unique_ptr<terrain::Terrain> terrain_;
@@ -138,12 +137,8 @@ class Frame {
   culling::Bvh bvh_;
   culling::OcclusionCuller culler_;
   Aabb sceneBounds_;
-  shadows::ShadowSetup shadowSetup_;
-  std::vector<std::uint32_t> visibleObjects_, casters_;
-  Camera shadowCamera_;
-  double smoothedFarDepth_ = -1.0;
+  std::vector<std::uint32_t> visibleObjects_;
   bool haveVisibleSet_ = false;
-  bool haveShadowMap_ = false;
 };
 
 }  // namespace forest::render

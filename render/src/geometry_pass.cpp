@@ -1,0 +1,60 @@
+#include "geometry_pass.hpp"
+
+namespace forest::render {
+
+GBuffer::GBuffer(int width, int height)
+    : albedo(GL_RGBA8, width, height),
+      shadingNormal(GL_RGBA16F, width, height),
+      geometricNormal(GL_RGBA16F, width, height),
+      objectId(GL_R32UI, width, height),
+      depth(GL_DEPTH_COMPONENT32F, width, height) {
+  framebuffer.attach(GL_COLOR_ATTACHMENT0, albedo);
+  framebuffer.attach(GL_COLOR_ATTACHMENT1, shadingNormal);
+  framebuffer.attach(GL_COLOR_ATTACHMENT2, geometricNormal);
+  framebuffer.attach(GL_COLOR_ATTACHMENT3, objectId);
+  framebuffer.attach(GL_DEPTH_ATTACHMENT, depth);
+  const GLenum buffers[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2, GL_COLOR_ATTACHMENT3};
+  glNamedFramebufferDrawBuffers(framebuffer.id(), 4, buffers);
+  framebuffer.checkComplete("G-buffer");
+  for (const gl::Texture* t : {&albedo, &shadingNormal, &geometricNormal, &objectId, &depth}) {
+    glTextureParameteri(t->id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(t->id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  }
+}
+
+GeometryPass::GeometryPass(const SceneObjects& objects, const terrain::Terrain* terrain, const vegetation::Forest* forest,
+                           const std::vector<PropBox>& props, int width, int height)
+    : objects_(objects), width_(width), height_(height), gbuffer_(width, height) {
+  if (terrain) terrain_ = std::make_unique<TerrainRenderer>(*terrain, TerrainRenderer::Output::GBuffer, objects.terrainIdBase());
+  if (forest) trees_ = std::make_unique<TreeRenderer>(*forest, SurfaceOutput::GBuffer, objects.treeIdBase());
+  props_ = std::make_unique<PropRenderer>(props, SurfaceOutput::GBuffer, objects.propIdBase());
+}
+
+culling::CullingResult GeometryPass::run(const Camera& camera, const DrawView& eye, const terrain::TerrainLod* lod,
+                                         culling::CullingStrategy strategy, culling::OcclusionCuller& culler,
+                                         const culling::Bvh& bvh, const std::vector<std::uint32_t>* frozen) {
+  glBindFramebuffer(GL_FRAMEBUFFER, gbuffer_.framebuffer.id());
+  glViewport(0, 0, width_, height_);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_GREATER);  // reversed-Z
+  glDepthMask(GL_TRUE);
+  glEnable(GL_CULL_FACE);
+  glCullFace(GL_BACK);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  const float zero[4] = {0, 0, 0, 0};
+  const GLuint zeroId[4] = {0, 0, 0, 0};
+  for (int i = 0; i < 3; ++i) glClearBufferfv(GL_COLOR, i, zero);
+  glClearBufferuiv(GL_COLOR, 3, zeroId);
+  const float farDepth = 0.0f;
+  glClearBufferfv(GL_DEPTH, 0, &farDepth);
+  SceneDrawer drawer(objects_, terrain_.get(), trees_.get(), props_.get(), eye, lod);
+  if (!frozen) return culler.cull(bvh, objects_.boxes(), camera, strategy, drawer);
+  culling::CullingResult visible;
+  visible.visibleObjects = *frozen;
+  visible.stats.trianglesDrawn = drawer.draw(visible.visibleObjects);
+  visible.stats.objectsDrawn = static_cast<int>(visible.visibleObjects.size());
+  visible.farDepth = culling::farDepthOf(visible.visibleObjects, objects_.boxes(), camera);
+  return visible;
+}
+
+}  // namespace forest::render

@@ -1,0 +1,43 @@
+#pragma once
+// Pass 1 of the frame (DESIGN §1): the culling traversal draws the G-buffer — albedo, shading and
+// geometric normals, object ID, reversed-Z depth — and returns the visible set with its z_f.
+#include <memory>
+#include <vector>
+
+#include "forest/culling/bvh.hpp"
+#include "forest/culling/occlusion_culler.hpp"
+#include "forest/gl/objects.hpp"
+#include "forest/render/scene_objects.hpp"
+
+namespace forest::render {
+
+// The geometry pass's targets, read by the shadow term and the lighting.
+struct GBuffer {
+  GBuffer(int width, int height);
+  gl::Texture albedo, shadingNormal, geometricNormal, objectId, depth;
+  gl::Framebuffer framebuffer;
+};
+
+class GeometryPass {
+ public:
+  GeometryPass(const SceneObjects& objects, const terrain::Terrain* terrain, const vegetation::Forest* forest,
+               const std::vector<PropBox>& props, int width, int height);
+
+  // Clears the G-buffer and draws what the culler finds visible; with `frozen`, exactly those
+  // objects, without culling (FrameSettings::freezeCulling).
+  culling::CullingResult run(const Camera& camera, const DrawView& eye, const terrain::TerrainLod* lod,
+                             culling::CullingStrategy strategy, culling::OcclusionCuller& culler, const culling::Bvh& bvh,
+                             const std::vector<std::uint32_t>* frozen);
+  void propsMoved(const std::vector<PropBox>& props) { props_->update(props); }
+  const GBuffer& gbuffer() const { return gbuffer_; }
+
+ private:
+  const SceneObjects& objects_;
+  int width_, height_;
+  GBuffer gbuffer_;
+  std::unique_ptr<TerrainRenderer> terrain_;
+  std::unique_ptr<TreeRenderer> trees_;
+  std::unique_ptr<PropRenderer> props_;
+};
+
+}  // namespace forest::render

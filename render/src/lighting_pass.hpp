@@ -1,0 +1,34 @@
+#pragma once
+// Pass 5 of the frame (thesis §6.2, DESIGN §4): Phong lighting from the G-buffer with a weak
+// global ambient, the shadow term (with the blur's vertical half when the blur is on), fog and the
+// sky colour. Targets: the lit colour (RGBA8) and the term it used (RG16F).
+#include <glm/glm.hpp>
+
+#include "forest/core/scene.hpp"
+#include "forest/gl/objects.hpp"
+#include "forest/gl/shader.hpp"
+#include "forest/render/frame.hpp"
+#include "geometry_pass.hpp"
+
+namespace forest::render {
+
+class LightingPass {
+ public:
+  LightingPass(int width, int height);
+  // `term`: the shadow term, horizontally blurred when the blur is on.
+  void run(const GBuffer& gbuffer, const gl::Texture& term, const glm::mat3& rays, const FrameSettings& settings,
+           const Scene& scene, const glm::dvec3& l, bool sunUp);
+
+  const gl::Texture& color() const { return color_; }
+  const gl::Texture& usedTerm() const { return usedTerm_; }
+  const gl::Framebuffer& framebuffer() const { return framebuffer_; }
+
+ private:
+  int width_, height_;
+  gl::Texture usedTerm_, color_;
+  gl::Framebuffer framebuffer_;
+  gl::Program program_;
+  gl::VertexArray empty_;
+};
+
+}  // namespace forest::render

@@ -1,0 +1,123 @@
+#include "shadow_pass.hpp"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+
+#include "forest/shadows/casters.hpp"
+#include "forest/shadows/focus_body.hpp"
+
+namespace forest::render {
+namespace {
+
+using glm::dvec3;
+
+// Shadow clip z in [−1, 1] → [0, 1] for the engine's zero-to-one clip control (z' = (z + w) / 2).
+glm::dmat4 zeroToOneDepth() {
+  glm::dmat4 m(1.0);
+  m[2][2] = 0.5;
+  m[3][2] = 0.5;
+  return m;
+}
+
+// Winding is decided in the image plane only (x, y), so the test maps a small triangle that faces
+// the sun (counter-clockwise seen from it) through the light matrix at the focus body's centre.
+bool lightMirrorsWinding(const shadows::ShadowSetup& setup, const dvec3& l) {
+  const auto [v, u] = shadows::axesAcrossLight(l);  // u × v = −l: the normal points at the sun
+  const Aabb box = setup.body.bounds();
+  const dvec3 c = box.centre();
+  const double size = std::max(box.diagonal(), 1e-6) * 1e-3;
+  auto project = [&](const dvec3& p) {
+    const glm::dvec4 h = setup.worldToShadowClip * glm::dvec4(p, 1.0);
+    return glm::dvec2(h) / h.w;
+  };
+  const glm::dvec2 a = project(c), b = project(c + size * u), d = project(c + size * v);
+  return (b.x - a.x) * (d.y - a.y) - (b.y - a.y) * (d.x - a.x) < 0.0;
+}
+
+}  // namespace
+
+glm::dmat4 eyeRelativeToShadowClip(const shadows::ShadowSetup& setup, const dvec3& eye) {
+  return zeroToOneDepth() * setup.worldToShadowClip * glm::translate(glm::dmat4(1.0), eye);
+}
+
+ShadowPass::ShadowPass(const SceneObjects& objects, const terrain::Terrain* terrain, const vegetation::Forest* forest,
+                       const std::vector<PropBox>& props)
+    : objects_(objects), terrainSource_(terrain), forestSource_(forest), propsSource_(props) {
+  if (terrain) terrain_ = std::make_unique<TerrainRenderer>(*terrain, TerrainRenderer::Output::ObjectId, objects.terrainIdBase());
+  if (forest) trees_ = std::make_unique<TreeRenderer>(*forest, SurfaceOutput::ObjectId, objects.treeIdBase());
+  props_ = std::make_unique<PropRenderer>(props, SurfaceOutput::ObjectId, objects.propIdBase());
+}
+
+void ShadowPass::propsMoved(const std::vector<PropBox>& props) {
+  for (PropRenderer* r : {props_.get(), propsLightDepth_.get()})
+    if (r) r->update(props);
+}
+
+void ShadowPass::ensureLightDepthRenderers() {
+  if (propsLightDepth_) return;
+  if (terrainSource_)
+    terrainLightDepth_ = std::make_unique<TerrainRenderer>(*terrainSource_, TerrainRenderer::Output::LightDepth, objects_.terrainIdBase());
+  if (forestSource_) treesLightDepth_ = std::make_unique<TreeRenderer>(*forestSource_, SurfaceOutput::LightDepth, objects_.treeIdBase());
+  propsLightDepth_ = std::make_unique<PropRenderer>(propsSource_, SurfaceOutput::LightDepth, objects_.propIdBase());
+}
+
+void ShadowPass::ensureMap(int size) {
+  if (size == size_) return;
+  map_ = gl::Texture(GL_DEPTH_COMPONENT32F, size, size);
+  // Hardware 2×2 PCF: linear filtering of depth comparisons.
+  glTextureParameteri(map_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(map_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(map_.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+  glTextureParameteri(map_.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+  glTextureParameteri(map_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(map_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  framebuffer_ = gl::Framebuffer();
+  framebuffer_.attach(GL_DEPTH_ATTACHMENT, map_);
+  glNamedFramebufferDrawBuffer(framebuffer_.id(), GL_NONE);
+  framebuffer_.checkComplete("shadow map");
+  size_ = size;
+}
+
+long long ShadowPass::run(const ShadowPlan& plan, const DrawView& eye, const terrain::TerrainLod* lod,
+                          const FrameSettings& settings, const dvec3& l) {
+  ensureMap(settings.shadowMapSize);
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+  glViewport(0, 0, size_, size_);
+  const float nearLight = 1.0f;
+  glClearBufferfv(GL_DEPTH, 0, &nearLight);
+  const shadows::ShadowSetup& setup = plan.setup;
+  if (!plan.shadowed || setup.empty) return 0;
+  glDepthFunc(GL_LESS);
+  // Which faces are "front" for the light: a face turned toward the sun must wind
+  // counter-clockwise in the shadow map, unless the light matrix mirrors its image plane.
+  glFrontFace(lightMirrorsWinding(setup, l) ? GL_CW : GL_CCW);
+  glCullFace(settings.backside ? GL_FRONT : GL_BACK);
+  if (settings.slopeScaleBias > 0.0) {
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(static_cast<float>(settings.slopeScaleBias), 0.0f);
+  }
+  DrawView light = eye;  // the eye's origin and LOD, seen from the light
+  light.viewProjectionRelative = eyeRelativeToShadowClip(setup, eye.origin);
+  long long triangles = 0;
+  if (setup.linearDepth) {
+    // TSM §4: the shaders write the linear light depth (and add the slope bias themselves).
+    ensureLightDepthRenderers();
+    const glm::dvec4& row = setup.worldToLightDepth;
+    light.lightDepthRelative = glm::dvec4(dvec3(row), row.w + glm::dot(dvec3(row), eye.origin));
+    light.depthSlopeBias = settings.slopeScaleBias;
+    glDisable(GL_POLYGON_OFFSET_FILL);
+    SceneDrawer drawer(objects_, terrainLightDepth_.get(), treesLightDepth_.get(), propsLightDepth_.get(), light, lod);
+    triangles = drawer.draw(plan.casters);
+  } else {
+    SceneDrawer drawer(objects_, terrain_.get(), trees_.get(), props_.get(), light, lod);
+    triangles = drawer.draw(plan.casters);
+  }
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  glFrontFace(GL_CCW);
+  glCullFace(GL_BACK);
+  glDepthFunc(GL_GREATER);
+  return triangles;
+}
+
+}  // namespace forest::render

@@ -1,0 +1,48 @@
+#pragma once
+// Pass 3 of the frame (thesis §5.1, §9.3): the selected casters only, front faces culled
+// (backside rendering), into a float depth map, drawn at the eye's LOD; tsm writes the linear
+// light depth (TSM §4).
+#include <memory>
+#include <vector>
+
+#include "forest/gl/objects.hpp"
+#include "forest/render/frame.hpp"
+#include "forest/render/scene_objects.hpp"
+#include "shadow_setup_pass.hpp"
+
+namespace forest::render {
+
+// (p − eye) → shadow clip with z in [0, 1] (the engine's zero-to-one clip control), in double.
+glm::dmat4 eyeRelativeToShadowClip(const shadows::ShadowSetup& setup, const glm::dvec3& eye);
+
+class ShadowPass {
+ public:
+  ShadowPass(const SceneObjects& objects, const terrain::Terrain* terrain, const vegetation::Forest* forest,
+             const std::vector<PropBox>& props);
+
+  // Clears the map (to the far depth) and draws the plan's casters when it is shadowed. Returns
+  // the triangles drawn.
+  long long run(const ShadowPlan& plan, const DrawView& eye, const terrain::TerrainLod* lod, const FrameSettings& settings,
+                const glm::dvec3& l);
+  void propsMoved(const std::vector<PropBox>& props);
+
+  const gl::Texture& map() const { return map_; }
+  int size() const { return size_; }
+
+ private:
+  void ensureMap(int size);
+  void ensureLightDepthRenderers();  // the TSM renderers, built on first use
+
+  const SceneObjects& objects_;
+  const terrain::Terrain* terrainSource_;
+  const vegetation::Forest* forestSource_;
+  const std::vector<PropBox>& propsSource_;  // the scene's, moved by the caller
+  std::unique_ptr<TerrainRenderer> terrain_, terrainLightDepth_;
+  std::unique_ptr<TreeRenderer> trees_, treesLightDepth_;
+  std::unique_ptr<PropRenderer> props_, propsLightDepth_;
+  gl::Texture map_;
+  gl::Framebuffer framebuffer_;
+  int size_ = 0;
+};
+
+}  // namespace forest::render

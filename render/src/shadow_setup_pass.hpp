@@ -1,0 +1,38 @@
+#pragma once
+// Pass 2 of the frame (DESIGN §1, thesis §9.2): from the visible set to the light — the focus body
+// B of the visible receivers up to z_f, the shadow setup of the chosen method (n from the
+// smoothed z_f, §9.2.5), and the casters the shadow pass draws. CPU only.
+#include <cstdint>
+#include <vector>
+
+#include "forest/culling/occlusion_culler.hpp"
+#include "forest/render/frame.hpp"
+#include "forest/render/scene_objects.hpp"
+#include "forest/shadows/shadow_setup.hpp"
+
+namespace forest::render {
+
+// What the shadow pass and the shadow term work from. Kept from the last frame that had a sun and
+// receivers.
+struct ShadowPlan {
+  bool shadowed = false;               // sun up, something visible: the map is drawn
+  shadows::ShadowSetup setup;
+  std::vector<std::uint32_t> casters;  // object indices
+  Camera camera;                       // the eye camera with far = z_f (what B was built from)
+};
+
+class ShadowSetupPass {
+ public:
+  // Fills `plan` (and the shadow statistics) for this frame's visible set. `l`: the unit light
+  // direction; `sceneBounds`: S.
+  void run(const Camera& camera, const culling::CullingResult& visible, const FrameSettings& settings,
+           const glm::dvec3& l, bool sunBelowHorizon, const SceneObjects& objects, const Aabb& sceneBounds,
+           ShadowPlan& plan, FrameStats& stats);
+  // Forgets the smoothed z_f (a camera cut).
+  void reset() { smoothedFarDepth_ = -1.0; }
+
+ private:
+  double smoothedFarDepth_ = -1.0;
+};
+
+}  // namespace forest::render

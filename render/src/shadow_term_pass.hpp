@@ -1,0 +1,36 @@
+#pragma once
+// Pass 4 of the frame (thesis §9.4, DESIGN §4): the shadow term, full screen from the G-buffer —
+// hardware 2×2 PCF (sampler2DShadow), (2r+1)² of them for a wider filter, 0 where the geometric
+// N·L ≤ 0 before any blur. Target: RG16F (the term; the blur's inputs).
+#include <glm/glm.hpp>
+
+#include "forest/gl/objects.hpp"
+#include "forest/gl/shader.hpp"
+#include "forest/render/frame.hpp"
+#include "geometry_pass.hpp"
+
+namespace forest::render {
+
+// uRays of shaders/fullscreen.vert: A with A·(x_ndc, y_ndc, −1) = the camera-relative direction
+// through that pixel scaled to eye depth 1 (the position of a pixel at eye depth z is z times it).
+glm::mat3 pixelRays(const Camera& camera);
+
+class ShadowTermPass {
+ public:
+  ShadowTermPass(int width, int height);
+  // `eyeRelativeToShadow`: (p − eye) → shadow clip, depth in [0, 1]; `sunUp`: the map holds the
+  // sun's shadows (else the term is 0 everywhere).
+  void run(const GBuffer& gbuffer, const gl::Texture& shadowMap, const shadows::ShadowSetup& setup,
+           const glm::dmat4& eyeRelativeToShadow, const Camera& camera, const FrameSettings& settings,
+           const glm::dvec3& l, bool sunUp);
+  const gl::Texture& term() const { return term_; }
+
+ private:
+  int width_, height_;
+  gl::Texture term_;
+  gl::Framebuffer framebuffer_;
+  gl::Program program_;
+  gl::VertexArray empty_;
+};
+
+}  // namespace forest::render
