@@ -114,7 +114,8 @@ ordered_json recordJson(const shadows::StabilityCase& c, ShadowMethod method, co
 }
 
 struct Tally {
-  std::uint64_t records = 0, failed = 0, empty = 0, warped = 0;
+  // refused: inputs outside the shadow domain (shadows::outsideShadowDomain), per case and method.
+  std::uint64_t records = 0, failed = 0, empty = 0, warped = 0, refused = 0;
   double largestCoordinate = 0.0, largestShrink = 0.0, setupSeconds = 0.0;
   std::vector<std::string> firstFailures;
   // --aliasing: per method, per non-empty case: max perspective error (relative), its ratio to
@@ -148,38 +149,55 @@ int runStability(const StabilityOptions& options) {
       options.cases.empty() ? std::vector<shadows::StabilityCase>{} : shadows::loadStabilityCases(options.cases);
 
   Tally tally;
+  auto noteFailure = [&](std::string failure) {
+    ++tally.failed;
+    if (tally.firstFailures.size() < 10) tally.firstFailures.push_back(std::move(failure));
+  };
   auto evaluate = [&](const shadows::StabilityCase& c, std::ostream* out) {
     for (ShadowMethod method : methods) {
-      const auto start = std::chrono::steady_clock::now();
-      const shadows::ShadowSetup setup = shadows::computeShadowSetup(c.input, method);
-      tally.setupSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      const shadows::StabilityReport report = shadows::checkSetupInvariants(c.input, method, setup);
+      const std::string_view name = shadows::shadowMethodName(method);
       ++tally.records;
-      tally.empty += setup.empty ? 1 : 0;
-      tally.warped += setup.diagnostics.warp > 0.0 ? 1 : 0;
+      // One case never stops the suite: an input outside the domain is counted as refused, any
+      // other exception as a failure, and either is written as a record.
+      std::optional<shadows::ShadowSetup> setup;
+      try {
+        const auto start = std::chrono::steady_clock::now();
+        setup = shadows::computeShadowSetup(c.input, method);
+        tally.setupSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      } catch (const InputError& e) {
+        ++tally.refused;
+        if (out) *out << ordered_json{{"case", c.name}, {"method", name}, {"refused", e.what()}, {"input", caseJson(c)}}.dump() << '\n';
+        continue;
+      } catch (const std::exception& e) {
+        noteFailure(fmt::format("{} / {}: exception: {}", c.name, name, e.what()));
+        if (out)
+          *out << ordered_json{{"case", c.name}, {"method", name}, {"passed", false}, {"failures", {{"exception", e.what()}}}, {"input", caseJson(c)}}.dump() << '\n';
+        continue;
+      }
+      const shadows::StabilityReport report = shadows::checkSetupInvariants(c.input, method, *setup);
+      tally.empty += setup->empty ? 1 : 0;
+      tally.warped += setup->diagnostics.warp > 0.0 ? 1 : 0;
       tally.largestCoordinate = std::max(tally.largestCoordinate, report.maxMapCoordinate);
-      tally.largestShrink = std::max(tally.largestShrink, setup.diagnostics.floatShrink);
+      tally.largestShrink = std::max(tally.largestShrink, setup->diagnostics.floatShrink);
       if (!report.passed()) {
-        ++tally.failed;
-        if (tally.firstFailures.size() < 10) {
-          for (const shadows::InvariantCheck& check : report.checks)
-            if (!check.passed)
-              tally.firstFailures.push_back(fmt::format("{} / {}: {}: {}", c.name, shadows::shadowMethodName(method),
-                                                        check.name, check.detail));
-        }
+        for (const shadows::InvariantCheck& check : report.checks)
+          if (!check.passed) {
+            noteFailure(fmt::format("{} / {}: {}: {}", c.name, name, check.name, check.detail));
+            break;
+          }
       }
       std::optional<shadows::AliasingReport> aliasing;
-      if (options.aliasing && !setup.empty) {
+      if (options.aliasing && !setup->empty) {
         shadows::AliasingOptions aliasingOptions;
         aliasingOptions.width = options.screen[0];
         aliasingOptions.height = options.screen[1];
-        aliasing = shadows::analyseAliasing(c.input, setup, aliasingOptions);
+        aliasing = shadows::analyseAliasing(c.input, *setup, aliasingOptions);
         if (aliasing->perspective.samples > 0)
-          tally.aliasing[std::string(shadows::shadowMethodName(method))].push_back(
+          tally.aliasing[std::string(name)].push_back(
               {aliasing->perspective.max, aliasing->floor > 0.0 ? aliasing->perspective.max / aliasing->floor : 0.0,
                aliasing->surfacePixels.p95, aliasing->storageFactor});
       }
-      if (out) *out << recordJson(c, method, setup, report, aliasing ? &*aliasing : nullptr).dump() << '\n';
+      if (out) *out << recordJson(c, method, *setup, report, aliasing ? &*aliasing : nullptr).dump() << '\n';
     }
   };
 
@@ -209,6 +227,7 @@ int runStability(const StabilityOptions& options) {
     ordered_json summary;
     summary["records"] = tally.records;
     summary["failed"] = tally.failed;
+    summary["refused"] = tally.refused;
     summary["empty"] = tally.empty;
     summary["warped"] = tally.warped;
     summary["largest_map_coordinate"] = tally.largestCoordinate;
@@ -226,11 +245,11 @@ int runStability(const StabilityOptions& options) {
     std::cout << summary.dump(2) << '\n';
   } else {
     std::cout << fmt::format(
-        "{} setups ({} case(s) from file, {} random, seed {}, methods {}): {} failed\n"
+        "{} setups ({} case(s) from file, {} random, seed {}, methods {}): {} failed, {} refused (outside the shadow domain)\n"
         "  largest |map coordinate| of B on the float32 path {:.9f}, largest float32 shrink {:.2e}\n"
         "  {} empty focus bodies, {} warped (lispsm), {:.1f} µs per setup\n",
         tally.records, fileCases.size(), options.random, options.seed, fmt::join(options.methods, ","), tally.failed,
-        tally.largestCoordinate, tally.largestShrink, tally.empty, tally.warped, microseconds);
+        tally.refused, tally.largestCoordinate, tally.largestShrink, tally.empty, tally.warped, microseconds);
     if (!tally.aliasing.empty()) {
       std::cout << fmt::format("  aliasing, medians over cases ({}x{} screen):\n  {:<15} {:>6} {:>16} {:>12} {:>18} {:>14}\n",
                                options.screen[0], options.screen[1], "method", "cases", "persp. max (rel)", "max / floor",

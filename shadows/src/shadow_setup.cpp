@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
+#include <string>
 
 #include "forest/core/error.hpp"
 #include "forest/shadows/focus_body.hpp"
@@ -216,12 +218,19 @@ double angleDeg(const dvec3& a, const dvec3& b) {
   return glm::degrees(std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b)));
 }
 
+// Each shrink aims this far inside the bound: rounding the shrunk matrix to float32 moves the
+// result again by up to ~u·Σ|m·p|, which a fixed 4u step chases for thousands of steps when B is
+// thin (found with held-back seeds: 2e-8 per step); growing the margin 4× per attempt settles in a
+// few, and the first attempt is the tightest.
+double shrinkMargin(int attempt) { return 4.0 * kFloatUnitRoundoff * std::ldexp(1.0, 2 * attempt); }
+
 // The float32 matrices, with B kept inside [−1, 1]³ as the GPU computes it: a fit exact in
 // double can leave B's vertices outside by ~1e-3 after float32 rounding when B is 10⁴ times
 // longer than wide (camera-relative positions of 1e5 m keep only ~6 mm). Each shadow-clip axis
 // is shrunk about 0 until the worst case (float matrix, float positions, plus the bound on the
-// GPU's rounding) is inside: see mapCoordinateBound.
-ShadowSetup finish(ShadowSetup setup, const dvec3& eye) {
+// GPU's rounding) is inside: see mapCoordinateBound. Nothing when no shrink does it (w may reach
+// 0 on the float32 path): the caller falls back.
+std::optional<ShadowSetup> finish(ShadowSetup setup, const dvec3& eye) {
   const std::vector<dvec3> vertices = setup.body.vertices();
   if (setup.linearDepth) {
     // The same for the linear depth row (tsm): shrink it about 0 until B's depth is inside
@@ -237,8 +246,8 @@ ShadowSetup finish(ShadowSetup setup, const dvec3& eye) {
         worst = std::max(worst, std::abs(exact) + 4.0 * kFloatUnitRoundoff / (1.0 - 4.0 * kFloatUnitRoundoff) * magnitude);
       }
       if (worst <= 1.0) break;
-      if (attempt == 8) throw Error("shadow setup: cannot keep the focus body's depth inside the map in float32");
-      setup.worldToLightDepth *= (1.0 - 4.0 * kFloatUnitRoundoff) / worst;
+      if (attempt == 8) return std::nullopt;
+      setup.worldToLightDepth *= (1.0 - shrinkMargin(attempt)) / worst;
     }
   }
   for (int attempt = 0;; ++attempt) {
@@ -246,10 +255,10 @@ ShadowSetup finish(ShadowSetup setup, const dvec3& eye) {
     dvec3 worst(0.0);
     for (const dvec3& v : vertices) worst = glm::max(worst, mapCoordinateBound(setup.eyeRelativeToShadowClipF, v - eye));
     if (worst.x <= 1.0 && worst.y <= 1.0 && worst.z <= 1.0) break;
-    if (attempt == 8) throw Error("shadow setup: cannot keep the focus body inside the map in float32");
+    if (attempt == 8) return std::nullopt;
     for (int axis = 0; axis < 3; ++axis) {
       if (worst[axis] <= 1.0) continue;
-      const double shrink = (1.0 - 4.0 * kFloatUnitRoundoff) / worst[axis];
+      const double shrink = (1.0 - shrinkMargin(attempt)) / worst[axis];
       for (int c = 0; c < 4; ++c) setup.worldToShadowClip[c][axis] *= shrink;
       setup.diagnostics.floatShrink = std::max(setup.diagnostics.floatShrink, 1.0 - shrink);
     }
@@ -332,14 +341,17 @@ void validateShadowInput(const ShadowInput& in) {
   if (!(c.aspect > 0.0)) throw InputError("camera: expected aspect > 0");
   if (!in.scene.valid() || !std::isfinite(in.scene.diagonal())) throw InputError("scene box: expected finite min <= max");
   if (in.nFar && !(*in.nFar > c.near)) throw InputError("n_far: expected a distance greater than near");
+  if (const std::optional<std::string> outside = outsideShadowDomain(in)) throw InputError(*outside);
   if (in.mapSize < 16 || in.mapSize > kMaxMapSize)
     throw InputError(fmt::format("map size {}: expected 16 to {} texels", in.mapSize, kMaxMapSize));
   if (in.borderTexels < 0 || 4 * in.borderTexels >= in.mapSize)
     throw InputError(fmt::format("border {} texels: expected 0 to a quarter of the map size", in.borderTexels));
 }
 
-ShadowSetup computeShadowSetup(const ShadowInput& in, ShadowMethod method) {
-  validateShadowInput(in);
+namespace {
+
+// One method's setup; nothing when float32 cannot keep B inside its map (see finish).
+std::optional<ShadowSetup> computeMethodSetup(const ShadowInput& in, ShadowMethod method) {
   const Camera& camera = in.camera;
   const dvec3 l = glm::normalize(in.sunDirection);
   const dvec3 toLight = -l;
@@ -354,6 +366,15 @@ ShadowSetup computeShadowSetup(const ShadowInput& in, ShadowMethod method) {
   const std::vector<dvec3> bodyVertices = setup.body.vertices();
   const dvec3 bodyVector = computeBodyVector(bodyVertices, camera);
   setup.diagnostics.gammaDeg = angleDeg(bodyVector, l);
+  // V ∩ S (∩ receivers): what is seen. B contains it in exact arithmetic, but B and this body are
+  // clipped separately, with tolerances relative to each body's size: a B 10⁵ times taller than
+  // wide can lose 1e-3 of its width to them. The maps are fitted to both, so every visible point
+  // lands inside the map whatever the tolerances did (found with held-back seeds).
+  ConvexBody visible = viewFrustumBody(camera);
+  visible.clip(in.scene);
+  if (in.receivers) visible.clip(*in.receivers);
+  std::vector<dvec3> fitVertices = bodyVertices;
+  for (const dvec3& v : visible.vertices()) fitVertices.push_back(v);
 
   if (method == ShadowMethod::UniformStable) {
     // World-fixed in-plane axes (the world axis least parallel to the light), extent from V's
@@ -385,15 +406,12 @@ ShadowSetup computeShadowSetup(const ShadowInput& in, ShadowMethod method) {
   // points "up" the map), rooted at the eye.
   const dmat4 lightFrame = computeLightFrame(toLight, bodyVector, camera, camera.position);
   if (method == ShadowMethod::Uniform) {
-    setup.worldToShadowClip = fitUniform(lightFrame, bodyVertices, clipBorder(in));
+    setup.worldToShadowClip = fitUniform(lightFrame, fitVertices, clipBorder(in));
     return finish(setup, camera.position);
   }
 
-  ConvexBody visible = viewFrustumBody(camera);
-  visible.clip(in.scene);
-  if (in.receivers) visible.clip(*in.receivers);
   if (method == ShadowMethod::Tsm || method == ShadowMethod::TsmIterative)
-    return finish(computeTsm(in, method == ShadowMethod::TsmIterative, lightFrame, bodyVertices, visible.empty() ? setup.body : visible, setup), camera.position);
+    return finish(computeTsm(in, method == ShadowMethod::TsmIterative, lightFrame, fitVertices, visible.empty() ? setup.body : visible, setup), camera.position);
 
   // §9.2.4: B in light space; the warp runs along −z from B_znear to B_zfar.
   const Aabb bLs = boundsIn(lightFrame, bodyVertices);
@@ -428,8 +446,40 @@ ShadowSetup computeShadowSetup(const ShadowInput& in, ShadowMethod method) {
   else if (u == 0.0) diag.fallback = "n at cap: uniform";
 
   const dmat4 toMap = computeWarp(u, eLs, bLs.max.z) * lightFrame;
-  setup.worldToShadowClip = fitToUnitCube(boundsIn(toMap, bodyVertices), clipBorder(in)) * toMap;
+  setup.worldToShadowClip = fitToUnitCube(boundsIn(toMap, fitVertices), clipBorder(in)) * toMap;
   return finish(setup, camera.position);
+}
+
+}  // namespace
+
+std::optional<std::string> outsideShadowDomain(const ShadowInput& in) {
+  const Camera& c = in.camera;
+  const double distance = glm::length(c.position);
+  if (!(c.far - c.near >= kMinViewDepthShare * distance))
+    return fmt::format("camera: a view {:.3g} m deep (far - near) at {:.3g} m from the world origin is outside the "
+                       "float32 domain: it must be at least 2^-23 = {:.3g} of that distance deep ({:.3g} m)",
+                       c.far - c.near, distance, kMinViewDepthShare, kMinViewDepthShare * distance);
+  return std::nullopt;
+}
+
+ShadowSetup computeShadowSetup(const ShadowInput& in, ShadowMethod method) {
+  validateShadowInput(in);
+  if (std::optional<ShadowSetup> setup = computeMethodSetup(in, method)) return *setup;
+  // Float32 cannot keep B inside this method's map (w reaches 0 on the GPU's path): the focused
+  // uniform map, whose w is 1; failing that, no shadows this time. Never an exception out of a
+  // frame.
+  if (method != ShadowMethod::Uniform) {
+    if (std::optional<ShadowSetup> setup = computeMethodSetup(in, ShadowMethod::Uniform)) {
+      setup->diagnostics.fallback = fmt::format("{} cannot keep B inside its map in float32: uniform", shadowMethodName(method));
+      return *setup;
+    }
+  }
+  ShadowSetup none;
+  none.body = computeFocusBody(in.camera, glm::normalize(in.sunDirection), in.scene, in.receivers);
+  none.diagnostics.fallback = "no map keeps B inside it in float32: no shadows";
+  none.eyeRelativeToShadowClipF = glm::mat4(none.worldToShadowClip * glm::translate(dmat4(1.0), in.camera.position));
+  none.worldToShadowClipF = glm::mat4(none.worldToShadowClip);
+  return none;
 }
 
 }  // namespace forest::shadows

@@ -94,8 +94,23 @@ struct ShadowSetup {
 // the linear light depth for tsm). Double precision.
 glm::dvec3 shadowMapCoordinates(const ShadowSetup& setup, const glm::dvec3& world);
 
-// Validates the input (throws InputError: zero or non-finite sun, near ≥ far, ...).
+// The domain of the shadow math (DESIGN §6, hard cases; docs/scene-format.md). The math itself
+// runs in double and the GPU gets camera-relative positions, but scene data lives in float32
+// world coordinates in places (tree instances, prop boxes, terrain samples), where a position at
+// distance r from the origin is off by up to 2⁻²⁴·r. A view less deep than two such errors,
+// far − near < 2⁻²³·r, cannot tell its near plane from its far plane there (a few millimetres at
+// 1000 km): such views are refused as input errors. Inside the domain every method keeps the
+// invariants, or falls back (computeShadowSetup).
+constexpr double kMinViewDepthShare = 0x1p-23;
+// Why the input is outside that domain (a one-line message with the limit), or nothing.
+std::optional<std::string> outsideShadowDomain(const ShadowInput& input);
+
+// Validates the input (throws InputError: zero or non-finite sun, near ≥ far, outside the domain
+// above, ...).
 void validateShadowInput(const ShadowInput& input);
+// Never throws for a valid input: a method whose map cannot keep B inside it in float32 falls
+// back to the focused uniform map, and failing that to no shadows (empty), with the reason in
+// diagnostics.fallback.
 ShadowSetup computeShadowSetup(const ShadowInput& input, ShadowMethod method);
 
 // Upper bound on |x|, |y|, |z| of the shadow-clip coordinates the GPU computes for a
