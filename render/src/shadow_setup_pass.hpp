@@ -28,11 +28,15 @@ class ShadowSetupPass {
   void run(const Camera& camera, const culling::CullingResult& visible, const FrameSettings& settings,
            const glm::dvec3& l, bool sunBelowHorizon, const SceneObjects& objects, const Aabb& sceneBounds,
            ShadowPlan& plan, FrameStats& stats);
-  // Forgets the smoothed z_f (a camera cut).
-  void reset() { smoothedFarDepth_ = -1.0; }
+  // Forgets the smoothed z_f and the stable map's radius (a camera cut).
+  void reset() {
+    smoothedFarDepth_ = -1.0;
+    stableRadius_ = 0.0;
+  }
 
  private:
   double smoothedFarDepth_ = -1.0;
+  double stableRadius_ = 0.0;  // uniform-stable: the last map radius (ShadowInput::previousStableRadius)
 };
 
 }  // namespace forest::render

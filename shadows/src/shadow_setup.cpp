@@ -323,6 +323,12 @@ dvec3 shadowMapCoordinates(const ShadowSetup& setup, const dvec3& world) {
   return dvec3(h.x / h.w, h.y / h.w, depth);
 }
 
+double stableMapRadius(double sphereRadius, std::optional<double> previous) {
+  if (!(sphereRadius > 0.0) || !std::isfinite(sphereRadius)) return sphereRadius;
+  if (previous && *previous >= sphereRadius && *previous <= kStableRadiusHysteresis * sphereRadius) return *previous;
+  return std::exp2(std::ceil(std::log2(sphereRadius) / kStableRadiusStep) * kStableRadiusStep);
+}
+
 double lispsmNearDistance(double d, double z0, double z1) {
   const double ratio = z1 / z0;
   if (!(ratio > 1.0) || !std::isfinite(ratio)) return kInfinity;
@@ -378,7 +384,8 @@ std::optional<ShadowSetup> computeMethodSetup(const ShadowInput& in, ShadowMetho
 
   if (method == ShadowMethod::UniformStable) {
     // World-fixed in-plane axes (the world axis least parallel to the light), extent from V's
-    // bounding sphere (independent of the camera's rotation), origin snapped to texels.
+    // bounding sphere (independent of the camera's rotation), its radius quantised to steps with
+    // hysteresis (stableMapRadius), origin snapped to texels.
     const dvec3 axis = std::abs(l.z) < 0.9 ? dvec3(0, 0, 1) : dvec3(1, 0, 0);
     const dmat4 frame = computeLightFrame(toLight, axis, camera, dvec3(0.0));
     const ConvexBody frustum = viewFrustumBody(camera);
@@ -386,8 +393,10 @@ std::optional<ShadowSetup> computeMethodSetup(const ShadowInput& in, ShadowMetho
     dvec3 centre(0.0);
     for (const dvec3& p : corners) centre += p;
     centre /= static_cast<double>(corners.size());
-    double radius = 0.0;
-    for (const dvec3& p : corners) radius = std::max(radius, glm::distance(p, centre));
+    double sphere = 0.0;
+    for (const dvec3& p : corners) sphere = std::max(sphere, glm::distance(p, centre));
+    const double radius = stableMapRadius(sphere, in.previousStableRadius);
+    setup.diagnostics.stableRadius = radius;
     const dmat4 toMap = computeWarp(0.0, dvec3(0.0), 0.0) * frame;
     const dvec3 centreMap = transformPoint(toMap, centre);
     // mapSize texels of equal size cover the sphere's square plus one texel of snapping slack
@@ -420,7 +429,7 @@ std::optional<ShadowSetup> computeMethodSetup(const ShadowInput& in, ShadowMetho
 
   // §9.2.5: n from eq. 8.13, on B or on the body of the virtual frustum (far = n_far).
   Aabb nBox = bLs;
-  if (in.nFar && *in.nFar < camera.far) {
+  if (in.nFar && *in.nFar != camera.far) {
     Camera virtualCamera = camera;
     virtualCamera.far = *in.nFar;
     const ConvexBody virtualBody = computeFocusBody(virtualCamera, l, in.scene, in.receivers);

@@ -40,7 +40,12 @@ struct ShadowInput {
   glm::dvec3 sunDirection{0.0, -1.0, 0.0};  // the way light travels; need not be unit
   Aabb scene;                               // S
   std::optional<Aabb> receivers;            // bounds of the visible receivers (tighter B)
-  std::optional<double> nFar;               // (smoothed) far distance of the visible set, for n only (§9.2.5)
+  // (smoothed) far distance of the visible set, for n only (§9.2.5): n is computed on the body of
+  // the camera with this far instead (beyond camera.far when z_f has just dropped).
+  std::optional<double> nFar;
+  // uniform-stable: the map radius the previous frame used (diagnostics.stableRadius), kept while
+  // it still fits the view (stableMapRadius).
+  std::optional<double> previousStableRadius;
   int mapSize = 2048;                       // texels per side
   int borderTexels = 2;                     // kept free around B for the PCF and blur footprint
   // tsm: the focus region is the first focusShare of the visible depth range (TSM §6.2 and §6.4:
@@ -67,6 +72,7 @@ struct ShadowDiagnostics {
   double d = 0.0;          // light-space depth extent of B along the warp axis
   size_t bodyVertices = 0;
   std::string fallback;    // "" or why the method fell back ("empty focus body", "n at cap", ...)
+  double stableRadius = 0.0;  // uniform-stable: the radius (m) the map covers (stableMapRadius)
   double floatShrink = 0.0;  // share of the map given up to keep B inside it in float32 (usually 0)
   // tsm (§6): λ (top to base line), δ' (focus point below the top line), both in the uniform
   // map's [−1, 1] units; η actually used; ξ the focus line; the focus region's share of the map.
@@ -117,6 +123,17 @@ ShadowSetup computeShadowSetup(const ShadowInput& input, ShadowMethod method);
 // camera-relative position (rounded to float32) with the float32 matrix, whatever the order of
 // its float operations: the exact result plus the rounding bound. +∞ when w may be ≤ 0.
 glm::dvec3 mapCoordinateBound(const glm::mat4& eyeRelativeToShadowClip, const glm::dvec3& eyeRelativePosition);
+
+// uniform-stable: the texel size is 2·R / (size − 1 − 2·border), so R must not follow the view's
+// bounding sphere (radius r) continuously, or every change of the view's far distance (the
+// visible set's z_f, every frame) moves every shadow by a fraction of a texel. R takes the values
+// 2^(k/4) m (steps of kStableRadiusStep octaves: at most 19% more than r), and keeps the previous
+// R while r ≤ R ≤ kStableRadiusHysteresis · r: it grows at once when the view outgrows it, and
+// shrinks only when the view has shrunk to 1/√2 of it. Between steps a world point keeps its
+// fractional texel position; camera moves shift the map by whole texels only.
+constexpr double kStableRadiusStep = 0.25;                // octaves per step
+constexpr double kStableRadiusHysteresis = 1.4142135623730951;  // √2: two steps
+double stableMapRadius(double sphereRadius, std::optional<double> previous);
 
 // Eq. 8.13 with the misprint fixed (DESIGN §4): n = d / (√(z1/z0) − 1); z0, z1 negative eye-space
 // depths, |z1| > |z0|. Returns +∞ when z1/z0 ≤ 1.
