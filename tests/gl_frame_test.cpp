@@ -337,6 +337,96 @@ TEST_F(FrameGl, HardCasesThroughTheFullFrame) {
   }
 }
 
+// DESIGN §4: everything the GPU gets is camera-relative, so a scene 1e5 m from the origin renders
+// like the same scene at the origin. Small boxes close to the eye show it: at 1e5 m a float32
+// coordinate is a multiple of 7.8 mm, several pixels here (1.1 mm per pixel at 0.3 m).
+TEST_F(FrameGl, PropsFarFromTheOriginRenderLikePropsAtTheOrigin) {
+  const dvec3 offset(1e5 + 0.37, 0.0, -1e5 - 0.61);
+  Image8 images[2];
+  std::vector<std::uint32_t> ids[2];
+  for (int k = 0; k < 2; ++k) {
+    const dvec3 o = k == 0 ? dvec3(0.0) : offset;
+    Scene scene;
+    scene.sun.direction = glm::normalize(dvec3(0.3, -1.0, 0.2));
+    scene.props.push_back({o + dvec3(-3, -0.1, -3), o + dvec3(3, 0, 1), dvec3(0.6)});  // ground
+    for (int i = 0; i < 5; ++i) {
+      const dvec3 at = o + dvec3(-0.12 + 0.061 * i, 0.02 + 0.013 * i, -0.31 - 0.043 * i);
+      scene.props.push_back({at, at + dvec3(0.043, 0.051, 0.037), dvec3(0.9, 0.5, 0.2)});
+    }
+    render::Frame frame(scene, kWidth, kHeight);
+    Camera camera = cameraAt(o + dvec3(0.013, 0.12, 0.007), 0.0, -15.0, 20.0);
+    camera.near = 0.02;
+    render::FrameSettings settings;
+    settings.shadowMapSize = 1024;
+    frame.render(camera, 0.0, settings);
+    images[k] = frame.readColor();
+    ids[k] = frame.readObjectIds();
+  }
+  // Pixels away from the reference's edges (no other object within 1 pixel).
+  int compared = 0, equal = 0, boxes = 0;
+  for (int y = 1; y + 1 < kHeight; ++y)
+    for (int x = 1; x + 1 < kWidth; ++x) {
+      const size_t i = static_cast<size_t>(y) * kWidth + x;  // ids: bottom row first
+      bool edge = false;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) edge = edge || ids[0][i + static_cast<size_t>(dy * kWidth + dx)] != ids[0][i];
+      if (edge) continue;
+      ++compared;
+      boxes += ids[0][i] > 1 ? 1 : 0;
+      const int row = kHeight - 1 - y;  // readColor: top row first
+      bool same = true;
+      for (int c = 0; c < 4; ++c) same = same && images[0].at(x, row, c) == images[1].at(x, row, c);
+      equal += same ? 1 : 0;
+    }
+  std::printf("[far props] %d of %d pixels away from edges equal (%d on the small boxes)\n", equal, compared, boxes);
+  EXPECT_GT(boxes, 2000);  // the small boxes fill a good part of the view
+  EXPECT_GE(equal, compared - compared / 1000) << compared - equal << " pixels differ";
+}
+
+// n is smoothed over time in both directions (§9.2.5; shadows::kNearDistanceSmoothing): when the
+// visible set's z_f jumps up or down, n moves 20% of the way to eq. 8.13's value per frame —
+// never the whole way at once, as before when z_f dropped — and monotonically.
+TEST_F(FrameGl, NearDistanceMovesAFifthOfTheWayPerFrameWhenZfJumpsEitherWay) {
+  Scene scene;
+  scene.sun.direction = dvec3(0.0, -1.0, 0.0);
+  scene.props.push_back({dvec3(-20, -1, -40), dvec3(20, 0, 5), dvec3(0.6)});       // ground to 40 m
+  scene.props.push_back({dvec3(-10, 0, -151), dvec3(10, 12, -150), dvec3(0.8)});   // a wall at 150 m
+  render::Frame frame(scene, kWidth, kHeight);
+  const Camera camera = cameraAt({0, 2, 0}, 0.0, 0.0, 400.0);
+  render::FrameSettings settings;
+  settings.culling = culling::CullingStrategy::Frustum;
+  settings.method = shadows::ShadowMethod::Lispsm;
+  std::vector<render::FrameStats> frames;
+  auto run = [&](int count) {
+    for (int i = 0; i < count; ++i) frames.push_back(frame.render(camera, 0.0, settings));
+  };
+  run(25);                                    // steady with the wall in view
+  const Aabb wall{scene.props[1].min, scene.props[1].max};
+  scene.props[1] = {dvec3(-10, 0, 100), dvec3(10, 12, 101), dvec3(0.8)};  // behind the camera: z_f drops
+  frame.propsMoved();
+  run(25);
+  scene.props[1] = {wall.min, wall.max, dvec3(0.8)};  // back: z_f jumps up
+  frame.propsMoved();
+  run(25);
+  ASSERT_GT(frames[24].farDepth, 2.5 * frames[25].farDepth);  // the jumps are real
+  ASSERT_GT(frames[50].farDepth, 2.5 * frames[49].farDepth);
+  for (size_t k = 1; k < frames.size(); ++k) {
+    const double previous = frames[k - 1].shadow.n, expected = previous + 0.2 * (frames[k].shadow.nOptimal - previous);
+    EXPECT_NEAR(frames[k].shadow.n, expected, 1e-9 * expected) << "frame " << k;
+  }
+  for (size_t jump : {size_t{25}, size_t{50}}) {
+    const double before = frames[jump - 1].shadow.n, target = frames[jump].shadow.nOptimal;
+    ASSERT_GT(std::abs(target - before), 0.1 * before) << "n changes with z_f";
+    const double firstStep = (frames[jump].shadow.n - before) / (target - before);
+    std::printf("[n smoothing] jump at frame %zu: z_f %.1f -> %.1f, n %.3f -> eq. 8.13 %.3f, first step %.3f of the way\n", jump,
+                frames[jump - 1].farDepth, frames[jump].farDepth, before, target, firstStep);
+    EXPECT_NEAR(firstStep, 0.2, 1e-9) << "jump at frame " << jump;
+    for (size_t k = jump; k < jump + 24; ++k)  // monotone towards the new value
+      EXPECT_GE((frames[k + 1].shadow.n - frames[k].shadow.n) * (target - before), 0.0) << "frame " << k;
+    EXPECT_LT(std::abs(frames[jump + 24].shadow.n - target), 0.01 * std::abs(target - before));  // 0.8²⁵ < 0.4%
+  }
+}
+
 // Eye depth of pixel i from the reversed-Z depth buffer.
 double eyeDepthAt(const Camera& c, float depth) { return c.near * c.far / (c.near + depth * (c.far - c.near)); }
 

@@ -213,7 +213,7 @@ int runRender(const RenderOptions& options) {
                  {"fallback", stats.shadow.fallback},
                  {"sun_below_horizon", stats.sunBelowHorizon}};
   j["z_f"] = stats.farDepth;
-  j["z_f_smoothed"] = stats.smoothedFarDepth;
+  j["n_optimal"] = stats.shadow.nOptimal;
   const std::string jsonPath =
       options.json.empty() ? std::filesystem::path(options.out).replace_extension(".json").string() : options.json;
   writeFileAtomic(jsonPath, j.dump(2) + "\n");

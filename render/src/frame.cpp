@@ -114,7 +114,9 @@ void Frame::propsMoved() {
 
 void Frame::objectsMoved() {
   objects_->updateBoxes(forest_.get(), scene_.props);
-  bvh_.refit(objects_->boxes());
+  // A rebuild renumbers the BVH's nodes: the culler's per-node history would belong to other
+  // nodes, so it starts afresh (a refit keeps the nodes and their history).
+  if (bvh_.refit(objects_->boxes())) culler_.reset();
   sceneBounds_ = Aabb();
   for (const Aabb& b : objects_->boxes()) sceneBounds_.extend(b);
 }

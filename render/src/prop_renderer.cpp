@@ -51,11 +51,14 @@ std::array<unsigned, 36> unitCubeIndices() {
   return idx;
 }
 
-std::vector<PropInstance> propInstances(const std::vector<PropBox>& props, std::uint32_t objectIdBase) {
+// Boxes relative to the view's origin, subtracted in double (DESIGN §4: camera-relative, so a
+// prop 1e5 m from the world origin keeps its millimetres).
+std::vector<PropInstance> propInstances(const std::vector<PropBox>& props, std::uint32_t objectIdBase, const glm::dvec3& origin) {
   std::vector<PropInstance> instances;
   for (const PropBox& p : props) {
-    instances.push_back({{float(p.min.x), float(p.min.y), float(p.min.z), 1.f},
-                         {float(p.max.x), float(p.max.y), float(p.max.z), 1.f},
+    const glm::vec3 min(p.min - origin), max(p.max - origin);
+    instances.push_back({{min.x, min.y, min.z, 1.f},
+                         {max.x, max.y, max.z, 1.f},
                          {float(p.albedo.x), float(p.albedo.y), float(p.albedo.z), 1.f},
                          objectIdBase + static_cast<std::uint32_t>(instances.size()),
                          {0, 0, 0}});
@@ -68,23 +71,28 @@ std::vector<PropInstance> propInstances(const std::vector<PropBox>& props, std::
 void PropRenderer::update(const std::vector<PropBox>& props) {
   if (static_cast<int>(props.size()) != instanceCount_)
     throw Error("PropRenderer::update: " + std::to_string(props.size()) + " props, built for " + std::to_string(instanceCount_));
-  if (props.empty()) return;
-  const std::vector<PropInstance> instances = propInstances(props, objectIdBase_);
+  props_ = props;
+  uploaded_ = false;
+}
+
+void PropRenderer::uploadRelativeTo(const glm::dvec3& origin) const {
+  if (props_.empty() || (uploaded_ && origin == uploadedOrigin_)) return;
+  const std::vector<PropInstance> instances = propInstances(props_, objectIdBase_, origin);
   instances_.upload(0, instances.size() * sizeof(PropInstance), instances.data());
+  uploaded_ = true;
+  uploadedOrigin_ = origin;
 }
 
 PropRenderer::PropRenderer(const std::vector<PropBox>& props, Output output, std::uint32_t objectIdBase)
     : program_(loadSurfaceProgram("props.vert", "props.frag", output)),
+      props_(props),
       objectIdBase_(objectIdBase) {
   const auto vertices = unitCubeVertices();
   const auto indices = unitCubeIndices();
   vertices_ = gl::Buffer(sizeof(vertices), vertices.data(), 0);
   indices_ = gl::Buffer(sizeof(indices), indices.data(), 0);
-  const std::vector<PropInstance> instances = propInstances(props, objectIdBase);
-  instanceCount_ = static_cast<int>(instances.size());
-  if (!instances.empty()) {
-    instances_ = gl::Buffer(instances.size() * sizeof(PropInstance), instances.data());
-  }
+  instanceCount_ = static_cast<int>(props.size());
+  if (!props.empty()) instances_ = gl::Buffer(props.size() * sizeof(PropInstance), nullptr);  // filled per view origin
 
   const GLuint vao = vertexArray_.id();
   glVertexArrayVertexBuffer(vao, 0, vertices_.id(), 0, sizeof(CubeVertex));
@@ -110,11 +118,11 @@ PropRenderer::PropRenderer(const std::vector<PropBox>& props, Output output, std
 }
 
 void PropRenderer::setUniforms(const DrawView& view) const {
+  uploadRelativeTo(view.origin);
   // Composed in double, converted once (DESIGN §4: matrix chains in double).
   program_.set("uViewProjectionRelative", glm::mat4(view.viewProjectionRelative));
   program_.set("uLightDepthRow", glm::vec4(view.lightDepthRelative));
   program_.set("uDepthSlopeBias", static_cast<float>(view.depthSlopeBias));
-  program_.set("uOrigin", glm::vec3(view.origin));
   program_.set("uToSun", glm::vec3(-view.sun.direction));
   program_.set("uSunColor", glm::vec3(view.sun.color));
   program_.set("uAmbient", static_cast<float>(view.sun.ambient));

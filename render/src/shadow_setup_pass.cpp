@@ -13,10 +13,6 @@ namespace {
 using glm::dvec2;
 using glm::dvec3;
 
-// z_f for n moves this share of the way to the visible set's new z_f each frame, up or down
-// (§9.2.5: the visible set's z_f jumps when objects appear or vanish; n must not).
-constexpr double kFarDepthSmoothing = 0.2;
-
 // What the shadow term's filter reads (shaders/shadow_term.frag): a hardware 2×2 PCF lookup at a
 // point reads the texels whose centres lie less than one texel from it along each map axis, and
 // (2r+1)² lookups one texel apart reach r + 1 texels along each axis.
@@ -90,9 +86,6 @@ std::vector<std::uint32_t> castersOfReceivers(const std::vector<Aabb>& receivers
 void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& visible, const FrameSettings& settings,
                           const dvec3& l, bool sunBelowHorizon, const SceneObjects& objects, const Aabb& sceneBounds,
                           ShadowPlan& plan, FrameStats& stats) {
-  smoothedFarDepth_ = smoothedFarDepth_ < 0.0 ? visible.farDepth
-                                               : smoothedFarDepth_ + kFarDepthSmoothing * (visible.farDepth - smoothedFarDepth_);
-  stats.smoothedFarDepth = smoothedFarDepth_;
   std::vector<Aabb> receivers;
   Aabb receiverBounds;
   for (std::uint32_t o : visible.visibleObjects) {
@@ -109,7 +102,8 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
   input.sunDirection = l;
   input.scene = sceneBounds;
   if (onReceivers) input.receivers = receiverBounds;
-  if (onReceivers && smoothedFarDepth_ > camera.near) input.nFar = smoothedFarDepth_;
+  // n over time (§9.2.5, shadows::kNearDistanceSmoothing): from the last frame's n, both ways.
+  if (settings.method == shadows::ShadowMethod::Lispsm && previousN_ > 0.0) input.previousN = previousN_;
   input.mapSize = settings.shadowMapSize;
   input.borderTexels = mapBorderTexels(settings.pcfRadius);
   if (settings.method == shadows::ShadowMethod::UniformStable && stableRadius_ > 0.0) input.previousStableRadius = stableRadius_;
@@ -123,6 +117,7 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
   plan.setup = shadows::computeShadowSetup(input, settings.method);
   stats.shadow = plan.setup.diagnostics;
   if (settings.method == shadows::ShadowMethod::UniformStable) stableRadius_ = plan.setup.diagnostics.stableRadius;
+  previousN_ = settings.method == shadows::ShadowMethod::Lispsm && !plan.setup.empty ? plan.setup.diagnostics.n : 0.0;
   switch (settings.casters) {
     case CasterSelection::Receivers:
       plan.casters = castersOfReceivers(receivers, input.camera, plan.setup, settings, l, objects, sceneBounds);

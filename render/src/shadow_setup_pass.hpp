@@ -1,7 +1,7 @@
 #pragma once
 // Pass 2 of the frame (DESIGN §1, thesis §9.2): from the visible set to the light — the focus body
-// B of the visible receivers up to z_f, the shadow setup of the chosen method (n from the
-// smoothed z_f, §9.2.5), and the casters the shadow pass draws. CPU only.
+// B of the visible receivers up to z_f, the shadow setup of the chosen method (n smoothed over
+// time, §9.2.5), and the casters the shadow pass draws. CPU only.
 #include <cstdint>
 #include <vector>
 
@@ -28,14 +28,14 @@ class ShadowSetupPass {
   void run(const Camera& camera, const culling::CullingResult& visible, const FrameSettings& settings,
            const glm::dvec3& l, bool sunBelowHorizon, const SceneObjects& objects, const Aabb& sceneBounds,
            ShadowPlan& plan, FrameStats& stats);
-  // Forgets the smoothed z_f and the stable map's radius (a camera cut).
+  // Forgets the smoothed n and the stable map's radius (a camera cut).
   void reset() {
-    smoothedFarDepth_ = -1.0;
+    previousN_ = 0.0;
     stableRadius_ = 0.0;
   }
 
  private:
-  double smoothedFarDepth_ = -1.0;
+  double previousN_ = 0.0;     // lispsm: the last frame's n (ShadowInput::previousN); 0: none
   double stableRadius_ = 0.0;  // uniform-stable: the last map radius (ShadowInput::previousStableRadius)
 };
 

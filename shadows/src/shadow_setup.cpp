@@ -447,9 +447,13 @@ std::optional<ShadowSetup> computeMethodSetup(const ShadowInput& in, ShadowMetho
   const double depthScale = std::max(d, bLs.max.z - bLs.min.z);
   const bool flatAcrossLight = !(depthScale > kFlatShare * bLs.diagonal());
   diag.nCap = kLispsmCapFactor * (flatAcrossLight ? bLs.diagonal() : depthScale);
-  diag.n = flatAcrossLight ? diag.nCap : std::min(nOpt, diag.nCap);
+  diag.nOptimal = flatAcrossLight || !(nOpt > 0.0) ? diag.nCap : std::min(nOpt, diag.nCap);
+  double n = diag.nOptimal;
+  if (in.previousN && *in.previousN > 0.0 && std::isfinite(*in.previousN))  // over time (kNearDistanceSmoothing)
+    n = std::min(*in.previousN + kNearDistanceSmoothing * (diag.nOptimal - *in.previousN), diag.nCap);
+  diag.n = n;
   // Fade: the warp strength 1/n falls linearly to 0 as n reaches the cap.
-  const double u = !flatAcrossLight && std::isfinite(nOpt) && nOpt > 0.0 ? std::max(0.0, 1.0 / nOpt - 1.0 / diag.nCap) : 0.0;
+  const double u = !flatAcrossLight && n > 0.0 ? std::max(0.0, 1.0 / n - 1.0 / diag.nCap) : 0.0;
   diag.warp = u;
   if (flatAcrossLight) diag.fallback = "B flat across the light: uniform";
   else if (u == 0.0) diag.fallback = "n at cap: uniform";

@@ -74,7 +74,6 @@ struct FrameStats {
   long long geometryTriangles = 0;
   long long shadowTriangles = 0;
   double farDepth = 0.0;        // z_f of the visible set
-  double smoothedFarDepth = 0.0;  // the z_f used for n (§9.2.5)
   bool sunBelowHorizon = false;
   shadows::ShadowDiagnostics shadow;
   culling::CullingStats culling;
@@ -95,7 +94,8 @@ class Frame {
   void moveTrees(std::span<const vegetation::Forest::Move> moves);
   void propsMoved();
 
-  // Forgets the frame-to-frame state — CHC visibility, the smoothed z_f, a frozen visible set — as
+  // Forgets the frame-to-frame state — CHC visibility, the smoothed n, the stable map's radius, a
+  // frozen visible set — as
   // after a camera cut.
   void resetHistory();
 

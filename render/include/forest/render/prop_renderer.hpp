@@ -32,9 +32,13 @@ class PropRenderer {
   gl::VertexArray vertexArray_;
   gl::Buffer vertices_;
   gl::Buffer indices_;
-  gl::Buffer instances_;
+  mutable gl::Buffer instances_;  // the boxes relative to uploadedOrigin_
+  std::vector<PropBox> props_;
   int instanceCount_ = 0;
   std::uint32_t objectIdBase_ = 1;
+  mutable bool uploaded_ = false;
+  mutable glm::dvec3 uploadedOrigin_{0.0};
+  void uploadRelativeTo(const glm::dvec3& origin) const;
   void setUniforms(const DrawView& view) const;
 };
 

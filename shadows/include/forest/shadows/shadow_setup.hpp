@@ -46,6 +46,9 @@ struct ShadowInput {
   // uniform-stable: the map radius the previous frame used (diagnostics.stableRadius), kept while
   // it still fits the view (stableMapRadius).
   std::optional<double> previousStableRadius;
+  // lispsm over time: the n the previous frame used (diagnostics.n). n then moves
+  // kNearDistanceSmoothing of the way from it to this frame's eq. 8.13 value, up or down.
+  std::optional<double> previousN;
   int mapSize = 2048;                       // texels per side
   int borderTexels = 2;                     // kept free around B for the PCF and blur footprint
   // tsm: the focus region is the first focusShare of the visible depth range (TSM §6.2 and §6.4:
@@ -62,8 +65,15 @@ constexpr double kTsmFocusLine = -0.6;
 // below the top line) to ξ:  η = λδ'(1 + ξ) / (λ − 2δ' − λξ). +∞ when no finite q does it.
 double tsmProjectionDistance(double lambda, double deltaPrime, double xi);
 
+// §9.2.5 warns that the visible set's z_f jumps when objects appear or vanish, and n with it; the
+// thesis smooths z_f. Here B is also bounded by the visible receivers, which jump together with
+// z_f, so the smoothing is applied to n itself: each frame n moves this share of the way to the
+// new eq. 8.13 value, in both directions (a jump is spread over ~10 frames: 0.8¹⁰ ≈ 0.11 left).
+constexpr double kNearDistanceSmoothing = 0.2;
+
 struct ShadowDiagnostics {
-  double n = 0.0;          // LiSPSM near distance (eq. 8.13), clamped to the cap; 0 for uniform
+  double n = 0.0;          // LiSPSM near distance used: eq. 8.13 (smoothed over time), clamped to the cap; 0 for uniform
+  double nOptimal = 0.0;   // eq. 8.13 on this frame's B, clamped to the cap, before the smoothing
   double nCap = 0.0;       // kLispsmCapFactor × B's depth along the warp axis (lispsm)
   double warp = 0.0;       // 1/n actually used after the fade (0 = no warp)
   double gammaDeg = 0.0;   // angle between the body vector and the light direction
