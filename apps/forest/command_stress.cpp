@@ -143,9 +143,8 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
       // Exactness: the culled geometry pass against frustum culling's on the same moved scene.
       const std::vector<std::uint32_t> ids = frame.readObjectIds();
       const std::vector<float> depth = frame.readDepth();
-      render::FrameSettings frustum = settings;
-      frustum.culling = culling::CullingStrategy::Frustum;
-      frame.render(path[static_cast<size_t>(i)], time, frustum);
+      // Its own culler and no shadow setup: the next timed frame keeps its CHC history and n.
+      frame.renderReferenceGeometry(path[static_cast<size_t>(i)], time);
       const std::vector<std::uint32_t> idsF = frame.readObjectIds();
       const std::vector<float> depthF = frame.readDepth();
       for (size_t p = 0; p < ids.size(); ++p) mismatched += ids[p] != idsF[p] || depth[p] != depthF[p] ? 1 : 0;

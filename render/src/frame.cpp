@@ -127,6 +127,14 @@ void Frame::resetHistory() {
   haveVisibleSet_ = false;
 }
 
+void Frame::renderReferenceGeometry(const Camera& camera, double time) {
+  if (!referenceCuller_) referenceCuller_ = std::make_unique<culling::OcclusionCuller>();
+  std::optional<terrain::TerrainLod> lod;
+  if (terrain_) lod = terrain_->lodFor(camera, height_);
+  passes_->geometry.run(camera, DrawView::fromCamera(camera, time, scene_.sun), lod ? &*lod : nullptr,
+                        culling::CullingStrategy::Frustum, *referenceCuller_, bvh_, nullptr);
+}
+
 Camera Frame::startCamera() const {
   Camera c = scene_.startCamera();
   c.aspect = static_cast<double>(width_) / height_;

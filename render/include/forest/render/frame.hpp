@@ -94,6 +94,11 @@ class Frame {
   void moveTrees(std::span<const vegetation::Forest::Move> moves);
   void propsMoved();
 
+  // Exactness checks: the geometry pass alone, with frustum culling on a culler of its own, so that
+  // none of the frame-to-frame state (CHC history, smoothed n, stable radius, frozen set) changes;
+  // readObjectIds and readDepth then return its G-buffer.
+  void renderReferenceGeometry(const Camera& camera, double time);
+
   // Forgets the frame-to-frame state — CHC visibility, the smoothed n, the stable map's radius, a
   // frozen visible set — as
   // after a camera cut.
@@ -136,6 +141,7 @@ class Frame {
   std::unique_ptr<Passes> passes_;
   culling::Bvh bvh_;
   culling::OcclusionCuller culler_;
+  std::unique_ptr<culling::OcclusionCuller> referenceCuller_;  // renderReferenceGeometry's, built on first use
   Aabb sceneBounds_;
   std::vector<std::uint32_t> visibleObjects_;
   bool haveVisibleSet_ = false;
