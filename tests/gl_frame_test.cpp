@@ -8,6 +8,7 @@
 #include "forest/core/scene.hpp"
 #include "forest/render/debug_views.hpp"
 #include "forest/render/frame.hpp"
+#include "forest/shadows/focus_body.hpp"
 #include "gl_test_support.hpp"
 
 namespace forest::test {
@@ -230,7 +231,7 @@ TEST_F(FrameGl, EveryMethodIsCleanAndASunBelowTheHorizonLeavesAmbient) {
 // DESIGN §6 render-level hard cases through the full frame: no GL errors (GlTest), finite shadow
 // matrices and terms, and the box's shadow on the plane where the CPU puts it (not all shadow,
 // not all lit).
-TEST_F(FrameGl, TopDownDiagramDrawsTheSetupAndTheLightFrustumInverts) {
+TEST_F(FrameGl, TopDownDiagramDrawsTheSetupAndTheLightFrustumHoldsB) {
   const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
   render::Frame frame(scene, kWidth, kHeight);
   Camera camera = frame.startCamera();
@@ -240,13 +241,41 @@ TEST_F(FrameGl, TopDownDiagramDrawsTheSetupAndTheLightFrustumInverts) {
     settings.method = method;
     settings.shadowMapSize = 1024;
     frame.render(camera, 0.0, settings);
-    // The light frustum's corners are the map's [−1, 1]³ corners (linear depth for tsm).
+    // The light frustum drawn in the diagram holds the focus body — B computed here from the
+    // frame's own inputs (the camera up to z_f, the sun, S, the visible receivers' bounds) — and
+    // is tight: B touches each of its four sides (uniform: within the map's border, 2 texels of 1024).
     const auto corners = render::lightFrustumCorners(frame.shadowSetup());
-    for (int i = 0; i < 8; ++i) {
-      const dvec3 m = shadows::shadowMapCoordinates(frame.shadowSetup(), corners[static_cast<size_t>(i)]);
-      const dvec3 expected((i & 1) ? 1.0 : -1.0, (i & 2) ? 1.0 : -1.0, (i & 4) ? 1.0 : -1.0);
-      EXPECT_NEAR(glm::length(m - expected), 0.0, 1e-6) << shadowMethodName(method) << " corner " << i;
-    }
+    Aabb sceneBox, receiverBox;
+    for (const Aabb& b : frame.objects().boxes()) sceneBox.extend(b);
+    for (std::uint32_t o : frame.visibleObjects()) receiverBox.extend(frame.objects().boxes()[o]);
+    const ConvexBody body = shadows::computeFocusBody(frame.shadowCamera(), glm::normalize(scene.sun.direction), sceneBox, receiverBox);
+    ASSERT_FALSE(body.empty());
+    dvec3 centre(0.0);
+    for (const dvec3& c : corners) centre += c / 8.0;
+    // Faces of the hexahedron: the four corners sharing one bit of their index; plane through
+    // three of them, oriented away from the centre.
+    double size = 0.0;
+    for (const dvec3& c : corners) size = std::max(size, glm::distance(c, centre));
+    for (int bit = 0; bit < 3; ++bit)
+      for (int value = 0; value < 2; ++value) {
+        std::vector<dvec3> face;
+        for (int i = 0; i < 8; ++i)
+          if (((i >> bit) & 1) == value) face.push_back(corners[static_cast<size_t>(i)]);
+        dvec3 normal = glm::normalize(glm::cross(face[1] - face[0], face[2] - face[0]));
+        if (glm::dot(normal, centre - face[0]) > 0.0) normal = -normal;
+        double nearest = 1e300, outside = -1e300;
+        for (const dvec3& v : body.vertices()) {
+          const double distance = glm::dot(v - face[0], normal);
+          outside = std::max(outside, distance);
+          nearest = std::min(nearest, -distance);
+        }
+        EXPECT_LE(outside, 1e-6 * size) << shadowMethodName(method) << ": B outside face " << bit << "/" << value;
+        // x, y sides of the orthographic map, whose texels have one size everywhere (a warped
+        // map's border texels span metres at its far end).
+        if (bit < 2 && method == shadows::ShadowMethod::Uniform) {
+          EXPECT_LE(nearest, 2.0 * (2.0 + 1.0) / 1024.0 * size) << shadowMethodName(method) << ": B does not reach side " << bit << "/" << value;
+        }
+      }
     const Image8 diagram = render::topDownDiagram(frame, scene.sun.direction, 512);
     ASSERT_EQ(diagram.width, 512);
     // Each element leaves pixels of its colour: B's outline (blue), the light frustum (red), the

@@ -52,14 +52,35 @@ TEST_F(GlTest, ProfilingModeTimesEachPassPositive) {
   }
 }
 
-TEST_F(GlTest, GpuQueryModeDeliversARecordPerPassLate) {
+// Timer queries are read `latency` frames late and never later: after frame f ends, frames
+// 0 … f − latency have been delivered (takeCompleted), in order, each once, with a record per pass.
+TEST_F(GlTest, GpuQueryModeDeliversEveryFrameAtMostLatencyFramesLate) {
   render::OffscreenTarget target(256, 256);
-  gl::PassTimer timer(gl::TimingMode::GpuQueries, 2);
-  const auto frames = runFrames(timer, target, 5);
-  ASSERT_EQ(frames.size(), 5u);
-  for (const auto& f : frames) {
-    ASSERT_EQ(f.passes.size(), 2u);
-    EXPECT_GE(f.passes[0].ms, 0.0);
+  constexpr int kLatency = 2, kFrames = 6;
+  gl::PassTimer timer(gl::TimingMode::GpuQueries, kLatency);
+  std::vector<gl::FrameTiming> got;
+  for (int f = 0; f < kFrames; ++f) {
+    timer.beginFrame();
+    {
+      auto pass = timer.scope("geometry");
+      busyWork(target);
+    }
+    {
+      auto pass = timer.scope("shadow");
+      busyWork(target);
+    }
+    timer.endFrame();
+    for (gl::FrameTiming& t : timer.takeCompleted()) got.push_back(std::move(t));
+    EXPECT_GE(static_cast<int>(got.size()), f + 1 - kLatency) << "after frame " << f;
+    EXPECT_LE(static_cast<int>(got.size()), f + 1) << "after frame " << f;
+  }
+  for (gl::FrameTiming& t : timer.drain()) got.push_back(std::move(t));
+  ASSERT_EQ(got.size(), static_cast<size_t>(kFrames));
+  for (size_t f = 0; f < got.size(); ++f) {
+    EXPECT_EQ(got[f].frame, f);
+    ASSERT_EQ(got[f].passes.size(), 2u);
+    EXPECT_EQ(got[f].passes[0].pass, "geometry");
+    EXPECT_EQ(got[f].passes[1].pass, "shadow");
   }
 }
 

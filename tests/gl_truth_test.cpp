@@ -133,9 +133,19 @@ TEST_F(TruthGl, PerPixelAliasingOfLispsmAtNinetyDegreesIsEq89) {
   truth::TruthOptions options;
   options.softRays = 0;
   const truth::FrameError e = truth::evaluateFrame(frame, stats, scene, camera, 0.0, options);
-  const shadows::ShadowDiagnostics& d = frame.shadowSetup().diagnostics;
-  ASSERT_GT(d.warp, 0.0);
-  const double n = 1.0 / d.warp, zA = -d.z0;
+  // From the case's inputs alone: the eye 2 m over the plane, level, fovy 60°: B (the view inside
+  // the plane's box, y ∈ [−1, 0]) starts where the lower frustum plane meets y = 0, z_A = 2 / tan 30°,
+  // and ends at the far plane, 100 m; the warp axis is the view (γ = 90°), so d = 100 − z_A and
+  // eq. 8.13 gives n = d / (√(100 / z_A) − 1) = z_A + √(100 z_A) (eq. 8.10); the warp actually used
+  // fades by the documented cap, 1/n − 1/(kLispsmCapFactor · d).
+  ASSERT_NEAR(camera.fovy, glm::radians(60.0), 1e-12);
+  const double zA = 2.0 / std::tan(glm::radians(30.0)), bDepth = 100.0 - zA;
+  const double nOptimal = zA + std::sqrt(100.0 * zA);
+  const double n = 1.0 / (1.0 / nOptimal - 1.0 / (shadows::kLispsmCapFactor * bDepth));
+  struct {
+    double d;
+  } d{bDepth};
+  ASSERT_NEAR(frame.shadowSetup().diagnostics.warp, 1.0 / n, 1e-6 / n);  // the pipeline's n is eq. 8.10's
   // eq. 8.9 in the general form: (1/z)·(z − z_A + n)²·d / (n (n + d)); its largest value on the
   // receiver is at the nearest or farthest scored depth.
   const std::vector<float> depth = frame.readDepth();
@@ -151,7 +161,9 @@ TEST_F(TruthGl, PerPixelAliasingOfLispsmAtNinetyDegreesIsEq89) {
   const double expectedMax = std::max(eq89(nearest), eq89(farthest));
   std::printf("[truth] lispsm at 90°: per-pixel max %.3f, eq. 8.9 %.3f (n %.3f, z_A %.3f, d %.2f)\n", e.aliasingRelative.max,
               expectedMax, n, zA, d.d);
-  EXPECT_NEAR(e.aliasingRelative.max / expectedMax, 1.0, 0.10);
+  // The map keeps a border of 2 texels of 2048 on each side (0.2% of its width), which the
+  // analytic aliasing sees and eq. 8.9 does not: agreement to 1% bounds that with room.
+  EXPECT_NEAR(e.aliasingRelative.max / expectedMax, 1.0, 0.01);
   EXPECT_GT(e.aliasingRelative.samples, 10000);
 }
 
