@@ -448,6 +448,10 @@ TEST(ForestCli, StabilityRecordsHoldUnderAnIndependentCheck) {
   for (std::string line; std::getline(in, line);) {
     ++count;
     const nlohmann::json j = nlohmann::json::parse(line);
+    if (j.contains("refused")) {  // a view outside the float32 domain: the reason names the limit
+      EXPECT_THAT(j.at("refused").get<std::string>(), HasSubstr("2^-23")) << line;
+      continue;
+    }
     ASSERT_TRUE(j.at("passed").get<bool>()) << line;
     const auto m = j.at("eye_relative_to_shadow_clip").get<std::vector<double>>();
     ASSERT_EQ(m.size(), 16u);
@@ -489,7 +493,7 @@ TEST(ForestCli, StabilityRecordsHoldUnderAnIndependentCheck) {
       ++sampled;
     }
   }
-  EXPECT_EQ(count, 5 * (29 + 300));  // uniform, uniform-stable, lispsm, tsm, tsm-iterative
+  EXPECT_EQ(count, 5 * (30 + 300));  // uniform, uniform-stable, lispsm, tsm, tsm-iterative; 30 hard cases
   EXPECT_GT(sampled, 10000);
 }
 
