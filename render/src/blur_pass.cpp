@@ -21,12 +21,9 @@ const gl::Texture& BlurPass::run(const gl::Texture& term, const FrameSettings& s
   if (!(settings.blurRadius > 0.0)) return term;
   setBlurUniforms(program_, settings);
   program_.set("uShadowTerm", 0);
-  program_.use();
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   glBindTextureUnit(0, term.id());
-  glBindVertexArray(empty_.id());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindVertexArray(0);
+  triangle_.draw(program_);
   return horizontal_;
 }
 

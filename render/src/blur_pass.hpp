@@ -6,6 +6,7 @@
 #include "forest/gl/objects.hpp"
 #include "forest/gl/shader.hpp"
 #include "forest/render/frame.hpp"
+#include "fullscreen_triangle.hpp"
 
 namespace forest::render {
 
@@ -27,7 +28,7 @@ class BlurPass {
   gl::Texture horizontal_;
   gl::Framebuffer framebuffer_;
   gl::Program program_;
-  gl::VertexArray empty_;
+  FullScreenTriangle triangle_;
 };
 
 }  // namespace forest::render

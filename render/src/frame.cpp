@@ -129,10 +129,14 @@ void Frame::resetHistory() {
 
 void Frame::renderReferenceGeometry(const Camera& camera, double time) {
   if (!referenceCuller_) referenceCuller_ = std::make_unique<culling::OcclusionCuller>();
-  std::optional<terrain::TerrainLod> lod;
-  if (terrain_) lod = terrain_->lodFor(camera, height_);
+  const std::optional<terrain::TerrainLod> lod = terrainLodFor(camera);
   passes_->geometry.run(camera, DrawView::fromCamera(camera, time, scene_.sun), lod ? &*lod : nullptr,
                         culling::CullingStrategy::Frustum, *referenceCuller_, bvh_, nullptr);
+}
+
+std::optional<terrain::TerrainLod> Frame::terrainLodFor(const Camera& camera) const {
+  if (!terrain_) return std::nullopt;
+  return terrain_->lodFor(camera, height_);
 }
 
 Camera Frame::startCamera() const {
@@ -154,8 +158,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   const dvec3 l = glm::normalize(scene_.sun.direction);
   stats.sunBelowHorizon = !(l.y < 0.0);  // light travelling upward comes from below the horizon
   const DrawView eye = DrawView::fromCamera(camera, time, scene_.sun);
-  std::optional<terrain::TerrainLod> lod;
-  if (terrain_) lod = terrain_->lodFor(camera, height_);
+  const std::optional<terrain::TerrainLod> lod = terrainLodFor(camera);
   const terrain::TerrainLod* eyeLod = lod ? &*lod : nullptr;
 
   // 1. Geometry pass: the visible set and its z_f.
@@ -186,7 +189,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   start = Clock::now();
   const glm::mat3 rays = pixelRays(camera);
   p.shadowTerm.run(p.geometry.gbuffer(), p.shadow.map(), p.plan.setup, eyeRelativeToShadowClip(p.plan.setup, camera.position),
-                   camera, settings, l, p.plan.shadowed);
+                   camera, rays, settings, l, p.plan.shadowed);
   stats.shadowTermMs = millisecondsSince(start);
 
   // 4b. Eye-space blur, horizontal half (the vertical half runs in the lighting pass).

@@ -37,10 +37,7 @@ void LightingPass::run(const GBuffer& gbuffer, const gl::Texture& term, const gl
   glBindTextureUnit(0, gbuffer.albedo.id());
   glBindTextureUnit(1, gbuffer.shadingNormal.id());
   glBindTextureUnit(4, term.id());
-  program_.use();
-  glBindVertexArray(empty_.id());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindVertexArray(0);
+  triangle_.draw(program_);
   for (GLuint unit = 0; unit < 5; ++unit) glBindTextureUnit(unit, 0);
   glEnable(GL_DEPTH_TEST);
   glEnable(GL_CULL_FACE);

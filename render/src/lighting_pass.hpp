@@ -8,6 +8,7 @@
 #include "forest/gl/objects.hpp"
 #include "forest/gl/shader.hpp"
 #include "forest/render/frame.hpp"
+#include "fullscreen_triangle.hpp"
 #include "geometry_pass.hpp"
 
 namespace forest::render {
@@ -28,7 +29,7 @@ class LightingPass {
   gl::Texture usedTerm_, color_;
   gl::Framebuffer framebuffer_;
   gl::Program program_;
-  gl::VertexArray empty_;
+  FullScreenTriangle triangle_;
 };
 
 }  // namespace forest::render

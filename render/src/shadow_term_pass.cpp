@@ -1,22 +1,8 @@
 #include "shadow_term_pass.hpp"
 
-#include <glm/gtc/matrix_transform.hpp>
-
 namespace forest::render {
 
 using glm::dvec3;
-
-glm::mat3 pixelRays(const Camera& camera) {
-  const glm::dmat4 inverse = glm::inverse(camera.projection() * camera.view() * glm::translate(glm::dmat4(1.0), camera.position));
-  const dvec3 forward = camera.forward();
-  auto ray = [&](double x, double y) {
-    const glm::dvec4 h = inverse * glm::dvec4(x, y, 0.5, 1.0);
-    const dvec3 p = dvec3(h) / h.w;
-    return p / glm::dot(p, forward);
-  };
-  const dvec3 centre = ray(0.0, 0.0);
-  return glm::mat3(glm::dmat3(ray(1.0, 0.0) - centre, ray(0.0, 1.0) - centre, -centre));
-}
 
 ShadowTermPass::ShadowTermPass(int width, int height)
     : width_(width), height_(height), term_(GL_RG16F, width, height),
@@ -28,8 +14,8 @@ ShadowTermPass::ShadowTermPass(int width, int height)
 }
 
 void ShadowTermPass::run(const GBuffer& gbuffer, const gl::Texture& shadowMap, const shadows::ShadowSetup& setup,
-                         const glm::dmat4& eyeRelativeToShadow, const Camera& camera, const FrameSettings& settings,
-                         const dvec3& l, bool sunUp) {
+                         const glm::dmat4& eyeRelativeToShadow, const Camera& camera, const glm::mat3& rays,
+                         const FrameSettings& settings, const dvec3& l, bool sunUp) {
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   glViewport(0, 0, width_, height_);
   glDisable(GL_DEPTH_TEST);
@@ -37,7 +23,7 @@ void ShadowTermPass::run(const GBuffer& gbuffer, const gl::Texture& shadowMap, c
   program_.set("uDepth", 0);
   program_.set("uGeometricNormal", 1);
   program_.set("uShadowMap", 3);
-  program_.set("uRays", pixelRays(camera));
+  program_.set("uRays", rays);
   glm::dmat4 lookup = eyeRelativeToShadow;
   if (settings.lookupShiftTexels != glm::dvec2(0.0)) {
     glm::dmat4 shift(1.0);  // clip x, y += 2·shift/size · w
@@ -56,10 +42,7 @@ void ShadowTermPass::run(const GBuffer& gbuffer, const gl::Texture& shadowMap, c
   glBindTextureUnit(0, gbuffer.depth.id());
   glBindTextureUnit(1, gbuffer.geometricNormal.id());
   glBindTextureUnit(3, shadowMap.id());
-  program_.use();
-  glBindVertexArray(empty_.id());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindVertexArray(0);
+  triangle_.draw(program_);
 }
 
 }  // namespace forest::render

@@ -7,21 +7,18 @@
 #include "forest/gl/objects.hpp"
 #include "forest/gl/shader.hpp"
 #include "forest/render/frame.hpp"
+#include "fullscreen_triangle.hpp"
 #include "geometry_pass.hpp"
 
 namespace forest::render {
 
-// uRays of shaders/fullscreen.vert: A with A·(x_ndc, y_ndc, −1) = the camera-relative direction
-// through that pixel scaled to eye depth 1 (the position of a pixel at eye depth z is z times it).
-glm::mat3 pixelRays(const Camera& camera);
-
 class ShadowTermPass {
  public:
   ShadowTermPass(int width, int height);
-  // `eyeRelativeToShadow`: (p − eye) → shadow clip, depth in [0, 1]; `sunUp`: the map holds the
-  // sun's shadows (else the term is 0 everywhere).
+  // `rays`: pixelRays(camera); `eyeRelativeToShadow`: (p − eye) → shadow clip, depth in [0, 1];
+  // `sunUp`: the map holds the sun's shadows (else the term is 0 everywhere).
   void run(const GBuffer& gbuffer, const gl::Texture& shadowMap, const shadows::ShadowSetup& setup,
-           const glm::dmat4& eyeRelativeToShadow, const Camera& camera, const FrameSettings& settings,
+           const glm::dmat4& eyeRelativeToShadow, const Camera& camera, const glm::mat3& rays, const FrameSettings& settings,
            const glm::dvec3& l, bool sunUp);
   const gl::Texture& term() const { return term_; }
 
@@ -30,7 +27,7 @@ class ShadowTermPass {
   gl::Texture term_;
   gl::Framebuffer framebuffer_;
   gl::Program program_;
-  gl::VertexArray empty_;
+  FullScreenTriangle triangle_;
 };
 
 }  // namespace forest::render

@@ -372,16 +372,6 @@ std::optional<ShadowSetup> computeMethodSetup(const ShadowInput& in, ShadowMetho
   const std::vector<dvec3> bodyVertices = setup.body.vertices();
   const dvec3 bodyVector = computeBodyVector(bodyVertices, camera);
   setup.diagnostics.gammaDeg = angleDeg(bodyVector, l);
-  // V ∩ S (∩ receivers): what is seen. B contains it in exact arithmetic, but B and this body are
-  // clipped separately, with tolerances relative to each body's size: a B 10⁵ times taller than
-  // wide can lose 1e-3 of its width to them. The maps are fitted to both, so every visible point
-  // lands inside the map whatever the tolerances did (found with held-back seeds).
-  ConvexBody visible = viewFrustumBody(camera);
-  visible.clip(in.scene);
-  if (in.receivers) visible.clip(*in.receivers);
-  std::vector<dvec3> fitVertices = bodyVertices;
-  for (const dvec3& v : visible.vertices()) fitVertices.push_back(v);
-
   if (method == ShadowMethod::UniformStable) {
     // World-fixed in-plane axes (the world axis least parallel to the light), extent from V's
     // bounding sphere (independent of the camera's rotation), its radius quantised to steps with
@@ -410,6 +400,17 @@ std::optional<ShadowSetup> computeMethodSetup(const ShadowInput& in, ShadowMetho
     setup.worldToShadowClip = fitToUnitCube(box, 0.0) * toMap;
     return finish(setup, camera.position);
   }
+
+  // V ∩ S (∩ receivers): what is seen. B contains it in exact arithmetic, but B and this body are
+  // clipped separately, with tolerances relative to each body's size: a B 10⁵ times taller than
+  // wide can lose 1e-3 of its width to them. The fitted maps take both, so every visible point
+  // lands inside the map whatever the tolerances did (found with held-back seeds); the stable
+  // map above covers the whole view's sphere anyway.
+  ConvexBody visible = viewFrustumBody(camera);
+  visible.clip(in.scene);
+  if (in.receivers) visible.clip(*in.receivers);
+  std::vector<dvec3> fitVertices = bodyVertices;
+  for (const dvec3& v : visible.vertices()) fitVertices.push_back(v);
 
   // §9.2.3: light frame L (L_r is the identity for directional lights: the body vector already
   // points "up" the map), rooted at the eye.

@@ -12,6 +12,7 @@
 //   5. lighting — the blur's vertical pass, Phong with a weak global ambient, sky colour.
 // Eye → light matrices are composed in double, camera-relative.
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -132,6 +133,7 @@ class Frame {
 
  private:
   void objectsMoved();
+  std::optional<terrain::TerrainLod> terrainLodFor(const Camera& camera) const;  // none without terrain
   struct Passes;  // the passes in order (src/*_pass.hpp)
   const Scene& scene_;
   int width_, height_;

@@ -40,8 +40,8 @@ struct ShadowInput {
   glm::dvec3 sunDirection{0.0, -1.0, 0.0};  // the way light travels; need not be unit
   Aabb scene;                               // S
   std::optional<Aabb> receivers;            // bounds of the visible receivers (tighter B)
-  // (smoothed) far distance of the visible set, for n only (§9.2.5): n is computed on the body of
-  // the camera with this far instead (beyond camera.far when z_f has just dropped).
+  // A far distance for n only (§9.2.5): n is computed on the body of the camera with this far
+  // instead (stability case files; the frame smooths n itself, see previousN).
   std::optional<double> nFar;
   // uniform-stable: the map radius the previous frame used (diagnostics.stableRadius), kept while
   // it still fits the view (stableMapRadius).

@@ -1,0 +1,27 @@
+#include "fullscreen_triangle.hpp"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+namespace forest::render {
+
+glm::mat3 pixelRays(const Camera& camera) {
+  using glm::dvec3;
+  const glm::dmat4 inverse = glm::inverse(camera.projection() * camera.view() * glm::translate(glm::dmat4(1.0), camera.position));
+  const dvec3 forward = camera.forward();
+  auto ray = [&](double x, double y) {
+    const glm::dvec4 h = inverse * glm::dvec4(x, y, 0.5, 1.0);
+    const dvec3 p = dvec3(h) / h.w;
+    return p / glm::dot(p, forward);
+  };
+  const dvec3 centre = ray(0.0, 0.0);
+  return glm::mat3(glm::dmat3(ray(1.0, 0.0) - centre, ray(0.0, 1.0) - centre, -centre));
+}
+
+void FullScreenTriangle::draw(const gl::Program& program) const {
+  program.use();
+  glBindVertexArray(empty_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+}
+
+}  // namespace forest::render

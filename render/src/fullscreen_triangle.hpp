@@ -1,0 +1,26 @@
+#pragma once
+// What the full-screen passes (shadow term, blur, lighting) share: one triangle over the viewport
+// whose positions and pixel rays shaders/fullscreen.vert makes from gl_VertexID, so there is no
+// vertex data — an empty vertex array.
+#include <glm/glm.hpp>
+
+#include "forest/core/camera.hpp"
+#include "forest/gl/objects.hpp"
+#include "forest/gl/shader.hpp"
+
+namespace forest::render {
+
+// uRays of shaders/fullscreen.vert: A with A·(x_ndc, y_ndc, −1) = the camera-relative direction
+// through that pixel scaled to eye depth 1 (the position of a pixel at eye depth z is z times it).
+glm::mat3 pixelRays(const Camera& camera);
+
+class FullScreenTriangle {
+ public:
+  // Draws the triangle with `program` into the bound framebuffer.
+  void draw(const gl::Program& program) const;
+
+ private:
+  gl::VertexArray empty_;
+};
+
+}  // namespace forest::render
