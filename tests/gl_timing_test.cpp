@@ -17,19 +17,22 @@ void busyWork(render::OffscreenTarget& target) {
   }
 }
 
-std::vector<gl::FrameTiming> runFrames(gl::PassTimer& timer, render::OffscreenTarget& target, int frames) {
-  for (int f = 0; f < frames; ++f) {
-    timer.beginFrame();
-    {
-      auto pass = timer.scope("geometry");
-      busyWork(target);
-    }
-    {
-      auto pass = timer.scope("shadow");
-      busyWork(target);
-    }
-    timer.endFrame();
+// One frame of two passes, "geometry" and "shadow".
+void runFrame(gl::PassTimer& timer, render::OffscreenTarget& target) {
+  timer.beginFrame();
+  {
+    auto pass = timer.scope("geometry");
+    busyWork(target);
   }
+  {
+    auto pass = timer.scope("shadow");
+    busyWork(target);
+  }
+  timer.endFrame();
+}
+
+std::vector<gl::FrameTiming> runFrames(gl::PassTimer& timer, render::OffscreenTarget& target, int frames) {
+  for (int f = 0; f < frames; ++f) runFrame(timer, target);
   return timer.drain();
 }
 
@@ -60,16 +63,7 @@ TEST_F(GlTest, GpuQueryModeDeliversEveryFrameAtMostLatencyFramesLate) {
   gl::PassTimer timer(gl::TimingMode::GpuQueries, kLatency);
   std::vector<gl::FrameTiming> got;
   for (int f = 0; f < kFrames; ++f) {
-    timer.beginFrame();
-    {
-      auto pass = timer.scope("geometry");
-      busyWork(target);
-    }
-    {
-      auto pass = timer.scope("shadow");
-      busyWork(target);
-    }
-    timer.endFrame();
+    runFrame(timer, target);
     for (gl::FrameTiming& t : timer.takeCompleted()) got.push_back(std::move(t));
     EXPECT_GE(static_cast<int>(got.size()), f + 1 - kLatency) << "after frame " << f;
     EXPECT_LE(static_cast<int>(got.size()), f + 1) << "after frame " << f;

@@ -130,10 +130,10 @@ TEST(StabilitySuite, HeldBackSeedCasesKeepTheInvariantsOrAreRefusedWithTheLimit)
     EXPECT_NE(std::string(e.what()).find("0.139 m"), std::string::npos) << e.what();
   }
   // The same view made 0.15 m deep (inside the domain): every method keeps the invariants.
-  StabilityCase deeper = parseStabilityCases("[" + tsmThrows.substr(0, tsmThrows.find("\"far\"")) +
-                                                 R"("far": 0.15, "sun_dir": [0.0, -1.0, 0.0], "scene_min": [724493.7081671039, -114.33663691395485, 916362.5450877496], "scene_max": [724553.5433418854, -78.06629116457803, 916402.3586949077], "map_size": 8192, "border_texels": 0}])",
-                                             "t.json")
-                             .front();
+  std::string deeperJson = tsmThrows;
+  const std::string far = "0.006201597228429672";
+  deeperJson.replace(deeperJson.find(far), far.size(), "0.15");
+  const StabilityCase deeper = parseStabilityCases("[" + deeperJson + "]", "t.json").front();
   for (ShadowMethod method : kMethods) {
     const ShadowSetup setup = computeShadowSetup(deeper.input, method);
     const StabilityReport report = checkSetupInvariants(deeper.input, method, setup);

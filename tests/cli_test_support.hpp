@@ -1,0 +1,50 @@
+#pragma once
+// The forest command line as a test runs it: the program in a child process, its exit code and
+// output; the one-line error format every usage and input error follows.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "forest/core/files.hpp"
+
+namespace forest::test {
+
+struct CliResult {
+  int exitCode = -1;
+  std::string out;
+  std::string err;
+};
+
+inline CliResult runForest(const std::string& arguments) {
+  namespace fs = std::filesystem;
+  const fs::path folder = fs::path(FOREST_TEST_OUTPUT) / "cli";
+  fs::create_directories(folder);
+  // Per process: cli_tests and cli_window (this program under xvfb-run) may run at the same time.
+  const std::string pid = std::to_string(getpid());
+  const fs::path out = folder / ("stdout-" + pid + ".txt"), err = folder / ("stderr-" + pid + ".txt");
+  const std::string command =
+      std::string(FOREST_EXE) + " " + arguments + " > " + out.string() + " 2> " + err.string() + " < /dev/null";
+  const int status = std::system(command.c_str());
+  CliResult r;
+  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = readTextFile(out);
+  r.err = readTextFile(err);
+  return r;
+}
+
+// One line "forest: error: FILE…KEY…", exit code 2.
+inline void expectOneLineError(const CliResult& r, const std::string& file, const std::string& key) {
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_THAT(r.err, ::testing::StartsWith("forest: error: " + file));
+  EXPECT_THAT(r.err, ::testing::HasSubstr(key));
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+}  // namespace forest::test
