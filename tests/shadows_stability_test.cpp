@@ -179,14 +179,17 @@ ShadowInput moved(ShadowInput in, Move move, double scale) {
 
 TEST(StabilitySuite, SmallCameraMovesMoveShadowsContinuously) {
   // A walker 2 m above ground, 2048² map, far 300 m in a 2 km scene; suns from 60° to 2°, views
-  // from 20° up to 85° down. Stated bounds for a 1 cm / 0.1° move (texels, visible points):
-  //   uniform-stable: whole-texel snaps only, at most 1;  uniform: 16;  lispsm: 128;  tsm: 64
-  // (LiSPSM re-fits its warp to B every frame; measured worst 100 texels for a 0.1° yaw with
-  // a 10° sun; TSM 46 for a 0.1° pitch looking 85° down). Continuity: a 10× smaller move shifts
-  // 10× less (ratio 5…20), so nothing jumps — except for tsm-iterative, whose focus line is a
-  // discrete choice among texel lines (TSM §6.2) and may switch between two frames: only its
-  // bound is checked.
-  const double bound[] = {16.0, 1.0, 128.0, 64.0, 64.0};
+  // from 20° up to 85° down; moves of 1 cm and 0.1°.
+  //  - uniform-stable: the map is snapped to whole texels (a world-fixed grid), so a move shifts
+  //    every visible point by a whole number of texels, and by at most one: the moves are smaller
+  //    than a texel (≥ 0.3 m here) and the radius does not step (stableMapRadius).
+  //  - the fitted maps: continuity, i.e. no jump — a 10× smaller move shifts 10× less (a C¹
+  //    setup; the window 5…20 leaves room for second-order terms). tsm-iterative's focus line is
+  //    a discrete choice among texel lines (TSM §6.2) and may switch between two frames, so it is
+  //    exempt. How far they swim per move is a property of each method, not a correctness bound
+  //    (DESIGN §10): printed, not asserted (last measured: lispsm ~100 texels for a 0.1° yaw with a
+  //    10° sun — its warp is re-fitted to B every frame).
+  double worst[std::size(kMethods)] = {};
   for (double elevation : {60.0, 30.0, 10.0, 2.0}) {
     for (double pitch : {-10.0, -45.0, -85.0, 20.0}) {
       ShadowInput in;
@@ -197,17 +200,17 @@ TEST(StabilitySuite, SmallCameraMovesMoveShadowsContinuously) {
       in.camera.far = 300.0;
       const double e = glm::radians(elevation);
       in.sunDirection = {0.6 * std::cos(e), -std::sin(e), 0.8 * std::cos(e)};
-      for (int m = 0; m < 5; ++m) {
+      for (size_t m = 0; m < std::size(kMethods); ++m) {
         for (Move move : {Move::Forward, Move::Sideways, Move::Yaw, Move::Pitch}) {
           const double shift = visibleShiftTexels(in, moved(in, move, 1.0), kMethods[m]);
+          worst[m] = std::max(worst[m], shift);
           const std::string where = std::string(shadowMethodName(kMethods[m])) + " sun " + std::to_string(elevation) +
                                     "° pitch " + std::to_string(pitch) + "° move " + std::to_string(static_cast<int>(move));
           if (kMethods[m] == ShadowMethod::UniformStable) {
-            EXPECT_LE(std::round(shift), bound[m]) << where;
+            EXPECT_LE(std::round(shift), 1.0) << where;
             EXPECT_NEAR(shift, std::round(shift), 1e-6) << where;  // whole texels only: no swimming
             continue;
           }
-          EXPECT_LE(shift, bound[m]) << where;
           if (shift > 0.05 && kMethods[m] != ShadowMethod::TsmIterative) {
             const double small = visibleShiftTexels(in, moved(in, move, 0.1), kMethods[m]);
             EXPECT_GT(shift / small, 5.0) << where;
@@ -217,6 +220,9 @@ TEST(StabilitySuite, SmallCameraMovesMoveShadowsContinuously) {
       }
     }
   }
+  for (size_t m = 0; m < std::size(kMethods); ++m)
+    std::printf("[continuity] %s: largest shift of a visible point for a 1 cm / 0.1° move: %.1f texels of 2048\n",
+                shadowMethodName(kMethods[m]).data(), worst[m]);
 }
 
 TEST(StabilityCases, ErrorsNameTheCaseAndTheField) {
