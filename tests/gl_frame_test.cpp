@@ -205,6 +205,62 @@ TEST_F(FrameGl, CasterSelectionChangesNoShadowForAnyFilterAlongThirtyViews) {
   EXPECT_GT(fewer, 125);  // the selection does leave casters out
 }
 
+// The filter's reach at the edge of the view: a noon sun, the camera looking straight down on a
+// thin plane, and a caster outside the view whose shadow starts 3.4 texels beyond the lookup of
+// the rightmost pixels (1.8 texels beyond the visible plane's edge, inside the map's border). A
+// PCF of radius r reads texel centres less than r + 1 texels from a lookup, so r ≤ 1 cannot see
+// it and r = 4 must (its first covered centre is < 4.4 texels away); for every r the term with the
+// selected casters equals the term with all casters. (The former fixed 1.5-texel growth left the
+// caster out.)
+TEST_F(FrameGl, CasterJustBeyondTheVisibleEdgeIsSelectedForTheFilterThatReadsIt) {
+  Scene scene;
+  scene.sun.direction = dvec3(0.0, -1.0, 0.0);
+  scene.props.push_back({dvec3(-50, -1e-3, -50), dvec3(50, 0, 50), dvec3(0.6)});  // thin: its box is the visible surface
+  render::Frame probe(scene, kWidth, kHeight);
+  const Camera camera = cameraAt({0, 10, 0}, 0.0, -90.0, 100.0);
+  render::FrameSettings settings;
+  settings.method = shadows::ShadowMethod::Uniform;
+  settings.shadowMapSize = 1024;
+  settings.culling = culling::CullingStrategy::Frustum;
+  const double halfWidth = 10.0 * std::tan(glm::radians(30.0)) * kWidth / kHeight;  // the view's edge on the plane
+  const double lastPixel = halfWidth * (1.0 - 1.0 / kWidth);                          // the rightmost pixel centres
+  for (int pcf = 0; pcf <= 4; ++pcf) {
+    settings.pcfRadius = pcf;
+    probe.render(camera, 0.0, settings);  // where the map's texels lie (the caster will not change B)
+    const glm::dmat4& m = probe.shadowSetup().worldToShadowClip;
+    auto texelAt = [&](double x) { return glm::dvec2(m * glm::dvec4(x, 0.0, 0.0, 1.0)) * (0.5 * 1024); };
+    const double texelsPerMetre = glm::length(texelAt(halfWidth + 1.0) - texelAt(halfWidth));
+    const double start = lastPixel + 3.4 / texelsPerMetre;
+    const double beyondEdge = (start - halfWidth) * texelsPerMetre;
+    ASSERT_GT(beyondEdge, 1.5);
+    ASSERT_LT(beyondEdge, 2.0);  // inside the map's border (≥ 2 texels): drawn when selected
+    Scene withCaster = scene;
+    withCaster.props.push_back({dvec3(start, 4, -2), dvec3(start + 1.0, 5, 2), dvec3(0.8)});
+    render::Frame frame(withCaster, kWidth, kHeight);
+    settings.casters = render::CasterSelection::Receivers;
+    frame.render(camera, 0.0, settings);
+    const std::vector<float> withSelected = frame.readShadowTerm();
+    settings.casters = render::CasterSelection::All;
+    frame.resetHistory();
+    frame.render(camera, 0.0, settings);
+    const std::vector<float> withAll = frame.readShadowTerm();
+    int differ = 0, touched = 0;
+    for (size_t i = 0; i < withAll.size(); ++i) {
+      differ += withSelected[i] != withAll[i] ? 1 : 0;
+      touched += withAll[i] < 1.0f ? 1 : 0;
+    }
+    std::printf("[filter reach] pcf %d: %d pixels read the caster's shadow, %d differ with the selected casters\n", pcf,
+                touched, differ);
+    EXPECT_EQ(differ, 0) << "pcf " << pcf;
+    if (pcf <= 1) {
+      EXPECT_EQ(touched, 0) << "pcf " << pcf;
+    }
+    if (pcf == 4) {
+      EXPECT_GT(touched, 0) << "pcf 4 reads the caster's shadow from the edge pixels";
+    }
+  }
+}
+
 TEST_F(FrameGl, EveryMethodIsCleanAndASunBelowTheHorizonLeavesAmbient) {
   Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
   render::Frame frame(scene, kWidth, kHeight);
