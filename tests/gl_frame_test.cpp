@@ -184,7 +184,7 @@ TEST_F(FrameGl, CasterSelectionChangesNoShadowForAnyFilterAlongThirtyViews) {
       settings.method = v % 3 == 0 ? shadows::ShadowMethod::Uniform : v % 3 == 1 ? shadows::ShadowMethod::Lispsm : shadows::ShadowMethod::Tsm;
       settings.shadowMapSize = 1024;
       settings.pcfRadius = pcf;
-      // The same frame twice but for the casters: no history (smoothed z_f, CHC) in between.
+      // The same frame twice but for the casters: no history (smoothed n, CHC) in between.
       settings.culling = culling::CullingStrategy::Frustum;
       settings.casters = render::CasterSelection::Receivers;
       frame.resetHistory();
