@@ -1,5 +1,6 @@
 // The frame: shadows where the CPU says they are, no acne with backside rendering (and acne
-// without it), caster selection that changes nothing, every method clean, a sun below the horizon.
+// without it), caster selection that changes nothing, every method clean, a sun below the horizon,
+// hard cases, camera-relative props, n smoothed over time. The blur: gl_blur_test.cpp.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -517,101 +518,6 @@ TEST_F(FrameGl, NearDistanceMovesAFifthOfTheWayPerFrameWhenZfJumpsEitherWay) {
       EXPECT_GE((frames[k + 1].shadow.n - frames[k].shadow.n) * (target - before), 0.0) << "frame " << k;
     EXPECT_LT(std::abs(frames[jump + 24].shadow.n - target), 0.01 * std::abs(target - before));  // 0.8²⁵ < 0.4%
   }
-}
-
-// Eye depth of pixel i from the reversed-Z depth buffer.
-double eyeDepthAt(const Camera& c, float depth) { return c.near * c.far / (c.near + depth * (c.far - c.near)); }
-
-TEST_F(FrameGl, BlurOffIsTheTermItself) {
-  Scene scene;
-  scene.sun.direction = glm::normalize(dvec3(0.3, -1.0, 0.2));
-  scene.props.push_back({dvec3(-40, -1, -80), dvec3(40, 0, 40), dvec3(0.6)});
-  scene.props.push_back({dvec3(-2, 3, -2), dvec3(2, 5, 2), dvec3(0.8)});
-  render::Frame frame(scene, kWidth, kHeight);
-  render::FrameSettings settings;
-  settings.blurRadius = 0.0;
-  frame.render(cameraAt({0, 6, 14}, 0.0, -20.0, 300.0), 0.0, settings);
-  EXPECT_EQ(frame.readBlurredShadowTerm(), frame.readShadowTerm());
-}
-
-TEST_F(FrameGl, BlurWidensNearShadowEdgesMoreThanFarOnes) {
-  // Two boxes on stilts shadow a plane, one 10 m from the eye and one 60 m; blur 8 px up to 5 m,
-  // shrinking as 1/z: about 4 px near, under 1 px far.
-  Scene scene;
-  scene.sun.direction = glm::normalize(dvec3(0.3, -1.0, 0.2));
-  scene.props.push_back({dvec3(-60, -1, -120), dvec3(60, 0, 40), dvec3(0.6)});
-  scene.props.push_back({dvec3(-1.5, 2, -1.5), dvec3(1.5, 2.5, 1.5), dvec3(0.8)});    // near caster
-  scene.props.push_back({dvec3(-6, 8, -56), dvec3(6, 9, -44), dvec3(0.8)});          // far caster
-  render::Frame frame(scene, kWidth, kHeight);
-  const Camera camera = cameraAt({0, 5, 8}, 0.0, -12.0, 300.0);
-  render::FrameSettings settings;
-  settings.method = shadows::ShadowMethod::Uniform;
-  settings.blurRadius = 8.0;
-  settings.blurReferenceDepth = 5.0;
-  frame.render(camera, 0.0, settings);
-  const std::vector<float> term = frame.readShadowTerm(), blurred = frame.readBlurredShadowTerm(), depth = frame.readDepth();
-  const std::vector<std::uint32_t> ids = frame.readObjectIds();
-  const std::uint32_t plane = frame.objects().propIdBase();
-  // Per region: soft pixels (0.02 < blurred < 0.98) per edge pixel of the unblurred term (a pixel
-  // whose right or upper neighbour differs by more than 0.5): the soft band's width in pixels.
-  int soft[2] = {0, 0}, edges[2] = {0, 0};
-  for (int y = 0; y + 1 < kHeight; ++y)
-    for (int x = 0; x + 1 < kWidth; ++x) {
-      const size_t i = static_cast<size_t>(y) * kWidth + x;
-      if (ids[i] != plane) continue;
-      const double z = eyeDepthAt(camera, depth[i]);
-      const int region = z < 20.0 ? 0 : (z > 45.0 && z < 80.0 ? 1 : -1);
-      if (region < 0) continue;
-      soft[region] += blurred[i] > 0.02f && blurred[i] < 0.98f ? 1 : 0;
-      edges[region] += std::abs(term[i] - term[i + 1]) > 0.5f || std::abs(term[i] - term[i + kWidth]) > 0.5f ? 1 : 0;
-    }
-  std::printf("[blur] near: %d soft pixels over %d edge pixels; far: %d over %d\n", soft[0], edges[0], soft[1], edges[1]);
-  ASSERT_GT(edges[0], 10);
-  ASSERT_GT(edges[1], 10);
-  const double widthNear = static_cast<double>(soft[0]) / edges[0], widthFar = static_cast<double>(soft[1]) / edges[1];
-  EXPECT_GT(widthNear, 2.0 * widthFar) << widthNear << " vs " << widthFar;
-}
-
-TEST_F(FrameGl, BlurDoesNotLeakAcrossADepthDiscontinuity) {
-  // A lit box face right in front of a shadowed stretch of plane 25–40 m behind it.
-  Scene scene;
-  scene.sun.direction = glm::normalize(dvec3(0.2, -1.0, -0.6));  // from behind the camera
-  scene.props.push_back({dvec3(-60, -1, -120), dvec3(60, 0, 20), dvec3(0.6)});      // plane
-  scene.props.push_back({dvec3(-1, 0, -6), dvec3(1, 3, -5), dvec3(0.8)});           // lit box in view
-  scene.props.push_back({dvec3(-12, 12, -34), dvec3(12, 13, -14), dvec3(0.8)});     // shadows the plane behind
-  render::Frame frame(scene, kWidth, kHeight);
-  const Camera camera = cameraAt({0, 2.5, 2}, 0.0, -5.0, 300.0);
-  render::FrameSettings settings;
-  settings.blurRadius = 8.0;
-  settings.blurReferenceDepth = 40.0;  // full radius everywhere in view
-  frame.render(camera, 0.0, settings);
-  const std::vector<float> term = frame.readShadowTerm(), blurred = frame.readBlurredShadowTerm(), depth = frame.readDepth();
-  const std::vector<std::uint32_t> ids = frame.readObjectIds();
-  const std::uint32_t box = frame.objects().propIdBase() + 1;
-  // Lit box pixels with a shadowed pixel at least twice as deep within the kernel's reach and no
-  // shadow at their own depth (the box's own shadow beside its foot may be blurred in, rightly).
-  int checked = 0, leaked = 0;
-  for (int y = 8; y < kHeight - 8; ++y)
-    for (int x = 8; x < kWidth - 8; ++x) {
-      const size_t i = static_cast<size_t>(y) * kWidth + x;
-      if (ids[i] != box || term[i] < 0.99f) continue;
-      const double z = eyeDepthAt(camera, depth[i]);
-      bool farShadow = false, nearShadow = false;
-      for (int dy = -8; dy <= 8; ++dy)
-        for (int dx = -8; dx <= 8; ++dx) {
-          const size_t j = static_cast<size_t>(y + dy) * kWidth + (x + dx);
-          if (ids[j] == 0 || term[j] >= 0.99f) continue;
-          const double zj = eyeDepthAt(camera, depth[j]);
-          if (zj > 2.0 * z && term[j] < 0.5f && (dx == 0 || dy == 0)) farShadow = true;
-          if (std::abs(zj - z) <= 0.1 * z) nearShadow = true;
-        }
-      if (!farShadow || nearShadow) continue;
-      ++checked;
-      leaked += blurred[i] < term[i] - 1e-3f ? 1 : 0;
-    }
-  std::printf("[blur] %d lit box pixels beside a shadow, %d darkened by the blur\n", checked, leaked);
-  EXPECT_GT(checked, 20);
-  EXPECT_EQ(leaked, 0);
 }
 
 }  // namespace
