@@ -44,12 +44,12 @@ struct BenchOptions {
   std::vector<int> trees{5000, 50000};
   std::vector<std::string> paths{"ground", "canopy", "hill"};
   std::vector<std::string> strategies = culling::cullingStrategyNames();
-  int frames = 60;
-  int width = 640;
-  int height = 360;
+  ImageSizeOptions size{640, 360};
+  // 60 frames per path; no warm-up by default: the strategies take turns frame by frame, so a cold
+  // first frame costs them all alike.
+  RunLengthOptions length{60, 0};
   int leafSize = 1;
   std::string out = "out/bench-culling";
-  bool quiet = false;
 };
 
 struct FrameRecord {
@@ -171,7 +171,10 @@ int runBenchCulling(const BenchOptions& options) {
   const std::string scenePath = sceneFileOr(options.scene);
   const Scene base = loadScene(scenePath);
   if (!base.terrain || !base.vegetation) throw InputError(scenePath + ": bench culling needs a scene with [terrain] and [vegetation]");
-  if (options.frames < 2 || options.frames > 100000) throw InputError(fmt::format("--frames {}: expected 2 to 100000", options.frames));
+  if (options.length.frames < 2) throw InputError(fmt::format("--frames {}: expected at least 2", options.length.frames));
+  const int warmup = options.length.warmupFor(options.length.frames);
+  if (warmup >= options.length.frames)
+    throw InputError(fmt::format("--warmup {}: expected fewer than --frames {}", warmup, options.length.frames));
   for (int n : options.trees)
     if (n < 1 || n > 1000000) throw InputError(fmt::format("--trees {}: expected 1 to 1000000", n));
   std::vector<CullingStrategy> strategies;
@@ -188,8 +191,9 @@ int runBenchCulling(const BenchOptions& options) {
   ordered_json json;
   json["scene"] = scenePath;
   json["device"] = device;
-  json["frames_per_path"] = options.frames;
-  json["resolution"] = {options.width, options.height};
+  json["frames_per_path"] = options.length.frames;
+  json["warmup_frames"] = warmup;
+  json["resolution"] = {options.size.width, options.size.height};
   json["leaf_size"] = options.leafSize;
   json["culling_parameters"] = {{"batch_size", base.culling.batch_size},
                                 {"visible_requery_frames", base.culling.visible_requery_frames},
@@ -201,8 +205,8 @@ int runBenchCulling(const BenchOptions& options) {
       "# Culling benchmark\n\n{} at {}x{}, {} frames per path, {}.\nFrame = culling + the geometry it draws (lit, no shadows), to "
       "glFinish; the strategies take turns frame by frame. Oracle = drawing exactly the visible set (from the brute-force object-ID "
       "buffer) with no queries.\n\n",
-      scenePath, options.width, options.height, options.frames, device);
-  const int total = static_cast<int>(options.trees.size() * options.paths.size()) * options.frames * static_cast<int>(strategies.size() + 2);
+      scenePath, options.size.width, options.size.height, options.length.frames, device);
+  const int total = static_cast<int>(options.trees.size() * options.paths.size()) * options.length.frames * static_cast<int>(strategies.size() + 2);
   int done = 0;
   const auto benchStart = Clock::now();
   std::map<std::size_t, double> groundChcPlusPlus;  // p50 per tree count, for the scaling ratio
@@ -220,14 +224,14 @@ int runBenchCulling(const BenchOptions& options) {
     json["scenes"][size] = {{"trees", forest.trees().size()}, {"terrain_size_m", scene.terrain->size},
                             {"objects", objects.boxes().size()}, {"bvh_nodes", bvh.nodes().size()}};
 
-    render::OffscreenTarget target(options.width, options.height);
-    gl::Texture idTexture(GL_R32UI, options.width, options.height), idDepth(GL_DEPTH_COMPONENT32F, options.width, options.height);
+    render::OffscreenTarget target(options.size.width, options.size.height);
+    gl::Texture idTexture(GL_R32UI, options.size.width, options.size.height), idDepth(GL_DEPTH_COMPONENT32F, options.size.width, options.size.height);
     gl::Framebuffer idFramebuffer;
     idFramebuffer.attach(GL_COLOR_ATTACHMENT0, idTexture);
     idFramebuffer.attach(GL_DEPTH_ATTACHMENT, idDepth);
     auto beginPass = [&](GLuint framebuffer, bool ids) {
       glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-      glViewport(0, 0, options.width, options.height);
+      glViewport(0, 0, options.size.width, options.size.height);
       glClearDepth(0.0);
       glEnable(GL_DEPTH_TEST);
       glDepthFunc(GL_GREATER);
@@ -246,14 +250,14 @@ int runBenchCulling(const BenchOptions& options) {
 
     for (const std::string& pathName : options.paths) {
       const std::vector<Camera> path =
-          benchPath(pathName, scene, terrain, options.frames, static_cast<double>(options.width) / options.height);
+          benchPath(pathName, scene, terrain, options.length.frames, static_cast<double>(options.size.width) / options.size.height);
       // The visible set of every frame: objects with a pixel in the brute-force ID buffer.
       std::vector<std::vector<std::uint32_t>> visibleSets(path.size());
       {
         culling::OcclusionCuller culler;
-        std::vector<std::uint32_t> pixels(static_cast<size_t>(options.width) * options.height);
+        std::vector<std::uint32_t> pixels(static_cast<size_t>(options.size.width) * options.size.height);
         for (size_t f = 0; f < path.size(); ++f) {
-          const terrain::TerrainLod lod = terrain.lodFor(path[f], options.height);
+          const terrain::TerrainLod lod = terrain.lodFor(path[f], options.size.height);
           beginPass(idFramebuffer.id(), true);
           render::SceneDrawer ids(objects, &terrainIds, &treeIds, &propIds, path[f], &lod, 0.0, scene.sun);
           culler.cull(bvh, objects.boxes(), path[f], CullingStrategy::None, ids);
@@ -263,7 +267,7 @@ int runBenchCulling(const BenchOptions& options) {
           for (std::uint32_t id : pixels)
             if (const std::int64_t o = objects.objectOfId(id); o >= 0) seen.insert(static_cast<std::uint32_t>(o));
           visibleSets[f].assign(seen.begin(), seen.end());
-          showProgress("bench culling", "frames", ++done, total, std::chrono::duration<double>(Clock::now() - benchStart).count(), options.quiet);
+          showProgress("bench culling", "frames", ++done, total, std::chrono::duration<double>(Clock::now() - benchStart).count(), options.length.quiet);
         }
       }
       // Frame by frame, every strategy (each with its own culler and so its own frame-to-frame
@@ -275,7 +279,7 @@ int runBenchCulling(const BenchOptions& options) {
         cullers.back()->setParameters(scene.culling);
       }
       for (size_t f = 0; f < path.size(); ++f) {
-        const terrain::TerrainLod lod = terrain.lodFor(path[f], options.height);
+        const terrain::TerrainLod lod = terrain.lodFor(path[f], options.size.height);
         for (size_t k = 0; k <= strategies.size(); ++k) {
           const bool oracle = k == strategies.size();
           const auto start = Clock::now();
@@ -292,7 +296,7 @@ int runBenchCulling(const BenchOptions& options) {
           glFinish();
           r.milliseconds = 1e3 * std::chrono::duration<double>(Clock::now() - start).count();
           records[oracle ? std::string(kOracle) : std::string(culling::cullingStrategyName(strategies[k]))].push_back(r);
-          showProgress("bench culling", "frames", ++done, total, std::chrono::duration<double>(Clock::now() - benchStart).count(), options.quiet);
+          showProgress("bench culling", "frames", ++done, total, std::chrono::duration<double>(Clock::now() - benchStart).count(), options.length.quiet);
         }
       }
       if (gl::debugErrorCount() > 0)
@@ -304,13 +308,14 @@ int runBenchCulling(const BenchOptions& options) {
       std::vector<std::string> order = options.strategies;
       order.push_back(kOracle);
       std::map<std::string, ordered_json> summaries;
-      for (const std::string& name : order) summaries[name] = summarise(records[name]);
+      for (const std::string& name : order)
+        summaries[name] = summarise(std::vector<FrameRecord>(records[name].begin() + warmup, records[name].end()));
       const double oracleMs = summaries[kOracle]["p50_ms"].get<double>();
       const double frustumMs = summaries.count("frustum") ? summaries["frustum"]["p50_ms"].get<double>() : 0.0;
       markdown += fmt::format("## {} trees, {} ({})\n\n", size, pathName, pathDescriptions().at(pathName));
       markdown += "| strategy | p50 ms | p95 ms | / frustum | / oracle | triangles | draws | queries | multi | switches | wait ms |\n";
       markdown += "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-      std::cout << fmt::format("\n{} trees, {} path ({}), {} frames:\n", size, pathName, pathDescriptions().at(pathName), options.frames);
+      std::cout << fmt::format("\n{} trees, {} path ({}), {} frames:\n", size, pathName, pathDescriptions().at(pathName), options.length.frames);
       std::cout << fmt::format("  {:<14} {:>8} {:>8} {:>9} {:>8} {:>11} {:>7} {:>8} {:>6} {:>8} {:>8}\n", "strategy", "p50 ms", "p95 ms",
                                "/frustum", "/oracle", "triangles", "draws", "queries", "multi", "switches", "wait ms");
       PlotPanel panel{fmt::format("{} trees, {}", size, pathName), "frame", "ms (culling + geometry)", {}};
@@ -385,12 +390,10 @@ Run addBenchCommand(CLI::App& app) {
       ->delimiter(',')
       ->check(CLI::IsMember(culling::cullingStrategyNames()))
       ->capture_default_str();
-  cullingBench->add_option("--frames", options->frames, "Frames along each path")->capture_default_str();
-  cullingBench->add_option("--width", options->width, "Image width")->check(CLI::Range(16, 8192))->capture_default_str();
-  cullingBench->add_option("--height", options->height, "Image height")->check(CLI::Range(16, 8192))->capture_default_str();
+  options->size.add(*cullingBench);
+  options->length.add(*cullingBench, "60 along each path");
   cullingBench->add_option("--leaf-size", options->leafSize, "Objects per BVH leaf")->check(CLI::Range(1, 64))->capture_default_str();
   cullingBench->add_option("--out", options->out, "Output folder")->capture_default_str();
-  cullingBench->add_flag("--quiet", options->quiet, "No progress bar");
   const Run speedError = addSpeedErrorCommand(*bench);
   return [options, cullingBench, speedError] { return cullingBench->parsed() ? runBenchCulling(*options) : speedError(); };
 }

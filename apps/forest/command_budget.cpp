@@ -2,11 +2,14 @@
 // budget (core/budget.hpp): a table of every limit with its measured value and margin; exit 0 when
 // all hold, 1 otherwise (--report-only: always 0).
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "commands.hpp"
 #include "forest/core/budget.hpp"
@@ -23,17 +26,25 @@ struct BudgetOptions {
 
 int runBudget(BudgetOptions options) {
   const Budget budget = loadBudget(options.budget);  // bad files fail before anything renders
-  options.run.width = budget.width;
-  options.run.height = budget.height;
-  options.run.frames = budget.frames;
+  // --width, --height, --frames shorten or resize the run (0: not given, the budget's own).
+  std::vector<std::string> changed;
+  auto take = [&](int& value, int budgetValue, const char* flag) {
+    if (value == 0) value = budgetValue;
+    else if (value != budgetValue) changed.push_back(fmt::format("{} {} (budget: {})", flag, value, budgetValue == 0 ? std::string("the whole path") : std::to_string(budgetValue)));
+  };
+  take(options.run.size.width, budget.width, "--width");
+  take(options.run.size.height, budget.height, "--height");
+  take(options.run.length.frames, budget.frames, "--frames");
   options.run.every = 1000000;  // a budget run keeps no frames but the first
-  options.run.quiet = true;
+  options.run.length.quiet = true;
   const int status = runWalkthrough(options.run);
   if (status != 0) return status;
   const nlohmann::json report = nlohmann::json::parse(readTextFile(std::filesystem::path(options.run.out) / "report.json"));
   const nlohmann::json& summary = report.at("summary");
   std::cout << fmt::format("budget {} ({} frames measured):\n  {:<14} {:<5} {:>10} {:>10} {:>9}\n", options.budget,
                            summary.at("frames_measured").get<int>(), "", "", "limit ms", "ms", "margin");
+  if (!changed.empty())
+    std::cout << fmt::format("  not the budget's run: {}; its limits were set for the budget's run\n", fmt::join(changed, ", "));
   int over = 0;
   for (const BudgetLimit& limit : budget.limits) {
     const nlohmann::json& stats = limit.subject == "frame" ? summary.at("frame_ms") : summary.at("passes_ms").at(limit.subject);
@@ -59,16 +70,11 @@ Run addBudgetCommand(CLI::App& app) {
       "budget",
       "Run a camera path (as the walkthrough) and check the p50/p95/p99/mean of the frame and of each pass\n"
       "against a budget file (data/budgets/*.toml); prints every limit with its margin; exit 1 when one is exceeded");
-  options->run.gl.add(*command);
+  options->run.size = {0, 0};  // the budget file's unless given
+  options->run.add(*command, false);
   command->add_option("--budget", options->budget, "Budget file (TOML), e.g. data/budgets/llvmpipe-2core.toml")
       ->required()
       ->check(CLI::ExistingFile);
-  command->add_option("--scene", options->run.scene, "Scene file (default: data/scenes/forest.toml)");
-  command->add_option("--path", options->run.path, "Camera path (default: data/paths/walk.toml)");
-  command->add_option("--out", options->run.out, "Folder for the run's report.json")->capture_default_str();
-  command->add_option("--warmup", options->run.warmup, "Frames left out of the statistics")->check(CLI::NonNegativeNumber);
-  options->run.frame.blur = 3.0;  // the walkthrough's defaults
-  options->run.frame.add(*command);
   command->add_flag("--report-only", options->reportOnly, "Print the table but exit 0 even when a limit is exceeded");
   return [options] { return runBudget(*options); };
 }

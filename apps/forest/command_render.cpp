@@ -31,8 +31,7 @@ struct RenderOptions {
   std::string scene;
   std::string out;
   std::string json;
-  int width = 0;
-  int height = 0;
+  ImageSizeOptions size{0, 0};  // 0: the scene's render.width / height
   double time = 0.0;
   FrameOptions frame;
   std::string casters = "receivers";
@@ -117,7 +116,10 @@ void writeTruth(const render::Frame& frame, const render::FrameStats& stats, con
                             {"elsewhere", e.misclassificationElsewhere},
                             {"false_shadow", e.falseShadow},
                             {"false_light", e.falseLight}};
-  j["soft"] = {{"rays", options.softRays}, {"sun_disc_deg", truthOptions.sunDiscDeg}, {"blurred_mean_abs_error", e.softMeanAbsoluteError}};
+  const bool soft = options.softRays > 0;
+  j["soft"] = {{"rays", options.softRays},
+               {"sun_disc_deg", truthOptions.sunDiscDeg},
+               {"blurred_mean_abs_error", soft ? nlohmann::ordered_json(e.softMeanAbsoluteError) : nlohmann::ordered_json()}};
   j["aliasing"] = {{"px_per_texel", stats3(e.aliasingPixels)}, {"perspective_relative", stats3(e.aliasingRelative)}};
   j["casters"] = {{"selected", e.casters.selected},
                   {"needed", e.casters.needed},
@@ -132,12 +134,15 @@ void writeTruth(const render::Frame& frame, const render::FrameStats& stats, con
   std::cout << fmt::format(
       "truth ({:.1f} s): {} lit-facing pixels scored; misclassified {:.3f}% (near edges {:.3f}%, elsewhere {:.3f}%; "
       "false shadow {:.3f}%, false light {:.3f}%)\n"
-      "  soft shadow: blurred term vs {}-ray sun disc, mean |error| {:.4f}\n"
+      "  soft shadow: {}\n"
       "  aliasing: {:.2f} / {:.2f} / {:.2f} px per texel (max / p95 / mean)\n"
       "  casters: {} selected ({} triangles), {} needed by the oracle ({} triangles), {} missing\n"
       "  wrote {} and {}\n",
       seconds, e.litFacing, 100 * e.misclassification, 100 * e.misclassificationNearEdge, 100 * e.misclassificationElsewhere,
-      100 * e.falseShadow, 100 * e.falseLight, options.softRays, e.softMeanAbsoluteError, e.aliasingPixels.max,
+      100 * e.falseShadow, 100 * e.falseLight,
+      soft ? fmt::format("blurred term vs {}-ray sun disc, mean |error| {:.4f}", options.softRays, e.softMeanAbsoluteError)
+           : std::string("not measured (--soft-rays 0)"),
+      e.aliasingPixels.max,
       e.aliasingPixels.p95, e.aliasingPixels.mean, e.casters.selected, e.casters.selectedTriangles, e.casters.needed,
       e.casters.neededTriangles, e.casters.missing, (folder / "truth.json").string(), (folder / "error.png").string());
 }
@@ -146,8 +151,10 @@ int runRender(const RenderOptions& options) {
   const std::string scenePath =
       options.scene.empty() ? (resourceDirectory("data") / "scenes" / "boxes.toml").string() : options.scene;
   Scene scene = loadScene(scenePath);
-  if (options.width > 0) scene.render.width = options.width;
-  if (options.height > 0) scene.render.height = options.height;
+  if (options.size.width > 0) scene.render.width = options.size.width;
+  if (options.size.height > 0) scene.render.height = options.size.height;
+  if (!options.camera.empty() && !(std::abs(options.camera[4]) <= 90.0))
+    throw InputError(fmt::format("--camera: pitch {}: expected -90 to 90 degrees", options.camera[4]));
   if (!options.sun.empty()) {
     const glm::dvec3 d(options.sun[0], options.sun[1], options.sun[2]);
     if (!(glm::length(d) > 0.0) || !std::isfinite(glm::length(d))) throw InputError("--sun: expected a finite non-zero direction");
@@ -230,10 +237,11 @@ int runRender(const RenderOptions& options) {
 void addFrameInputs(CLI::App* command, RenderOptions* options) {
   options->gl.add(*command);
   command->add_option("--scene", options->scene, "Scene file (TOML; default: data/scenes/boxes.toml)");
-  command->add_option("--width", options->width, "Override render.width")->check(CLI::Range(1, 16384));
-  command->add_option("--height", options->height, "Override render.height")->check(CLI::Range(1, 16384));
-  command->add_option("--time", options->time, "Seconds since the start (wind sway)")->capture_default_str();
-  command->add_option("--camera", options->camera, "Camera pose: x y z yaw_deg pitch_deg (default: the scene's)")
+  options->size.add(*command, " (default: the scene's render.width / height)");
+  command->add_option("--time", options->time, "Seconds since the start (wind sway; 0 to 10^6)")
+      ->check(CLI::Range(0.0, 1e6))
+      ->capture_default_str();
+  command->add_option("--camera", options->camera, "Camera pose: x y z yaw_deg pitch_deg (default: the scene's; pitch -90 to 90)")
       ->expected(5);
   command->add_option("--sun", options->sun, "Sun direction x y z, the way light travels (default: the scene's)")
       ->expected(3);
@@ -241,7 +249,9 @@ void addFrameInputs(CLI::App* command, RenderOptions* options) {
   command->add_option("--casters", options->casters, "Shadow casters: from the visible receivers, the frustum's focus body, or all")
       ->check(CLI::IsMember({"receivers", "frustum-body", "all"}))
       ->capture_default_str();
-  command->add_option("--bias", options->bias, "Slope-scale depth bias in the shadow pass (0: none)")->capture_default_str();
+  command->add_option("--bias", options->bias, "Slope-scale depth bias in the shadow pass (0 to 100; 0: none)")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
   command->add_flag("--front-faces", options->frontFaces, "Render front faces into the shadow map (not backside rendering)");
   command->add_option("--fog", options->fog, "Exponential fog density per metre (0: none)")
       ->check(CLI::Range(0.0, 1.0))
@@ -255,7 +265,14 @@ Run addRenderCommand(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
       "render", "Render one frame of a scene (culling, shadows, lighting) to an image and a JSON record (headless)");
   addFrameInputs(command, options.get());
-  command->add_option("--out", options->out, "Output image (.png 8-bit, .exr float)")->required();
+  command->add_option("--out", options->out, "Output image (.png or .exr)")
+      ->required()
+      ->check(CLI::Validator(
+          [](std::string& file) -> std::string {
+            const std::string extension = std::filesystem::path(file).extension().string();
+            return extension == ".png" || extension == ".exr" ? std::string() : "expected a file name ending in .png or .exr, not " + file;
+          },
+          "", "image file"));
   command->add_option("--json", options->json, "JSON record of the frame (default: the image path with .json)");
   command->add_option("--debug", options->debug,
                       "Folder for debug images: shadow map (EXR, normalised PNG), shadow term before and after the blur,\n"
@@ -275,9 +292,7 @@ Run addTruthCommand(CLI::App& app) {
   command->add_option("--out", *folder, "Folder for frame.png, frame.json, truth.json and error.png (false shadow\n"
                                         "red, false light blue, agreement grey)")
       ->required();
-  command->add_option("--soft-rays", options->softRays, "Rays over the sun's disc for the soft truth (0: none)")
-      ->check(CLI::Range(0, 1024))
-      ->capture_default_str();
+  addSoftRaysOption(*command, options->softRays);
   return [options, folder] {
     RenderOptions o = *options;
     o.out = (std::filesystem::path(*folder) / "frame.png").string();

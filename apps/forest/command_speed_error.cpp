@@ -35,10 +35,10 @@ struct SpeedErrorOptions {
   std::string scene;
   std::string out = "out/speed-error";
   bool quick = false;
-  int width = 1280, height = 720;
+  ImageSizeOptions size{1280, 720};
   std::vector<int> sizes{512, 1024, 2048, 4096};
   double target = 0.02;  // misclassification for the equal-error map sizes
-  int softRays = 8;
+  int softRays = 8;      // fewer than truth's 16: the sweep scores 130 frames
   bool quiet = false;
 };
 
@@ -140,7 +140,7 @@ int runSpeedError(const SpeedErrorOptions& options) {
   const std::filesystem::path out = options.out;
   std::filesystem::create_directories(out);
   const std::vector<int> sizes = options.quick ? std::vector<int>{1024} : options.sizes;
-  const int width = options.quick ? 640 : options.width, height = options.quick ? 360 : options.height;
+  const int width = options.quick ? 640 : options.size.width, height = options.quick ? 360 : options.size.height;
 
   gl::ContextOptions contextOptions;
   contextOptions.backend = gl::parseBackend(options.gl.backend);
@@ -293,7 +293,7 @@ int runSpeedError(const SpeedErrorOptions& options) {
                               {"elsewhere", e.misclassificationElsewhere},
                               {"false_shadow", e.falseShadow},
                               {"false_light", e.falseLight},
-                              {"soft_mae", r.softError},
+                              {"soft_mae", options.softRays > 0 ? nlohmann::ordered_json(r.softError) : nlohmann::ordered_json()},
                               {"aliasing_p95_px", e.aliasingPixels.p95},
                               {"aliasing_max_px", e.aliasingPixels.max},
                               {"lit_facing_pixels", e.litFacing},
@@ -348,8 +348,9 @@ int runSpeedError(const SpeedErrorOptions& options) {
             [](const Row& r) { return r.error.misclassification; }, false);
   writePlot(out / "shadow-ms-vs-misclassification.png", scenarios, rows, "misclassified pixels (share)",
             [](const Row& r) { return r.error.misclassification; }, true);
-  writePlot(out / "frame-ms-vs-soft-error.png", scenarios, rows, "mean |term - soft truth|", [](const Row& r) { return r.softError; },
-            false);
+  if (options.softRays > 0)  // --soft-rays 0: no soft truth, no plot of it
+    writePlot(out / "frame-ms-vs-soft-error.png", scenarios, rows, "mean |term - soft truth|", [](const Row& r) { return r.softError; },
+              false);
   writePlot(out / "frame-ms-vs-aliasing.png", scenarios, rows, "aliasing p95 (px per texel)",
             [](const Row& r) { return r.error.aliasingPixels.p95; }, false);
   {
@@ -387,13 +388,15 @@ Run addSpeedErrorCommand(CLI::App& bench) {
   command->add_option("--scene", options->scene, "Scene file (default: data/scenes/forest.toml)");
   command->add_option("--out", options->out, "Output folder")->capture_default_str();
   command->add_flag("--quick", options->quick, "All methods at 1024² on two scenarios at 640x360 (CI; under 3 minutes)");
-  command->add_option("--width", options->width, "Image width")->check(CLI::Range(16, 8192))->capture_default_str();
-  command->add_option("--height", options->height, "Image height")->check(CLI::Range(16, 8192))->capture_default_str();
-  command->add_option("--sizes", options->sizes, "Shadow map sizes (texels per side)")->capture_default_str();
-  command->add_option("--target", options->target, "Misclassification for the equal-error map sizes")->capture_default_str();
-  command->add_option("--soft-rays", options->softRays, "Rays over the sun's disc for the soft truth")
-      ->check(CLI::Range(1, 256))
+  options->size.add(*command);
+  command->add_option("--sizes", options->sizes, "Shadow map sizes, texels per side (comma-separated, 512 to 8192)")
+      ->delimiter(',')
+      ->check(CLI::Range(512, 8192))
       ->capture_default_str();
+  command->add_option("--target", options->target, "Misclassification share for the equal-error map sizes (0 to 1, exclusive)")
+      ->check(CLI::Range(1e-6, 0.999999))
+      ->capture_default_str();
+  addSoftRaysOption(*command, options->softRays);
   command->add_flag("--quiet", options->quiet, "No progress bar");
   return [options] { return runSpeedError(*options); };
 }

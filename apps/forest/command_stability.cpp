@@ -277,9 +277,10 @@ Run addStabilityCommand(CLI::App& app) {
       "fails, 2 for an invalid case file.");
   command->add_option("--cases", options->cases, "Case file (JSON), e.g. data/stability/hard-cases.json")
       ->check(CLI::ExistingFile);
-  command->add_option("--random", options->random, "Number of random configurations to add");
+  command->add_option("--random", options->random, "Number of random configurations to add (0 to 10^8)")->check(CLI::Range(0, 100000000));
   command->add_option("--seed", options->seed, "Seed of the random configurations")->capture_default_str();
-  command->add_option("--methods", options->methods, "Methods to evaluate")
+  command->add_option("--methods", options->methods, "Methods to evaluate (comma-separated)")
+      ->delimiter(',')
       ->check(CLI::IsMember(shadows::shadowMethodNames()))
       ->capture_default_str();
   command->add_option("--out", options->out,

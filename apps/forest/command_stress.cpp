@@ -55,12 +55,11 @@ struct StressOptions {
   std::string out = "out/stress";
   std::vector<int> trees{1000, 5000, 20000, 100000};
   std::vector<int> lod0{2000};
-  int frames = 300;
-  int width = 640, height = 360;
+  ImageSizeOptions size{640, 360};
+  RunLengthOptions length{300, 50};  // frames per run; warm-up before the RSS slope and the statistics
+  FrameOptions frame;
   double moving = 0.02;  // share of the trees moved every frame
   int checkEvery = 50;   // frames between exactness checks (0: none)
-  int warmup = 50;       // frames before the RSS slope and the frame statistics
-  bool quiet = false;
 };
 
 constexpr int kProps = 20;
@@ -99,16 +98,15 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
   // Props: 2 m boxes, built first as placeholders (the frame needs their count), then put around the
   // walk's start on the ground once the terrain exists.
   scene.props.assign(kProps, PropBox{dvec3(0.0), dvec3(2.0), dvec3(0.7, 0.3, 0.2)});
-  render::Frame frame(scene, options.width, options.height);
+  render::Frame frame(scene, options.size.width, options.size.height);
   const std::vector<Camera> path =
-      walkPath(scene, *frame.terrain(), options.frames, static_cast<double>(options.width) / options.height);
+      walkPath(scene, *frame.terrain(), options.length.frames, static_cast<double>(options.size.width) / options.size.height);
   std::vector<dvec3> centres;
   for (int i = 0; i < kProps; ++i) {
     const double a = 2.0 * std::numbers::pi * i / kProps;
     centres.push_back(path.front().position + dvec3(12.0 * std::cos(a), 0.0, 12.0 * std::sin(a)));
   }
-  render::FrameSettings settings;
-  settings.blurRadius = 3.0;
+  const render::FrameSettings settings = options.frame.settings();
   SplitMix64 random(SplitMix64::substream(scene.vegetation->seed, 0x57e55ull));
   const int treeCount = static_cast<int>(frame.forest()->trees().size());
   const int movedPerFrame = static_cast<int>(std::lround(options.moving * treeCount));
@@ -116,7 +114,7 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
   std::vector<long long> trianglesGeometry, trianglesShadow, queries;
   long long mismatched = 0;
   int checks = 0;
-  for (int i = 0; i < options.frames; ++i) {
+  for (int i = 0; i < options.length.frames; ++i) {
     // Moves: a share of the trees up to 0.5 m, every prop along its circle.
     std::vector<vegetation::Forest::Move> moves;
     for (int k = 0; k < movedPerFrame; ++k) {
@@ -133,7 +131,7 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
     }
     moveProps(scene.props, propMoves);
     frame.propsMoved();
-    scene.sun.direction = daySun(static_cast<double>(i) / options.frames);
+    scene.sun.direction = daySun(static_cast<double>(i) / options.length.frames);
 
     const double time = i / 30.0;
     const auto frameStart = Clock::now();
@@ -150,7 +148,7 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
       for (size_t p = 0; p < ids.size(); ++p) mismatched += ids[p] != idsF[p] || depth[p] != depthF[p] ? 1 : 0;
       ++checks;
     }
-    if (i >= options.warmup) {
+    if (i >= options.length.warmup) {
       frameMs.push_back(ms);
       geometryMs.push_back(s.geometryMs);
       trianglesGeometry.push_back(s.geometryTriangles);
@@ -159,7 +157,7 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
       rss.push_back(residentMegabytes());
     }
     ++done;
-    showProgress("stress", "frames", done, total, std::chrono::duration<double>(Clock::now() - start).count(), options.quiet);
+    showProgress("stress", "frames", done, total, std::chrono::duration<double>(Clock::now() - start).count(), options.length.quiet);
   }
   if (gl::debugErrorCount() > 0)
     throw Error(fmt::format("{} GL errors during the stress run (first: {})", gl::debugErrorCount(), gl::debugErrorMessages().front()));
@@ -174,7 +172,7 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
   r.json = {{"trees", treeCount},
             {"lod0_triangles", lod0},
             {"terrain_size_m", scene.terrain->size},
-            {"frames", options.frames},
+            {"frames", options.length.frames},
             {"frame_ms", {{"p50", p50}, {"p95", percentile(frameMs, 0.95)}, {"max", frameMs.empty() ? 0.0 : *std::max_element(frameMs.begin(), frameMs.end())}}},
             {"max_over_median", p50 > 0.0 && !frameMs.empty() ? *std::max_element(frameMs.begin(), frameMs.end()) / p50 : 0.0},
             {"geometry_ms_p50", percentile(geometryMs, 0.5)},
@@ -197,7 +195,7 @@ int runStress(const StressOptions& options) {
     if (n < 1 || n > 1000000) throw InputError(fmt::format("--trees {}: expected 1 to 1000000", n));
   for (int l : options.lod0)
     if (l < 1000 || l > 20000) throw InputError(fmt::format("--lod0 {}: expected 1000 to 20000 triangles", l));
-  if (options.frames <= options.warmup) throw InputError(fmt::format("--frames {}: expected more than --warmup {}", options.frames, options.warmup));
+  if (options.length.frames <= options.length.warmup) throw InputError(fmt::format("--frames {}: expected more than --warmup {}", options.length.frames, options.length.warmup));
   const std::filesystem::path out = options.out;
   std::filesystem::create_directories(out);
   // RSS should show live memory, not glibc's trimming: keep freed heap and large blocks in the
@@ -208,12 +206,12 @@ int runStress(const StressOptions& options) {
 
   gl::ContextOptions contextOptions;
   contextOptions.backend = gl::parseBackend(options.gl.backend);
-  contextOptions.width = options.width;
-  contextOptions.height = options.height;
+  contextOptions.width = options.size.width;
+  contextOptions.height = options.size.height;
   auto context = gl::createContext(contextOptions);
   log::info("{}", gl::describe(context->info()));
 
-  const int total = static_cast<int>(options.trees.size() * options.lod0.size()) * options.frames;
+  const int total = static_cast<int>(options.trees.size() * options.lod0.size()) * options.length.frames;
   int done = 0;
   const auto start = Clock::now();
   ordered_json runs = ordered_json::array();
@@ -238,14 +236,15 @@ int runStress(const StressOptions& options) {
     triangles.series.push_back(tg);
     queryPanel.series.push_back(q);
   }
-  ordered_json report{{"scene", scenePath}, {"device", gl::describe(context->info())}, {"resolution", {options.width, options.height}},
-                      {"frames", options.frames}, {"warmup", options.warmup}, {"moving_share", options.moving},
+  ordered_json report{{"scene", scenePath}, {"device", gl::describe(context->info())}, {"resolution", {options.size.width, options.size.height}},
+                      {"settings", options.frame.json()},
+                      {"frames", options.length.frames}, {"warmup", options.length.warmup}, {"moving_share", options.moving},
                       {"check_every", options.checkEvery}, {"runs", runs}};
   writeFileAtomic(out / "stress.json", report.dump(2) + "\n");
   writeImage(out / "stress.png", plotPanels({frameTime, geometry, triangles, queryPanel}, 2));
 
   std::cout << fmt::format("stress: {} at {}x{}, {} frames per run ({} warm-up), {:.0f}% of the trees and {} props moved per frame, day cycle\n",
-                           scenePath, options.width, options.height, options.frames, options.warmup, 100 * options.moving, kProps);
+                           scenePath, options.size.width, options.size.height, options.length.frames, options.length.warmup, 100 * options.moving, kProps);
   std::cout << fmt::format("  {:>7} {:>6} {:>9} {:>9} {:>9} {:>8} {:>11} {:>11} {:>8} {:>10} {:>11}\n", "trees", "lod0", "p50 ms",
                            "p95 ms", "max/p50", "geom ms", "eye tris", "shadow tris", "queries", "exactness", "RSS %/100f");
   for (const auto& r : runs)
@@ -277,17 +276,13 @@ Run addStressCommand(CLI::App& app) {
   command->add_option("--out", options->out, "Output folder")->capture_default_str();
   command->add_option("--trees", options->trees, "Tree counts (comma-separated)")->delimiter(',')->capture_default_str();
   command->add_option("--lod0", options->lod0, "LOD0 triangle budgets per tree (comma-separated)")->delimiter(',')->capture_default_str();
-  command->add_option("--frames", options->frames, "Frames per run")->check(CLI::Range(2, 1000000))->capture_default_str();
-  command->add_option("--warmup", options->warmup, "Frames before the statistics and the RSS slope")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  command->add_option("--width", options->width, "Image width")->check(CLI::Range(16, 8192))->capture_default_str();
-  command->add_option("--height", options->height, "Image height")->check(CLI::Range(16, 8192))->capture_default_str();
+  options->size.add(*command);
+  options->length.add(*command, "300 per run");
+  options->frame.add(*command);
   command->add_option("--moving", options->moving, "Share of the trees moved every frame")->check(CLI::Range(0.0, 1.0))->capture_default_str();
   command->add_option("--check-every", options->checkEvery, "Frames between exactness checks (0: none)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  command->add_flag("--quiet", options->quiet, "No progress bar");
   return [options] { return runStress(*options); };
 }
 

@@ -15,6 +15,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "run_output.hpp"
 #include "forest/core/camera_path.hpp"
 #include "forest/core/error.hpp"
 #include "forest/core/files.hpp"
@@ -36,27 +37,6 @@ using Clock = std::chrono::steady_clock;
 std::atomic<bool> gInterrupted{false};
 extern "C" void onInterrupt(int) { gInterrupted = true; }
 
-
-// A grid of up to 16 frames, each scaled down 4× (box filter), evenly spread over the run.
-Image8 contactSheet(const std::vector<Image8>& frames) {
-  const int columns = 4, scale = 4;
-  const int rows = static_cast<int>((frames.size() + columns - 1) / columns);
-  const int w = frames.front().width / scale, h = frames.front().height / scale;
-  Image8 sheet(columns * w, rows * h, 4);
-  std::fill(sheet.pixels.begin(), sheet.pixels.end(), static_cast<unsigned char>(255));
-  for (size_t f = 0; f < frames.size(); ++f) {
-    const int ox = static_cast<int>(f % columns) * w, oy = static_cast<int>(f / columns) * h;
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x)
-        for (int c = 0; c < 4; ++c) {
-          int sum = 0;
-          for (int dy = 0; dy < scale; ++dy)
-            for (int dx = 0; dx < scale; ++dx) sum += frames[f].at(x * scale + dx, y * scale + dy, c);
-          sheet.at(ox + x, oy + y, c) = static_cast<unsigned char>(sum / (scale * scale));
-        }
-  }
-  return sheet;
-}
 
 }  // namespace
 
@@ -132,28 +112,32 @@ int runWalkthrough(const WalkthroughOptions& options) {
   Scene scene = loadScene(scenePath);
   const CameraPath path = CameraPath::load(pathPath);
   if (path.aboveGround() && !scene.terrain) throw InputError(pathPath + ": heights = \"above_ground\" needs a scene with [terrain]");
-  if (!(options.fps > 0.0 && options.fps <= 1000.0)) throw InputError(fmt::format("--fps {}: expected (0, 1000]", options.fps));
   const render::FrameSettings settings = options.frame.settings();
   const int pathFrames = 1 + static_cast<int>(std::floor((path.endTime() - path.startTime()) * options.fps + 1e-9));
-  const int total = options.frames > 0 ? std::min(options.frames, pathFrames) : pathFrames;
-  scene.render.width = options.width;
-  scene.render.height = options.height;
+  const int total = options.length.frames > 0 ? std::min(options.length.frames, pathFrames) : pathFrames;
+  const int warmup = options.length.warmupFor(total);
+  if (warmup >= total)
+    throw InputError(fmt::format("--warmup {}: expected fewer than the {} frames the run renders", warmup, total));
+  const int width = options.size.width, height = options.size.height;
+  scene.render.width = width;
+  scene.render.height = height;
 
   gl::ContextOptions contextOptions;
   contextOptions.backend = gl::parseBackend(options.gl.backend);
-  contextOptions.width = options.width;
-  contextOptions.height = options.height;
+  contextOptions.width = width;
+  contextOptions.height = height;
   auto context = gl::createContext(contextOptions);
   const std::string device = gl::describe(context->info());
   log::info("{}", device);
-  render::Frame frame(scene, options.width, options.height);
+  render::Frame frame(scene, width, height);
 
+  // The folder holds this run only: what an earlier walkthrough wrote there goes first.
   const fs::path out(options.out);
+  clearEarlierWalk(out);
   fs::create_directories(out / "frames");
   std::signal(SIGINT, onInterrupt);
   nlohmann::ordered_json records = nlohmann::ordered_json::array();
-  std::vector<Image8> sheetFrames;
-  const int sheetStep = std::max(1, total / 16);
+  ContactSheet sheet;
   const auto start = Clock::now();
   int done = 0;
   for (int f = 0; f < total && !gInterrupted; ++f) {
@@ -168,36 +152,40 @@ int runWalkthrough(const WalkthroughOptions& options) {
     const render::FrameStats s = frame.render(camera, time, settings);
     const double frameMs = 1e3 * std::chrono::duration<double>(Clock::now() - frameStart).count();
     const bool writeFrame = f % options.every == 0 || f == total - 1;
-    const bool sheet = f % sheetStep == 0 && sheetFrames.size() < 16;
-    if (writeFrame || sheet) {
-      Image8 image = frame.readColor();
+    if (writeFrame || sheet.wants(f)) {
+      const Image8 image = frame.readColor();
       if (writeFrame) writeImage(out / "frames" / fmt::format("frame{:05d}.png", f), image);
-      if (sheet) sheetFrames.push_back(std::move(image));
+      if (sheet.wants(f)) sheet.add(f, time, frameMs, image);
     }
-    records.push_back(frameRecord(f, time, f < options.warmup, camera, pose.yaw_deg, frameMs, s));
+    records.push_back(frameRecord(f, time, f < warmup, camera, pose.yaw_deg, frameMs, s));
     ++done;
-    showProgress("walkthrough", "frames", done, total, std::chrono::duration<double>(Clock::now() - start).count(), options.quiet);
+    showProgress("walkthrough", "frames", done, total, std::chrono::duration<double>(Clock::now() - start).count(), options.length.quiet);
   }
   std::signal(SIGINT, SIG_DFL);
+  // The last frame done is always on the sheet (its image is still in the frame's target).
+  if (done > 0 && !sheet.has(done - 1)) {
+    const nlohmann::ordered_json& last = records.back();
+    sheet.add(done - 1, last["time"].get<double>(), last["frame_ms"].get<double>(), frame.readColor());
+  }
   if (gl::debugErrorCount() > 0)
     throw Error(fmt::format("{} GL errors during the walkthrough (first: {})", gl::debugErrorCount(), gl::debugErrorMessages().front()));
 
-  const nlohmann::ordered_json summary = summariseFrames(records, done - std::min(done, options.warmup));
+  const nlohmann::ordered_json summary = summariseFrames(records, done - std::min(done, warmup));
   nlohmann::ordered_json report;
   report["scene"] = scenePath;
   report["path"] = pathPath;
   report["device"] = device;
-  report["resolution"] = {options.width, options.height};
-  report["settings"] = {{"method", options.frame.method}, {"shadow_size", options.frame.shadowSize},
-                        {"culling", options.frame.culling}, {"pcf_radius", options.frame.pcf},
-                        {"blur_px", options.frame.blur}, {"blur_depth_m", options.frame.blurDepth}, {"fps", options.fps}};
+  report["resolution"] = {width, height};
+  report["settings"] = options.frame.json();
+  report["settings"]["fps"] = options.fps;
+  report["warmup_frames"] = warmup;
   report["frames_requested"] = total;
   report["frames_done"] = done;
   report["interrupted"] = gInterrupted.load();
   report["summary"] = summary;
   report["frames"] = records;
   writeFileAtomic(out / "report.json", report.dump(1) + "\n");
-  if (!sheetFrames.empty()) writeImage(out / "contact-sheet.png", contactSheet(sheetFrames));
+  if (!sheet.empty()) writeImage(out / "contact-sheet.png", sheet.compose());
 
   // An MP4 of the written frames when ffmpeg is there (the frames stay either way).
   bool video = false;
@@ -209,9 +197,9 @@ int runWalkthrough(const WalkthroughOptions& options) {
   }
 
   std::cout << fmt::format("walkthrough: {} of {} frames of {} along {} at {}x{} ({}, {}², {})\n", done, total, scenePath,
-                           pathPath, options.width, options.height, options.frame.method, options.frame.shadowSize,
+                           pathPath, width, height, options.frame.method, options.frame.shadowSize,
                            options.frame.culling);
-  if (options.warmup > 0) std::cout << fmt::format("  (the first {} frames are warm-up, not in the summary)\n", options.warmup);
+  if (warmup > 0) std::cout << fmt::format("  (the first {} frames are warm-up, not in the summary)\n", warmup);
   printSummary(summary);
   std::cout << fmt::format("  wrote {}/report.json, {}/contact-sheet.png, frames every {} in {}/frames{}\n", out.string(),
                            out.string(), options.every, out.string(), video ? ", walkthrough.mp4" : " (no MP4: needs ffmpeg and --every 1)");
@@ -222,31 +210,31 @@ int runWalkthrough(const WalkthroughOptions& options) {
   return 0;
 }
 
+void WalkthroughOptions::add(CLI::App& command, bool withFramesOut) {
+  gl.add(command);
+  command.add_option("--scene", scene, "Scene file (default: data/scenes/forest.toml, 5000 trees)");
+  command.add_option("--path", path, "Camera path (default: data/paths/walk.toml)");
+  command.add_option("--out", out, "Output folder (what an earlier run of this command wrote there is removed first)")
+      ->capture_default_str();
+  if (withFramesOut) {
+    size.add(command);
+    command.add_option("--fps", fps, "Frames per second of path time (0.1 to 1000)")->check(CLI::Range(0.1, 1000.0))->capture_default_str();
+    command.add_option("--every", every, "Write every k-th frame as PNG (1: all)")->check(CLI::Range(1, 1000000))->capture_default_str();
+  } else {
+    size.add(command, " (default: the budget file's)");
+  }
+  length.add(command, withFramesOut ? "the whole path" : "the budget file's");
+  frame.add(command);
+}
+
 Run addWalkthroughCommand(CLI::App& app) {
   auto options = std::make_shared<WalkthroughOptions>();
-  options->frame.blur = 3.0;  // the walkthrough blurs by default (thesis §9.4.2)
   CLI::App* command = app.add_subcommand(
       "walkthrough",
       "The main job: render a camera path through a scene (culling, LiSPSM shadows, lighting), headless;\n"
-      "write frames, a contact sheet, report.json and a summary (an MP4 too when ffmpeg is installed)");
-  options->gl.add(*command);
-  command->add_option("--scene", options->scene, "Scene file (default: data/scenes/forest.toml, 5000 trees)");
-  command->add_option("--path", options->path, "Camera path (default: data/paths/walk.toml)");
-  command->add_option("--out", options->out, "Output folder")->capture_default_str();
-  command->add_option("--width", options->width, "Image width")->check(CLI::Range(16, 8192))->capture_default_str();
-  command->add_option("--height", options->height, "Image height")->check(CLI::Range(16, 8192))->capture_default_str();
-  command->add_option("--fps", options->fps, "Frames per second of path time")->capture_default_str();
-  command->add_option("--warmup", options->warmup, "Frames rendered first but left out of the summary (caches, CHC history)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  command->add_option("--frames", options->frames, "Stop after this many frames (0: the whole path)")
-      ->check(CLI::Range(0, 1000000))
-      ->capture_default_str();
-  command->add_option("--every", options->every, "Write every k-th frame as PNG (1: all)")
-      ->check(CLI::Range(1, 1000000))
-      ->capture_default_str();
-  options->frame.add(*command);
-  command->add_flag("--quiet", options->quiet, "No progress bar");
+      "write frames, a contact sheet, report.json (fields: docs/report-format.md) and a summary (an MP4 too\n"
+      "when ffmpeg is installed and --every 1)");
+  options->add(*command, true);
   auto window = std::make_shared<WindowOptions>();
   auto windowed = std::make_shared<bool>(false);
   CLI::Option* windowFlag = command->add_flag(

@@ -15,23 +15,55 @@ namespace forest::app {
 
 using Run = std::function<int()>;
 
-// Options every GL-using subcommand has.
+// Flags shared by several commands, each defined once (options.cpp): names, ranges and help agree
+// everywhere; each command sets its defaults before add().
+
+// Every numeric flag of every command (recursively) must be finite: "nan", "inf" are usage errors.
+void requireFiniteNumbers(CLI::App& app);
+
+// --gl: the GL backend.
 struct GlOptions {
   std::string backend = "auto";
   void add(CLI::App& command);
 };
 
-// The frame's settings as flags (render, walkthrough).
+// --width, --height (16 to 8192). defaultNote non-empty: the defaults come from elsewhere (the
+// scene, the budget file) and the note says so; 0 then means "not given".
+struct ImageSizeOptions {
+  int width = 1280;
+  int height = 720;
+  void add(CLI::App& command, const std::string& defaultNote = "");
+};
+
+// --frames (1 to 10^6; 0 = not given), --warmup, --quiet: how long a multi-frame command runs.
+struct RunLengthOptions {
+  int frames = 0;
+  int warmup = 10;
+  bool quiet = false;
+  void add(CLI::App& command, const std::string& framesMeaning);
+  // Warm-up frames of a run of `total` frames: --warmup when given, else the default capped at
+  // half the run (so a short run still measures something).
+  int warmupFor(int total) const;
+  CLI::Option* framesOption = nullptr;
+  CLI::Option* warmupOption = nullptr;
+};
+
+// The frame's settings as flags (render, truth, walkthrough, budget, stress). One default for all:
+// the blur is on (3 px, thesis §9.4.2), so every command renders the same frame unless told.
 struct FrameOptions {
   std::string method = "lispsm";
   int shadowSize = 2048;
   std::string culling = "chc++";
   int pcf = 0;
-  double blur = 0.0;         // eye-space blur radius, pixels (0: off)
+  double blur = 3.0;         // eye-space blur radius, pixels (0: off)
   double blurDepth = 10.0;   // metres up to which the full radius applies
-  void add(CLI::App& command);
+  void add(CLI::App& command, bool withCulling = true);
   render::FrameSettings settings() const;  // throws InputError for names the checks let through
+  nlohmann::ordered_json json() const;     // the settings as report.json writes them
 };
+
+// --soft-rays for truth and bench speed-error (0 to 1024).
+void addSoftRaysOption(CLI::App& command, int& softRays);
 
 // The walkthrough (main job) and what `forest budget` runs.
 struct WalkthroughOptions {
@@ -39,14 +71,13 @@ struct WalkthroughOptions {
   std::string scene;
   std::string path;
   std::string out = "out/walkthrough";
-  int width = 1280;
-  int height = 720;
+  ImageSizeOptions size;
   double fps = 30.0;
-  int warmup = 0;  // first frames rendered but left out of the summary
-  int frames = 0;  // 0: the whole path
-  int every = 10;  // write every k-th frame as PNG
+  RunLengthOptions length;  // frames 0: the whole path
+  int every = 10;           // write every k-th frame as PNG
   FrameOptions frame;
-  bool quiet = false;
+  // The flags walkthrough and budget share (budget: without --every and --fps).
+  void add(CLI::App& command, bool withFramesOut);
 };
 // Renders the path; writes frames, contact sheet, report.json (with its summary) into out.
 int runWalkthrough(const WalkthroughOptions& options);

@@ -1,6 +1,7 @@
 // forest — command line of the forest engine. Errors print one line and exit non-zero:
 // 2 for bad input (file, key, value), 1 for failures of the program or the machine.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -9,47 +10,15 @@
 #include <iostream>
 #include <map>
 
+#include "build_info.hpp"
 #include "commands.hpp"
 #include "forest/core/error.hpp"
 #include "forest/core/resources.hpp"
 
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
 namespace forest::app {
-
-void GlOptions::add(CLI::App& command) {
-  command.add_option("--gl", backend,
-                     "GL backend: auto (EGL, then OSMesa), egl (GPU device or Mesa surfaceless), "
-                     "osmesa, window (GLFW; needs a display)")
-      ->check(CLI::IsMember({"auto", "egl", "osmesa", "window"}))
-      ->capture_default_str();
-}
-
-void FrameOptions::add(CLI::App& command) {
-  command.add_option("--method", method, "Shadow method")
-      ->check(CLI::IsMember(shadows::shadowMethodNames()))
-      ->capture_default_str();
-  command.add_option("--shadow-size", shadowSize, "Shadow map texels per side")->check(CLI::Range(512, 8192))->capture_default_str();
-  command.add_option("--culling", culling, "Culling strategy")
-      ->check(CLI::IsMember(culling::cullingStrategyNames()))
-      ->capture_default_str();
-  command.add_option("--pcf", pcf, "Wider PCF: (2r+1)² hardware 2×2 lookups (0: one)")->check(CLI::Range(0, 4))->capture_default_str();
-  command.add_option("--blur", blur, "Eye-space blur of the shadow term: radius in pixels up to --blur-depth, then shrinking as 1/depth (0: off)")
-      ->check(CLI::Range(0.0, 16.0))
-      ->capture_default_str();
-  command.add_option("--blur-depth", blurDepth, "Depth (m) up to which the blur has its full radius")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-}
-
-render::FrameSettings FrameOptions::settings() const {
-  render::FrameSettings s;
-  s.method = shadows::parseShadowMethod(method);
-  s.shadowMapSize = shadowSize;
-  s.culling = culling::parseCullingStrategy(culling);
-  s.pcfRadius = pcf;
-  s.blurRadius = blur;
-  s.blurReferenceDepth = blurDepth;
-  return s;
-}
 
 double percentile(std::vector<double> values, double p) {
   if (values.empty()) return 0.0;
@@ -86,11 +55,65 @@ void showProgress(std::string_view what, std::string_view unit, int done, int to
 
 }  // namespace forest::app
 
+namespace {
+
+// The deepest command the arguments named ("forest", "forest bench", "forest bench culling").
+CLI::App* namedCommand(CLI::App& app) {
+  for (CLI::App* sub : app.get_subcommands({}))
+    if (sub->parsed()) return namedCommand(*sub);
+  return &app;
+}
+
+std::string commandPath(const CLI::App* command) {
+  std::string path = command->get_name();
+  for (const CLI::App* p = command->get_parent(); p != nullptr; p = p->get_parent()) path = p->get_name() + " " + path;
+  return path;
+}
+
+// A usage error as one line: "forest: error: render: --shadow-size: …; see 'forest render --help'".
+std::string usageError(CLI::App& app, const CLI::ParseError& e) {
+  CLI::App* command = namedCommand(app);
+  const std::string path = commandPath(command);
+  std::string what = e.what();
+  const std::vector<CLI::App*> subs = command->get_subcommands({});
+  if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr && !subs.empty() && command->get_subcommands().empty()) {
+    // No (known) subcommand: name the one given, if any, and list the choices.
+    std::vector<std::string> names;
+    for (const CLI::App* sub : subs) names.push_back(sub->get_name());
+    const std::vector<std::string> given = command->remaining();
+    what = (given.empty() ? std::string("a command is required") : fmt::format("unknown command '{}'", given.front())) +
+           fmt::format(" (one of: {})", fmt::join(names, ", "));
+  } else if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr && !command->remaining().empty()) {
+    // CLI11 lists the arguments in reverse; name them in the order given.
+    what = fmt::format("unexpected argument{} '{}'", command->remaining().size() > 1 ? "s" : "", fmt::join(command->remaining(), " "));
+  }
+  std::replace(what.begin(), what.end(), '\n', ' ');
+  const std::string prefix = command == &app ? std::string() : path.substr(path.find(' ') + 1) + ": ";
+  return fmt::format("forest: error: {}{}; see '{} --help'", prefix, what, path);
+}
+
+std::string versionText() {
+  int major = 0, minor = 0, revision = 0;
+  glfwGetVersion(&major, &minor, &revision);
+  return fmt::format(
+      "forest {} (commit {})\n"
+      "GL backends built in: egl (EGL device or Mesa surfaceless), osmesa (libOSMesa, loaded at run time), "
+      "window (GLFW {}.{}.{})",
+      FOREST_VERSION, FOREST_COMMIT, major, minor, revision);
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{
       "forest — large outdoor scenes: procedural terrain and trees, exact occlusion culling (CHC),\n"
-      "light space perspective shadow maps. Run 'forest <command> --help' for each command."};
+      "light space perspective shadow maps. Run 'forest <command> --help' for each command.\n"
+      "Output files (report.json, frame.json, truth.json, ...): docs/report-format.md.\n"
+      "Exit codes: 0 done, 1 a failure of the program or the machine (or a check that failed),\n"
+      "2 bad input (a usage error, a bad file, key or value; one line 'forest: error: ...'), 130 interrupted."};
+  app.name("forest");
   app.require_subcommand(1);
+  app.set_version_flag("--version", versionText(), "Print the version, the commit and the GL backends built in");
   std::map<CLI::App*, forest::app::Run> commands;
   auto add = [&](forest::app::Run (*factory)(CLI::App&)) {
     const size_t before = app.get_subcommands({}).size();
@@ -106,11 +129,14 @@ int main(int argc, char** argv) {
   add(forest::app::addWalkthroughCommand);
   add(forest::app::addBudgetCommand);
   add(forest::app::addStressCommand);
+  forest::app::requireFiniteNumbers(app);
 
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    std::fprintf(stderr, "%s\n", usageError(app, e).c_str());
+    return 2;
   }
   try {
     for (auto& [command, run] : commands) {

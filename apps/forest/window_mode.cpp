@@ -19,6 +19,7 @@
 #include <set>
 
 #include "commands.hpp"
+#include "run_output.hpp"
 #include "forest/core/camera_path.hpp"
 #include "forest/core/drawing.hpp"
 #include "forest/core/error.hpp"
@@ -218,8 +219,9 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
   // Input first: nothing is opened or written for a bad scene, path, script or flag.
   if (options.gl.backend != "auto" && options.gl.backend != "window")
     throw InputError(fmt::format("--gl {} with --window: the window mode needs the window backend", options.gl.backend));
-  if (!(options.fps > 0.0 && options.fps <= 1000.0)) throw InputError(fmt::format("--fps {}: expected (0, 1000]", options.fps));
   const std::string scenePath = sceneFileOr(options.scene);
+  // Warm-up frames: --warmup when given; else the default, capped at half of a --frames run.
+  const int warmup = options.length.warmupFor(options.length.frames > 0 ? options.length.frames : 1 << 30);
   Scene scene = loadScene(scenePath);
   std::optional<CameraPath> start;
   if (!options.path.empty()) start = CameraPath::load(options.path);
@@ -231,13 +233,13 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
   controls.frame = options.frame;
   (void)controls.frame.settings();  // names checked before the window opens
   controls.sun = SunAngles::of(scene.sun.direction);
-  scene.render.width = options.width;
-  scene.render.height = options.height;
+  scene.render.width = options.size.width;
+  scene.render.height = options.size.height;
 
   gl::ContextOptions contextOptions;
   contextOptions.backend = gl::Backend::Window;
-  contextOptions.width = options.width;
-  contextOptions.height = options.height;
+  contextOptions.width = options.size.width;
+  contextOptions.height = options.size.height;
   contextOptions.title = "forest walkthrough";
   auto context = gl::createContext(contextOptions);
   const std::string device = gl::describe(context->info());
@@ -252,9 +254,9 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
     glfwSetCursorPosCallback(handle, onCursor);
   }
   glfwSwapInterval(0);
-  render::Frame frame(scene, options.width, options.height);
+  render::Frame frame(scene, options.size.width, options.size.height);
   render::ImageOverlay overlay;
-  const Image8 helpPanel = textPanel(kHelp, std::min(options.width, 380), 13);
+  const Image8 helpPanel = textPanel(kHelp, std::min(options.size.width, 380), 13);
 
   Camera camera = frame.startCamera();
   controls.pose = {camera.position, glm::degrees(camera.yaw), glm::degrees(camera.pitch)};
@@ -264,6 +266,7 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
   }
 
   const fs::path out(options.out);
+  clearEarlierWalk(out);  // the folder holds this run only
   fs::create_directories(out);
   nlohmann::ordered_json records = nlohmann::ordered_json::array();
   std::vector<PathKey> flown;
@@ -305,7 +308,7 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
     }
     // The frame of a quit event, of the script's last event or the --frames-th is the last one.
     const bool lastFrame = controls.quit || (script && nextEvent == script->events().size()) ||
-                           (options.frames > 0 && f + 1 == options.frames);
+                           (options.length.frames > 0 && f + 1 == options.length.frames);
     controls.move(dt);
     if (frame.terrain()) {
       const double ground = frame.terrain()->heightAt(controls.pose.position.x, controls.pose.position.z);
@@ -349,7 +352,7 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
       context->swapBuffers();
     }
 
-    nlohmann::ordered_json r = frameRecord(f, time, f < options.warmup, camera, controls.pose.yaw_deg, frameMs, s);
+    nlohmann::ordered_json r = frameRecord(f, time, f < warmup, camera, controls.pose.yaw_deg, frameMs, s);
     r["settings"] = {{"culling", controls.frame.culling},     {"method", controls.frame.method},
                      {"shadow_size", controls.frame.shadowSize}, {"blur_px", controls.frame.blur},
                      {"sun_azimuth_deg", controls.sun.azimuthDeg}, {"sun_elevation_deg", controls.sun.elevationDeg},
@@ -364,13 +367,15 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
   if (gl::debugErrorCount() > 0)
     throw Error(fmt::format("{} GL errors in the window (first: {})", gl::debugErrorCount(), gl::debugErrorMessages().front()));
 
-  const nlohmann::ordered_json summary = summariseFrames(records, done - std::min(done, options.warmup));
+  const nlohmann::ordered_json summary = summariseFrames(records, done - std::min(done, warmup));
   nlohmann::ordered_json report;
   report["scene"] = scenePath;
   report["input"] = script ? window.script : "interactive";
   report["device"] = device;
-  report["resolution"] = {options.width, options.height};
+  report["resolution"] = {options.size.width, options.size.height};
   report["fps"] = options.fps;
+  report["settings"] = options.frame.json();
+  report["warmup_frames"] = warmup;
   report["frames_done"] = done;
   report["summary"] = summary;
   report["frames"] = records;

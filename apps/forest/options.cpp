@@ -1,0 +1,118 @@
+// The command-line flags several commands share, each defined once (name, range, help), and the
+// checks every numeric flag gets (finite, in range) — so `render`, `walkthrough`, `budget`,
+// `stress` and the benches agree on what a flag means and accepts.
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+#include "commands.hpp"
+
+namespace forest::app {
+
+namespace {
+
+// Rejects values that parse as numbers but are not finite ("nan", "inf", "1e999"); everything else
+// is left to the option's own conversion and range check.
+CLI::Validator finiteNumber() {
+  return CLI::Validator(
+      [](std::string& value) -> std::string {
+        char* end = nullptr;
+        errno = 0;
+        const double v = std::strtod(value.c_str(), &end);
+        if (end != value.c_str() && *end == '\0' && (!std::isfinite(v) || errno == ERANGE))
+          return fmt::format("value {} is not a finite number", value);
+        return {};
+      },
+      "", "finite");
+}
+
+}  // namespace
+
+void requireFiniteNumbers(CLI::App& app) {
+  for (CLI::Option* option : app.get_options()) {
+    if (option->get_expected_min() > 0) option->check(finiteNumber());
+  }
+  for (CLI::App* command : app.get_subcommands({})) requireFiniteNumbers(*command);
+}
+
+void GlOptions::add(CLI::App& command) {
+  command.add_option("--gl", backend,
+                     "GL backend: auto (EGL, then OSMesa), egl (GPU device or Mesa surfaceless), "
+                     "osmesa, window (GLFW; needs a display)")
+      ->check(CLI::IsMember({"auto", "egl", "osmesa", "window"}))
+      ->capture_default_str();
+}
+
+void ImageSizeOptions::add(CLI::App& command, const std::string& defaultNote) {
+  CLI::Option* w = command.add_option("--width", width, "Image width in pixels (16 to 8192)" + defaultNote)->check(CLI::Range(16, 8192));
+  CLI::Option* h = command.add_option("--height", height, "Image height in pixels (16 to 8192)" + defaultNote)->check(CLI::Range(16, 8192));
+  if (defaultNote.empty()) {
+    w->capture_default_str();
+    h->capture_default_str();
+  }
+}
+
+void RunLengthOptions::add(CLI::App& command, const std::string& framesMeaning) {
+  framesOption = command.add_option("--frames", frames, "Frames to render (1 to 1000000; default: " + framesMeaning + ")")
+                     ->check(CLI::Range(1, 1000000));
+  warmupOption = command.add_option("--warmup", warmup,
+                                    fmt::format("Frames rendered first but left out of the statistics (caches, CHC history;\n"
+                                                "default {}, at most half of a shorter run)",
+                                                warmup))
+                     ->check(CLI::Range(0, 1000000));
+  command.add_flag("--quiet", quiet, "No progress bar");
+}
+
+int RunLengthOptions::warmupFor(int total) const {
+  const bool given = warmupOption != nullptr && warmupOption->count() > 0;
+  return given ? warmup : std::min(warmup, total / 2);
+}
+
+void FrameOptions::add(CLI::App& command, bool withCulling) {
+  command.add_option("--method", method, "Shadow method")
+      ->check(CLI::IsMember(shadows::shadowMethodNames()))
+      ->capture_default_str();
+  command.add_option("--shadow-size", shadowSize, "Shadow map texels per side (512 to 8192)")
+      ->check(CLI::Range(512, 8192))
+      ->capture_default_str();
+  if (withCulling) {
+    command.add_option("--culling", culling, "Culling strategy")
+        ->check(CLI::IsMember(culling::cullingStrategyNames()))
+        ->capture_default_str();
+  }
+  command.add_option("--pcf", pcf, "Wider PCF: (2r+1)² hardware 2×2 lookups (0 to 4; 0: one)")->check(CLI::Range(0, 4))->capture_default_str();
+  command.add_option("--blur", blur,
+                     "Eye-space blur of the shadow term (thesis §9.4.2): radius in pixels (0 to 16) up to\n"
+                     "--blur-depth, then shrinking as 1/depth (0: off)")
+      ->check(CLI::Range(0.0, 16.0))
+      ->capture_default_str();
+  command.add_option("--blur-depth", blurDepth, "Depth (m, 0.01 to 10000) up to which the blur has its full radius")
+      ->check(CLI::Range(0.01, 1e4))
+      ->capture_default_str();
+}
+
+render::FrameSettings FrameOptions::settings() const {
+  render::FrameSettings s;
+  s.method = shadows::parseShadowMethod(method);
+  s.shadowMapSize = shadowSize;
+  s.culling = culling::parseCullingStrategy(culling);
+  s.pcfRadius = pcf;
+  s.blurRadius = blur;
+  s.blurReferenceDepth = blurDepth;
+  return s;
+}
+
+nlohmann::ordered_json FrameOptions::json() const {
+  return {{"method", method}, {"shadow_size", shadowSize}, {"culling", culling},
+          {"pcf_radius", pcf}, {"blur_px", blur},          {"blur_depth_m", blurDepth}};
+}
+
+void addSoftRaysOption(CLI::App& command, int& softRays) {
+  command.add_option("--soft-rays", softRays, "Rays over the sun's disc per pixel for the soft-shadow truth (0 to 1024; 0: none)")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
+}
+
+}  // namespace forest::app

@@ -1,0 +1,85 @@
+#include "run_output.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "forest/core/drawing.hpp"
+#include "forest/core/log.hpp"
+
+namespace forest::app {
+
+namespace fs = std::filesystem;
+
+int clearEarlierRun(const fs::path& folder, const std::vector<std::string>& ownedFiles, bool framesFolder) {
+  int removed = 0;
+  for (const std::string& name : ownedFiles) removed += fs::remove(folder / name) ? 1 : 0;
+  const fs::path frames = folder / "frames";
+  if (framesFolder && fs::is_directory(frames)) {
+    for (const fs::directory_entry& entry : fs::directory_iterator(frames)) {
+      const std::string name = entry.path().filename().string();
+      if (entry.is_regular_file() && name.starts_with("frame") && entry.path().extension() == ".png") {
+        fs::remove(entry.path());
+        ++removed;
+      }
+    }
+  }
+  return removed;
+}
+
+int clearEarlierWalk(const fs::path& folder) {
+  const int removed = clearEarlierRun(folder, {"report.json", "contact-sheet.png", "walkthrough.mp4", "window.png"}, true);
+  if (removed > 0) log::info("removed {} files of an earlier run from {}", removed, folder.string());
+  return removed;
+}
+
+ContactSheet::ContactSheet(int maxThumbnails, int thumbnailWidth) : max_(maxThumbnails), width_(thumbnailWidth) {}
+
+bool ContactSheet::has(int frame) const {
+  return std::any_of(kept_.begin(), kept_.end(), [frame](const Thumbnail& t) { return t.frame == frame; });
+}
+
+void ContactSheet::add(int frame, double timeSeconds, double frameMs, const Image8& image) {
+  const int width = std::min(width_, image.width);
+  const int height = std::max(1, static_cast<int>(std::lround(static_cast<double>(image.height) * width / image.width)));
+  std::erase_if(kept_, [frame](const Thumbnail& t) { return t.frame == frame; });
+  kept_.push_back({frame, timeSeconds, frameMs, width == image.width ? image : resized(image, width, height)});
+  std::sort(kept_.begin(), kept_.end(), [](const Thumbnail& a, const Thumbnail& b) { return a.frame < b.frame; });
+  if (static_cast<int>(kept_.size()) > 2 * max_) {
+    const int last = kept_.back().frame;  // the newest stays: it may be the run's last frame
+    stride_ *= 2;
+    std::erase_if(kept_, [&](const Thumbnail& t) { return t.frame % stride_ != 0 && t.frame != last; });
+  }
+}
+
+Image8 ContactSheet::compose() const {
+  if (kept_.empty()) return Image8(1, 1, 4);
+  // Up to max_ of the kept frames, evenly spread over them, the first and the last always in.
+  std::vector<const Thumbnail*> shown;
+  const size_t count = std::min(kept_.size(), static_cast<size_t>(max_));
+  for (size_t i = 0; i < count; ++i) {
+    const double last = static_cast<double>(kept_.size() - 1), steps = static_cast<double>(count - 1);
+    const size_t k = count == 1 ? 0 : static_cast<size_t>(std::lround(static_cast<double>(i) * last / steps));
+    shown.push_back(&kept_[k]);
+  }
+  const int columns = static_cast<int>(std::min<size_t>(4, shown.size()));
+  const int rows = static_cast<int>((shown.size() + columns - 1) / columns);
+  const int w = shown.front()->image.width, h = shown.front()->image.height, gap = 2;
+  Image8 sheet(columns * w + (columns - 1) * gap, rows * h + (rows - 1) * gap, 4);
+  std::fill(sheet.pixels.begin(), sheet.pixels.end(), static_cast<unsigned char>(255));
+  const int band = std::min(18, h / 3);
+  for (size_t i = 0; i < shown.size(); ++i) {
+    const glm::ivec2 at(static_cast<int>(i % columns) * (w + gap), static_cast<int>(i / columns) * (h + gap));
+    paste(sheet, shown[i]->image, at);
+    // The label on a dark band at the thumbnail's bottom: frame, path time, frame time.
+    const std::vector<glm::dvec2> bandPolygon{{at.x, at.y + h - band}, {at.x + w, at.y + h - band}, {at.x + w, at.y + h}, {at.x, at.y + h}};
+    fillConvexPolygon(sheet, bandPolygon, glm::vec3(0.0f), 0.65f);
+    drawText(sheet, {at.x + 4, at.y + h - band / 4 - 1},
+             fmt::format("frame {}  t {:.1f} s  {:.0f} ms", shown[i]->frame, shown[i]->time, shown[i]->frameMs), glm::vec3(1.0f),
+             std::max(8, band - 6));
+  }
+  return sheet;
+}
+
+}  // namespace forest::app
