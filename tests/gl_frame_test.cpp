@@ -344,10 +344,11 @@ TEST_F(FrameGl, TopDownDiagramDrawsTheSetupAndTheLightFrustumHoldsB) {
       }
     const Image8 diagram = render::topDownDiagram(frame, scene.sun.direction, 512);
     ASSERT_EQ(diagram.width, 512);
-    // Each element leaves pixels of its colour: B's outline (blue), the light frustum (red), the
-    // view frustum (black), casters (orange).
+    ASSERT_EQ(diagram.height, 512 + render::kTopDownLegendHeight);
+    // Each element leaves pixels of its colour in the diagram (below the legend band): B's outline
+    // (blue), the light frustum (red), the view frustum (black), casters (orange).
     int blue = 0, red = 0, black = 0, orange = 0;
-    for (int y = 0; y < diagram.height; ++y)
+    for (int y = render::kTopDownLegendHeight; y < diagram.height; ++y)
       for (int x = 0; x < diagram.width; ++x) {
         const int r = diagram.at(x, y, 0), g = diagram.at(x, y, 1), b = diagram.at(x, y, 2);
         blue += b > 200 && r < 60 ? 1 : 0;

@@ -54,32 +54,18 @@ ImageF channelImage(const std::vector<float>& values, int width, int height) {
   return image;
 }
 
-// The same stretched to [0, 255] over its own range (a picture a person can read).
 // [0, 1] → byte; values outside are clamped, NaN becomes 0 (never an out-of-range conversion).
 unsigned char toByte(double v) {
   if (!(v > 0.0)) return 0;
   return static_cast<unsigned char>(std::min(v, 1.0) * 255.0 + 0.5);
 }
 
-Image8 normalisedImage(const ImageF& image) {
-  float lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();
-  for (float v : image.pixels) {
-    if (!std::isfinite(v)) continue;
-    lo = std::min(lo, v);
-    hi = std::max(hi, v);
-  }
-  Image8 out(image.width, image.height, 1);
-  const double scale = hi > lo ? 1.0 / (double(hi) - double(lo)) : 0.0;
-  for (size_t i = 0; i < image.pixels.size(); ++i) out.pixels[i] = toByte((double(image.pixels[i]) - lo) * scale);
-  return out;
-}
-
-// Shadow map (EXR and normalised PNG) and the shadow term before and after the blur.
+// Shadow map (EXR and a picture with its scale) and the shadow term before and after the blur.
 void writeDebugImages(const render::Frame& frame, const glm::dvec3& sunDirection, const std::filesystem::path& folder) {
   const int size = frame.shadowMapSize();
   const ImageF map = channelImage(frame.readShadowMap(), size, size);
   writeImage(folder / "shadow-map.exr", map);
-  writeImage(folder / "shadow-map.png", normalisedImage(map));
+  writeImage(folder / "shadow-map.png", render::shadowMapPicture(frame.readShadowMap(), size));
   const ImageF term = channelImage(frame.readShadowTerm(), frame.width(), frame.height());
   const ImageF blurred = channelImage(frame.readBlurredShadowTerm(), frame.width(), frame.height());
   writeImage(folder / "shadow-term.exr", term);

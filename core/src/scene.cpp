@@ -174,7 +174,7 @@ Scene parseScene(const std::string& text, const std::string& name) {
     throw InputError(name + ": camera.above_ground: needs a [terrain] section to stand on");
   if (auto s = root.table("vegetation")) {
     readVegetation(*s, scene.vegetation.emplace());
-    if (!scene.terrain) s->fail(nullptr, "vegetation", "needs a [terrain] section to grow on");
+    if (!scene.terrain) s->failSection("needs a [terrain] section to grow on");
   }
   root.finish();
   return scene;

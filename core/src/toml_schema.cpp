@@ -191,14 +191,48 @@ std::vector<TomlSection> TomlSection::tables(std::string_view key) {
   return result;
 }
 
+namespace {
+
+// Levenshtein distance (insertions, deletions, substitutions), for "did you mean" hints.
+size_t editDistance(std::string_view a, std::string_view b) {
+  std::vector<size_t> row(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+}  // namespace
+
 void TomlSection::finish() const {
   for (auto&& [key, node] : *table_) {
     if (used_.find(key.str()) == used_.end()) {
       std::vector<std::string> known(used_.begin(), used_.end());
-      throw InputError(fmt::format("{}: unknown key '{}' (known here: {})", location(file_, key.source()),
-                                   qualified(key.str()), fmt::join(known, ", ")));
+      // The nearest known key, if it is a plausible typo (at most a third of its letters differ).
+      std::string hint;
+      size_t best = std::string::npos;
+      for (const std::string& k : known) {
+        const size_t d = editDistance(key.str(), k);
+        if (d < best && 3 * d <= std::max<size_t>(3, k.size())) {
+          best = d;
+          hint = fmt::format("did you mean '{}'? ", qualified(k));
+        }
+      }
+      throw InputError(fmt::format("{}: unknown key '{}' ({}known here: {})", location(file_, key.source()), qualified(key.str()), hint,
+                                   fmt::join(known, ", ")));
     }
   }
+}
+
+void TomlSection::failSection(const std::string& what) const {
+  throw InputError(fmt::format("{}: [{}]: {}", location(file_, table_->source()), path_, what));
 }
 
 toml::table parseToml(const std::string& text, const std::string& file) {

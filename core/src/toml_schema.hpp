@@ -49,12 +49,18 @@ class TomlSection {
   // Array of tables ([[key]]); empty when absent.
   std::vector<TomlSection> tables(std::string_view key);
 
-  bool has(std::string_view key) const { return table_->contains(key); }
+  // Whether the key is present; the key counts as known (finish() lists it among the valid keys).
+  bool has(std::string_view key) const {
+    used_.emplace(key);
+    return table_->contains(key);
+  }
   // Elements of the array at `key` (0 when absent or not an array): for keys of 2 or 3 numbers.
   size_t arraySize(std::string_view key) const;
   // Throws for the first key of this table that no reader asked for.
   void finish() const;
 
+  // Throws an InputError located at the table about the whole section: "file:line:col: [path]: what".
+  [[noreturn]] void failSection(const std::string& what) const;
   // Throws an InputError located at `node` (or at the table when null) about `key`.
   [[noreturn]] void fail(const toml::node* node, std::string_view key, const std::string& what) const;
   const std::string& file() const { return file_; }
@@ -68,7 +74,7 @@ class TomlSection {
   const toml::table* table_;
   std::string file_;
   std::string path_;  // "camera", "props[2]", "" for the root
-  std::set<std::string, std::less<>> used_;
+  mutable std::set<std::string, std::less<>> used_;  // keys asked for: the schema's known keys
 };
 
 // Parses TOML text; syntax errors become InputError "file:line:column: message".

@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
+#include <string>
 
 #include "forest/core/drawing.hpp"
 #include "forest/core/polygon2d.hpp"
@@ -16,6 +18,14 @@ using glm::dvec3;
 
 const glm::vec3 kBackground{0.97f, 0.97f, 0.95f}, kView{0.0f, 0.0f, 0.0f}, kBody{0.15f, 0.35f, 0.9f},
     kLight{0.85f, 0.1f, 0.1f}, kReceiver{0.2f, 0.7f, 0.25f}, kCaster{0.95f, 0.55f, 0.05f};
+
+const glm::vec3 kText{0.1f, 0.1f, 0.1f};
+
+Image8 filled(int width, int height, glm::vec3 colour) {
+  Image8 image(width, height, 3);
+  for (size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] = static_cast<std::uint8_t>(255.0f * colour[static_cast<int>(i % 3)]);
+  return image;
+}
 
 std::vector<dvec2> footprint(const std::vector<dvec3>& points) {
   std::vector<dvec2> xz;
@@ -46,8 +56,7 @@ std::array<dvec3, 8> lightFrustumCorners(const shadows::ShadowSetup& setup) {
 }
 
 Image8 topDownDiagram(const Frame& frame, const dvec3& sunDirection, int size) {
-  Image8 image(size, size, 3);
-  for (size_t i = 0; i < image.pixels.size(); ++i) image.pixels[i] = static_cast<std::uint8_t>(255.0f * kBackground[static_cast<int>(i % 3)]);
+  Image8 image = filled(size, size, kBackground);  // the diagram; the legend band goes on top at the end
   const shadows::ShadowSetup& setup = frame.shadowSetup();
   const std::vector<dvec2> view = footprint(shadows::viewFrustumBody(frame.shadowCamera()).vertices());
   const std::vector<dvec2> body = footprint(setup.body.vertices());
@@ -90,27 +99,74 @@ Image8 topDownDiagram(const Frame& frame, const dvec3& sunDirection, int size) {
   const dvec2 eyePixel = toPixel({eye.x, eye.z});
   fillConvexPolygon(image, std::vector<dvec2>{eyePixel + dvec2(-4, -4), eyePixel + dvec2(4, -4), eyePixel + dvec2(4, 4), eyePixel + dvec2(-4, 4)},
                     kView, 1.0f);
-  // The sun: an arrow along the way the light travels (horizontal part), top-right corner.
-  const dvec2 across(sunDirection.x, sunDirection.z);
-  const dvec2 centre(size - 50.0, 50.0);
-  if (glm::length(across) > 1e-6 * glm::length(sunDirection)) {
-    const dvec2 d = glm::normalize(across), side(-d.y, d.x);
-    drawLine(image, centre - 30.0 * d, centre + 30.0 * d, kLight);
-    drawLine(image, centre + 30.0 * d, centre + 18.0 * d + 7.0 * side, kLight);
-    drawLine(image, centre + 30.0 * d, centre + 18.0 * d - 7.0 * side, kLight);
-  }
-  drawText(image, {size - 90, 100}, "light", kLight, 14);
-  int y = 20;
-  for (const auto& [text, colour] : {std::pair{"view frustum to z_f", kView}, std::pair{"focus body B", kBody},
-                                     std::pair{"light frustum (map)", kLight}, std::pair{"visible receivers", kReceiver},
-                                     std::pair{"selected casters", kCaster}}) {
-    drawText(image, {10, y}, text, colour, 14);
+  drawPolygon(image, std::vector<dvec2>{{0, 0}, {size - 1, 0}, {size - 1, size - 1}, {0, size - 1}}, kView);
+
+  // The legend band: what each colour is, the scale, and the way the light travels.
+  const bool lightClipped = std::any_of(light.begin(), light.end(), [&](const dvec2& p) {
+    const dvec2 q = toPixel(p);
+    return q.x < 0.0 || q.y < 0.0 || q.x > size || q.y > size;
+  });
+  Image8 legend = filled(size, kTopDownLegendHeight, kBackground);
+  int y = 18;
+  for (const auto& [text, colour] : {std::pair{std::string("view frustum to z_f"), kView}, std::pair{std::string("focus body B"), kBody},
+                                     std::pair{std::string(lightClipped ? "light frustum (map; clipped at the frame)" : "light frustum (map)"), kLight},
+                                     std::pair{std::string("visible receivers"), kReceiver}, std::pair{std::string("selected casters"), kCaster}}) {
+    drawText(legend, {10, y}, text, colour, 14);
     y += 18;
   }
-  drawText(image, {10, size - 10},
-           fmt::format("{} visible, {} casters; {:.0f} m across; x right, z down", frame.visibleObjects().size(),
-                       frame.casters().size(), (size - 2.0 * margin) / scale),
-           kView, 14);
+  drawText(legend, {size / 2 - 60, 18},
+           fmt::format("{} visible, {} casters", frame.visibleObjects().size(), frame.casters().size()), kView, 14);
+  drawText(legend, {size / 2 - 60, 36}, fmt::format("{:.0f} m across; x right, z down", (size - 2.0 * margin) / scale), kView, 14);
+  // The sun: an arrow along the way the light travels (its horizontal part).
+  const dvec2 across(sunDirection.x, sunDirection.z);
+  const dvec2 centre(size - 60.0, 50.0);
+  if (glm::length(across) > 1e-6 * glm::length(sunDirection)) {
+    const dvec2 d = glm::normalize(across), side(-d.y, d.x);
+    drawLine(legend, centre - 30.0 * d, centre + 30.0 * d, kLight);
+    drawLine(legend, centre + 30.0 * d, centre + 18.0 * d + 7.0 * side, kLight);
+    drawLine(legend, centre + 30.0 * d, centre + 18.0 * d - 7.0 * side, kLight);
+  }
+  drawText(legend, {size - 80, kTopDownLegendHeight - 8}, "light", kLight, 14);
+  Image8 result(size, kTopDownLegendHeight + size, 3);
+  paste(result, legend, {0, 0});
+  paste(result, image, {0, kTopDownLegendHeight});
+  return result;
+}
+
+Image8 shadowMapPicture(const std::vector<float>& depth, int size) {
+  const glm::vec3 kNoCaster{0.78f, 0.86f, 0.97f};
+  // The range of the drawn texels (the clear value 1 marks texels no caster reached).
+  double lo = 1.0, hi = 0.0;
+  size_t drawn = 0;
+  for (float v : depth)
+    if (std::isfinite(v) && v < 1.0f) {
+      lo = std::min(lo, double(v));
+      hi = std::max(hi, double(v));
+      ++drawn;
+    }
+  const double scale = hi > lo ? 1.0 / (hi - lo) : 0.0;
+  auto grey = [&](double v) { return static_cast<std::uint8_t>(std::lround(std::clamp((v - lo) * scale, 0.0, 1.0) * 235.0 + 10.0)); };
+  Image8 image = filled(size, size + kShadowMapLegendHeight, kBackground);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      const float v = depth[static_cast<size_t>(size - 1 - y) * size + x];  // top row first
+      for (int c = 0; c < 3; ++c)
+        image.at(x, y, c) = std::isfinite(v) && v < 1.0f ? grey(v) : static_cast<std::uint8_t>(255.0f * kNoCaster[c]);
+    }
+  // The scale: a ramp from the nearest to the farthest drawn depth, and the no-caster colour.
+  const int rampLeft = 8, rampRight = size / 2, rampTop = size + 6, rampBottom = size + 18;
+  for (int x = rampLeft; x < rampRight; ++x)
+    for (int y = rampTop; y < rampBottom; ++y)
+      for (int c = 0; c < 3; ++c) image.at(x, y, c) = grey(lo + (hi - lo) * (x - rampLeft) / double(rampRight - rampLeft - 1));
+  const int textSize = std::clamp(size / 48, 9, 14);
+  drawText(image, {rampLeft, size + kShadowMapLegendHeight - 6},
+           drawn == 0 ? std::string("no caster drawn") : fmt::format("light depth {:.4f} (near the light) to {:.4f}", lo, hi), kText, textSize);
+  for (int x = rampRight + 12; x < rampRight + 28; ++x)
+    for (int y = rampTop; y < rampBottom; ++y)
+      for (int c = 0; c < 3; ++c) image.at(x, y, c) = static_cast<std::uint8_t>(255.0f * kNoCaster[c]);
+  drawText(image, {rampRight + 34, rampBottom},
+           fmt::format("no caster ({:.1f}% of texels drawn)", 100.0 * double(drawn) / std::max<double>(1.0, double(depth.size()))), kText,
+           textSize);
   return image;
 }
 
