@@ -379,8 +379,9 @@ Run addBenchCommand(CLI::App& app) {
       "visible set drawn without queries). Writes JSON, a Markdown table and a PNG plot");
   options->gl.add(*cullingBench);
   cullingBench->add_option("--scene", options->scene, "Base scene file (default: data/scenes/forest.toml)");
-  cullingBench->add_option("--trees", options->trees, "Tree counts (terrain grown to keep the base scene's density)")
+  cullingBench->add_option("--trees", options->trees, "Tree counts (comma-separated, 1 to 10^6; terrain grown to keep the base scene's density)")
       ->delimiter(',')
+      ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
   cullingBench->add_option("--paths", options->paths, "Paths: ground, canopy, hill")
       ->delimiter(',')

@@ -274,14 +274,20 @@ Run addStressCommand(CLI::App& app) {
   options->gl.add(*command);
   command->add_option("--scene", options->scene, "Base scene (default: data/scenes/forest.toml)");
   command->add_option("--out", options->out, "Output folder")->capture_default_str();
-  command->add_option("--trees", options->trees, "Tree counts (comma-separated)")->delimiter(',')->capture_default_str();
-  command->add_option("--lod0", options->lod0, "LOD0 triangle budgets per tree (comma-separated)")->delimiter(',')->capture_default_str();
+  command->add_option("--trees", options->trees, "Tree counts (comma-separated, 1 to 10^6)")
+      ->delimiter(',')
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
+  command->add_option("--lod0", options->lod0, "LOD0 triangle budgets per tree (comma-separated, 1000 to 20000)")
+      ->delimiter(',')
+      ->check(CLI::Range(1000, 20000))
+      ->capture_default_str();
   options->size.add(*command);
   options->length.add(*command, "300 per run");
   options->frame.add(*command);
   command->add_option("--moving", options->moving, "Share of the trees moved every frame")->check(CLI::Range(0.0, 1.0))->capture_default_str();
-  command->add_option("--check-every", options->checkEvery, "Frames between exactness checks (0: none)")
-      ->check(CLI::NonNegativeNumber)
+  command->add_option("--check-every", options->checkEvery, "Frames between exactness checks (0 to 10^6; 0: none)")
+      ->check(CLI::Range(0, 1000000))
       ->capture_default_str();
   return [options] { return runStress(*options); };
 }

@@ -196,8 +196,9 @@ int runWalkthrough(const WalkthroughOptions& options) {
     video = std::system(command.c_str()) == 0;
   }
 
-  std::cout << fmt::format("walkthrough: {} of {} frames of {} along {} at {}x{} ({}, {}², {})\n", done, total, scenePath,
-                           pathPath, width, height, options.frame.method, options.frame.shadowSize,
+  // Paths as the user would type them from here (the report keeps them absolute).
+  std::cout << fmt::format("walkthrough: {} of {} frames of {} along {} at {}x{} ({}, {}², {})\n", done, total,
+                           fs::proximate(scenePath).string(), fs::proximate(pathPath).string(), width, height, options.frame.method, options.frame.shadowSize,
                            options.frame.culling);
   if (warmup > 0) std::cout << fmt::format("  (the first {} frames are warm-up, not in the summary)\n", warmup);
   printSummary(summary);

@@ -1,0 +1,167 @@
+// The forest command line as an object: every subcommand registered, the arguments parsed
+// (usage errors as one line, exit 2), the chosen command run (its errors as one line, exit 2 for
+// bad input, 1 for failures of the program or the machine). main() and the tests share it.
+#include "cli.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+
+#include "build_info.hpp"
+#include "commands.hpp"
+#include "forest/core/error.hpp"
+#include "forest/core/resources.hpp"
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+namespace forest::app {
+
+double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const double position = p * static_cast<double>(values.size() - 1);
+  const size_t below = static_cast<size_t>(position);
+  const size_t above = std::min(below + 1, values.size() - 1);
+  return values[below] + (values[above] - values[below]) * (position - static_cast<double>(below));
+}
+
+std::string sceneFileOr(const std::string& given) {
+  return given.empty() ? (resourceDirectory("data") / "scenes" / "forest.toml").string() : given;
+}
+
+double residentMegabytes() {
+  std::ifstream statm("/proc/self/statm");
+  long pages = 0, resident = 0;
+  statm >> pages >> resident;
+  return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1 << 20);
+}
+
+void showProgress(std::string_view what, std::string_view unit, int done, int total, double elapsed, bool quiet) {
+  if (quiet) return;
+  const double eta = done > 0 ? elapsed / done * (total - done) : 0.0;
+  const int width = 30, filled = total > 0 ? width * done / total : width;
+  const std::string bar = std::string(static_cast<size_t>(filled), '#') + std::string(static_cast<size_t>(width - filled), '.');
+  if (isatty(STDERR_FILENO)) {
+    std::cerr << fmt::format("\r[{}] {}/{} {}, {:.0f} s, ETA {:.0f} s ", bar, done, total, unit, elapsed, eta) << std::flush;
+    if (done == total) std::cerr << "\n";
+  } else if (done == total || done % std::max(1, total / 10) == 0) {
+    std::cerr << fmt::format("{}: {}/{} {}, {:.0f} s, ETA {:.0f} s\n", what, done, total, unit, elapsed, eta);
+  }
+}
+
+}  // namespace forest::app
+
+
+namespace forest::app {
+namespace {
+
+// The deepest command the arguments named ("forest", "forest bench", "forest bench culling").
+CLI::App* namedCommand(CLI::App& app) {
+  for (CLI::App* sub : app.get_subcommands({}))
+    if (sub->parsed()) return namedCommand(*sub);
+  return &app;
+}
+
+std::string commandPath(const CLI::App* command) {
+  std::string path = command->get_name();
+  for (const CLI::App* p = command->get_parent(); p != nullptr; p = p->get_parent()) path = p->get_name() + " " + path;
+  return path;
+}
+
+// A usage error as one line: "forest: error: render: --shadow-size: …; see 'forest render --help'".
+std::string usageError(CLI::App& app, const CLI::ParseError& e) {
+  CLI::App* command = namedCommand(app);
+  const std::string path = commandPath(command);
+  std::string what = e.what();
+  const std::vector<CLI::App*> subs = command->get_subcommands({});
+  if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr && !subs.empty() && command->get_subcommands().empty()) {
+    // No (known) subcommand: name the one given, if any, and list the choices.
+    std::vector<std::string> names;
+    for (const CLI::App* sub : subs) names.push_back(sub->get_name());
+    const std::vector<std::string> given = command->remaining();
+    what = (given.empty() ? std::string("a command is required") : fmt::format("unknown command '{}'", given.front())) +
+           fmt::format(" (one of: {})", fmt::join(names, ", "));
+  } else if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr && !command->remaining().empty()) {
+    // CLI11 lists the arguments in reverse; name them in the order given.
+    what = fmt::format("unexpected argument{} '{}'", command->remaining().size() > 1 ? "s" : "", fmt::join(command->remaining(), " "));
+  }
+  std::replace(what.begin(), what.end(), '\n', ' ');
+  const std::string prefix = command == &app ? std::string() : path.substr(path.find(' ') + 1) + ": ";
+  return fmt::format("forest: error: {}{}; see '{} --help'", prefix, what, path);
+}
+
+std::string versionText() {
+  int major = 0, minor = 0, revision = 0;
+  glfwGetVersion(&major, &minor, &revision);
+  return fmt::format(
+      "forest {} (commit {})\n"
+      "GL backends built in: egl (EGL device or Mesa surfaceless), osmesa (libOSMesa, loaded at run time), "
+      "window (GLFW {}.{}.{})",
+      FOREST_VERSION, FOREST_COMMIT, major, minor, revision);
+}
+
+}  // namespace
+
+
+ForestCli::ForestCli()
+    : app_("forest — large outdoor scenes: procedural terrain and trees, exact occlusion culling (CHC),\n"
+           "light space perspective shadow maps. Run 'forest <command> --help' for each command.\n"
+           "Output files (report.json, frame.json, truth.json, ...): docs/report-format.md.\n"
+           "Exit codes: 0 done, 1 a failure of the program or the machine (or a check that failed),\n"
+           "2 bad input (a usage error, a bad file, key or value; one line 'forest: error: ...'), 130 interrupted.",
+           "forest") {
+  app_.require_subcommand(1);
+  app_.set_version_flag("--version", versionText(), "Print the version, the commit and the GL backends built in");
+  for (Run (*factory)(CLI::App&) : {addInfoCommand, addRenderCommand, addTruthCommand, addCheckCommand, addStabilityCommand,
+                                    addBenchCommand, addWalkthroughCommand, addBudgetCommand, addStressCommand}) {
+    const size_t before = app_.get_subcommands({}).size();
+    Run run = factory(app_);
+    commands_.emplace_back(app_.get_subcommands({})[before], std::move(run));
+  }
+  requireFiniteNumbers(app_);
+}
+
+CliParse ForestCli::parse(std::vector<std::string> arguments) {
+  std::reverse(arguments.begin(), arguments.end());  // CLI11 takes them last first
+  try {
+    app_.parse(std::move(arguments));
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return {0, e.what()};  // --help, --version
+    return {2, usageError(app_, e)};
+  }
+  return {};
+}
+
+int ForestCli::main(int argc, char** argv) {
+  try {
+    app_.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app_.exit(e);  // --help, --version
+    std::fprintf(stderr, "%s\n", usageError(app_, e).c_str());
+    return 2;
+  }
+  return run();
+}
+
+int ForestCli::run() {
+  try {
+    for (auto& [command, run] : commands_) {
+      if (command->parsed()) return run();
+    }
+    return 2;
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "forest: error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "forest: error: %s\n", e.what());
+    return 1;
+  }
+}
+
+}  // namespace forest::app

@@ -1,0 +1,198 @@
+// Every usage error of every subcommand is one line "forest: error: <command>: …" naming the flag,
+// exit 2. The subcommands and options are read from the command line's own CLI11 app, so a flag
+// added later is covered without touching this test; what must be refused comes from each option's
+// declared type and range as --help prints it, and from outside the code (NaN and infinities are
+// never valid): a non-finite number, a value past either end of the range, a name outside the
+// choices, the option left out when it is required; and for each subcommand an unknown flag and a
+// stray argument. Parsing runs in-process (ForestCli::parse, what main() runs first); a few cases
+// go through the real program to check the exit code and stderr.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <map>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli.hpp"
+#include "cli_test_support.hpp"
+
+namespace forest {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::StartsWith;
+
+// One option as its type name declares it ("INT:INT in [16 - 8192]", "FLOAT x 5", "TEXT:{a,b}").
+struct OptionSpec {
+  std::string name;       // "--shadow-size"
+  std::string type;       // INT, UINT, FLOAT, TEXT
+  int count = 1;          // values per use
+  bool hasRange = false;  // "in [low - high]"
+  double low = 0.0, high = 0.0;
+  bool choices = false;
+  bool required = false;
+  std::vector<std::string> needs;  // options it needs ("--script" needs "--window")
+};
+
+std::vector<OptionSpec> optionsOf(CLI::App& command) {
+  std::vector<OptionSpec> options;
+  const std::regex range(R"(in \[(\S+) - (\S+)\])");
+  for (const CLI::Option* option : command.get_options()) {
+    if (option->get_expected_max() == 0 || option->get_name(false, true).rfind("--", 0) != 0) continue;  // flags
+    OptionSpec o;
+    o.name = option->get_name(false, true);
+    const std::string type = option->get_type_name();
+    o.type = type.substr(0, type.find_first_of(":= "));
+    std::smatch r;
+    if (std::regex_search(type, r, range)) {
+      o.hasRange = true;
+      o.low = std::stod(r[1]);
+      o.high = std::stod(r[2]);
+    }
+    o.count = std::max(1, option->get_expected_min());
+    o.choices = type.find(":{") != std::string::npos;
+    o.required = option->get_required();
+    for (const CLI::Option* needed : option->get_needs()) o.needs.push_back(needed->get_name(false, true));
+    options.push_back(o);
+  }
+  return options;
+}
+
+// Valid values for the required options, so each case fails only for the value under test.
+std::vector<std::string> requiredArguments(const std::string& command, const std::string& leaveOut) {
+  const std::map<std::string, std::vector<std::pair<std::string, std::string>>> required{
+      {"render", {{"--out", "/tmp/never.png"}}},
+      {"truth", {{"--out", "/tmp/never"}}},
+      {"budget", {{"--budget", std::string(FOREST_REPO_DATA) + "/budgets/llvmpipe-2core.toml"}}}};
+  std::vector<std::string> arguments;
+  if (auto it = required.find(command); it != required.end())
+    for (const auto& [flag, value] : it->second)
+      if (flag != leaveOut) arguments.insert(arguments.end(), {flag, value});
+  return arguments;
+}
+
+std::vector<std::string> words(const std::string& text) {
+  std::istringstream in(text);
+  std::vector<std::string> out;
+  for (std::string w; in >> w;) out.push_back(w);
+  return out;
+}
+
+// The usage-error contract, in-process: exit 2 and one line starting with `start`, naming `mentioned`.
+void expectUsageError(const std::vector<std::string>& arguments, const std::string& start, const std::string& mentioned) {
+  std::string shown;
+  for (const std::string& a : arguments) shown += " " + a;
+  SCOPED_TRACE("forest" + shown);
+  app::ForestCli cli;
+  const app::CliParse r = cli.parse(arguments);
+  EXPECT_EQ(r.exitCode, 2) << r.message;
+  EXPECT_THAT(r.message, StartsWith(start));
+  EXPECT_THAT(r.message, HasSubstr(mentioned));
+  EXPECT_EQ(r.message.find('\n'), std::string::npos) << r.message;
+}
+
+std::string number(double v) {
+  std::ostringstream s;
+  s.precision(17);
+  s << v;
+  return s.str();
+}
+
+TEST(ForestCliUsage, EveryUsageErrorOfEverySubcommandIsOneLineWithExitTwo) {
+  app::ForestCli cli;
+  std::vector<std::pair<std::string, CLI::App*>> commands;
+  for (CLI::App* command : cli.app().get_subcommands({})) {
+    const std::vector<CLI::App*> nested = command->get_subcommands({});
+    if (nested.empty()) commands.emplace_back(command->get_name(), command);
+    for (CLI::App* sub : nested) commands.emplace_back(command->get_name() + " " + sub->get_name(), sub);
+    // A command that needs a subcommand, called without one.
+    if (!nested.empty()) expectUsageError({command->get_name()}, "forest: error: " + command->get_name() + ": ", "a command is required");
+  }
+  std::vector<std::string> names;
+  for (const auto& [name, command] : commands) names.push_back(name);
+  // The commands the README documents; finding fewer means this test lost them, not the program.
+  for (const char* expected : {"info", "render", "truth", "check", "stability", "bench culling", "bench speed-error", "walkthrough",
+                               "budget", "stress"})
+    EXPECT_THAT(names, ::testing::Contains(std::string(expected)));
+
+  std::map<std::string, int> casesPerCommand;
+  for (const auto& [name, command] : commands) {
+    const std::string prefix = "forest: error: " + name + ": ";
+    auto call = [&](const std::vector<std::string>& extra, const std::string& leaveOut = "") {
+      std::vector<std::string> arguments = words(name);
+      for (const std::string& a : requiredArguments(name, leaveOut)) arguments.push_back(a);
+      arguments.insert(arguments.end(), extra.begin(), extra.end());
+      return arguments;
+    };
+    expectUsageError(call({"--no-such-flag"}), prefix, "unexpected argument '--no-such-flag'");
+    expectUsageError(call({"stray"}), prefix, "unexpected argument 'stray'");
+    casesPerCommand[name] += 2;
+    for (const OptionSpec& o : optionsOf(*command)) {
+      auto with = [&](const std::string& value) {
+        std::vector<std::string> extra = o.needs;
+        extra.push_back(o.name);
+        for (int i = 0; i < o.count; ++i) extra.push_back(value);
+        return call(extra);
+      };
+      std::vector<std::string> refused;
+      if (o.type == "INT" || o.type == "UINT" || o.type == "FLOAT") refused = {"nan", "inf", "-inf", "1e999"};
+      if (o.hasRange) {
+        // Past either end: the next integer, or a step of the range's width (at least 1) for reals.
+        const double step = o.type == "FLOAT" ? std::max(1.0, o.high - o.low) : 1.0;
+        refused.push_back(number(o.high + step));
+        if (o.low - step >= 0.0 || o.type != "UINT") refused.push_back(number(o.low - step));
+      }
+      if (o.choices) refused.push_back("no-such-choice");
+      for (const std::string& value : refused) expectUsageError(with(value), prefix, o.name);
+      casesPerCommand[name] += static_cast<int>(refused.size());
+      if (o.required) {
+        expectUsageError(call({}, o.name), prefix, o.name + " is required");
+        ++casesPerCommand[name];
+      }
+    }
+  }
+  // Each rendering command has its size, frame and shadow flags: at least 4 refused values for each
+  // of --width, --height, --shadow-size, --pcf, --blur, --blur-depth. Fewer means the options were
+  // not seen.
+  for (const char* command : {"render", "truth", "walkthrough", "budget", "stress"}) EXPECT_GE(casesPerCommand[command], 36) << command;
+}
+
+// Through the real program: stderr, exit code, nothing on stdout.
+void expectProgramUsageError(const std::string& arguments, const std::string& start, const std::string& mentioned) {
+  SCOPED_TRACE("forest " + arguments);
+  const test::CliResult r = test::runForest(arguments);
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_THAT(r.err, StartsWith(start));
+  EXPECT_THAT(r.err, HasSubstr(mentioned));
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(r.out, "");
+}
+
+TEST(ForestCliUsage, UnknownCommandAndNoCommandNameTheChoices) {
+  expectProgramUsageError("frobnicate", "forest: error: ", "unknown command 'frobnicate' (one of: info, render");
+  expectProgramUsageError("", "forest: error: ", "a command is required (one of: info, render");
+}
+
+TEST(ForestCliUsage, ExtraArgumentsAreNamedInTheOrderGiven) {
+  // CLI11 itself lists them reversed ("20 --frames"); the message must read as typed.
+  expectProgramUsageError("info --frames 20", "forest: error: info: ", "unexpected arguments '--frames 20'");
+}
+
+TEST(ForestCliUsage, RuntimeInputErrorsKeepTheFormat) {
+  // Checked after parsing, still one line and exit 2.
+  expectProgramUsageError("render --camera 0 2 0 0 95 --out /tmp/never.png", "forest: error: ", "--camera: pitch 95: expected -90 to 90 degrees");
+  expectProgramUsageError("walkthrough --frames 4 --warmup 4 --out /tmp/never", "forest: error: ", "--warmup 4: expected fewer than the 4 frames");
+}
+
+TEST(ForestCliUsage, VersionNamesVersionCommitAndBackends) {
+  const test::CliResult r = test::runForest("--version");
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_TRUE(std::regex_match(r.out, std::regex("forest [0-9]+\\.[0-9]+\\.[0-9]+ \\(commit [0-9a-f]{7,}(-dirty)?\\)\n"
+                                                 "GL backends built in: egl [^\n]*osmesa [^\n]*window [^\n]*\n")))
+      << r.out;
+}
+
+}  // namespace
+}  // namespace forest
