@@ -53,16 +53,27 @@ void ContactSheet::add(int frame, double timeSeconds, double frameMs, const Imag
   }
 }
 
-Image8 ContactSheet::compose() const {
-  if (kept_.empty()) return Image8(1, 1, 4);
-  // Up to max_ of the kept frames, evenly spread over them, the first and the last always in.
-  std::vector<const Thumbnail*> shown;
+// Up to max_ of the kept frames, evenly spread over them, the first and the last always in.
+std::vector<size_t> ContactSheet::shownIndices() const {
+  std::vector<size_t> shown;
   const size_t count = std::min(kept_.size(), static_cast<size_t>(max_));
   for (size_t i = 0; i < count; ++i) {
     const double last = static_cast<double>(kept_.size() - 1), steps = static_cast<double>(count - 1);
-    const size_t k = count == 1 ? 0 : static_cast<size_t>(std::lround(static_cast<double>(i) * last / steps));
-    shown.push_back(&kept_[k]);
+    shown.push_back(count == 1 ? 0 : static_cast<size_t>(std::lround(static_cast<double>(i) * last / steps)));
   }
+  return shown;
+}
+
+std::vector<int> ContactSheet::shownFrames() const {
+  std::vector<int> frames;
+  for (size_t k : shownIndices()) frames.push_back(kept_[k].frame);
+  return frames;
+}
+
+Image8 ContactSheet::compose() const {
+  if (kept_.empty()) return Image8(1, 1, 4);
+  std::vector<const Thumbnail*> shown;
+  for (size_t k : shownIndices()) shown.push_back(&kept_[k]);
   const int columns = static_cast<int>(std::min<size_t>(4, shown.size()));
   const int rows = static_cast<int>((shown.size() + columns - 1) / columns);
   const int w = shown.front()->image.width, h = shown.front()->image.height, gap = 2;

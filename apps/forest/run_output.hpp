@@ -29,6 +29,8 @@ class ContactSheet {
   void add(int frame, double timeSeconds, double frameMs, const Image8& image);
   bool has(int frame) const;
   bool empty() const { return kept_.empty(); }
+  // The frames compose() shows, in order.
+  std::vector<int> shownFrames() const;
   Image8 compose() const;
 
  private:
@@ -40,6 +42,7 @@ class ContactSheet {
   };
   int max_, width_, stride_ = 1;
   std::vector<Thumbnail> kept_;
+  std::vector<size_t> shownIndices() const;
 };
 
 }  // namespace forest::app

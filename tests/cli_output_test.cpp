@@ -1,0 +1,91 @@
+// What a multi-frame command leaves in its output folder (apps/forest/run_output.hpp): a contact
+// sheet that spans the whole run, labelled; and a folder that holds one run only.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+
+#include "forest/core/image.hpp"
+#include "run_output.hpp"
+
+namespace forest {
+namespace {
+
+namespace fs = std::filesystem;
+
+Image8 greyFrame(int width, int height) {
+  Image8 image(width, height, 4);
+  std::fill(image.pixels.begin(), image.pixels.end(), static_cast<unsigned char>(100));
+  return image;
+}
+
+// Feeds a run of `frames` frames the way the walkthrough does (the frames the sheet wants, then the
+// last one done) and returns the frames the sheet shows.
+std::vector<int> shownForRun(int frames) {
+  app::ContactSheet sheet;
+  const Image8 image = greyFrame(32, 18);
+  for (int f = 0; f < frames; ++f)
+    if (sheet.wants(f)) sheet.add(f, f / 30.0, 10.0, image);
+  if (!sheet.has(frames - 1)) sheet.add(frames - 1, (frames - 1) / 30.0, 10.0, image);
+  return sheet.shownFrames();
+}
+
+TEST(RunOutput, ContactSheetSpansTheWholeRunFromFirstToLastFrame) {
+  // Runs of any length, including an interrupted one (54 frames) and the main job (901): the sheet
+  // shows min(16, frames) frames, the first and the last among them, in order, with no gap wider
+  // than twice the even spacing (frames − 1) / 15 plus one frame (the sampling keeps every k-th frame,
+  // k a power of two, so spacing can only double).
+  for (int frames : {1, 2, 5, 16, 17, 20, 33, 54, 100, 901, 5000}) {
+    const std::vector<int> shown = shownForRun(frames);
+    ASSERT_EQ(shown.size(), static_cast<size_t>(std::min(16, frames))) << frames;
+    EXPECT_EQ(shown.front(), 0) << frames;
+    EXPECT_EQ(shown.back(), frames - 1) << frames;
+    const double evenSpacing = (frames - 1) / 15.0;
+    for (size_t i = 1; i < shown.size(); ++i) {
+      EXPECT_GT(shown[i], shown[i - 1]) << frames;
+      EXPECT_LE(shown[i] - shown[i - 1], 2.0 * evenSpacing + 1.0) << frames << ": " << shown[i - 1] << " → " << shown[i];
+    }
+  }
+}
+
+TEST(RunOutput, ContactSheetLabelsEveryThumbnail) {
+  app::ContactSheet sheet;
+  for (int f = 0; f < 6; ++f) sheet.add(f, f / 30.0, 40.0 + f, greyFrame(200, 100));
+  const Image8 composed = sheet.compose();
+  // Four 200-px thumbnails per row, 2 px apart; two rows for six frames.
+  ASSERT_EQ(composed.width, 4 * 200 + 3 * 2);
+  ASSERT_EQ(composed.height, 2 * 100 + 2);
+  // Each thumbnail's label: a darkened band at its bottom with light text on it (the frame itself
+  // is uniform grey 100, so light pixels there can only be the label).
+  for (int i = 0; i < 6; ++i) {
+    const int x0 = (i % 4) * 202, y0 = (i / 4) * 102;
+    int light = 0, dark = 0;
+    for (int y = y0 + 100 - 18; y < y0 + 100; ++y)
+      for (int x = x0; x < x0 + 200; ++x) {
+        light += composed.at(x, y, 0) > 180 ? 1 : 0;
+        dark += composed.at(x, y, 0) < 60 ? 1 : 0;
+      }
+    EXPECT_GT(light, 30) << "thumbnail " << i << " has no label text";
+    EXPECT_GT(dark, 1000) << "thumbnail " << i << " has no label band";
+  }
+}
+
+TEST(RunOutput, AnEarlierRunsFilesAreRemovedAndNothingElse) {
+  const fs::path folder = fs::path(FOREST_TEST_OUTPUT) / "run-output";
+  fs::remove_all(folder);
+  fs::create_directories(folder / "frames");
+  for (const fs::path& file : {folder / "report.json", folder / "contact-sheet.png", folder / "window.png", folder / "frames" / "frame00900.png",
+                               folder / "frames" / "frame00020.png", folder / "notes.txt", folder / "frames" / "keep.txt"})
+    std::ofstream(file) << "x";
+  EXPECT_EQ(app::clearEarlierWalk(folder), 5);
+  EXPECT_FALSE(fs::exists(folder / "frames" / "frame00900.png"));
+  EXPECT_FALSE(fs::exists(folder / "report.json"));
+  EXPECT_TRUE(fs::exists(folder / "notes.txt"));
+  EXPECT_TRUE(fs::exists(folder / "frames" / "keep.txt"));
+  EXPECT_EQ(app::clearEarlierWalk(folder / "absent"), 0);  // a new folder: nothing to do
+}
+
+}  // namespace
+}  // namespace forest
