@@ -121,14 +121,31 @@ TEST(ForestCli, RenderDrawsTheTerrainScene) {
   EXPECT_GT(record["shadow"]["casters"].get<int>(), 0);
   EXPECT_GT(record["shadow"]["n"].get<double>(), 0.0);
   EXPECT_GT(record["z_f"].get<double>(), 0.0);
-  // Debug images: the shadow map at its size and the shadow term before and after the blur.
+  // Debug images of the default forest's view (trees cast shadows in it): the shadow map at its
+  // size and the shadow term before and after the blur.
   const fs::path debug = fs::path(FOREST_TEST_OUTPUT) / "cli" / "debug";
   fs::remove_all(debug);
-  const Result withDebug = runForest("render --scene " + std::string(FOREST_REPO_DATA) + "/scenes/terrain.toml --out " +
-                                     image.string() + " --width 320 --height 180 --shadow-size 512 --blur 2 --debug " +
-                                     debug.string());
+  const Result withDebug = runForest("render --scene " + std::string(FOREST_REPO_DATA) + "/scenes/forest.toml --out " +
+                                     (debug.parent_path() / "forest-debug.png").string() +
+                                     " --width 320 --height 180 --shadow-size 512 --debug " + debug.string());
   ASSERT_EQ(withDebug.exitCode, 0) << withDebug.err;
-  EXPECT_EQ(readImage8(debug / "shadow-map.png").width, 512);
+  // The map picture: the 512² map and a 44-px scale band under it; drawn texels grey, texels no
+  // caster reached pale blue (0.78, 0.86, 0.97 → 198, 219, 247).
+  const Image8 mapPicture = readImage8(debug / "shadow-map.png");
+  EXPECT_EQ(mapPicture.width, 512);
+  EXPECT_EQ(mapPicture.height, 512 + 44);
+  int noCaster = 0, drawnGrey = 0;
+  for (int y = 0; y < 512; ++y)
+    for (int x = 0; x < 512; ++x) {
+      const int red = mapPicture.at(x, y, 0), green = mapPicture.at(x, y, 1), blue = mapPicture.at(x, y, 2);
+      noCaster += red == 198 && green == 219 && blue == 247 ? 1 : 0;
+      drawnGrey += red == green && green == blue ? 1 : 0;
+    }
+  EXPECT_GT(noCaster, 0);
+  EXPECT_GT(drawnGrey, 0);
+  EXPECT_EQ(noCaster + drawnGrey, 512 * 512);
+  // render blurs by default, as the walkthrough does (one default): the terms before and after differ.
+  EXPECT_NE(readImage8(debug / "shadow-term.png").pixels, readImage8(debug / "shadow-term-blurred.png").pixels);
   EXPECT_EQ(readImageF(debug / "shadow-map.exr").height, 512);
   EXPECT_EQ(readImage8(debug / "shadow-term.png").width, 320);
   EXPECT_EQ(readImageF(debug / "shadow-term-blurred.exr").width, 320);

@@ -69,7 +69,8 @@ Run addBudgetCommand(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
       "budget",
       "Run a camera path (as the walkthrough) and check the p50/p95/p99/mean of the frame and of each pass\n"
-      "against a budget file (data/budgets/*.toml); prints every limit with its margin; exit 1 when one is exceeded");
+      "against a budget file (data/budgets/*.toml); prints every limit with its margin; exit 1 when one is exceeded.\n"
+      "Writes the run's report.json (fields: docs/report-format.md)");
   options->run.size = {0, 0};  // the budget file's unless given
   options->run.add(*command, false);
   command->add_option("--budget", options->budget, "Budget file (TOML), e.g. data/budgets/llvmpipe-2core.toml")

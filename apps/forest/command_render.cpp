@@ -249,7 +249,9 @@ void addFrameInputs(CLI::App* command, RenderOptions* options) {
 Run addRenderCommand(CLI::App& app) {
   auto options = std::make_shared<RenderOptions>();
   CLI::App* command = app.add_subcommand(
-      "render", "Render one frame of a scene (culling, shadows, lighting) to an image and a JSON record (headless)");
+      "render",
+      "Render one frame of a scene (culling, shadows, lighting) to an image and a JSON record (headless;\n"
+      "fields: docs/report-format.md)");
   addFrameInputs(command, options.get());
   command->add_option("--out", options->out, "Output image (.png or .exr)")
       ->required()
@@ -273,7 +275,8 @@ Run addTruthCommand(CLI::App& app) {
       "truth",
       "Render one frame and measure it against a ray-traced truth of the same geometry (Embree): misclassified\n"
       "pixels near and away from shadow edges, false shadow and false light, the blurred term against a\n"
-      "sun-disc soft truth, aliasing per pixel, casters selected against the casters the truth needs");
+      "sun-disc soft truth, aliasing per pixel, casters selected against the casters the truth needs\n"
+      "(fields: docs/report-format.md)");
   addFrameInputs(command, options.get());
   command->add_option("--out", *folder, "Folder for frame.png, frame.json, truth.json and error.png (false shadow\n"
                                         "red, false light blue, agreement grey)")

@@ -270,7 +270,7 @@ Run addStressCommand(CLI::App& app) {
       "Polygon-rich dynamic scenes: for each tree count (terrain grown to keep the density) and LOD0 budget, a walk\n"
       "with a share of the trees and 20 props moved every frame (BVH refit), a day cycle of the sun and wind;\n"
       "frame time, geometry pass, triangles, queries and RSS per run, and on sampled frames the culled geometry pass\n"
-      "(depth and object IDs) against frustum culling's. Writes stress.json and stress.png; exit 1 if not exact.");
+      "(depth and object IDs) against frustum culling's. Writes stress.json (fields: docs/report-format.md) and stress.png; exit 1 if not exact.");
   options->gl.add(*command);
   command->add_option("--scene", options->scene, "Base scene (default: data/scenes/forest.toml)");
   command->add_option("--out", options->out, "Output folder")->capture_default_str();

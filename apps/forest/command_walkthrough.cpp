@@ -202,8 +202,9 @@ int runWalkthrough(const WalkthroughOptions& options) {
                            options.frame.culling);
   if (warmup > 0) std::cout << fmt::format("  (the first {} frames are warm-up, not in the summary)\n", warmup);
   printSummary(summary);
-  std::cout << fmt::format("  wrote {}/report.json, {}/contact-sheet.png, frames every {} in {}/frames{}\n", out.string(),
-                           out.string(), options.every, out.string(), video ? ", walkthrough.mp4" : " (no MP4: needs ffmpeg and --every 1)");
+  const std::string shownOut = fs::proximate(out).string();
+  std::cout << fmt::format("  wrote {}/report.json, {}/contact-sheet.png, frames every {} in {}/frames{}\n", shownOut, shownOut,
+                           options.every, shownOut, video ? ", walkthrough.mp4" : " (no MP4: needs ffmpeg and --every 1)");
   if (gInterrupted) {
     std::cout << "  interrupted: the report holds the frames done\n";
     return 130;
