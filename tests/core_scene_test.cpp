@@ -115,7 +115,9 @@ TEST(SceneFile, VegetationSectionLoadsRoundTripsAndNeedsTerrain) {
   EXPECT_EQ(back.vegetation->broadleaf.max_slope_deg, 20.0);
   EXPECT_EQ(back.vegetation->lod_distances, scene.vegetation->lod_distances);
   EXPECT_EQ(back.vegetation->wind_direction, scene.vegetation->wind_direction);
-  EXPECT_THAT(errorOf("[vegetation]\ncount = 10\n"), HasSubstr("vegetation: needs a [terrain] section"));
+  const std::string noTerrain = errorOf("[vegetation]\ncount = 10\n");
+  EXPECT_THAT(noTerrain, HasSubstr("bad.toml:1:1: [vegetation]: needs a [terrain] section"));
+  EXPECT_THAT(noTerrain, Not(HasSubstr("vegetation.vegetation")));
 }
 
 TEST(SceneFile, BadVegetationValuesNameTheKey) {
@@ -155,6 +157,17 @@ TEST(SceneFile, UnknownKeyNamesFileLineAndKey) {
   EXPECT_THAT(e, HasSubstr("bad.toml:3:1"));
   EXPECT_THAT(e, HasSubstr("unknown key 'camera.fvoy_deg'"));
   EXPECT_THAT(errorOf("[camras]\n"), HasSubstr("unknown key 'camras'"));
+}
+
+TEST(SceneFile, MisspelledKeyGetsTheKeyItWasMeantToBe) {
+  // above_ground is read only when present; it is still a key the schema knows and suggests.
+  const std::string groud = errorOf("[camera]\nabove_groud = 2.0\n");
+  EXPECT_THAT(groud, HasSubstr("unknown key 'camera.above_groud' (did you mean 'camera.above_ground'?"));
+  EXPECT_THAT(groud, HasSubstr("known here: above_ground, "));
+  EXPECT_THAT(errorOf("[camera]\nfvoy_deg = 60\n"), HasSubstr("did you mean 'camera.fovy_deg'?"));   // two letters swapped
+  EXPECT_THAT(errorOf("[camras]\n"), HasSubstr("did you mean 'camera'?"));
+  // Nothing near: no guess, only the list.
+  EXPECT_THAT(errorOf("[camera]\nzoom = 2.0\n"), Not(HasSubstr("did you mean")));
 }
 
 TEST(SceneFile, WrongTypeNamesKeyValueAndExpectation) {

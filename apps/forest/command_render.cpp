@@ -263,8 +263,8 @@ Run addRenderCommand(CLI::App& app) {
           "", "image file"));
   command->add_option("--json", options->json, "JSON record of the frame (default: the image path with .json)");
   command->add_option("--debug", options->debug,
-                      "Folder for debug images: shadow map (EXR, normalised PNG), shadow term before and after the blur,\n"
-                      "top-down.png (view frustum, focus body B, light frustum, receivers, casters)");
+                      "Folder for debug images: shadow map (EXR, and a PNG with its depth scale), shadow term before and after\n"
+                      "the blur, top-down.png (legend, view frustum, focus body B, light frustum, receivers, casters)");
   return [options] { return runRender(*options); };
 }
 
