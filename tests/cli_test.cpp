@@ -8,7 +8,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <random>
+#include <set>
 
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
@@ -376,6 +378,42 @@ TEST(ForestCli, WalkthroughWritesConsistentOutputsAndRepeatsExactly) {
       }
     }
   }
+}
+
+// Both timing modes write the same report: the same fields in the report, every frame record and
+// the summary; the mode is named in the settings; with timer queries every frame's pass times
+// arrive (late, filled in by frame number).
+std::set<std::string> keyPaths(const nlohmann::json& j, const std::string& prefix = "") {
+  std::set<std::string> paths;
+  if (!j.is_object()) return paths;
+  for (const auto& [key, value] : j.items()) {
+    if (key == "frames") continue;  // records compared one by one
+    paths.insert(prefix + key);
+    for (const std::string& p : keyPaths(value, prefix + key + ".")) paths.insert(p);
+  }
+  return paths;
+}
+
+TEST(ForestCli, TimingModesWriteTheSameReportFields) {
+  std::map<std::string, nlohmann::json> reports;
+  for (const char* mode : {"profile", "queries"}) {
+    const fs::path out = fs::path(FOREST_TEST_OUTPUT) / "cli" / (std::string("timing-") + mode);
+    const Result r = runForest("walkthrough --frames 6 --width 160 --height 90 --quiet --timing " + std::string(mode) + " --out " + out.string());
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    reports[mode] = nlohmann::json::parse(readTextFile(out / "report.json"));
+    EXPECT_EQ(reports[mode]["settings"]["timing"], mode);
+  }
+  EXPECT_EQ(keyPaths(reports["profile"]), keyPaths(reports["queries"]));
+  ASSERT_EQ(reports["queries"]["frames"].size(), 6u);
+  double gpuTotal = 0.0;
+  for (size_t f = 0; f < 6; ++f) {
+    EXPECT_EQ(keyPaths(reports["profile"]["frames"][f]), keyPaths(reports["queries"]["frames"][f])) << f;
+    for (const auto& [pass, ms] : reports["queries"]["frames"][f]["passes_ms"].items()) {
+      EXPECT_GE(ms.get<double>(), 0.0) << pass;
+      gpuTotal += ms.get<double>();
+    }
+  }
+  EXPECT_GT(gpuTotal, 0.0) << "no timer-query pass times arrived";
 }
 
 TEST(ForestCli, WalkthroughInterruptedLeavesCompleteFiles) {

@@ -1,7 +1,11 @@
 // Pass timing: a record per pass per frame in both modes; the profiling mode's times are positive
 // for real work. Timer-query values are not asserted (llvmpipe's are unreliable, DESIGN §3).
+#include <set>
+
 #include "forest/core/error.hpp"
+#include "forest/core/scene.hpp"
 #include "forest/gl/timing.hpp"
+#include "forest/render/frame.hpp"
 #include "forest/render/offscreen_target.hpp"
 #include "gl_test_support.hpp"
 
@@ -86,6 +90,106 @@ TEST_F(GlTest, UnbalancedPassIsAnError) {
   timer.end();
   timer.endFrame();
   EXPECT_THROW(timer.end(), Error);
+}
+
+// What a frame calls, counted in-process the way apitrace would: glad's function pointers are
+// swapped for counting wrappers while a block of frames runs.
+struct GlCallLog {
+  static inline int finishes = 0;
+  static inline int blockingResultReads = 0;  // a result read of a query not reported available before
+  static inline int resultReads = 0;
+  static inline std::set<GLuint> available;
+  static inline PFNGLFINISHPROC realFinish = nullptr;
+  static inline PFNGLGETQUERYOBJECTIVPROC realGetQueryiv = nullptr;
+  static inline PFNGLGETQUERYOBJECTUI64VPROC realGetQueryui64v = nullptr;
+
+  static void GLAD_API_PTR finish() {
+    ++finishes;
+    realFinish();
+  }
+  static void GLAD_API_PTR getQueryiv(GLuint id, GLenum name, GLint* value) {
+    realGetQueryiv(id, name, value);
+    if (name == GL_QUERY_RESULT_AVAILABLE && *value) available.insert(id);
+  }
+  static void GLAD_API_PTR getQueryui64v(GLuint id, GLenum name, GLuint64* value) {
+    if (name == GL_QUERY_RESULT) {
+      ++resultReads;
+      if (!available.count(id)) ++blockingResultReads;
+      available.erase(id);  // the next use of this query must be reported available again
+    }
+    realGetQueryui64v(id, name, value);
+  }
+
+  GlCallLog() {
+    finishes = blockingResultReads = resultReads = 0;
+    available.clear();
+    realFinish = glad_glFinish;
+    realGetQueryiv = glad_glGetQueryObjectiv;
+    realGetQueryui64v = glad_glGetQueryObjectui64v;
+    glad_glFinish = &finish;
+    glad_glGetQueryObjectiv = &getQueryiv;
+    glad_glGetQueryObjectui64v = &getQueryui64v;
+  }
+  ~GlCallLog() {
+    glad_glFinish = realFinish;
+    glad_glGetQueryObjectiv = realGetQueryiv;
+    glad_glGetQueryObjectui64v = realGetQueryui64v;
+  }
+};
+
+// A box over a plane, seen from above: every pass of the frame has work.
+Scene boxOnPlane() {
+  Scene scene;
+  scene.sun.direction = glm::normalize(glm::dvec3(0.35, -1.0, 0.25));
+  scene.props.push_back({glm::dvec3(-40, -1, -40), glm::dvec3(40, 0, 40), glm::dvec3(0.6)});
+  scene.props.push_back({glm::dvec3(-2, 3, -2), glm::dvec3(2, 5, 2), glm::dvec3(0.8)});
+  scene.camera.position = {0, 22, 26};
+  scene.camera.pitch_deg = -42.0;
+  return scene;
+}
+
+// DESIGN §9: with timer queries nothing in a frame waits for the GPU — no glFinish, and every
+// timestamp is read only after GL_QUERY_RESULT_AVAILABLE reported it — and every frame's six pass
+// times still arrive, each frame once, under its number. In profiling mode each pass is bracketed
+// by glFinish, so at least one per pass.
+TEST_F(GlTest, QueryTimedFramesNeverWaitAndDeliverEveryFramesPassTimes) {
+  const Scene scene = boxOnPlane();
+  render::Frame frame(scene, 320, 180);
+  render::FrameSettings settings;
+  settings.timing = gl::TimingMode::GpuQueries;
+  settings.blurRadius = 3.0;
+  constexpr int kFrames = 12;
+  std::vector<gl::FrameTiming> timings;
+  {
+    GlCallLog log;
+    for (int f = 0; f < kFrames; ++f) {
+      const render::FrameStats stats = frame.render(frame.startCamera(), f / 30.0, settings);
+      EXPECT_EQ(stats.frameNumber, static_cast<std::uint64_t>(f));
+      EXPECT_TRUE(stats.passTimesPending);
+      for (gl::FrameTiming& t : frame.takePassTimes()) timings.push_back(std::move(t));
+    }
+    EXPECT_EQ(GlCallLog::finishes, 0) << "glFinish inside query-timed frames";
+    EXPECT_EQ(GlCallLog::blockingResultReads, 0) << "of " << GlCallLog::resultReads << " timestamp reads";
+  }
+  for (gl::FrameTiming& t : frame.drainPassTimes()) timings.push_back(std::move(t));
+  ASSERT_EQ(timings.size(), static_cast<size_t>(kFrames));
+  for (size_t f = 0; f < timings.size(); ++f) {
+    EXPECT_EQ(timings[f].frame, f);
+    ASSERT_EQ(timings[f].passes.size(), std::size(render::kFramePassNames));
+    for (size_t p = 0; p < timings[f].passes.size(); ++p) {
+      EXPECT_EQ(timings[f].passes[p].pass, render::kFramePassNames[p]);
+      EXPECT_GE(timings[f].passes[p].ms, 0.0);
+    }
+  }
+
+  settings.timing = gl::TimingMode::Profiling;
+  GlCallLog log;
+  const render::FrameStats profiled = frame.render(frame.startCamera(), 0.0, settings);
+  EXPECT_GE(GlCallLog::finishes, static_cast<int>(std::size(render::kFramePassNames)));
+  EXPECT_FALSE(profiled.passTimesPending);
+  EXPECT_EQ(profiled.frameNumber, static_cast<std::uint64_t>(kFrames));  // numbering goes on across modes
+  EXPECT_GT(profiled.geometryMs + profiled.shadowMs + profiled.lightingMs, 0.0);
+  EXPECT_TRUE(frame.takePassTimes().empty());
 }
 
 }  // namespace

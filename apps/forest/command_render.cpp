@@ -158,6 +158,7 @@ int runRender(const RenderOptions& options) {
   contextOptions.height = scene.render.height;
   auto context = gl::createContext(contextOptions);
   log::info("{}", gl::describe(context->info()));
+  settings.timing = options.frame.settings(context->info()).timing;
 
   render::Frame frame(scene, scene.render.width, scene.render.height);
   Camera camera = frame.startCamera();
@@ -166,7 +167,8 @@ int runRender(const RenderOptions& options) {
     camera.yaw = glm::radians(options.camera[3]);
     camera.pitch = glm::radians(options.camera[4]);
   }
-  const render::FrameStats stats = frame.render(camera, options.time, settings);
+  render::FrameStats stats = frame.render(camera, options.time, settings);
+  for (const gl::FrameTiming& t : frame.drainPassTimes()) stats.setPassTimes(t);  // timer queries: wait for this frame's
   const Image8 image = frame.readColor();
   if (gl::debugErrorCount() > 0) {
     throw Error(fmt::format("{} GL errors while rendering (first: {})", gl::debugErrorCount(),
@@ -188,7 +190,7 @@ int runRender(const RenderOptions& options) {
                    {"culling", options.frame.culling}, {"casters", options.casters},
                    {"slope_bias", options.bias},       {"backside", settings.backside},
                    {"pcf_radius", options.frame.pcf},  {"blur_px", options.frame.blur},
-                   {"fog", options.fog}};
+                   {"fog", options.fog},               {"timing", render::timingModeName(settings.timing)}};
   j["passes_ms"] = {{"geometry", stats.geometryMs},
                     {"shadow_setup", stats.shadowSetupMs},
                     {"shadow", stats.shadowMs},

@@ -93,7 +93,8 @@ struct RunResult {
   long long mismatched = 0;
 };
 
-RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& options, int& done, int total, Clock::time_point start) {
+RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& options, const gl::ContextInfo& context, int& done, int total,
+                 Clock::time_point start) {
   Scene scene = scaledScene(base, trees, lod0);
   // Props: 2 m boxes, built first as placeholders (the frame needs their count), then put around the
   // walk's start on the ground once the terrain exists.
@@ -106,11 +107,12 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
     const double a = 2.0 * std::numbers::pi * i / kProps;
     centres.push_back(path.front().position + dvec3(12.0 * std::cos(a), 0.0, 12.0 * std::sin(a)));
   }
-  const render::FrameSettings settings = options.frame.settings();
+  const render::FrameSettings settings = options.frame.settings(context);
   SplitMix64 random(SplitMix64::substream(scene.vegetation->seed, 0x57e55ull));
   const int treeCount = static_cast<int>(frame.forest()->trees().size());
   const int movedPerFrame = static_cast<int>(std::lround(options.moving * treeCount));
-  std::vector<double> frameMs, geometryMs, rss;
+  std::vector<double> frameMs, rss;
+  std::vector<double> geometryByFrame(static_cast<size_t>(options.length.frames), 0.0);  // timer queries fill it late
   std::vector<long long> trianglesGeometry, trianglesShadow, queries;
   long long mismatched = 0;
   int checks = 0;
@@ -137,6 +139,8 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
     const auto frameStart = Clock::now();
     const render::FrameStats s = frame.render(path[static_cast<size_t>(i)], time, settings);
     const double ms = 1e3 * std::chrono::duration<double>(Clock::now() - frameStart).count();
+    geometryByFrame[static_cast<size_t>(i)] = s.geometryMs;
+    for (const gl::FrameTiming& t : frame.takePassTimes()) geometryByFrame[t.frame] = t.passes.front().ms;
     if (options.checkEvery > 0 && i % options.checkEvery == options.checkEvery - 1) {
       // Exactness: the culled geometry pass against frustum culling's on the same moved scene.
       const std::vector<std::uint32_t> ids = frame.readObjectIds();
@@ -150,7 +154,6 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
     }
     if (i >= options.length.warmup) {
       frameMs.push_back(ms);
-      geometryMs.push_back(s.geometryMs);
       trianglesGeometry.push_back(s.geometryTriangles);
       trianglesShadow.push_back(s.shadowTriangles);
       queries.push_back(s.culling.queriesIssued);
@@ -159,6 +162,8 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
     ++done;
     showProgress("stress", "frames", done, total, std::chrono::duration<double>(Clock::now() - start).count(), options.length.quiet);
   }
+  for (const gl::FrameTiming& t : frame.drainPassTimes()) geometryByFrame[t.frame] = t.passes.front().ms;
+  const std::vector<double> geometryMs(geometryByFrame.begin() + std::min(options.length.warmup, options.length.frames), geometryByFrame.end());
   if (gl::debugErrorCount() > 0)
     throw Error(fmt::format("{} GL errors during the stress run (first: {})", gl::debugErrorCount(), gl::debugErrorMessages().front()));
   auto asDouble = [](const std::vector<long long>& v) { return std::vector<double>(v.begin(), v.end()); };
@@ -222,7 +227,7 @@ int runStress(const StressOptions& options) {
     const glm::vec3 colour = lod0 == options.lod0.front() ? glm::vec3(0.15f, 0.45f, 0.85f) : glm::vec3(0.85f, 0.3f, 0.15f);
     PlotSeries ft{fmt::format("LOD0 {}", lod0), colour, {}, true}, gm = ft, tg = ft, q = ft;
     for (int trees : options.trees) {
-      const RunResult r = runOne(base, trees, lod0, options, done, total, start);
+      const RunResult r = runOne(base, trees, lod0, options, context->info(), done, total, start);
       mismatched += r.mismatched;
       const double n = r.json["trees"].get<double>();
       ft.points.emplace_back(n, r.json["frame_ms"]["p50"].get<double>());
@@ -237,7 +242,7 @@ int runStress(const StressOptions& options) {
     queryPanel.series.push_back(q);
   }
   ordered_json report{{"scene", scenePath}, {"device", gl::describe(context->info())}, {"resolution", {options.size.width, options.size.height}},
-                      {"settings", options.frame.json()},
+                      {"settings", options.frame.json(context->info())},
                       {"frames", options.length.frames}, {"warmup", options.length.warmup}, {"moving_share", options.moving},
                       {"check_every", options.checkEvery}, {"runs", runs}};
   writeFileAtomic(out / "stress.json", report.dump(2) + "\n");

@@ -112,7 +112,7 @@ int runWalkthrough(const WalkthroughOptions& options) {
   Scene scene = loadScene(scenePath);
   const CameraPath path = CameraPath::load(pathPath);
   if (path.aboveGround() && !scene.terrain) throw InputError(pathPath + ": heights = \"above_ground\" needs a scene with [terrain]");
-  const render::FrameSettings settings = options.frame.settings();
+  render::FrameSettings settings = options.frame.settings();  // names checked before anything opens
   const int pathFrames = 1 + static_cast<int>(std::floor((path.endTime() - path.startTime()) * options.fps + 1e-9));
   const int total = options.length.frames > 0 ? std::min(options.length.frames, pathFrames) : pathFrames;
   const int warmup = options.length.warmupFor(total);
@@ -129,6 +129,7 @@ int runWalkthrough(const WalkthroughOptions& options) {
   auto context = gl::createContext(contextOptions);
   const std::string device = gl::describe(context->info());
   log::info("{}", device);
+  settings.timing = options.frame.settings(context->info()).timing;
   render::Frame frame(scene, width, height);
 
   // The folder holds this run only: what an earlier walkthrough wrote there goes first.
@@ -158,10 +159,12 @@ int runWalkthrough(const WalkthroughOptions& options) {
       if (sheet.wants(f)) sheet.add(f, time, frameMs, image);
     }
     records.push_back(frameRecord(f, time, f < warmup, camera, pose.yaw_deg, frameMs, s));
+    recordPassTimes(frame.takePassTimes(), records);  // timer queries: earlier frames' pass times
     ++done;
     showProgress("walkthrough", "frames", done, total, std::chrono::duration<double>(Clock::now() - start).count(), options.length.quiet);
   }
   std::signal(SIGINT, SIG_DFL);
+  recordPassTimes(frame.drainPassTimes(), records);
   // The last frame done is always on the sheet (its image is still in the frame's target).
   if (done > 0 && !sheet.has(done - 1)) {
     const nlohmann::ordered_json& last = records.back();
@@ -176,7 +179,7 @@ int runWalkthrough(const WalkthroughOptions& options) {
   report["path"] = pathPath;
   report["device"] = device;
   report["resolution"] = {width, height};
-  report["settings"] = options.frame.json();
+  report["settings"] = options.frame.json(context->info());
   report["settings"]["fps"] = options.fps;
   report["warmup_frames"] = warmup;
   report["frames_requested"] = total;

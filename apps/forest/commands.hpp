@@ -57,10 +57,19 @@ struct FrameOptions {
   int pcf = 0;
   double blur = 3.0;         // eye-space blur radius, pixels (0: off)
   double blurDepth = 10.0;   // metres up to which the full radius applies
+  std::string timing = "auto";  // auto: profile on a software renderer, queries on a hardware one
   void add(CLI::App& command, bool withCulling = true);
-  render::FrameSettings settings() const;  // throws InputError for names the checks let through
-  nlohmann::ordered_json json() const;     // the settings as report.json writes them
+  // The settings; the timing mode resolved for the context (auto: render::defaultTimingMode).
+  // Throws InputError for names the checks let through.
+  render::FrameSettings settings(const gl::ContextInfo& context) const;
+  render::FrameSettings settings() const { return settings(gl::ContextInfo{}); }  // before a context exists: checks only
+  // The settings as report.json writes them (timing as resolved for the context).
+  nlohmann::ordered_json json(const gl::ContextInfo& context) const;
 };
+
+// GpuQueries timing: writes the pass times of frames whose timer queries finished into their
+// report records (records[k] is frame k). Profiling: nothing to do.
+void recordPassTimes(const std::vector<gl::FrameTiming>& timings, nlohmann::ordered_json& records);
 
 // --soft-rays for truth and bench speed-error (0 to 1024).
 void addSoftRaysOption(CLI::App& command, int& softRays);

@@ -91,10 +91,17 @@ void FrameOptions::add(CLI::App& command, bool withCulling) {
   command.add_option("--blur-depth", blurDepth, "Depth (m, 0.01 to 10000) up to which the blur has its full radius")
       ->check(CLI::Range(0.01, 1e4))
       ->capture_default_str();
+  command.add_option("--timing", timing,
+                     "Pass timing: profile (glFinish + clock around each pass; the pipeline is serialised),\n"
+                     "queries (GL timestamp queries read frames later; nothing in a frame waits for the GPU),\n"
+                     "auto (profile on a software renderer such as llvmpipe, queries on a GPU)")
+      ->check(CLI::IsMember({"auto", "profile", "queries"}))
+      ->capture_default_str();
 }
 
-render::FrameSettings FrameOptions::settings() const {
+render::FrameSettings FrameOptions::settings(const gl::ContextInfo& context) const {
   render::FrameSettings s;
+  s.timing = timing == "auto" ? render::defaultTimingMode(context) : render::parseTimingMode(timing);
   s.method = shadows::parseShadowMethod(method);
   s.shadowMapSize = shadowSize;
   s.culling = culling::parseCullingStrategy(culling);
@@ -104,9 +111,18 @@ render::FrameSettings FrameOptions::settings() const {
   return s;
 }
 
-nlohmann::ordered_json FrameOptions::json() const {
-  return {{"method", method}, {"shadow_size", shadowSize}, {"culling", culling},
-          {"pcf_radius", pcf}, {"blur_px", blur},          {"blur_depth_m", blurDepth}};
+nlohmann::ordered_json FrameOptions::json(const gl::ContextInfo& context) const {
+  return {{"method", method},        {"shadow_size", shadowSize}, {"culling", culling},
+          {"pcf_radius", pcf},       {"blur_px", blur},          {"blur_depth_m", blurDepth},
+          {"timing", render::timingModeName(settings(context).timing)}};
+}
+
+void recordPassTimes(const std::vector<gl::FrameTiming>& timings, nlohmann::ordered_json& records) {
+  for (const gl::FrameTiming& t : timings) {
+    if (t.frame >= records.size()) continue;
+    nlohmann::ordered_json& passes = records[t.frame]["passes_ms"];
+    for (const gl::PassTime& pass : t.passes) passes[pass.pass] = pass.ms;
+  }
 }
 
 void addSoftRaysOption(CLI::App& command, int& softRays) {

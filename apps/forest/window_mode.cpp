@@ -318,7 +318,7 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
     tapped.clear();
 
     // Render with this frame's settings and sun.
-    render::FrameSettings settings = controls.frame.settings();
+    render::FrameSettings settings = controls.frame.settings(context->info());
     settings.freezeCulling = controls.frozen;
     scene.sun.direction = controls.sun.travel();
     camera.position = controls.pose.position;
@@ -360,6 +360,7 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
     r["visible_set_hash"] = fmt::format("{:016x}", hashOf(frame.visibleObjects()));
     r["stats_line"] = statsLine;
     records.push_back(std::move(r));
+    recordPassTimes(frame.takePassTimes(), records);
     if (flown.empty() || time > flown.back().time) flown.push_back({time, controls.pose});
     ++done;
     if (lastFrame) break;
@@ -367,6 +368,7 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
   if (gl::debugErrorCount() > 0)
     throw Error(fmt::format("{} GL errors in the window (first: {})", gl::debugErrorCount(), gl::debugErrorMessages().front()));
 
+  recordPassTimes(frame.drainPassTimes(), records);
   const nlohmann::ordered_json summary = summariseFrames(records, done - std::min(done, warmup));
   nlohmann::ordered_json report;
   report["scene"] = scenePath;
@@ -374,7 +376,7 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
   report["device"] = device;
   report["resolution"] = {options.size.width, options.size.height};
   report["fps"] = options.fps;
-  report["settings"] = options.frame.json();
+  report["settings"] = options.frame.json(context->info());
   report["warmup_frames"] = warmup;
   report["frames_done"] = done;
   report["summary"] = summary;

@@ -10,7 +10,8 @@ double millisecondsBetween(Clock::time_point a, Clock::time_point b) {
 }
 }  // namespace
 
-PassTimer::PassTimer(TimingMode mode, int latency) : mode_(mode), latency_(std::max(1, latency)) {}
+PassTimer::PassTimer(TimingMode mode, int latency, std::uint64_t firstFrame)
+    : mode_(mode), latency_(std::max(1, latency)), frameNumber_(firstFrame) {}
 
 Query PassTimer::takeQuery() {
   if (spareQueries_.empty()) return Query(GL_TIMESTAMP);
@@ -30,9 +31,9 @@ void PassTimer::beginFrame() {
 void PassTimer::begin(const std::string& pass) {
   current_.timing.passes.push_back({pass, 0.0});
   const size_t index = current_.timing.passes.size() - 1;
-  if (mode_ == TimingMode::Profiling) {
-    glFinish();
-  } else {
+  // Profiling: the GPU is idle here (beginFrame or the previous pass's end finished it), so the
+  // clock alone starts the pass.
+  if (mode_ == TimingMode::GpuQueries) {
     current_.queries.emplace_back(takeQuery(), takeQuery());
     glQueryCounter(current_.queries.back().first.id(), GL_TIMESTAMP);
   }
@@ -64,16 +65,20 @@ void PassTimer::endFrame() {
   current_ = PendingFrame{};
 }
 
-// Reads finished frames' timestamps; waits for the oldest only when more than `latency` frames
-// are in flight.
+// Reads finished frames' timestamps, oldest frame first. Every result is read only after
+// GL_QUERY_RESULT_AVAILABLE said so for that query (never a blocking GL_QUERY_RESULT read); with
+// `wait` (more than `latency` frames in flight, or the end of a run) the oldest frame is polled
+// until its queries are available.
 void PassTimer::collect(bool wait) {
   while (!pending_.empty()) {
     PendingFrame& frame = pending_.front();
-    if (!frame.queries.empty() && !wait) {
-      GLint available = GL_FALSE;
-      glGetQueryObjectiv(frame.queries.back().second.id(), GL_QUERY_RESULT_AVAILABLE, &available);
-      if (!available) return;
-    }
+    for (const auto& [startQuery, endQuery] : frame.queries)
+      for (const Query* q : {&startQuery, &endQuery}) {
+        GLint available = GL_FALSE;
+        glGetQueryObjectiv(q->id(), GL_QUERY_RESULT_AVAILABLE, &available);
+        while (!available && wait) glGetQueryObjectiv(q->id(), GL_QUERY_RESULT_AVAILABLE, &available);
+        if (!available) return;
+      }
     for (size_t i = 0; i < frame.queries.size(); ++i) {
       GLuint64 start = 0, stop = 0;
       glGetQueryObjectui64v(frame.queries[i].first.id(), GL_QUERY_RESULT, &start);

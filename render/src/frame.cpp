@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <chrono>
 #include <cmath>
 #include <optional>
 
@@ -17,13 +16,7 @@
 namespace forest::render {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 using glm::dvec3;
-
-double millisecondsSince(Clock::time_point start) {
-  glFinish();  // per-pass times include the GPU's work
-  return 1e3 * std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 void validate(const FrameSettings& settings) {
   if (settings.shadowMapSize < 512 || settings.shadowMapSize > 8192)
@@ -41,6 +34,25 @@ void validate(const FrameSettings& settings) {
 }
 
 }  // namespace
+
+gl::TimingMode defaultTimingMode(const gl::ContextInfo& info) {
+  return info.softwareRenderer ? gl::TimingMode::Profiling : gl::TimingMode::GpuQueries;
+}
+
+gl::TimingMode parseTimingMode(std::string_view name) {
+  if (name == "profile") return gl::TimingMode::Profiling;
+  if (name == "queries") return gl::TimingMode::GpuQueries;
+  throw InputError(fmt::format("timing '{}': expected profile or queries", name));
+}
+
+std::string_view timingModeName(gl::TimingMode mode) { return mode == gl::TimingMode::Profiling ? "profile" : "queries"; }
+
+void FrameStats::setPassTimes(const gl::FrameTiming& timing) {
+  double* fields[] = {&geometryMs, &shadowSetupMs, &shadowMs, &shadowTermMs, &blurMs, &lightingMs};
+  for (const gl::PassTime& pass : timing.passes)
+    for (size_t i = 0; i < std::size(kFramePassNames); ++i)
+      if (pass.pass == kFramePassNames[i]) *fields[i] = pass.ms;
+}
 
 FocusBound parseFocusBound(std::string_view name) {
   if (name == "receivers") return FocusBound::Receivers;
@@ -161,47 +173,75 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   const std::optional<terrain::TerrainLod> lod = terrainLodFor(camera);
   const terrain::TerrainLod* eyeLod = lod ? &*lod : nullptr;
 
+  if (!timer_ || timer_->mode() != settings.timing) timer_ = std::make_unique<gl::PassTimer>(settings.timing, 3, framesRendered_);
+  gl::PassTimer& timer = *timer_;
+  stats.frameNumber = framesRendered_++;
+  timer.beginFrame();
+
   // 1. Geometry pass: the visible set and its z_f.
-  auto start = Clock::now();
-  const bool frozen = settings.freezeCulling && haveVisibleSet_;
-  const culling::CullingResult visible =
-      p.geometry.run(camera, eye, eyeLod, settings.culling, culler_, bvh_, frozen ? &visibleObjects_ : nullptr);
+  culling::CullingResult visible;
+  {
+    auto timed = timer.scope(kFramePassNames[0]);
+    const bool frozen = settings.freezeCulling && haveVisibleSet_;
+    visible = p.geometry.run(camera, eye, eyeLod, settings.culling, culler_, bvh_, frozen ? &visibleObjects_ : nullptr);
+  }
   haveVisibleSet_ = true;
-  stats.geometryMs = millisecondsSince(start);
   stats.culling = visible.stats;
   stats.visibleObjects = static_cast<int>(visible.visibleObjects.size());
   stats.geometryTriangles = visible.stats.trianglesDrawn;
   stats.farDepth = visible.farDepth;
 
   // 2. Shadow setup from the visible set: B, the method's matrices, the casters.
-  start = Clock::now();
-  p.shadowSetup.run(camera, visible, settings, l, stats.sunBelowHorizon, *objects_, sceneBounds_, p.plan, stats);
+  {
+    auto timed = timer.scope(kFramePassNames[1]);
+    p.shadowSetup.run(camera, visible, settings, l, stats.sunBelowHorizon, *objects_, sceneBounds_, p.plan, stats);
+  }
   stats.casterObjects = static_cast<int>(p.plan.casters.size());
   visibleObjects_ = visible.visibleObjects;
-  stats.shadowSetupMs = millisecondsSince(start);
 
   // 3. Shadow pass.
-  start = Clock::now();
-  stats.shadowTriangles = p.shadow.run(p.plan, eye, eyeLod, settings, l);
-  stats.shadowMs = millisecondsSince(start);
+  {
+    auto timed = timer.scope(kFramePassNames[2]);
+    stats.shadowTriangles = p.shadow.run(p.plan, eye, eyeLod, settings, l);
+  }
 
   // 4. Shadow term.
-  start = Clock::now();
   const glm::mat3 rays = pixelRays(camera);
-  p.shadowTerm.run(p.geometry.gbuffer(), p.shadow.map(), p.plan.setup, eyeRelativeToShadowClip(p.plan.setup, camera.position),
-                   camera, rays, settings, l, p.plan.shadowed);
-  stats.shadowTermMs = millisecondsSince(start);
+  {
+    auto timed = timer.scope(kFramePassNames[3]);
+    p.shadowTerm.run(p.geometry.gbuffer(), p.shadow.map(), p.plan.setup, eyeRelativeToShadowClip(p.plan.setup, camera.position),
+                     camera, rays, settings, l, p.plan.shadowed);
+  }
 
   // 4b. Eye-space blur, horizontal half (the vertical half runs in the lighting pass).
-  start = Clock::now();
-  const gl::Texture& termForLighting = p.blur.run(p.shadowTerm.term(), settings);
-  stats.blurMs = millisecondsSince(start);
+  const gl::Texture* termForLighting = nullptr;
+  {
+    auto timed = timer.scope(kFramePassNames[4]);
+    termForLighting = &p.blur.run(p.shadowTerm.term(), settings);
+  }
 
   // 5. Lighting.
-  start = Clock::now();
-  p.lighting.run(p.geometry.gbuffer(), termForLighting, rays, settings, scene_, l, !stats.sunBelowHorizon);
-  stats.lightingMs = millisecondsSince(start);
+  {
+    auto timed = timer.scope(kFramePassNames[5]);
+    p.lighting.run(p.geometry.gbuffer(), *termForLighting, rays, settings, scene_, l, !stats.sunBelowHorizon);
+  }
+  timer.endFrame();
+  if (settings.timing == gl::TimingMode::Profiling) {
+    for (const gl::FrameTiming& t : timer.takeCompleted()) stats.setPassTimes(t);
+  } else {
+    stats.passTimesPending = true;
+  }
   return stats;
+}
+
+std::vector<gl::FrameTiming> Frame::takePassTimes() {
+  if (!timer_ || timer_->mode() == gl::TimingMode::Profiling) return {};
+  return timer_->takeCompleted();
+}
+
+std::vector<gl::FrameTiming> Frame::drainPassTimes() {
+  if (!timer_ || timer_->mode() == gl::TimingMode::Profiling) return {};
+  return timer_->drain();
 }
 
 void Frame::presentTo(GLuint framebuffer, int width, int height) const {

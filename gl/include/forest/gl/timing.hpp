@@ -30,7 +30,9 @@ struct FrameTiming {
 
 class PassTimer {
  public:
-  explicit PassTimer(TimingMode mode, int latency = 3);
+  // latency: GpuQueries frames in flight before the timer waits (polling availability) for the
+  // oldest; firstFrame: the number FrameTiming::frame starts at.
+  explicit PassTimer(TimingMode mode, int latency = 3, std::uint64_t firstFrame = 0);
 
   class Scope {
    public:

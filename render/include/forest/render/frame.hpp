@@ -22,7 +22,9 @@
 #include "forest/culling/bvh.hpp"
 #include "forest/culling/occlusion_culler.hpp"
 #include "forest/gl/objects.hpp"
+#include "forest/gl/context.hpp"
 #include "forest/gl/shader.hpp"
+#include "forest/gl/timing.hpp"
 #include "forest/render/scene_objects.hpp"
 #include "forest/shadows/shadow_setup.hpp"
 
@@ -65,7 +67,17 @@ struct FrameSettings {
   // Error injection for validating the error figures (ground truth tests): the shadow-term lookup
   // reads the map this many texels off in x and y. 0 in normal use.
   glm::dvec2 lookupShiftTexels{0.0};
+  // How the passes are timed (DESIGN §9): Profiling brackets each pass with glFinish and a steady
+  // clock (llvmpipe, where timer queries lie; the pipeline is serialised); GpuQueries puts
+  // GL_TIMESTAMP queries around each pass and reads them frames later, so nothing in a frame waits
+  // for the GPU — the pass times of frame k arrive in a later frame (Frame::takePassTimes).
+  gl::TimingMode timing = gl::TimingMode::Profiling;
 };
+
+// Profiling on a software renderer, timer queries on a hardware one (the default of --timing).
+gl::TimingMode defaultTimingMode(const gl::ContextInfo& info);
+gl::TimingMode parseTimingMode(std::string_view name);  // "profile", "queries"; throws InputError
+std::string_view timingModeName(gl::TimingMode mode);
 
 struct FrameStats {
   // blurMs: the blur's horizontal pass; its vertical pass is part of lightingMs.
@@ -78,9 +90,19 @@ struct FrameStats {
   bool sunBelowHorizon = false;
   shadows::ShadowDiagnostics shadow;
   culling::CullingStats culling;
+  // This frame's number (0, 1, … since the Frame was made). The pass times above are this frame's in
+  // Profiling mode; with GpuQueries they are 0 and passTimesPending is set: they come later from
+  // Frame::takePassTimes under this number.
+  std::uint64_t frameNumber = 0;
+  bool passTimesPending = false;
 
   double passesMs() const { return geometryMs + shadowSetupMs + shadowMs + shadowTermMs + blurMs + lightingMs; }
+  // Takes the pass times of a gl::FrameTiming whose passes carry kFramePassNames.
+  void setPassTimes(const gl::FrameTiming& timing);
 };
+
+// The passes' names in frame order, as timings and reports carry them.
+inline constexpr const char* kFramePassNames[] = {"geometry", "shadow_setup", "shadow", "shadow_term", "blur", "lighting"};
 
 class Frame {
  public:
@@ -89,6 +111,11 @@ class Frame {
   ~Frame();
 
   FrameStats render(const Camera& camera, double time, const FrameSettings& settings);
+  // GpuQueries timing: the pass times of earlier frames whose queries have finished (oldest first,
+  // each once; FrameTiming::frame is FrameStats::frameNumber). Never waits. Empty in Profiling mode.
+  std::vector<gl::FrameTiming> takePassTimes();
+  // The same, waiting for every frame still in flight: at the end of a run.
+  std::vector<gl::FrameTiming> drainPassTimes();
   // Dynamic scenes: moves trees (bases snapped to the terrain), or takes the scene's props again
   // after the caller moved them (core moveProps on the Scene the frame was built from); both
   // update the object boxes and refit the culling BVH (rebuilt past kRebuildCostRatio).
@@ -147,6 +174,8 @@ class Frame {
   Aabb sceneBounds_;
   std::vector<std::uint32_t> visibleObjects_;
   bool haveVisibleSet_ = false;
+  std::unique_ptr<gl::PassTimer> timer_;  // made for the mode of the first frame, remade on a change
+  std::uint64_t framesRendered_ = 0;
 };
 
 }  // namespace forest::render
