@@ -62,6 +62,26 @@ TEST_F(GlTest, RepositoryShadersCompile) {
   EXPECT_NO_THROW(gl::loadProgram({"props.vert", "props.frag"}));
 }
 
+// Locations come from a table read once at link (DESIGN §9: no glGetUniformLocation per draw); the
+// table must give what the GL itself answers for every active uniform, an array by its name and by
+// its first element, and -1 for names the linker removed or never saw.
+TEST_F(GlTest, UniformLocationTableAgreesWithTheGl) {
+  const gl::Program program = gl::compileProgram(
+      {{GL_VERTEX_SHADER, "table.vert",
+        "#version 450 core\nuniform mat4 uMatrix;\nuniform vec3 uOffsets[4];\nuniform float uUnused;\n"
+        "void main() { gl_Position = uMatrix * vec4(uOffsets[gl_VertexID % 4], 1.0); }\n"},
+       {GL_FRAGMENT_SHADER, "table.frag",
+        "#version 450 core\nuniform vec4 uColour;\nuniform sampler2D uTexture;\nout vec4 colour;\n"
+        "void main() { colour = uColour * texture(uTexture, vec2(0.5)); }\n"}});
+  int checked = 0;
+  for (const char* name : {"uMatrix", "uOffsets", "uOffsets[0]", "uColour", "uTexture", "uUnused", "uMissing"}) {
+    EXPECT_EQ(program.location(name), glGetUniformLocation(program.id(), name)) << name;
+    checked += glGetUniformLocation(program.id(), name) >= 0 ? 1 : 0;
+  }
+  EXPECT_EQ(checked, 5);  // all but the unused and the missing one are active
+  EXPECT_EQ(program.location("uMissing"), -1);
+}
+
 TEST(ShaderLog, DriverFormatsBecomeFileLine) {
   EXPECT_EQ(gl::formatShaderLog("a.frag", "0:12(5): error: syntax error\n"), "a.frag:12: error: syntax error");
   EXPECT_EQ(gl::formatShaderLog("a.frag", "0(7) : error C0000: syntax error"), "a.frag:7: error C0000: syntax error");

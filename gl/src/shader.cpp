@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <glm/gtc/type_ptr.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 #include <cstring>
@@ -62,29 +63,56 @@ std::pair<int, std::string> parseLogLine(const std::string& line) {
 
 }  // namespace
 
-void Program::set(const char* uniform, int v) const { glProgramUniform1i(id(), glGetUniformLocation(id(), uniform), v); }
+void Program::set(const char* uniform, int v) const { glProgramUniform1i(id(), location(uniform), v); }
 void Program::set(const char* uniform, std::uint32_t v) const {
-  glProgramUniform1ui(id(), glGetUniformLocation(id(), uniform), v);
+  glProgramUniform1ui(id(), location(uniform), v);
 }
-void Program::set(const char* uniform, float v) const { glProgramUniform1f(id(), glGetUniformLocation(id(), uniform), v); }
+void Program::set(const char* uniform, float v) const { glProgramUniform1f(id(), location(uniform), v); }
 void Program::set(const char* uniform, const glm::ivec2& v) const {
-  glProgramUniform2i(id(), glGetUniformLocation(id(), uniform), v.x, v.y);
+  glProgramUniform2i(id(), location(uniform), v.x, v.y);
 }
 void Program::set(const char* uniform, const glm::vec2& v) const {
-  glProgramUniform2fv(id(), glGetUniformLocation(id(), uniform), 1, glm::value_ptr(v));
+  glProgramUniform2fv(id(), location(uniform), 1, glm::value_ptr(v));
 }
 void Program::set(const char* uniform, const glm::vec3& v) const {
-  glProgramUniform3fv(id(), glGetUniformLocation(id(), uniform), 1, glm::value_ptr(v));
+  glProgramUniform3fv(id(), location(uniform), 1, glm::value_ptr(v));
 }
 void Program::set(const char* uniform, const glm::vec4& v) const {
-  glProgramUniform4fv(id(), glGetUniformLocation(id(), uniform), 1, glm::value_ptr(v));
+  glProgramUniform4fv(id(), location(uniform), 1, glm::value_ptr(v));
 }
 void Program::set(const char* uniform, const glm::mat3& v) const {
-  glProgramUniformMatrix3fv(id(), glGetUniformLocation(id(), uniform), 1, GL_FALSE, glm::value_ptr(v));
+  glProgramUniformMatrix3fv(id(), location(uniform), 1, GL_FALSE, glm::value_ptr(v));
 }
 
 void Program::set(const char* uniform, const glm::mat4& v) const {
-  glProgramUniformMatrix4fv(id(), glGetUniformLocation(id(), uniform), 1, GL_FALSE, glm::value_ptr(v));
+  glProgramUniformMatrix4fv(id(), location(uniform), 1, GL_FALSE, glm::value_ptr(v));
+}
+
+void Program::readUniformLocations() {
+  locations_.clear();
+  GLint count = 0, longest = 0;
+  glGetProgramInterfaceiv(id(), GL_UNIFORM, GL_ACTIVE_RESOURCES, &count);
+  glGetProgramInterfaceiv(id(), GL_UNIFORM, GL_MAX_NAME_LENGTH, &longest);
+  std::string name(static_cast<size_t>(std::max(1, longest)), '\0');
+  for (GLint i = 0; i < count; ++i) {
+    GLsizei length = 0;
+    glGetProgramResourceName(id(), GL_UNIFORM, static_cast<GLuint>(i), static_cast<GLsizei>(name.size()), &length, name.data());
+    const GLenum property = GL_LOCATION;
+    GLint location = -1;
+    glGetProgramResourceiv(id(), GL_UNIFORM, static_cast<GLuint>(i), 1, &property, 1, nullptr, &location);
+    if (location < 0) continue;  // in a uniform block
+    const std::string full(name.data(), static_cast<size_t>(length));
+    locations_.emplace_back(full, location);
+    // glGetUniformLocation("a") names an array's first element "a[0]" too.
+    if (full.size() > 3 && full.compare(full.size() - 3, 3, "[0]") == 0) locations_.emplace_back(full.substr(0, full.size() - 3), location);
+  }
+  std::sort(locations_.begin(), locations_.end());
+}
+
+GLint Program::location(std::string_view uniform) const {
+  const auto it = std::lower_bound(locations_.begin(), locations_.end(), uniform,
+                                   [](const std::pair<std::string, GLint>& entry, std::string_view name) { return entry.first < name; });
+  return it != locations_.end() && it->first == uniform ? it->second : -1;
 }
 
 std::string formatShaderLog(const std::string& name, const std::string& log) {
@@ -131,6 +159,7 @@ Program compileProgram(const std::vector<ShaderSource>& sources) {
   }
   for (GLuint shader : shaders) glDeleteShader(shader);
   if (!errors.empty()) throw Error("shader error:\n" + errors);
+  program.readUniformLocations();
   return program;
 }
 

@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "forest/gl/objects.hpp"
@@ -25,7 +27,8 @@ class Program {
   GLuint id() const { return name_.id(); }
   void use() const { glUseProgram(id()); }
 
-  // Uniform setters (glProgramUniform*); a name the linker removed is ignored.
+  // Uniform setters (glProgramUniform*); a name the linker removed is ignored. Locations come from
+  // the table read once after linking (no glGetUniformLocation per call, DESIGN §9).
   void set(const char* uniform, int v) const;
   void set(const char* uniform, std::uint32_t v) const;
   void set(const char* uniform, float v) const;
@@ -35,9 +38,14 @@ class Program {
   void set(const char* uniform, const glm::vec4& v) const;
   void set(const char* uniform, const glm::mat3& v) const;
   void set(const char* uniform, const glm::mat4& v) const;
+  // The uniform's location from the table (-1: not an active uniform).
+  GLint location(std::string_view uniform) const;
+  // Reads every active uniform's location (compileProgram does, after a successful link).
+  void readUniformLocations();
 
  private:
   UniqueName<ProgramDeleter> name_;
+  std::vector<std::pair<std::string, GLint>> locations_;  // sorted by name; arrays also as "a" for "a[0]"
 };
 
 // Folder the shaders are read from (core/resources.hpp: $FOREST_SHADER_DIR, installed, source tree).
