@@ -14,6 +14,8 @@ packages=(
   fonts-dejavu-core
   # file formats, command line, tests, benchmarks
   libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libfmt-dev libgtest-dev libgmock-dev libbenchmark-dev
+  # GL calls per frame (tools/gl-calls.sh, the ctest gl_calls_per_frame)
+  apitrace
 )
 
 missing=()
