@@ -33,6 +33,7 @@ struct GeometryTarget : IdDepthTarget {
 
 class CullingGl : public GlTest {};
 
+// Exactness, with deterministic and with async query reads: depth and object ID equal brute force.
 TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongSixtyViews) {
   Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
   const terrain::Terrain terrain(*scene.terrain);
@@ -49,10 +50,23 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongSixtyViews) {
   const render::TreeRenderer treeIds(forest, render::TreeRenderer::Output::ObjectId, objects.treeIdBase());
   render::PropRenderer propIds(scene.props, render::PropRenderer::Output::ObjectId, objects.propIdBase());
   culling::Bvh bvh(objects.boxes(), 1);
-  const CullingStrategy strategies[] = {CullingStrategy::None, CullingStrategy::Frustum, CullingStrategy::StopAndWait,
-                                        CullingStrategy::Chc, CullingStrategy::ChcPlusPlus};
-  std::map<CullingStrategy, culling::OcclusionCuller> cullers;
-  for (CullingStrategy s : strategies) cullers.try_emplace(s);
+  // Every strategy; the query-driven ones also with async result reads (DESIGN §9), each with a
+  // culler of its own (CHC keeps frame-to-frame state).
+  struct Run {
+    CullingStrategy strategy;
+    culling::QueryMode mode;
+  };
+  const Run runs[] = {{CullingStrategy::None, culling::QueryMode::Deterministic},
+                      {CullingStrategy::Frustum, culling::QueryMode::Deterministic},
+                      {CullingStrategy::StopAndWait, culling::QueryMode::Deterministic},
+                      {CullingStrategy::StopAndWait, culling::QueryMode::Async},
+                      {CullingStrategy::Chc, culling::QueryMode::Deterministic},
+                      {CullingStrategy::Chc, culling::QueryMode::Async},
+                      {CullingStrategy::ChcPlusPlus, culling::QueryMode::Deterministic},
+                      {CullingStrategy::ChcPlusPlus, culling::QueryMode::Async}};
+  std::vector<culling::OcclusionCuller> cullers(std::size(runs));
+  for (size_t k = 0; k < std::size(runs); ++k) cullers[k].setQueryMode(runs[k].mode);
+  int asyncPolls = 0;
   const GeometryTarget target;
 
   // The views, in order (CHC uses the previous frame's visibility).
@@ -115,16 +129,21 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongSixtyViews) {
       propIds.update(scene.props);
       objects.updateBoxes(&forest, scene.props);
       if (bvh.refit(objects.boxes()))
-        for (auto& [s, c] : cullers) c.reset();
+        for (culling::OcclusionCuller& c : cullers) c.reset();
     }
     const terrain::TerrainLod lod = terrain.lodFor(view.camera, kHeight);
     const double time = 0.1 * static_cast<double>(v);
     std::vector<std::uint32_t> noneIds;
     std::vector<float> noneDepth;
-    for (CullingStrategy s : strategies) {
+    for (size_t k = 0; k < std::size(runs); ++k) {
+      const CullingStrategy s = runs[k].strategy;
       target.bindAndClear();
       render::SceneDrawer drawer(objects, &terrainIds, &treeIds, &propIds, view.camera, &lod, time, scene.sun);
-      const culling::CullingResult r = cullers.at(s).cull(bvh, objects.boxes(), view.camera, s, drawer);
+      const culling::CullingResult r = cullers[k].cull(bvh, objects.boxes(), view.camera, s, drawer);
+      asyncPolls += r.stats.availabilityPolls;
+      if (runs[k].mode == culling::QueryMode::Deterministic) {
+        EXPECT_EQ(r.stats.availabilityPolls, 0);
+      }
       const std::vector<std::uint32_t> ids = target.readIds();
       const std::vector<float> depth = target.readDepth();
       if (s == CullingStrategy::None) {
@@ -136,9 +155,10 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongSixtyViews) {
       for (size_t p = 0; p < ids.size(); ++p) differ += (ids[p] != noneIds[p] || depth[p] != noneDepth[p]) ? 1 : 0;
       differingPixels += differ;
       compared += static_cast<int>(ids.size());
-      EXPECT_EQ(differ, 0) << "view " << v << " (" << view.kind << "), " << culling::cullingStrategyName(s);
+      EXPECT_EQ(differ, 0) << "view " << v << " (" << view.kind << "), " << culling::cullingStrategyName(s) << " "
+                           << culling::queryModeName(runs[k].mode);
       if (s != CullingStrategy::Chc && s != CullingStrategy::ChcPlusPlus) continue;
-      queries[s] += r.stats.queriesIssued;
+      if (runs[k].mode == culling::QueryMode::Deterministic) queries[s] += r.stats.queriesIssued;
       // The oracle: every object with a pixel is in the visible set.
       const std::set<std::uint32_t> visible(r.visibleObjects.begin(), r.visibleObjects.end());
       double farthest = 0.0;
@@ -157,6 +177,7 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongSixtyViews) {
               differingPixels, compared, queries[CullingStrategy::Chc], queries[CullingStrategy::ChcPlusPlus]);
   EXPECT_GT(queries[CullingStrategy::Chc], 0);
   EXPECT_GT(queries[CullingStrategy::ChcPlusPlus], 0);
+  EXPECT_GT(asyncPolls, 0);  // the async runs did ask for availability
 }
 
 // A wall 5 m ahead hides two rows of boxes; two boxes stand in front of it; one box lies far

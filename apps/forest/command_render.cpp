@@ -159,6 +159,7 @@ int runRender(const RenderOptions& options) {
   auto context = gl::createContext(contextOptions);
   log::info("{}", gl::describe(context->info()));
   settings.timing = options.frame.settings(context->info()).timing;
+  settings.queries = options.frame.settings(context->info()).queries;
 
   render::Frame frame(scene, scene.render.width, scene.render.height);
   Camera camera = frame.startCamera();
@@ -190,7 +191,8 @@ int runRender(const RenderOptions& options) {
                    {"culling", options.frame.culling}, {"casters", options.casters},
                    {"slope_bias", options.bias},       {"backside", settings.backside},
                    {"pcf_radius", options.frame.pcf},  {"blur_px", options.frame.blur},
-                   {"fog", options.fog},               {"timing", render::timingModeName(settings.timing)}};
+                   {"fog", options.fog},               {"timing", render::timingModeName(settings.timing)},
+                   {"queries", culling::queryModeName(settings.queries)}};
   j["passes_ms"] = {{"geometry", stats.geometryMs},
                     {"shadow_setup", stats.shadowSetupMs},
                     {"shadow", stats.shadowMs},

@@ -130,6 +130,7 @@ int runWalkthrough(const WalkthroughOptions& options) {
   const std::string device = gl::describe(context->info());
   log::info("{}", device);
   settings.timing = options.frame.settings(context->info()).timing;
+  settings.queries = options.frame.settings(context->info()).queries;
   render::Frame frame(scene, width, height);
 
   // The folder holds this run only: what an earlier walkthrough wrote there goes first.

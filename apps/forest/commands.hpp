@@ -57,9 +57,11 @@ struct FrameOptions {
   int pcf = 0;
   double blur = 3.0;         // eye-space blur radius, pixels (0: off)
   double blurDepth = 10.0;   // metres up to which the full radius applies
-  std::string timing = "auto";  // auto: profile on a software renderer, queries on a hardware one
+  std::string timing = "auto";   // auto: profile on a software renderer, queries on a hardware one
+  std::string queries = "auto";  // auto: deterministic on a software renderer, async on a hardware one
   void add(CLI::App& command, bool withCulling = true);
-  // The settings; the timing mode resolved for the context (auto: render::defaultTimingMode).
+  // The settings; timing and query modes resolved for the context (auto: render::defaultTimingMode,
+  // render::defaultQueryMode).
   // Throws InputError for names the checks let through.
   render::FrameSettings settings(const gl::ContextInfo& context) const;
   render::FrameSettings settings() const { return settings(gl::ContextInfo{}); }  // before a context exists: checks only

@@ -97,11 +97,18 @@ void FrameOptions::add(CLI::App& command, bool withCulling) {
                      "auto (profile on a software renderer such as llvmpipe, queries on a GPU)")
       ->check(CLI::IsMember({"auto", "profile", "queries"}))
       ->capture_default_str();
+  command.add_option("--queries", queries,
+                     "How CHC/CHC++ read occlusion queries: deterministic (at fixed traversal steps: the same\n"
+                     "visible set every run), async (as soon as GL_QUERY_RESULT_AVAILABLE says so), auto\n"
+                     "(deterministic on a software renderer, async on a GPU); both are exact")
+      ->check(CLI::IsMember({"auto", "deterministic", "async"}))
+      ->capture_default_str();
 }
 
 render::FrameSettings FrameOptions::settings(const gl::ContextInfo& context) const {
   render::FrameSettings s;
   s.timing = timing == "auto" ? render::defaultTimingMode(context) : render::parseTimingMode(timing);
+  s.queries = queries == "auto" ? render::defaultQueryMode(context) : culling::parseQueryMode(queries);
   s.method = shadows::parseShadowMethod(method);
   s.shadowMapSize = shadowSize;
   s.culling = culling::parseCullingStrategy(culling);
@@ -114,7 +121,8 @@ render::FrameSettings FrameOptions::settings(const gl::ContextInfo& context) con
 nlohmann::ordered_json FrameOptions::json(const gl::ContextInfo& context) const {
   return {{"method", method},        {"shadow_size", shadowSize}, {"culling", culling},
           {"pcf_radius", pcf},       {"blur_px", blur},          {"blur_depth_m", blurDepth},
-          {"timing", render::timingModeName(settings(context).timing)}};
+          {"timing", render::timingModeName(settings(context).timing)},
+          {"queries", culling::queryModeName(settings(context).queries)}};
 }
 
 void recordPassTimes(const std::vector<gl::FrameTiming>& timings, nlohmann::ordered_json& records) {

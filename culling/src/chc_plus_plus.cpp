@@ -1,6 +1,7 @@
 // CHC++ (Mattausch, Bittner, Wimmer: "CHC++: Coherent Hierarchical Culling Revisited", EG 2008).
-// Results are taken at fixed traversal steps (kBatchSteps), never by polling availability, so that
-// a run traverses — and so draws and queries — the same way every time.
+// Deterministic mode takes results at fixed traversal steps (kBatchSteps), never by polling, so
+// that a run traverses — and so draws and queries — the same way every time; async mode takes each
+// result as soon as GL_QUERY_RESULT_AVAILABLE says so, as the paper does.
 #include <algorithm>
 #include <cmath>
 #include <deque>
@@ -161,9 +162,13 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
 
   if (!nodes.empty()) traversal.push(t.entry(0));
   while (true) {
-    // Results: at each batch boundary, those issued a batch ago.
-    if (steps % kBatchSteps == 0)
+    // Results: deterministic, at each batch boundary those issued a batch ago; async, those the GPU
+    // has finished.
+    if (queryMode_ == QueryMode::Async) {
+      while (!pending.empty() && resultAvailable(pending.front().slot, t.stats)) takeResult();
+    } else if (steps % kBatchSteps == 0) {
       while (!pending.empty() && pending.front().step <= steps - kBatchSteps) takeResult();
+    }
     if (traversal.empty()) {
       if (!invisibleQueue.empty()) {
         issueInvisibleQueue();

@@ -45,6 +45,14 @@ std::string_view cullingStrategyName(CullingStrategy strategy) {
 
 std::vector<std::string> cullingStrategyNames() { return {"none", "frustum", "stop-and-wait", "chc", "chc++"}; }
 
+QueryMode parseQueryMode(std::string_view name) {
+  if (name == "deterministic") return QueryMode::Deterministic;
+  if (name == "async") return QueryMode::Async;
+  throw InputError(fmt::format("query mode '{}': expected deterministic or async", name));
+}
+
+std::string_view queryModeName(QueryMode mode) { return mode == QueryMode::Deterministic ? "deterministic" : "async"; }
+
 OcclusionCuller::OcclusionCuller() : program_(gl::loadProgram({"query_box.vert", "query_box.frag"})) {
   const float corners[8][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
   // 12 triangles; both sides are rasterised (culling is off while querying).
@@ -105,8 +113,18 @@ std::size_t OcclusionCuller::issueQuery(std::span<const Aabb> boxes) {
   return slot;
 }
 
+bool OcclusionCuller::resultAvailable(std::size_t slot, CullingStats& stats) const {
+  GLuint available = GL_FALSE;
+  glGetQueryObjectuiv(pool_[slot].id(), GL_QUERY_RESULT_AVAILABLE, &available);
+  ++stats.availabilityPolls;
+  return available != GL_FALSE;
+}
+
 std::uint32_t OcclusionCuller::waitResult(std::size_t slot, CullingStats& stats) const {
   const auto start = std::chrono::steady_clock::now();
+  if (queryMode_ == QueryMode::Async)
+    while (!resultAvailable(slot, stats)) {
+    }
   GLuint samples = 0;
   glGetQueryObjectuiv(pool_[slot].id(), GL_QUERY_RESULT, &samples);
   stats.waitMilliseconds += 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -236,9 +254,14 @@ void OcclusionCuller::cullChc(Traversal& t) {
   if (!nodes.empty()) traversal.push(t.entry(0));
   int steps = 0;
   while (!traversal.empty() || !queries.empty()) {
-    // Results: at each batch boundary those issued a batch ago; all when nothing is left to traverse.
-    while (!queries.empty() &&
-           (traversal.empty() || (steps % kBatchSteps == 0 && queries.front().step <= steps - kBatchSteps))) {
+    // Results: all when nothing is left to traverse; else deterministic: at each batch boundary
+    // those issued a batch ago; async: whichever the GPU has finished (fig. 4).
+    auto ready = [&] {
+      if (traversal.empty()) return true;
+      if (queryMode_ == QueryMode::Async) return resultAvailable(queries.front().slot, t.stats);
+      return steps % kBatchSteps == 0 && queries.front().step <= steps - kBatchSteps;
+    };
+    while (!queries.empty() && ready()) {
       const Pending p = queries.front();
       queries.pop_front();
       handleResult(p, waitResult(p.slot, t.stats));

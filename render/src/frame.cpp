@@ -39,6 +39,10 @@ gl::TimingMode defaultTimingMode(const gl::ContextInfo& info) {
   return info.softwareRenderer ? gl::TimingMode::Profiling : gl::TimingMode::GpuQueries;
 }
 
+culling::QueryMode defaultQueryMode(const gl::ContextInfo& info) {
+  return info.softwareRenderer ? culling::QueryMode::Deterministic : culling::QueryMode::Async;
+}
+
 gl::TimingMode parseTimingMode(std::string_view name) {
   if (name == "profile") return gl::TimingMode::Profiling;
   if (name == "queries") return gl::TimingMode::GpuQueries;
@@ -179,6 +183,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   timer.beginFrame();
 
   // 1. Geometry pass: the visible set and its z_f.
+  culler_.setQueryMode(settings.queries);
   culling::CullingResult visible;
   {
     auto timed = timer.scope(kFramePassNames[0]);

@@ -19,6 +19,12 @@
 //                   multiquery, grouped greedily by p_keep(i) = 0.99 − 0.7·e^(−i) after i invisible
 //                   frames — a visible multiquery re-queries its nodes one by one (§3.4); queries
 //                   draw the boxes of a node's descendants when they are tighter (§3.5).
+// Query results are read in one of two ways (QueryMode): deterministic — at fixed traversal steps
+// (every kBatchSteps), so a run traverses, draws and queries the same way every time (tests,
+// llvmpipe, where polling flushes the command stream) — or async, as in the papers — polling
+// GL_QUERY_RESULT_AVAILABLE and taking a result as soon as the GPU has it while traversal goes on;
+// a result is read only after the GL reported it available, so the CPU never blocks in a read.
+// Both are exact.
 // A query tests the node's box (grown by a few ulps) against the depth of what has been drawn so
 // far, which only gets nearer as more is drawn: a box found hidden holds nothing visible, so the
 // geometry pass equals drawing everything (exactness). Boxes holding the eye (grown by z_n) or
@@ -51,6 +57,10 @@ class ObjectDrawer {
   virtual long long draw(std::span<const std::uint32_t> objects) = 0;
 };
 
+enum class QueryMode { Deterministic, Async };
+QueryMode parseQueryMode(std::string_view name);  // "deterministic", "async"; throws InputError
+std::string_view queryModeName(QueryMode mode);
+
 struct CullingStats {
   int nodesVisited = 0;      // nodes taken from the traversal queue inside the frustum
   int queriesIssued = 0;     // all queries, multiqueries included
@@ -59,7 +69,8 @@ struct CullingStats {
   int drawCalls = 0;         // ObjectDrawer::draw calls
   int objectsDrawn = 0;
   long long trianglesDrawn = 0;
-  double waitMilliseconds = 0.0;  // CPU time blocked on query results
+  double waitMilliseconds = 0.0;  // CPU time blocked on query results (async: polling until available)
+  int availabilityPolls = 0;      // async: GL_QUERY_RESULT_AVAILABLE asked
 };
 
 struct CullingResult {
@@ -84,6 +95,9 @@ class OcclusionCuller {
   void reset();
   // The chc++ parameters (the scene file's [culling] section); takes effect next frame.
   void setParameters(const CullingSettings& parameters) { parameters_ = parameters; }
+  // How results are read (default deterministic); takes effect next frame.
+  void setQueryMode(QueryMode mode) { queryMode_ = mode; }
+  QueryMode queryMode() const { return queryMode_; }
 
  private:
   struct NodeState {
@@ -99,7 +113,10 @@ class OcclusionCuller {
   void drawObjects(Traversal& t, std::span<const std::uint32_t> objects);
   void pullUpVisibility(std::int32_t node);  // marks the node and its not yet visible ancestors visible
   void cullChcPlusPlus(Traversal& t);
+  // The query's result; async: polls availability first, so the read itself never blocks.
   std::uint32_t waitResult(std::size_t slot, CullingStats& stats) const;
+  // Async: whether the query's result is available now (one poll). Deterministic: never asked.
+  bool resultAvailable(std::size_t slot, CullingStats& stats) const;
   void beginQueries();
   void endQueries();
 
@@ -114,6 +131,7 @@ class OcclusionCuller {
   bool queryState_ = false;
 
   CullingSettings parameters_;
+  QueryMode queryMode_ = QueryMode::Deterministic;
   int switches_ = 0;
   std::vector<NodeState> state_;
   const Bvh* stateOf_ = nullptr;

@@ -72,7 +72,13 @@ struct FrameSettings {
   // GL_TIMESTAMP queries around each pass and reads them frames later, so nothing in a frame waits
   // for the GPU — the pass times of frame k arrive in a later frame (Frame::takePassTimes).
   gl::TimingMode timing = gl::TimingMode::Profiling;
+  // How CHC and CHC++ read their occlusion queries (culling/occlusion_culler.hpp): at fixed
+  // traversal steps (deterministic: the same visible set every run) or when available (async).
+  culling::QueryMode queries = culling::QueryMode::Deterministic;
 };
+
+// Deterministic queries on a software renderer, async on a hardware one (the default of --queries).
+culling::QueryMode defaultQueryMode(const gl::ContextInfo& info);
 
 // Profiling on a software renderer, timer queries on a hardware one (the default of --timing).
 gl::TimingMode defaultTimingMode(const gl::ContextInfo& info);
