@@ -4,7 +4,8 @@
 # / (B − A), so setup and teardown cancel out. Prints every call's count per frame and the figures
 # that stall a GPU or cost a lookup: glFinish, glGetUniformLocation, GL_QUERY_RESULT reads of
 # occlusion (samples-passed) and timestamp queries not preceded by a GL_QUERY_RESULT_AVAILABLE
-# answer ("blocking"), buffer uploads, GL object creations and deletions; with --json FILE also as
+# answer ("blocking"), buffer uploads, GL object creations and deletions (sync objects apart: the
+# fences of the instance rings, gl/stream_ring.hpp, are counted as "fences"); with --json FILE also as
 # JSON. --max NAME=N (repeatable) exits 1 when that figure per frame exceeds N (the ctest
 # gl_calls_per_frame). The rest of the arguments go to `forest walkthrough` (e.g. --timing queries).
 #
@@ -75,8 +76,10 @@ def count(path):
             figures["buffer uploads"] += 1
         if re.match(r"gl(Create|Gen)\w+", name) and name not in ("glCreateShader", "glCreateProgram"):
             figures["GL object creations"] += 1
-        if re.match(r"glDelete\w+", name):
+        if re.match(r"glDelete\w+", name) and name != "glDeleteSync":
             figures["GL object deletions"] += 1
+        if name == "glFenceSync":
+            figures["fences"] += 1
     figures["glFinish"] = calls["glFinish"]
     figures["glGetUniformLocation"] = calls["glGetUniformLocation"]
     return calls, figures
@@ -90,7 +93,8 @@ figures = {k: per(fa[k], fb[k]) for k in sorted(set(fa) | set(fb) | {"blocking o
 calls = {k: per(ca[k], cb[k]) for k in set(ca) | set(cb) if cb[k] != ca[k]}
 print(f"GL calls per steady-state frame ((calls in {b} frames - calls in {a}) / {frames}):")
 for k in ["glFinish", "glGetUniformLocation", "blocking occlusion result reads", "blocking timestamp result reads",
-          "occlusion result reads", "timestamp result reads", "buffer uploads", "GL object creations", "GL object deletions"]:
+          "occlusion result reads", "timestamp result reads", "buffer uploads", "GL object creations", "GL object deletions",
+          "fences"]:
     print(f"  {k:<34} {figures.get(k, 0.0):10.2f}")
 print("every call:")
 for k, v in sorted(calls.items(), key=lambda kv: -kv[1]):

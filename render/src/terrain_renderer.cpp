@@ -3,6 +3,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <cstring>
 
 #include "forest/core/frustum.hpp"
 
@@ -68,7 +69,8 @@ TerrainRenderer::TerrainRenderer(const terrain::Terrain& terrain, Output output,
     indices.insert(indices.end(), levelIndices.begin(), levelIndices.end());
   }
   indices_ = gl::Buffer(indices.size() * sizeof(std::uint32_t), indices.data(), 0);
-  instances_ = gl::Buffer(static_cast<size_t>(terrain.tileCount()) * sizeof(glm::ivec2), nullptr);
+  // A segment holds every tile (the largest draw), so the ring never grows.
+  instances_ = std::make_unique<gl::StreamRing>(static_cast<size_t>(terrain.tileCount()) * sizeof(glm::ivec2), sizeof(glm::ivec2));
 
   const GLuint vao = vertexArray_.id();
   glVertexArrayVertexBuffer(vao, 0, grid_.id(), 0, sizeof(glm::ivec2));
@@ -76,7 +78,7 @@ TerrainRenderer::TerrainRenderer(const terrain::Terrain& terrain, Output output,
   glEnableVertexArrayAttrib(vao, 0);
   glVertexArrayAttribIFormat(vao, 0, 2, GL_INT, 0);
   glVertexArrayAttribBinding(vao, 0, 0);
-  glVertexArrayVertexBuffer(vao, 1, instances_.id(), 0, sizeof(glm::ivec2));
+  glVertexArrayVertexBuffer(vao, 1, instances_->id(), 0, sizeof(glm::ivec2));
   glVertexArrayBindingDivisor(vao, 1, 1);
   glEnableVertexArrayAttrib(vao, 1);
   glVertexArrayAttribIFormat(vao, 1, 2, GL_INT, 0);
@@ -116,7 +118,11 @@ TerrainRenderer::Stats TerrainRenderer::draw(const DrawView& view, const terrain
     first[level] = static_cast<int>(packed.size());
     packed.insert(packed.end(), byLevel[level].begin(), byLevel[level].end());
   }
-  instances_.upload(0, packed.size() * sizeof(glm::ivec2), packed.data());
+  const GLuint ringBefore = instances_->id();
+  const gl::StreamRing::Allocation part = instances_->allocate(packed.size() * sizeof(glm::ivec2));
+  std::memcpy(part.data, packed.data(), packed.size() * sizeof(glm::ivec2));
+  if (instances_->id() != ringBefore) glVertexArrayVertexBuffer(vertexArray_.id(), 1, instances_->id(), 0, sizeof(glm::ivec2));
+  const GLuint baseInstance = static_cast<GLuint>(part.offset / sizeof(glm::ivec2));
 
   const terrain::Heightfield& h = terrain_.heightfield();
   // (p − eye) → clip, composed in double (DESIGN §4), converted once.
@@ -153,7 +159,7 @@ TerrainRenderer::Stats TerrainRenderer::draw(const DrawView& view, const terrain
     glDrawElementsInstancedBaseInstance(
         GL_TRIANGLES, indexCount_[level], GL_UNSIGNED_INT,
         reinterpret_cast<const void*>(static_cast<std::uintptr_t>(indexOffset_[level]) * sizeof(std::uint32_t)), count,
-        static_cast<GLuint>(first[level]));
+        baseInstance + static_cast<GLuint>(first[level]));
     stats.tiles += count;
     stats.tilesPerLevel[level] = count;
     stats.triangles += static_cast<long long>(count) * indexCount_[level] / 3;
@@ -163,7 +169,7 @@ TerrainRenderer::Stats TerrainRenderer::draw(const DrawView& view, const terrain
 }
 
 std::size_t TerrainRenderer::gpuBytes() const {
-  return heights_.bytes() + normals_.bytes() + grid_.size() + indices_.size() + instances_.size();
+  return heights_.bytes() + normals_.bytes() + grid_.size() + indices_.size() + instances_->size();
 }
 
 }  // namespace forest::render

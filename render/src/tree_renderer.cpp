@@ -3,6 +3,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <cmath>
+#include <cstring>
 #include <numbers>
 
 #include "forest/core/frustum.hpp"
@@ -39,7 +40,8 @@ TreeRenderer::TreeRenderer(const vegetation::Forest& forest, Output output, std:
   }
   vertices_ = gl::Buffer(vertices.size() * sizeof(TreeVertex), vertices.data(), 0);
   indices_ = gl::Buffer(indices.size() * sizeof(std::uint32_t), indices.data(), 0);
-  instances_ = gl::Buffer(std::max<size_t>(1, forest.trees().size()) * sizeof(InstanceGpu), nullptr);
+  // A segment holds every tree (the largest draw), so the ring never grows.
+  instances_ = std::make_unique<gl::StreamRing>(std::max<size_t>(1, forest.trees().size()) * sizeof(InstanceGpu), sizeof(InstanceGpu));
 
   const GLuint vao = vertexArray_.id();
   glVertexArrayVertexBuffer(vao, 0, vertices_.id(), 0, sizeof(TreeVertex));
@@ -49,7 +51,7 @@ TreeRenderer::TreeRenderer(const vegetation::Forest& forest, Output output, std:
     glVertexArrayAttribFormat(vao, a, 3, GL_FLOAT, GL_FALSE, a * sizeof(glm::vec3));
     glVertexArrayAttribBinding(vao, a, 0);
   }
-  glVertexArrayVertexBuffer(vao, 1, instances_.id(), 0, sizeof(InstanceGpu));
+  glVertexArrayVertexBuffer(vao, 1, instances_->id(), 0, sizeof(InstanceGpu));
   glVertexArrayBindingDivisor(vao, 1, 1);
   for (GLuint a = 3; a < 6; ++a) {
     glEnableVertexArrayAttrib(vao, a);
@@ -103,7 +105,11 @@ TreeRenderer::Stats TreeRenderer::draw(const DrawView& view, std::span<const std
       packed.insert(packed.end(), groups[s][lod].begin(), groups[s][lod].end());
     }
   if (packed.empty()) return stats;
-  instances_.upload(0, packed.size() * sizeof(InstanceGpu), packed.data());
+  const GLuint ringBefore = instances_->id();
+  const gl::StreamRing::Allocation part = instances_->allocate(packed.size() * sizeof(InstanceGpu));
+  std::memcpy(part.data, packed.data(), packed.size() * sizeof(InstanceGpu));
+  if (instances_->id() != ringBefore) glVertexArrayVertexBuffer(vertexArray_.id(), 1, instances_->id(), 0, sizeof(InstanceGpu));
+  const GLuint baseInstance = static_cast<GLuint>(part.offset / sizeof(InstanceGpu));
 
   const VegetationSettings& wind = forest_.settings();
   program_.set("uViewProjectionRelative", glm::mat4(view.viewProjectionRelative));
@@ -128,7 +134,7 @@ TreeRenderer::Stats TreeRenderer::draw(const DrawView& view, std::span<const std
       glDrawElementsInstancedBaseVertexBaseInstance(
           GL_TRIANGLES, r.indexCount, GL_UNSIGNED_INT,
           reinterpret_cast<const void*>(static_cast<std::uintptr_t>(r.firstIndex) * sizeof(std::uint32_t)), count,
-          r.baseVertex, static_cast<GLuint>(first[s][lod]));
+          r.baseVertex, baseInstance + static_cast<GLuint>(first[s][lod]));
       stats.trees += count;
       stats.treesPerLod[lod] += count;
       stats.triangles += static_cast<long long>(count) * r.indexCount / 3;

@@ -4,12 +4,14 @@
 // of the tiles at that level. terrain.vert places and morphs each vertex exactly as
 // Terrain::drawnVertex does on the CPU (camera-relative float positions).
 #include <array>
+#include <memory>
 #include <span>
 #include <vector>
 
 #include "forest/core/camera.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/gl/objects.hpp"
+#include "forest/gl/stream_ring.hpp"
 #include "forest/gl/shader.hpp"
 #include "forest/render/draw_view.hpp"
 #include "forest/terrain/terrain.hpp"
@@ -52,7 +54,9 @@ class TerrainRenderer {
   gl::VertexArray vertexArray_;
   gl::Buffer grid_;
   gl::Buffer indices_;
-  mutable gl::Buffer instances_;
+  // Tile instances, written once per draw into a persistently mapped ring (DESIGN §9): each draw
+  // addresses its part by base instance; nothing the GPU may still read is rewritten.
+  std::unique_ptr<gl::StreamRing> instances_;
   // Per-draw scratch, kept so the per-leaf draws of the culling traversal do not allocate.
   mutable std::array<std::vector<glm::ivec2>, terrain::kLevels> byLevel_;
   mutable std::vector<glm::ivec2> packed_;

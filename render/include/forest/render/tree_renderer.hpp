@@ -4,12 +4,14 @@
 // draw per group — at most 6 draws however many clusters are visible. trees.vert applies the
 // same transform as Forest::treeTransform (scale, yaw, wind shear, camera-relative position).
 #include <array>
+#include <memory>
 #include <span>
 #include <vector>
 
 #include "forest/core/camera.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/gl/objects.hpp"
+#include "forest/gl/stream_ring.hpp"
 #include "forest/gl/shader.hpp"
 #include "forest/render/draw_view.hpp"
 #include "forest/vegetation/forest.hpp"
@@ -38,7 +40,7 @@ class TreeRenderer {
   std::vector<std::uint32_t> clustersInFrustum(const Camera& camera) const;
 
   std::size_t meshBytes() const { return vertices_.size() + indices_.size(); }
-  std::size_t instanceBytes() const { return instances_.size(); }
+  std::size_t instanceBytes() const { return instances_->size(); }
 
  private:
   struct InstanceGpu {
@@ -57,7 +59,9 @@ class TreeRenderer {
   gl::Program program_;
   gl::VertexArray vertexArray_;
   gl::Buffer vertices_, indices_;
-  mutable gl::Buffer instances_;
+  // Instances, written once per draw into a persistently mapped ring (DESIGN §9): each draw
+  // addresses its part by base instance; nothing the GPU may still read is rewritten.
+  std::unique_ptr<gl::StreamRing> instances_;
   // Per-draw scratch, kept so the per-leaf draws of the culling traversal do not allocate.
   mutable std::array<std::array<std::vector<InstanceGpu>, vegetation::kTreeLods>, vegetation::kSpeciesCount> groups_;
   mutable std::vector<InstanceGpu> packed_;
