@@ -40,11 +40,31 @@ bool ContactSheet::has(int frame) const {
   return std::any_of(kept_.begin(), kept_.end(), [frame](const Thumbnail& t) { return t.frame == frame; });
 }
 
+namespace {
+
+// The image shrunk by an integer factor with a box filter: cheap enough to run on a tenth of a
+// walk's frames (a filtered resize of a 1280×720 frame costs ~0.3 s on this machine).
+Image8 boxShrunk(const Image8& image, int factor) {
+  if (factor <= 1) return image;
+  Image8 out(image.width / factor, image.height / factor, image.channels);
+  const int area = factor * factor;
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x)
+      for (int c = 0; c < image.channels; ++c) {
+        int sum = 0;
+        for (int dy = 0; dy < factor; ++dy)
+          for (int dx = 0; dx < factor; ++dx) sum += image.at(x * factor + dx, y * factor + dy, c);
+        out.at(x, y, c) = static_cast<unsigned char>(sum / area);
+      }
+  return out;
+}
+
+}  // namespace
+
 void ContactSheet::add(int frame, double timeSeconds, double frameMs, const Image8& image) {
-  const int width = std::min(width_, image.width);
-  const int height = std::max(1, static_cast<int>(std::lround(static_cast<double>(image.height) * width / image.width)));
+  const int factor = (image.width + width_ - 1) / width_;  // the smallest that fits the width cap
   std::erase_if(kept_, [frame](const Thumbnail& t) { return t.frame == frame; });
-  kept_.push_back({frame, timeSeconds, frameMs, width == image.width ? image : resized(image, width, height)});
+  kept_.push_back({frame, timeSeconds, frameMs, boxShrunk(image, factor)});
   std::sort(kept_.begin(), kept_.end(), [](const Thumbnail& a, const Thumbnail& b) { return a.frame < b.frame; });
   if (static_cast<int>(kept_.size()) > 2 * max_) {
     const int last = kept_.back().frame;  // the newest stays: it may be the run's last frame

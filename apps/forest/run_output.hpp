@@ -20,7 +20,8 @@ int clearEarlierWalk(const std::filesystem::path& folder);
 // Thumbnails sampled evenly across a run of unknown length (it may be interrupted): every
 // stride-th frame is kept, and when more than 2·max are kept every other one goes and the stride
 // doubles. compose() lays out up to `max` of them, spread from the first frame to the last one
-// given, four per row, each labelled with its frame number, path time and frame time.
+// given, four per row, each labelled with its frame number, path time and frame time. Thumbnails are
+// the frame shrunk by the smallest integer factor that fits thumbnailWidth (box filter).
 class ContactSheet {
  public:
   explicit ContactSheet(int maxThumbnails = 16, int thumbnailWidth = 320);

@@ -76,15 +76,6 @@ bool drawText(Image8& image, glm::ivec2 at, std::string_view text, glm::vec3 col
   return drawn;
 }
 
-Image8 resized(const Image8& image, int width, int height) {
-  Image8 source = image;  // ImageBuf wraps mutable memory
-  const OIIO::ImageBuf from = wrap(source);
-  Image8 result(width, height, image.channels);
-  OIIO::ImageBuf to = wrap(result);
-  if (!OIIO::ImageBufAlgo::resize(to, from)) throw Error("resize: " + to.geterror());
-  return result;
-}
-
 void paste(Image8& target, const Image8& source, glm::ivec2 at) {
   if (target.channels != source.channels) throw Error("paste: expected images with the same channels");
   for (int y = std::max(0, -at.y); y < source.height && at.y + y < target.height; ++y)

@@ -18,8 +18,6 @@ void fillConvexPolygon(Image8& image, std::span<const glm::dvec2> polygon, glm::
 // Text with its baseline starting at `at`, DejaVu Sans (fonts-dejavu-core). Returns false when no
 // font is available (the image is left as it was).
 bool drawText(Image8& image, glm::ivec2 at, std::string_view text, glm::vec3 colour, int size = 14);
-// The image scaled to width × height (OpenImageIO's filtered resize; RGB or RGBA).
-Image8 resized(const Image8& image, int width, int height);
 // Copies `source` into `target` with its top-left corner at `at` (same channel count; clipped).
 void paste(Image8& target, const Image8& source, glm::ivec2 at);
 
