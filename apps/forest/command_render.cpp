@@ -158,8 +158,7 @@ int runRender(const RenderOptions& options) {
   contextOptions.height = scene.render.height;
   auto context = gl::createContext(contextOptions);
   log::info("{}", gl::describe(context->info()));
-  settings.timing = options.frame.settings(context->info()).timing;
-  settings.queries = options.frame.settings(context->info()).queries;
+  options.frame.resolveModes(settings, context->info());
 
   render::Frame frame(scene, scene.render.width, scene.render.height);
   Camera camera = frame.startCamera();

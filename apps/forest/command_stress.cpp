@@ -113,6 +113,13 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
   const int movedPerFrame = static_cast<int>(std::lround(options.moving * treeCount));
   std::vector<double> frameMs, rss;
   std::vector<double> geometryByFrame(static_cast<size_t>(options.length.frames), 0.0);  // timer queries fill it late
+  auto takeGeometryTimes = [&](const std::vector<gl::FrameTiming>& timings) {
+    for (const gl::FrameTiming& t : timings) {
+      render::FrameStats timed;
+      timed.setPassTimes(t);
+      geometryByFrame[t.frame] = timed.geometryMs;
+    }
+  };
   std::vector<long long> trianglesGeometry, trianglesShadow, queries;
   long long mismatched = 0;
   int checks = 0;
@@ -140,7 +147,7 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
     const render::FrameStats s = frame.render(path[static_cast<size_t>(i)], time, settings);
     const double ms = 1e3 * std::chrono::duration<double>(Clock::now() - frameStart).count();
     geometryByFrame[static_cast<size_t>(i)] = s.geometryMs;
-    for (const gl::FrameTiming& t : frame.takePassTimes()) geometryByFrame[t.frame] = t.passes.front().ms;
+    takeGeometryTimes(frame.takePassTimes());
     if (options.checkEvery > 0 && i % options.checkEvery == options.checkEvery - 1) {
       // Exactness: the culled geometry pass against frustum culling's on the same moved scene.
       const std::vector<std::uint32_t> ids = frame.readObjectIds();
@@ -162,7 +169,7 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
     ++done;
     showProgress("stress", "frames", done, total, std::chrono::duration<double>(Clock::now() - start).count(), options.length.quiet);
   }
-  for (const gl::FrameTiming& t : frame.drainPassTimes()) geometryByFrame[t.frame] = t.passes.front().ms;
+  takeGeometryTimes(frame.drainPassTimes());
   const std::vector<double> geometryMs(geometryByFrame.begin() + std::min(options.length.warmup, options.length.frames), geometryByFrame.end());
   if (gl::debugErrorCount() > 0)
     throw Error(fmt::format("{} GL errors during the stress run (first: {})", gl::debugErrorCount(), gl::debugErrorMessages().front()));

@@ -65,6 +65,14 @@ nlohmann::ordered_json frameRecord(int index, double time, bool warmup, const Ca
   return r;
 }
 
+void recordPassTimes(const std::vector<gl::FrameTiming>& timings, nlohmann::ordered_json& records) {
+  for (const gl::FrameTiming& t : timings) {
+    if (t.frame >= records.size()) continue;
+    nlohmann::ordered_json& passes = records[t.frame]["passes_ms"];
+    for (const gl::PassTime& pass : t.passes) passes[pass.pass] = pass.ms;
+  }
+}
+
 nlohmann::ordered_json summariseFrames(const nlohmann::ordered_json& records, int measured) {
   nlohmann::ordered_json summary;
   auto column = [&](const std::function<double(const nlohmann::ordered_json&)>& get) {
@@ -129,8 +137,7 @@ int runWalkthrough(const WalkthroughOptions& options) {
   auto context = gl::createContext(contextOptions);
   const std::string device = gl::describe(context->info());
   log::info("{}", device);
-  settings.timing = options.frame.settings(context->info()).timing;
-  settings.queries = options.frame.settings(context->info()).queries;
+  options.frame.resolveModes(settings, context->info());
   render::Frame frame(scene, width, height);
 
   // The folder holds this run only: what an earlier walkthrough wrote there goes first.

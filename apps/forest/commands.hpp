@@ -65,13 +65,11 @@ struct FrameOptions {
   // Throws InputError for names the checks let through.
   render::FrameSettings settings(const gl::ContextInfo& context) const;
   render::FrameSettings settings() const { return settings(gl::ContextInfo{}); }  // before a context exists: checks only
+  // Sets the timing and query modes of `s` for the context (what settings(context) does for them).
+  void resolveModes(render::FrameSettings& s, const gl::ContextInfo& context) const;
   // The settings as report.json writes them (timing as resolved for the context).
   nlohmann::ordered_json json(const gl::ContextInfo& context) const;
 };
-
-// GpuQueries timing: writes the pass times of frames whose timer queries finished into their
-// report records (records[k] is frame k). Profiling: nothing to do.
-void recordPassTimes(const std::vector<gl::FrameTiming>& timings, nlohmann::ordered_json& records);
 
 // --soft-rays for truth and bench speed-error (0 to 1024).
 void addSoftRaysOption(CLI::App& command, int& softRays);
@@ -109,6 +107,9 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window);
 inline constexpr const char* kPassNames[] = {"geometry", "shadow_setup", "shadow", "shadow_term", "blur", "lighting"};
 nlohmann::ordered_json frameRecord(int index, double time, bool warmup, const Camera& camera, double yawDeg, double frameMs,
                                    const render::FrameStats& stats);
+// GpuQueries timing: writes the pass times of frames whose timer queries finished into their
+// report records (records[k] is frame k). Profiling: nothing to do.
+void recordPassTimes(const std::vector<gl::FrameTiming>& timings, nlohmann::ordered_json& records);
 nlohmann::ordered_json summariseFrames(const nlohmann::ordered_json& records, int measured);
 void printSummary(const nlohmann::ordered_json& summary);
 

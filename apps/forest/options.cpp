@@ -107,8 +107,7 @@ void FrameOptions::add(CLI::App& command, bool withCulling) {
 
 render::FrameSettings FrameOptions::settings(const gl::ContextInfo& context) const {
   render::FrameSettings s;
-  s.timing = timing == "auto" ? render::defaultTimingMode(context) : render::parseTimingMode(timing);
-  s.queries = queries == "auto" ? render::defaultQueryMode(context) : culling::parseQueryMode(queries);
+  resolveModes(s, context);
   s.method = shadows::parseShadowMethod(method);
   s.shadowMapSize = shadowSize;
   s.culling = culling::parseCullingStrategy(culling);
@@ -118,19 +117,18 @@ render::FrameSettings FrameOptions::settings(const gl::ContextInfo& context) con
   return s;
 }
 
-nlohmann::ordered_json FrameOptions::json(const gl::ContextInfo& context) const {
-  return {{"method", method},        {"shadow_size", shadowSize}, {"culling", culling},
-          {"pcf_radius", pcf},       {"blur_px", blur},          {"blur_depth_m", blurDepth},
-          {"timing", render::timingModeName(settings(context).timing)},
-          {"queries", culling::queryModeName(settings(context).queries)}};
+void FrameOptions::resolveModes(render::FrameSettings& s, const gl::ContextInfo& context) const {
+  s.timing = timing == "auto" ? render::defaultTimingMode(context) : render::parseTimingMode(timing);
+  s.queries = queries == "auto" ? render::defaultQueryMode(context) : culling::parseQueryMode(queries);
 }
 
-void recordPassTimes(const std::vector<gl::FrameTiming>& timings, nlohmann::ordered_json& records) {
-  for (const gl::FrameTiming& t : timings) {
-    if (t.frame >= records.size()) continue;
-    nlohmann::ordered_json& passes = records[t.frame]["passes_ms"];
-    for (const gl::PassTime& pass : t.passes) passes[pass.pass] = pass.ms;
-  }
+nlohmann::ordered_json FrameOptions::json(const gl::ContextInfo& context) const {
+  render::FrameSettings modes;
+  resolveModes(modes, context);
+  return {{"method", method},        {"shadow_size", shadowSize}, {"culling", culling},
+          {"pcf_radius", pcf},       {"blur_px", blur},          {"blur_depth_m", blurDepth},
+          {"timing", render::timingModeName(modes.timing)},
+          {"queries", culling::queryModeName(modes.queries)}};
 }
 
 void addSoftRaysOption(CLI::App& command, int& softRays) {
