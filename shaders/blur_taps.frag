@@ -2,15 +2,12 @@
 // Eye-space blur of the shadow term (thesis §6.3, §9.4.2) along one direction — linked into the
 // horizontal pass (shadow_blur.frag) and into lighting, which does the vertical pass itself.
 // The radius shrinks with view depth so distant small shadows keep their detail:
-//   r(z) = uRadius · min(1, uReferenceDepth / z)   pixels, z the eye depth of the centre pixel
-// (a Gaussian with σ = r/2, cut at 3.5σ where its weight is below 0.3% of the centre's, and at
-// uRadius taps: distant pixels, where r shrinks below 0.6 px, read no neighbours at all).
-// Depth-aware: a sample counts only when its eye depth is within uDepthTolerance (relative) of the
+//   r(z) = R · min(1, z_ref / z)   pixels, z the eye depth of the centre pixel
+// (R and z_ref: the frame block's blur.x and blur.y; a Gaussian with σ = r/2, cut at 3.5σ where its
+// weight is below 0.3% of the centre's, and at R taps: distant pixels, where r shrinks below 0.6 px, read no neighbours at all).
+// Depth-aware: a sample counts only when its eye depth is within blur.z (relative) of the
 // centre's, so a shadow does not bleed across a silhouette. Texels: r = term, g = eye depth
 // (0 = sky, kept as is).
-uniform float uRadius;             // pixels at depths up to uReferenceDepth; > 0
-uniform float uReferenceDepth;     // metres
-uniform float uDepthTolerance;     // relative eye-depth difference that still counts as the same surface
 
 const int kMaxTaps = 16;
 
@@ -18,9 +15,10 @@ vec2 blurTaps(sampler2D term, ivec2 pixel, ivec2 direction) {
   vec2 centre = texelFetch(term, pixel, 0).rg;
   float z = centre.g;
   if (z == 0.0) return centre;  // sky
-  float r = uRadius * min(1.0, uReferenceDepth / z);
+  float radius = uFrame.blur.x, tolerance = uFrame.blur.z;
+  float r = radius * min(1.0, uFrame.blur.y / z);
   float sigma = max(r / 2.0, 0.25);
-  int taps = min(min(kMaxTaps, int(ceil(uRadius))), int(3.5 * sigma));
+  int taps = min(min(kMaxTaps, int(ceil(radius))), int(3.5 * sigma));
   ivec2 last = textureSize(term, 0) - 1;
   float sum = centre.r, weights = 1.0;
   // Gaussian weights w_i = q^(i²), q = e^(−1/(2σ²)), by recurrence: w_(i+1) = w_i · q^(2i+1).
@@ -28,7 +26,7 @@ vec2 blurTaps(sampler2D term, ivec2 pixel, ivec2 direction) {
   for (int i = 1; i <= taps; ++i, w *= ratio, ratio *= q * q) {
     for (int side = -1; side <= 1; side += 2) {
       vec2 s = texelFetch(term, clamp(pixel + side * i * direction, ivec2(0), last), 0).rg;
-      float same = (s.g != 0.0 && abs(s.g - z) <= uDepthTolerance * z) ? 1.0 : 0.0;
+      float same = (s.g != 0.0 && abs(s.g - z) <= tolerance * z) ? 1.0 : 0.0;
       sum += same * w * s.r;
       weights += same * w;
     }

@@ -5,16 +5,11 @@
 // blur happens here (blur_taps.frag), saving a full-screen pass; the term used is written out too.
 in vec3 vRay;                 // eye depth z → camera-relative position z · vRay
 
-uniform sampler2D uAlbedo;
-uniform sampler2D uShadingNormal;
-uniform sampler2D uShadowTerm;  // r: term, g: eye depth (0: sky)
-uniform bool uBlurVertical;     // blur uShadowTerm vertically (it holds the horizontal pass)
-uniform vec3 uToSun;
-uniform vec3 uSunColor;
-uniform float uAmbient;
-uniform vec3 uSky;
-uniform bool uSunUp;
-uniform float uFogDensity;   // per metre; 0: no fog (exponential fog toward the sky colour)
+layout(binding = 0) uniform sampler2D uAlbedo;
+layout(binding = 1) uniform sampler2D uShadingNormal;
+layout(binding = 4) uniform sampler2D uShadowTerm;  // r: term, g: eye depth (0: sky)
+// The sun, sky, fog density (exponential fog toward the sky colour; 0: none) and whether to blur
+// uShadowTerm vertically (it then holds the horizontal pass) come from the frame block.
 
 layout(location = 0) out vec4 fragColor;
 layout(location = 1) out vec2 usedTerm;  // the (blurred) term lit with: Frame::readBlurredShadowTerm
@@ -23,22 +18,24 @@ vec2 blurTaps(sampler2D term, ivec2 pixel, ivec2 direction);
 
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
-  vec2 term = uBlurVertical ? blurTaps(uShadowTerm, pixel, ivec2(0, 1)) : texelFetch(uShadowTerm, pixel, 0).rg;
+  vec3 toSun = uFrame.toSunUp.xyz, sky = uFrame.skyFog.rgb;
+  float ambient = uFrame.sunColorAmbient.w, fogDensity = uFrame.skyFog.w;
+  vec2 term = uFrame.modes.z != 0 ? blurTaps(uShadowTerm, pixel, ivec2(0, 1)) : texelFetch(uShadowTerm, pixel, 0).rg;
   usedTerm = term;
-  if (term.g == 0.0) { fragColor = vec4(uSky, 1.0); return; }
+  if (term.g == 0.0) { fragColor = vec4(sky, 1.0); return; }
   vec3 albedo = texelFetch(uAlbedo, pixel, 0).rgb;
   vec3 n = normalize(texelFetch(uShadingNormal, pixel, 0).xyz);
   float shadow = term.r;
-  vec3 linear = albedo * uAmbient;
+  vec3 linear = albedo * ambient;
   vec3 relative = term.g * vRay;
-  if (uSunUp) {
+  if (uFrame.toSunUp.w != 0.0) {
     vec3 toEye = normalize(-relative);
-    float diffuse = max(dot(n, uToSun), 0.0);
-    float c = max(dot(n, normalize(uToSun + toEye)), 0.0);  // c^32 by squaring
+    float diffuse = max(dot(n, toSun), 0.0);
+    float c = max(dot(n, normalize(toSun + toEye)), 0.0);  // c^32 by squaring
     c *= c; c *= c; c *= c; c *= c; c *= c;
-    float specular = c * step(0.0, dot(n, uToSun));
-    linear += (1.0 - uAmbient) * shadow * uSunColor * (albedo * diffuse + 0.04 * specular);
+    float specular = c * step(0.0, dot(n, toSun));
+    linear += (1.0 - ambient) * shadow * uFrame.sunColorAmbient.rgb * (albedo * diffuse + 0.04 * specular);
   }
   vec3 display = pow(linear, vec3(1.0 / 2.2));
-  fragColor = vec4(uFogDensity > 0.0 ? mix(uSky, display, exp(-uFogDensity * length(relative))) : display, 1.0);
+  fragColor = vec4(fogDensity > 0.0 ? mix(sky, display, exp(-fogDensity * length(relative))) : display, 1.0);
 }

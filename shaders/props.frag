@@ -6,9 +6,7 @@ in vec3 vAlbedo;
 in vec3 vRelativePosition;
 flat in uint vObjectId;
 
-uniform vec3 uToSun;     // unit vector towards the sun
-uniform vec3 uSunColor;
-uniform float uAmbient;
+// The sun: the view block (view_block.glsl).
 
 #if defined(OUTPUT_GBUFFER)
 void writeGBuffer(vec3 albedo, vec3 shadingNormal, vec3 relativePosition, uint objectId);
@@ -28,8 +26,9 @@ void main() {
 #elif defined(OUTPUT_LIGHT_DEPTH)
   writeLightDepth(vRelativePosition);
 #else
-  float diffuse = max(dot(normalize(vNormal), uToSun), 0.0);
-  vec3 linear = vAlbedo * (uAmbient + (1.0 - uAmbient) * diffuse * uSunColor);
+  float ambient = uView.toSunAmbient.w;
+  float diffuse = max(dot(normalize(vNormal), uView.toSunAmbient.xyz), 0.0);
+  vec3 linear = vAlbedo * (ambient + (1.0 - ambient) * diffuse * uView.sunColorSlopeBias.rgb);
   fragColor = vec4(pow(linear, vec3(1.0 / 2.2)), 1.0);  // linear → display (gamma 2.2)
 #endif
 }

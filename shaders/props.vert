@@ -8,7 +8,7 @@ layout(location = 3) in vec4 iMax;
 layout(location = 4) in vec4 iAlbedo;
 layout(location = 5) in uint iObjectId;
 
-uniform mat4 uViewProjectionRelative;
+// uView: the view block (view_block.glsl).
 
 out vec3 vNormal;
 out vec3 vAlbedo;
@@ -20,5 +20,5 @@ void main() {
   vNormal = aNormal;  // axis-aligned faces: scaling keeps the normal
   vAlbedo = iAlbedo.rgb;
   vObjectId = iObjectId;
-  gl_Position = uViewProjectionRelative * vec4(vRelativePosition, 1.0);
+  gl_Position = uView.viewProjectionRelative * vec4(vRelativePosition, 1.0);
 }

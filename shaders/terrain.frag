@@ -10,9 +10,7 @@ in vec3 vWorldPosition;
 in vec3 vRelativePosition;
 flat in uint vObjectId;
 
-uniform vec3 uToSun;
-uniform vec3 uSunColor;
-uniform float uAmbient;
+// The sun: the view block (view_block.glsl); uAlbedo: set once (the terrain's settings).
 uniform vec3 uAlbedo;
 
 #if defined(OUTPUT_GBUFFER)
@@ -38,8 +36,9 @@ void main() {
 #elif defined(OUTPUT_POSITION)
   fragColor = vec4(vWorldPosition, 1.0);
 #else
-  float diffuse = max(dot(n, uToSun), 0.0);
-  vec3 linear = terrainAlbedo(n) * (uAmbient + (1.0 - uAmbient) * diffuse * uSunColor);
+  float ambient = uView.toSunAmbient.w;
+  float diffuse = max(dot(n, uView.toSunAmbient.xyz), 0.0);
+  vec3 linear = terrainAlbedo(n) * (ambient + (1.0 - ambient) * diffuse * uView.sunColorSlopeBias.rgb);
   fragColor = vec4(pow(linear, vec3(1.0 / 2.2)), 1.0);
 #endif
 }

@@ -6,9 +6,7 @@ in vec3 vAlbedo;
 in vec3 vRelativePosition;
 flat in uint vObjectId;
 
-uniform vec3 uToSun;
-uniform vec3 uSunColor;
-uniform float uAmbient;
+// The sun: the view block (view_block.glsl).
 
 #if defined(OUTPUT_GBUFFER)
 void writeGBuffer(vec3 albedo, vec3 shadingNormal, vec3 relativePosition, uint objectId);
@@ -29,8 +27,9 @@ void main() {
   writeLightDepth(vRelativePosition);
 #else
   vec3 n = normalize(vNormal);
-  float diffuse = max(dot(n, uToSun), 0.0);
-  vec3 linear = vAlbedo * (uAmbient + (1.0 - uAmbient) * diffuse * uSunColor);
+  float ambient = uView.toSunAmbient.w;
+  float diffuse = max(dot(n, uView.toSunAmbient.xyz), 0.0);
+  vec3 linear = vAlbedo * (ambient + (1.0 - ambient) * diffuse * uView.sunColorSlopeBias.rgb);
   fragColor = vec4(pow(linear, vec3(1.0 / 2.2)), 1.0);
 #endif
 }

@@ -9,8 +9,7 @@ layout(location = 4) in vec4 iScalePhase;    // x: scale; y: sway phase
 layout(location = 5) in vec4 iTint;
 layout(location = 6) in uint iObjectId;
 
-uniform mat4 uViewProjectionRelative;
-uniform float uTime;
+// uView: the view block (view_block.glsl), its windTime.x the time; the wind: set once.
 uniform float uWindStrength;
 uniform float uWindOmega;     // 2π / period
 uniform vec2 uWindDirection;  // (x, z), unit
@@ -26,7 +25,8 @@ void main() {
   vec3 p = iScalePhase.x * aPosition;
   p = vec3(c * p.x + s * p.z, p.y, -s * p.x + c * p.z);
   float phase = iScalePhase.y;
-  float sway = (sin(uWindOmega * uTime + phase) + 0.3 * sin(2.7 * uWindOmega * uTime + 1.7 * phase)) / 1.3;
+  float time = uView.windTime.x;
+  float sway = (sin(uWindOmega * time + phase) + 0.3 * sin(2.7 * uWindOmega * time + 1.7 * phase)) / 1.3;
   vec2 shear = uWindStrength * sway * uWindDirection;
   p.xz += shear * p.y;
   vec3 n = vec3(c * aNormal.x + s * aNormal.z, aNormal.y, -s * aNormal.x + c * aNormal.z);
@@ -36,5 +36,5 @@ void main() {
   vAlbedo = aAlbedo * iTint.rgb;
   vObjectId = iObjectId;
   vRelativePosition = p + iBaseYaw.xyz;
-  gl_Position = uViewProjectionRelative * vec4(vRelativePosition, 1.0);
+  gl_Position = uView.viewProjectionRelative * vec4(vRelativePosition, 1.0);
 }

@@ -1,11 +1,15 @@
 // Shader errors are reported as file:line; a missing file names the file and the shader folder.
 #include <gmock/gmock.h>
 
+#include <cstddef>
 #include <filesystem>
+#include <map>
 
 #include "forest/core/error.hpp"
 #include "forest/core/files.hpp"
 #include "forest/gl/shader.hpp"
+#include "forest/render/draw_view.hpp"
+#include "forest/render/uniform_blocks.hpp"
 #include "gl_test_support.hpp"
 
 namespace forest::test {
@@ -58,8 +62,90 @@ TEST_F(GlTest, MissingShaderFileIsNamed) {
   EXPECT_THAT(e, HasSubstr("FOREST_SHADER_DIR"));
 }
 
-TEST_F(GlTest, RepositoryShadersCompile) {
-  EXPECT_NO_THROW(gl::loadProgram({"props.vert", "props.frag"}));
+// The uniform blocks (DESIGN §9) as the GL compiler lays them out must be the C++ structs that
+// fill them (render/uniform_blocks.hpp): the same size, binding and member offsets, in every
+// repository program that declares them — a member added on one side only, a vec3 where std140
+// pads, or a wrong binding fails here instead of shading with shifted values.
+struct BlockLayout {
+  const char* block;
+  GLuint binding;
+  std::size_t bytes;
+  std::vector<std::pair<const char*, std::size_t>> members;  // name in the block, offsetof
+};
+
+std::vector<BlockLayout> expectedBlocks() {
+  using render::FrameBlock, render::TerrainViewBlock, render::ViewBlock;
+  return {
+      {"ViewBlock", render::kViewBlockBinding, sizeof(ViewBlock),
+       {{"viewProjectionRelative", offsetof(ViewBlock, viewProjectionRelative)},
+        {"lightDepthRow", offsetof(ViewBlock, lightDepthRow)},
+        {"toSunAmbient", offsetof(ViewBlock, toSunAmbient)},
+        {"sunColorSlopeBias", offsetof(ViewBlock, sunColorSlopeBias)},
+        {"windTime", offsetof(ViewBlock, windTime)}}},
+      {"TerrainViewBlock", render::kTerrainViewBlockBinding, sizeof(TerrainViewBlock),
+       {{"originRelative", offsetof(TerrainViewBlock, originRelative)},
+        {"eye", offsetof(TerrainViewBlock, eye)},
+        {"lodEyeRelative", offsetof(TerrainViewBlock, lodEyeRelative)},
+        {"morph[0]", offsetof(TerrainViewBlock, morph)}}},
+      {"FrameBlock", render::kFrameBlockBinding, sizeof(FrameBlock),
+       {{"eyeRelativeToShadow", offsetof(FrameBlock, eyeRelativeToShadow)},
+        {"eyeRelativeLightDepth", offsetof(FrameBlock, eyeRelativeLightDepth)},
+        {"rays[0]", offsetof(FrameBlock, rays)},
+        {"toSunUp", offsetof(FrameBlock, toSunUp)},
+        {"sunColorAmbient", offsetof(FrameBlock, sunColorAmbient)},
+        {"skyFog", offsetof(FrameBlock, skyFog)},
+        {"nearFar", offsetof(FrameBlock, nearFar)},
+        {"blur", offsetof(FrameBlock, blur)},
+        {"modes", offsetof(FrameBlock, modes)}}},
+      {"QueryViewBlock", 3, sizeof(glm::mat4), {{"viewProjectionRelative", 0}}},
+  };
+}
+
+GLint resourceProperty(GLuint program, GLenum interface, GLuint index, GLenum property) {
+  GLint value = -1;
+  glGetProgramResourceiv(program, interface, index, 1, &property, 1, nullptr, &value);
+  return value;
+}
+
+TEST_F(GlTest, UniformBlocksMatchTheShaders) {
+  const std::string frameBlock = gl::readShader("frame_block.glsl");
+  const std::string levels = "#define TERRAIN_LEVELS " + std::to_string(terrain::kLevels) + "\n";
+  std::vector<std::pair<std::string, gl::Program>> programs;
+  for (auto output : {render::SurfaceOutput::Lit, render::SurfaceOutput::GBuffer, render::SurfaceOutput::ObjectId,
+                      render::SurfaceOutput::LightDepth}) {
+    const std::string tag = std::to_string(static_cast<int>(output));
+    programs.emplace_back("trees/" + tag, render::loadSurfaceProgram("trees.vert", "trees.frag", output));
+    programs.emplace_back("props/" + tag, render::loadSurfaceProgram("props.vert", "props.frag", output));
+    programs.emplace_back("terrain/" + tag, render::loadSurfaceProgram("terrain.vert", "terrain.frag", output, levels));
+  }
+  programs.emplace_back("shadow term", gl::loadProgram({"fullscreen.vert", "shadow_term.frag"}, frameBlock));
+  programs.emplace_back("blur", gl::loadProgram({"fullscreen.vert", "shadow_blur.frag", "blur_taps.frag"}, frameBlock));
+  programs.emplace_back("lighting", gl::loadProgram({"fullscreen.vert", "lighting.frag", "blur_taps.frag"}, frameBlock));
+  programs.emplace_back("query box", gl::loadProgram({"query_box.vert", "query_box.frag"}));
+
+  std::map<std::string, int> programsWith;
+  for (const auto& [name, program] : programs) {
+    for (const BlockLayout& expected : expectedBlocks()) {
+      const GLuint block = glGetProgramResourceIndex(program.id(), GL_UNIFORM_BLOCK, expected.block);
+      if (block == GL_INVALID_INDEX) continue;
+      ++programsWith[expected.block];
+      SCOPED_TRACE(name + ": " + expected.block);
+      EXPECT_EQ(resourceProperty(program.id(), GL_UNIFORM_BLOCK, block, GL_BUFFER_DATA_SIZE), static_cast<GLint>(expected.bytes));
+      EXPECT_EQ(resourceProperty(program.id(), GL_UNIFORM_BLOCK, block, GL_BUFFER_BINDING), static_cast<GLint>(expected.binding));
+      for (const auto& [member, offset] : expected.members) {
+        const std::string full = std::string(expected.block) + "." + member;
+        const GLuint index = glGetProgramResourceIndex(program.id(), GL_UNIFORM, full.c_str());
+        ASSERT_NE(index, GL_INVALID_INDEX) << full;
+        EXPECT_EQ(resourceProperty(program.id(), GL_UNIFORM, index, GL_OFFSET), static_cast<GLint>(offset)) << full;
+      }
+    }
+  }
+  // Every surface program reads the view block, the terrain's its own, the full-screen passes the
+  // frame block, the query boxes theirs.
+  EXPECT_EQ(programsWith["ViewBlock"], 12);
+  EXPECT_EQ(programsWith["TerrainViewBlock"], 4);
+  EXPECT_EQ(programsWith["FrameBlock"], 3);
+  EXPECT_EQ(programsWith["QueryViewBlock"], 1);
 }
 
 // Locations come from a table read once at link (DESIGN §9: no glGetUniformLocation per draw); the

@@ -2,7 +2,8 @@
 # Counts the GL calls one steady-state frame of `forest walkthrough` makes (DESIGN §9), with
 # apitrace: the walk is traced twice, A and B frames long, and per frame = (calls in B − calls in A)
 # / (B − A), so setup and teardown cancel out. Prints every call's count per frame and the figures
-# that stall a GPU or cost a lookup: glFinish, glGetUniformLocation, GL_QUERY_RESULT reads of
+# that stall a GPU or cost a lookup: glFinish, glGetUniformLocation, loose uniform sets
+# (gl[Program]Uniform*: per-frame values belong in uniform blocks), GL_QUERY_RESULT reads of
 # occlusion (samples-passed) and timestamp queries not preceded by a GL_QUERY_RESULT_AVAILABLE
 # answer ("blocking"), buffer uploads, GL object creations and deletions (sync objects apart: the
 # fences of the instance rings, gl/stream_ring.hpp, are counted as "fences"); with --json FILE also as
@@ -26,7 +27,7 @@ while [[ $# -gt 0 ]]; do
     --json) json="$2"; shift 2 ;;
     --max) limits+=("$2"); shift 2 ;;
     --) shift; break ;;
-    -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
     *) break ;;
   esac
 done
@@ -80,6 +81,8 @@ def count(path):
             figures["GL object deletions"] += 1
         if name == "glFenceSync":
             figures["fences"] += 1
+        if re.match(r"gl(Program)?Uniform(Matrix)?\d", name):
+            figures["uniform sets"] += 1
     figures["glFinish"] = calls["glFinish"]
     figures["glGetUniformLocation"] = calls["glGetUniformLocation"]
     return calls, figures
@@ -89,12 +92,12 @@ limits = [arg.rsplit("=", 1) for arg in sys.argv[6:]]
 (ca, fa), (cb, fb) = count(a_path), count(b_path)
 frames = b - a
 per = lambda x, y: (y - x) / frames
-figures = {k: per(fa[k], fb[k]) for k in sorted(set(fa) | set(fb) | {"blocking occlusion result reads", "blocking timestamp result reads"})}
+figures = {k: per(fa[k], fb[k]) for k in sorted(set(fa) | set(fb) | {"blocking occlusion result reads", "blocking timestamp result reads", "uniform sets"})}
 calls = {k: per(ca[k], cb[k]) for k in set(ca) | set(cb) if cb[k] != ca[k]}
 print(f"GL calls per steady-state frame ((calls in {b} frames - calls in {a}) / {frames}):")
 for k in ["glFinish", "glGetUniformLocation", "blocking occlusion result reads", "blocking timestamp result reads",
           "occlusion result reads", "timestamp result reads", "buffer uploads", "GL object creations", "GL object deletions",
-          "fences"]:
+          "fences", "uniform sets"]:
     print(f"  {k:<34} {figures.get(k, 0.0):10.2f}")
 print("every call:")
 for k, v in sorted(calls.items(), key=lambda kv: -kv[1]):

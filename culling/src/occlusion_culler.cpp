@@ -8,6 +8,7 @@
 #include <cmath>
 #include <deque>
 #include <queue>
+#include <thread>
 
 #include "forest/core/error.hpp"
 #include "traversal.hpp"
@@ -53,7 +54,18 @@ QueryMode parseQueryMode(std::string_view name) {
 
 std::string_view queryModeName(QueryMode mode) { return mode == QueryMode::Deterministic ? "deterministic" : "async"; }
 
-OcclusionCuller::OcclusionCuller() : program_(gl::loadProgram({"query_box.vert", "query_box.frag"})) {
+namespace {
+
+struct QueryBoxGpu {
+  glm::vec4 min, max;  // camera-relative
+};
+constexpr GLuint kQueryViewBinding = 3;
+
+}  // namespace
+
+OcclusionCuller::OcclusionCuller()
+    : program_(gl::loadProgram({"query_box.vert", "query_box.frag"})),
+      viewUniforms_(kQueryViewBinding, sizeof(glm::mat4)) {
   const float corners[8][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
   // 12 triangles; both sides are rasterised (culling is off while querying).
   const unsigned indices[36] = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
@@ -66,6 +78,14 @@ OcclusionCuller::OcclusionCuller() : program_(gl::loadProgram({"query_box.vert",
   glEnableVertexArrayAttrib(vao, 0);
   glVertexArrayAttribFormat(vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
   glVertexArrayAttribBinding(vao, 0, 0);
+  boxes_ = std::make_unique<gl::StreamRing>(4096 * sizeof(QueryBoxGpu), sizeof(QueryBoxGpu));
+  glVertexArrayVertexBuffer(vao, 1, boxes_->id(), 0, sizeof(QueryBoxGpu));
+  glVertexArrayBindingDivisor(vao, 1, 1);
+  for (GLuint a = 1; a <= 2; ++a) {
+    glEnableVertexArrayAttrib(vao, a);
+    glVertexArrayAttribFormat(vao, a, 4, GL_FLOAT, GL_FALSE, (a - 1) * sizeof(glm::vec4));
+    glVertexArrayAttribBinding(vao, a, 1);
+  }
 }
 
 void OcclusionCuller::reset() {
@@ -80,6 +100,7 @@ void OcclusionCuller::beginQueries() {
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   glDepthMask(GL_FALSE);
   glDisable(GL_CULL_FACE);
+  viewUniforms_.bind(viewBlock_);
   program_.use();
   glBindVertexArray(vertexArray_.id());
 }
@@ -97,18 +118,22 @@ void OcclusionCuller::endQueries() {
 std::size_t OcclusionCuller::issueQuery(std::span<const Aabb> boxes) {
   if (used_ == pool_.size()) pool_.emplace_back(GL_SAMPLES_PASSED);
   const std::size_t slot = used_++;
-  beginQueries();
-  glBeginQuery(GL_SAMPLES_PASSED, pool_[slot].id());
+  const GLuint ringBefore = boxes_->id();
+  const gl::StreamRing::Allocation part = boxes_->allocate(boxes.size() * sizeof(QueryBoxGpu));
+  if (boxes_->id() != ringBefore) glVertexArrayVertexBuffer(vertexArray_.id(), 1, boxes_->id(), 0, sizeof(QueryBoxGpu));
+  auto* out = static_cast<QueryBoxGpu*>(part.data);
   for (const Aabb& box : boxes) {
     // Camera-relative in double, grown by 4 float ulps of its largest coordinate so that a face
     // never sits behind the geometry it bounds after rounding.
     const dvec3 lo = box.min - eye_, hi = box.max - eye_;
     const double magnitude = std::max(glm::length(glm::max(glm::abs(lo), glm::abs(hi))), 1.0);
     const double grow = 4.0 * 0x1p-23 * magnitude;
-    program_.set("uMin", glm::vec3(lo - grow));
-    program_.set("uMax", glm::vec3(hi + grow));
-    glDrawElements(GL_TRIANGLES, 36, GL_UNSIGNED_INT, nullptr);
+    *out++ = {glm::vec4(glm::vec3(lo - grow), 1.0f), glm::vec4(glm::vec3(hi + grow), 1.0f)};
   }
+  beginQueries();
+  glBeginQuery(GL_SAMPLES_PASSED, pool_[slot].id());
+  glDrawElementsInstancedBaseInstance(GL_TRIANGLES, 36, GL_UNSIGNED_INT, nullptr, static_cast<GLsizei>(boxes.size()),
+                                      static_cast<GLuint>(part.offset / sizeof(QueryBoxGpu)));
   glEndQuery(GL_SAMPLES_PASSED);
   return slot;
 }
@@ -122,9 +147,10 @@ bool OcclusionCuller::resultAvailable(std::size_t slot, CullingStats& stats) con
 
 std::uint32_t OcclusionCuller::waitResult(std::size_t slot, CullingStats& stats) const {
   const auto start = std::chrono::steady_clock::now();
+  // Nothing else to do until it is available: give the core to the driver's threads meanwhile
+  // (llvmpipe rasterises on the CPU).
   if (queryMode_ == QueryMode::Async)
-    while (!resultAvailable(slot, stats)) {
-    }
+    while (!resultAvailable(slot, stats)) std::this_thread::yield();
   GLuint samples = 0;
   glGetQueryObjectuiv(pool_[slot].id(), GL_QUERY_RESULT, &samples);
   stats.waitMilliseconds += 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -158,7 +184,7 @@ CullingResult OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb> object
   eye_ = camera.position;
   const glm::dmat4 view = camera.view();
   viewProjectionRelative_ = camera.projection() * view * glm::translate(glm::dmat4(1.0), eye_);
-  program_.set("uViewProjectionRelative", glm::mat4(viewProjectionRelative_));
+  viewBlock_ = glm::mat4(viewProjectionRelative_);
   if (stateOf_ != &bvh || state_.size() != bvh.nodes().size()) {
     state_.assign(bvh.nodes().size(), NodeState{});
     stateOf_ = &bvh;

@@ -163,19 +163,22 @@ Program compileProgram(const std::vector<ShaderSource>& sources) {
   return program;
 }
 
+std::string readShader(const std::string& file) {
+  const fs::path folder = shaderDirectory();
+  const fs::path path = fs::path(file).is_absolute() ? fs::path(file) : folder / file;
+  try {
+    return readTextFile(path);
+  } catch (const InputError& e) {
+    throw Error(fmt::format("shader {}: {} (shader folder: {}; set FOREST_SHADER_DIR to change it)", file, e.what(),
+                            folder.string()));
+  }
+}
+
 Program loadProgram(const std::vector<std::string>& files, const std::string& defines) {
   std::vector<ShaderSource> sources;
-  const fs::path folder = shaderDirectory();
   for (const std::string& file : files) {
-    const fs::path path = fs::path(file).is_absolute() ? fs::path(file) : folder / file;
-    std::string text;
-    try {
-      text = readTextFile(path);
-    } catch (const InputError& e) {
-      throw Error(fmt::format("shader {}: {} (shader folder: {}; set FOREST_SHADER_DIR to change it)", file,
-                              e.what(), folder.string()));
-    }
-    sources.push_back({stageFromExtension(path), path.string(), withDefines(text, defines)});
+    const fs::path path = fs::path(file).is_absolute() ? fs::path(file) : shaderDirectory() / file;
+    sources.push_back({stageFromExtension(path), path.string(), withDefines(readShader(file), defines)});
   }
   return compileProgram(sources);
 }

@@ -2,15 +2,9 @@
 
 namespace forest::render {
 
-void setBlurUniforms(const gl::Program& program, const FrameSettings& settings) {
-  program.set("uRadius", static_cast<float>(settings.blurRadius));
-  program.set("uReferenceDepth", static_cast<float>(settings.blurReferenceDepth));
-  program.set("uDepthTolerance", static_cast<float>(kBlurDepthTolerance));
-}
-
 BlurPass::BlurPass(int width, int height)
     : horizontal_(GL_RG16F, width, height),
-      program_(gl::loadProgram({"fullscreen.vert", "shadow_blur.frag", "blur_taps.frag"})) {
+      program_(loadFullScreenProgram({"shadow_blur.frag", "blur_taps.frag"})) {
   framebuffer_.attach(GL_COLOR_ATTACHMENT0, horizontal_);
   framebuffer_.checkComplete("blur");
   glTextureParameteri(horizontal_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
@@ -19,8 +13,6 @@ BlurPass::BlurPass(int width, int height)
 
 const gl::Texture& BlurPass::run(const gl::Texture& term, const FrameSettings& settings) {
   if (!(settings.blurRadius > 0.0)) return term;
-  setBlurUniforms(program_, settings);
-  program_.set("uShadowTerm", 0);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   glBindTextureUnit(0, term.id());
   triangle_.draw(program_);

@@ -10,18 +10,11 @@
 
 namespace forest::render {
 
-// The blur averages only samples whose eye depth is within this share of the centre's (no bleeding
-// across silhouettes; a sloped surface's depth changes less than this over 16 pixels).
-constexpr double kBlurDepthTolerance = 0.05;
-
-// The blur's uniforms, the same in both halves.
-void setBlurUniforms(const gl::Program& program, const FrameSettings& settings);
-
 class BlurPass {
  public:
   BlurPass(int width, int height);
   // The term the lighting pass reads: the horizontally blurred term, or `term` itself when the
-  // blur is off (then this pass draws nothing).
+  // blur is off (then this pass draws nothing). The radii come from the frame block, bound.
   const gl::Texture& run(const gl::Texture& term, const FrameSettings& settings);
 
  private:

@@ -7,6 +7,7 @@
 
 #include "blur_pass.hpp"
 #include "forest/core/error.hpp"
+#include "frame_uniforms.hpp"
 #include "geometry_pass.hpp"
 #include "lighting_pass.hpp"
 #include "shadow_pass.hpp"
@@ -91,6 +92,7 @@ struct Frame::Passes {
   ShadowTermPass shadowTerm;
   BlurPass blur;
   LightingPass lighting;
+  gl::UniformStream frameUniforms{kFrameBlockBinding, sizeof(FrameBlock)};  // FrameBlock, once per frame
 
   Passes(const SceneObjects& objects, const terrain::Terrain* terrain, const vegetation::Forest* forest,
          const std::vector<PropBox>& props, int width, int height)
@@ -210,12 +212,11 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
     stats.shadowTriangles = p.shadow.run(p.plan, eye, eyeLod, settings, l);
   }
 
-  // 4. Shadow term.
-  const glm::mat3 rays = pixelRays(camera);
+  // 4. Shadow term; the frame block holds what the full-screen passes read.
   {
     auto timed = timer.scope(kFramePassNames[3]);
-    p.shadowTerm.run(p.geometry.gbuffer(), p.shadow.map(), p.plan.setup, eyeRelativeToShadowClip(p.plan.setup, camera.position),
-                     camera, rays, settings, l, p.plan.shadowed);
+    p.frameUniforms.bind(frameBlock(camera, p.plan, settings, scene_, l, !stats.sunBelowHorizon));
+    p.shadowTerm.run(p.geometry.gbuffer(), p.shadow.map());
   }
 
   // 4b. Eye-space blur, horizontal half (the vertical half runs in the lighting pass).
@@ -228,7 +229,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   // 5. Lighting.
   {
     auto timed = timer.scope(kFramePassNames[5]);
-    p.lighting.run(p.geometry.gbuffer(), *termForLighting, rays, settings, scene_, l, !stats.sunBelowHorizon);
+    p.lighting.run(p.geometry.gbuffer(), *termForLighting);
   }
   timer.endFrame();
   if (settings.timing == gl::TimingMode::Profiling) {

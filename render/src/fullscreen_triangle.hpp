@@ -4,15 +4,21 @@
 // vertex data — an empty vertex array.
 #include <glm/glm.hpp>
 
+#include <string>
+#include <vector>
+
 #include "forest/core/camera.hpp"
 #include "forest/gl/objects.hpp"
 #include "forest/gl/shader.hpp"
 
 namespace forest::render {
 
-// uRays of shaders/fullscreen.vert: A with A·(x_ndc, y_ndc, −1) = the camera-relative direction
+// The frame block's rays (shaders/fullscreen.vert): A with A·(x_ndc, y_ndc, −1) = the camera-relative direction
 // through that pixel scaled to eye depth 1 (the position of a pixel at eye depth z is z times it).
 glm::mat3 pixelRays(const Camera& camera);
+
+// fullscreen.vert linked with `fragments`, every stage declaring the frame block (frame_block.glsl).
+gl::Program loadFullScreenProgram(const std::vector<std::string>& fragments);
 
 class FullScreenTriangle {
  public:

@@ -1,12 +1,10 @@
 #include "lighting_pass.hpp"
 
-#include "blur_pass.hpp"
-
 namespace forest::render {
 
 LightingPass::LightingPass(int width, int height)
     : width_(width), height_(height), usedTerm_(GL_RG16F, width, height), color_(GL_RGBA8, width, height),
-      program_(gl::loadProgram({"fullscreen.vert", "lighting.frag", "blur_taps.frag"})) {
+      program_(loadFullScreenProgram({"lighting.frag", "blur_taps.frag"})) {
   framebuffer_.attach(GL_COLOR_ATTACHMENT0, color_);
   framebuffer_.attach(GL_COLOR_ATTACHMENT1, usedTerm_);
   const GLenum buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
@@ -16,24 +14,11 @@ LightingPass::LightingPass(int width, int height)
   glTextureParameteri(usedTerm_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
 }
 
-void LightingPass::run(const GBuffer& gbuffer, const gl::Texture& term, const glm::mat3& rays, const FrameSettings& settings,
-                       const Scene& scene, const glm::dvec3& l, bool sunUp) {
+void LightingPass::run(const GBuffer& gbuffer, const gl::Texture& term) {
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   glViewport(0, 0, width_, height_);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
-  setBlurUniforms(program_, settings);
-  program_.set("uAlbedo", 0);
-  program_.set("uShadingNormal", 1);
-  program_.set("uShadowTerm", 4);
-  program_.set("uBlurVertical", settings.blurRadius > 0.0 ? 1 : 0);
-  program_.set("uRays", rays);
-  program_.set("uToSun", glm::vec3(-l));
-  program_.set("uSunColor", glm::vec3(scene.sun.color));
-  program_.set("uAmbient", static_cast<float>(scene.sun.ambient));
-  program_.set("uSky", glm::vec3(scene.render.sky_color));
-  program_.set("uSunUp", sunUp ? 1 : 0);
-  program_.set("uFogDensity", static_cast<float>(settings.fogDensity));
   glBindTextureUnit(0, gbuffer.albedo.id());
   glBindTextureUnit(1, gbuffer.shadingNormal.id());
   glBindTextureUnit(4, term.id());

@@ -16,9 +16,9 @@ namespace forest::render {
 class LightingPass {
  public:
   LightingPass(int width, int height);
-  // `term`: the shadow term, horizontally blurred when the blur is on.
-  void run(const GBuffer& gbuffer, const gl::Texture& term, const glm::mat3& rays, const FrameSettings& settings,
-           const Scene& scene, const glm::dvec3& l, bool sunUp);
+  // `term`: the shadow term, horizontally blurred when the blur is on. The sun, sky, fog and blur
+  // come from the frame block (frame_uniforms.hpp), bound.
+  void run(const GBuffer& gbuffer, const gl::Texture& term);
 
   const gl::Texture& color() const { return color_; }
   const gl::Texture& usedTerm() const { return usedTerm_; }

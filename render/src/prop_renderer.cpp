@@ -1,6 +1,8 @@
 #include "forest/render/prop_renderer.hpp"
 
+#include <algorithm>
 #include <array>
+#include <ranges>
 #include <string>
 
 #include "forest/core/error.hpp"
@@ -51,48 +53,32 @@ std::array<unsigned, 36> unitCubeIndices() {
   return idx;
 }
 
-// Boxes relative to the view's origin, subtracted in double (DESIGN §4: camera-relative, so a
-// prop 1e5 m from the world origin keeps its millimetres).
-std::vector<PropInstance> propInstances(const std::vector<PropBox>& props, std::uint32_t objectIdBase, const glm::dvec3& origin) {
-  std::vector<PropInstance> instances;
-  for (const PropBox& p : props) {
-    const glm::vec3 min(p.min - origin), max(p.max - origin);
-    instances.push_back({{min.x, min.y, min.z, 1.f},
-                         {max.x, max.y, max.z, 1.f},
-                         {float(p.albedo.x), float(p.albedo.y), float(p.albedo.z), 1.f},
-                         objectIdBase + static_cast<std::uint32_t>(instances.size()),
-                         {0, 0, 0}});
-  }
-  return instances;
+PropInstance propInstance(const PropBox& p, std::uint32_t objectId, const glm::dvec3& origin) {
+  // Relative to the view's origin, subtracted in double (DESIGN §4: camera-relative, so a prop
+  // 1e5 m from the world origin keeps its millimetres).
+  const glm::vec3 min(p.min - origin), max(p.max - origin);
+  return {{min.x, min.y, min.z, 1.f}, {max.x, max.y, max.z, 1.f}, {float(p.albedo.x), float(p.albedo.y), float(p.albedo.z), 1.f}, objectId, {0, 0, 0}};
 }
 
 }  // namespace
 
 void PropRenderer::update(const std::vector<PropBox>& props) {
-  if (static_cast<int>(props.size()) != instanceCount_)
-    throw Error("PropRenderer::update: " + std::to_string(props.size()) + " props, built for " + std::to_string(instanceCount_));
+  if (props.size() != props_.size())
+    throw Error("PropRenderer::update: " + std::to_string(props.size()) + " props, built for " + std::to_string(props_.size()));
   props_ = props;
-  uploaded_ = false;
-}
-
-void PropRenderer::uploadRelativeTo(const glm::dvec3& origin) const {
-  if (props_.empty() || (uploaded_ && origin == uploadedOrigin_)) return;
-  const std::vector<PropInstance> instances = propInstances(props_, objectIdBase_, origin);
-  instances_.upload(0, instances.size() * sizeof(PropInstance), instances.data());
-  uploaded_ = true;
-  uploadedOrigin_ = origin;
 }
 
 PropRenderer::PropRenderer(const std::vector<PropBox>& props, Output output, std::uint32_t objectIdBase)
     : program_(loadSurfaceProgram("props.vert", "props.frag", output)),
+      viewUniforms_(kViewBlockBinding, sizeof(ViewBlock)),
       props_(props),
       objectIdBase_(objectIdBase) {
   const auto vertices = unitCubeVertices();
   const auto indices = unitCubeIndices();
   vertices_ = gl::Buffer(sizeof(vertices), vertices.data(), 0);
   indices_ = gl::Buffer(sizeof(indices), indices.data(), 0);
-  instanceCount_ = static_cast<int>(props.size());
-  if (!props.empty()) instances_ = gl::Buffer(props.size() * sizeof(PropInstance), nullptr);  // filled per view origin
+  // A segment holds every prop (the largest draw), so the ring never grows.
+  instances_ = std::make_unique<gl::StreamRing>(std::max<size_t>(1, props.size()) * sizeof(PropInstance), sizeof(PropInstance));
 
   const GLuint vao = vertexArray_.id();
   glVertexArrayVertexBuffer(vao, 0, vertices_.id(), 0, sizeof(CubeVertex));
@@ -103,50 +89,48 @@ PropRenderer::PropRenderer(const std::vector<PropBox>& props, Output output, std
   glEnableVertexArrayAttrib(vao, 1);
   glVertexArrayAttribFormat(vao, 1, 3, GL_FLOAT, GL_FALSE, offsetof(CubeVertex, normal));
   glVertexArrayAttribBinding(vao, 1, 0);
-  if (instances_.id() != 0) {
-    glVertexArrayVertexBuffer(vao, 1, instances_.id(), 0, sizeof(PropInstance));
-    glVertexArrayBindingDivisor(vao, 1, 1);
-    for (GLuint attribute = 2; attribute <= 4; ++attribute) {
-      glEnableVertexArrayAttrib(vao, attribute);
-      glVertexArrayAttribFormat(vao, attribute, 4, GL_FLOAT, GL_FALSE, (attribute - 2) * 4 * sizeof(float));
-      glVertexArrayAttribBinding(vao, attribute, 1);
-    }
-    glEnableVertexArrayAttrib(vao, 5);
-    glVertexArrayAttribIFormat(vao, 5, 1, GL_UNSIGNED_INT, offsetof(PropInstance, objectId));
-    glVertexArrayAttribBinding(vao, 5, 1);
+  glVertexArrayVertexBuffer(vao, 1, instances_->id(), 0, sizeof(PropInstance));
+  glVertexArrayBindingDivisor(vao, 1, 1);
+  for (GLuint attribute = 2; attribute <= 4; ++attribute) {
+    glEnableVertexArrayAttrib(vao, attribute);
+    glVertexArrayAttribFormat(vao, attribute, 4, GL_FLOAT, GL_FALSE, (attribute - 2) * 4 * sizeof(float));
+    glVertexArrayAttribBinding(vao, attribute, 1);
   }
+  glEnableVertexArrayAttrib(vao, 5);
+  glVertexArrayAttribIFormat(vao, 5, 1, GL_UNSIGNED_INT, offsetof(PropInstance, objectId));
+  glVertexArrayAttribBinding(vao, 5, 1);
 }
 
-void PropRenderer::setUniforms(const DrawView& view) const {
-  uploadRelativeTo(view.origin);
-  // Composed in double, converted once (DESIGN §4: matrix chains in double).
-  program_.set("uViewProjectionRelative", glm::mat4(view.viewProjectionRelative));
-  program_.set("uLightDepthRow", glm::vec4(view.lightDepthRelative));
-  program_.set("uDepthSlopeBias", static_cast<float>(view.depthSlopeBias));
-  program_.set("uToSun", glm::vec3(-view.sun.direction));
-  program_.set("uSunColor", glm::vec3(view.sun.color));
-  program_.set("uAmbient", static_cast<float>(view.sun.ambient));
+PropRenderer::~PropRenderer() = default;
+
+template <class PropIndices>
+long long PropRenderer::drawInstances(const DrawView& view, const PropIndices& props) const {
+  // The listed props' boxes written once into the ring, drawn with one instanced call.
+  const std::size_t count = std::size(props);
+  if (count == 0) return 0;
+  const GLuint ringBefore = instances_->id();
+  const gl::StreamRing::Allocation part = instances_->allocate(count * sizeof(PropInstance));
+  if (instances_->id() != ringBefore) glVertexArrayVertexBuffer(vertexArray_.id(), 1, instances_->id(), 0, sizeof(PropInstance));
+  auto* out = static_cast<PropInstance*>(part.data);
+  for (std::uint32_t p : props) {
+    if (p >= props_.size()) throw Error("PropRenderer::draw: no prop " + std::to_string(p));
+    *out++ = propInstance(props_[p], objectIdBase_ + p, view.origin);
+  }
+  viewUniforms_.bind(viewBlock(view));
   program_.use();
+  glBindVertexArray(vertexArray_.id());
+  glDrawElementsInstancedBaseInstance(GL_TRIANGLES, 36, GL_UNSIGNED_INT, nullptr, static_cast<GLsizei>(count),
+                                      static_cast<GLuint>(part.offset / sizeof(PropInstance)));
+  glBindVertexArray(0);
+  return 12 * static_cast<long long>(count);
 }
 
 long long PropRenderer::draw(const DrawView& view, std::span<const std::uint32_t> props) const {
-  if (props.empty()) return 0;
-  setUniforms(view);
-  glBindVertexArray(vertexArray_.id());
-  for (std::uint32_t p : props) {
-    if (p >= static_cast<std::uint32_t>(instanceCount_)) throw Error("PropRenderer::draw: no prop " + std::to_string(p));
-    glDrawElementsInstancedBaseInstance(GL_TRIANGLES, 36, GL_UNSIGNED_INT, nullptr, 1, p);
-  }
-  glBindVertexArray(0);
-  return 12 * static_cast<long long>(props.size());
+  return drawInstances(view, props);
 }
 
 void PropRenderer::draw(const Camera& camera, const SunSettings& sun) const {
-  if (instanceCount_ == 0) return;
-  setUniforms(DrawView::fromCamera(camera, 0.0, sun));
-  glBindVertexArray(vertexArray_.id());
-  glDrawElementsInstanced(GL_TRIANGLES, 36, GL_UNSIGNED_INT, nullptr, instanceCount_);
-  glBindVertexArray(0);
+  drawInstances(DrawView::fromCamera(camera, 0.0, sun), std::views::iota(std::uint32_t{0}, static_cast<std::uint32_t>(props_.size())));
 }
 
 void drawLitPropScene(const PropRenderer& props, const Camera& camera, const Scene& scene) {

@@ -15,11 +15,8 @@ namespace forest::render {
 class ShadowTermPass {
  public:
   ShadowTermPass(int width, int height);
-  // `rays`: pixelRays(camera); `eyeRelativeToShadow`: (p − eye) → shadow clip, depth in [0, 1];
-  // `sunUp`: the map holds the sun's shadows (else the term is 0 everywhere).
-  void run(const GBuffer& gbuffer, const gl::Texture& shadowMap, const shadows::ShadowSetup& setup,
-           const glm::dmat4& eyeRelativeToShadow, const Camera& camera, const glm::mat3& rays, const FrameSettings& settings,
-           const glm::dvec3& l, bool sunUp);
+  // Reads the lookup, the sun and the filter from the frame block (frame_uniforms.hpp), bound.
+  void run(const GBuffer& gbuffer, const gl::Texture& shadowMap);
   const gl::Texture& term() const { return term_; }
 
  private:

@@ -13,28 +13,36 @@ namespace {
 using terrain::kLevels;
 using terrain::kTileQuads;
 
-}  // namespace
-
-namespace {
 gl::Program loadTerrainProgram(TerrainRenderer::Output output) {
+  const std::string levels = "#define TERRAIN_LEVELS " + std::to_string(kLevels) + "\n";
   switch (output) {
     case TerrainRenderer::Output::WorldPosition:
-      return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::Lit, "#define OUTPUT_POSITION 1\n");
-    case TerrainRenderer::Output::ObjectId: return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::ObjectId);
-    case TerrainRenderer::Output::GBuffer: return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::GBuffer);
+      return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::Lit, levels + "#define OUTPUT_POSITION 1\n");
+    case TerrainRenderer::Output::ObjectId: return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::ObjectId, levels);
+    case TerrainRenderer::Output::GBuffer: return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::GBuffer, levels);
     case TerrainRenderer::Output::LightDepth:
-      return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::LightDepth);
+      return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::LightDepth, levels);
     case TerrainRenderer::Output::Lit: break;
   }
-  return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::Lit);
+  return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::Lit, levels);
 }
+
 }  // namespace
 
 TerrainRenderer::TerrainRenderer(const terrain::Terrain& terrain, Output output, std::uint32_t objectIdBase)
     : terrain_(terrain),
       objectIdBase_(objectIdBase),
-      program_(loadTerrainProgram(output)) {
+      program_(loadTerrainProgram(output)),
+      viewUniforms_(kViewBlockBinding, sizeof(ViewBlock)),
+      terrainViewUniforms_(kTerrainViewBlockBinding, sizeof(TerrainViewBlock)) {
   const terrain::Heightfield& h = terrain.heightfield();
+  // What does not change with the view, set once.
+  program_.set("uSpacing", static_cast<float>(h.spacing()));
+  program_.set("uTileQuads", kTileQuads);
+  program_.set("uTilesPerSide", terrain.tilesPerSide());
+  program_.set("uObjectIdBase", objectIdBase_);
+  program_.set("uMorphSlack", static_cast<float>(terrain::TerrainLod::kMorphSlack));
+  program_.set("uAlbedo", glm::vec3(terrain.settings().albedo));
   heights_ = gl::Texture(GL_R32F, h.samples(), h.samples());
   glTextureSubImage2D(heights_.id(), 0, 0, 0, h.samples(), h.samples(), GL_RED, GL_FLOAT, h.heights().data());
   glTextureParameteri(heights_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
@@ -70,7 +78,7 @@ TerrainRenderer::TerrainRenderer(const terrain::Terrain& terrain, Output output,
   }
   indices_ = gl::Buffer(indices.size() * sizeof(std::uint32_t), indices.data(), 0);
   // A segment holds every tile (the largest draw), so the ring never grows.
-  instances_ = std::make_unique<gl::StreamRing>(static_cast<size_t>(terrain.tileCount()) * sizeof(glm::ivec2), sizeof(glm::ivec2));
+  instances_ = std::make_unique<gl::StreamRing>(static_cast<size_t>(terrain.tileCount()) * sizeof(glm::ivec4), sizeof(glm::ivec4));
 
   const GLuint vao = vertexArray_.id();
   glVertexArrayVertexBuffer(vao, 0, grid_.id(), 0, sizeof(glm::ivec2));
@@ -78,10 +86,10 @@ TerrainRenderer::TerrainRenderer(const terrain::Terrain& terrain, Output output,
   glEnableVertexArrayAttrib(vao, 0);
   glVertexArrayAttribIFormat(vao, 0, 2, GL_INT, 0);
   glVertexArrayAttribBinding(vao, 0, 0);
-  glVertexArrayVertexBuffer(vao, 1, instances_->id(), 0, sizeof(glm::ivec2));
+  glVertexArrayVertexBuffer(vao, 1, instances_->id(), 0, sizeof(glm::ivec4));
   glVertexArrayBindingDivisor(vao, 1, 1);
   glEnableVertexArrayAttrib(vao, 1);
-  glVertexArrayAttribIFormat(vao, 1, 2, GL_INT, 0);
+  glVertexArrayAttribIFormat(vao, 1, 4, GL_INT, 0);
   glVertexArrayAttribBinding(vao, 1, 1);
 }
 
@@ -101,15 +109,14 @@ TerrainRenderer::Stats TerrainRenderer::draw(const Camera& camera, const terrain
 TerrainRenderer::Stats TerrainRenderer::draw(const DrawView& view, const terrain::TerrainLod& lod,
                                              std::span<const int> tiles) const {
   const glm::dvec3 eye = view.origin;
-  const SunSettings& sun = view.sun;
   Stats stats;
   if (tiles.empty()) return stats;
-  // Tiles grouped by level, uploaded at once; one instanced draw per level.
+  // Tiles grouped by level, written at once as (tx, tz, level); one instanced draw per level.
   auto& byLevel = byLevel_;
   for (auto& level : byLevel) level.clear();
   for (int t : tiles) {
     const int level = terrain_.tileLevel(t, lod);
-    byLevel[level].emplace_back(t % terrain_.tilesPerSide(), t / terrain_.tilesPerSide());
+    byLevel[level].emplace_back(t % terrain_.tilesPerSide(), t / terrain_.tilesPerSide(), level, 0);
   }
   auto& packed = packed_;
   packed.clear();
@@ -119,31 +126,25 @@ TerrainRenderer::Stats TerrainRenderer::draw(const DrawView& view, const terrain
     packed.insert(packed.end(), byLevel[level].begin(), byLevel[level].end());
   }
   const GLuint ringBefore = instances_->id();
-  const gl::StreamRing::Allocation part = instances_->allocate(packed.size() * sizeof(glm::ivec2));
-  std::memcpy(part.data, packed.data(), packed.size() * sizeof(glm::ivec2));
-  if (instances_->id() != ringBefore) glVertexArrayVertexBuffer(vertexArray_.id(), 1, instances_->id(), 0, sizeof(glm::ivec2));
-  const GLuint baseInstance = static_cast<GLuint>(part.offset / sizeof(glm::ivec2));
+  const gl::StreamRing::Allocation part = instances_->allocate(packed.size() * sizeof(glm::ivec4));
+  std::memcpy(part.data, packed.data(), packed.size() * sizeof(glm::ivec4));
+  if (instances_->id() != ringBefore) glVertexArrayVertexBuffer(vertexArray_.id(), 1, instances_->id(), 0, sizeof(glm::ivec4));
+  const GLuint baseInstance = static_cast<GLuint>(part.offset / sizeof(glm::ivec4));
 
+  // Differences to the eye in double (DESIGN §4), converted once.
   const terrain::Heightfield& h = terrain_.heightfield();
-  // (p − eye) → clip, composed in double (DESIGN §4), converted once.
-  program_.set("uViewProjectionRelative", glm::mat4(view.viewProjectionRelative));
-  program_.set("uLightDepthRow", glm::vec4(view.lightDepthRelative));
-  program_.set("uDepthSlopeBias", static_cast<float>(view.depthSlopeBias));
-  program_.set("uOriginRelative", glm::vec2(h.origin().x - eye.x, h.origin().y - eye.z));
-  program_.set("uEyeY", static_cast<float>(eye.y));
-  program_.set("uEye", glm::vec3(eye));
-  program_.set("uLodEyeRelative", glm::vec3(lod.eye - eye));
-  program_.set("uSpacing", static_cast<float>(h.spacing()));
-  program_.set("uTileQuads", kTileQuads);
-  program_.set("uTilesPerSide", terrain_.tilesPerSide());
-  program_.set("uObjectIdBase", objectIdBase_);
-  program_.set("uMorphSlack", static_cast<float>(terrain::TerrainLod::kMorphSlack));
-  program_.set("uHeights", 0);
-  program_.set("uNormals", 1);
-  program_.set("uToSun", glm::vec3(-sun.direction));
-  program_.set("uSunColor", glm::vec3(sun.color));
-  program_.set("uAmbient", static_cast<float>(sun.ambient));
-  program_.set("uAlbedo", glm::vec3(terrain_.settings().albedo));
+  TerrainViewBlock block{};
+  block.originRelative = glm::vec4(static_cast<float>(h.origin().x - eye.x), static_cast<float>(eye.y),
+                                   static_cast<float>(h.origin().y - eye.z), 0.0f);
+  block.eye = glm::vec4(glm::vec3(eye), 0.0f);
+  block.lodEyeRelative = glm::vec4(glm::vec3(lod.eye - eye), 0.0f);
+  for (int level = 0; level < kLevels; ++level) {
+    const bool last = level == kLevels - 1;  // the coarsest level never morphs
+    block.morph[level] = last ? glm::vec4(1e30f, 2e30f, 0.0f, 0.0f)
+                              : glm::vec4(static_cast<float>(lod.morphStart[level]), static_cast<float>(lod.morphEnd[level]), 0.0f, 0.0f);
+  }
+  viewUniforms_.bind(viewBlock(view));
+  terrainViewUniforms_.bind(block);
   program_.use();
   glBindTextureUnit(0, heights_.id());
   // Outputs without normals never read unit 1; a valid texture stays bound there all the same.
@@ -152,10 +153,6 @@ TerrainRenderer::Stats TerrainRenderer::draw(const DrawView& view, const terrain
   for (int level = 0; level < kLevels; ++level) {
     const int count = static_cast<int>(byLevel[level].size());
     if (count == 0) continue;
-    program_.set("uLevel", level);
-    const bool last = level == kLevels - 1;
-    program_.set("uMorphStart", last ? 1e30f : static_cast<float>(lod.morphStart[level]));
-    program_.set("uMorphEnd", last ? 2e30f : static_cast<float>(lod.morphEnd[level]));
     glDrawElementsInstancedBaseInstance(
         GL_TRIANGLES, indexCount_[level], GL_UNSIGNED_INT,
         reinterpret_cast<const void*>(static_cast<std::uintptr_t>(indexOffset_[level]) * sizeof(std::uint32_t)), count,

@@ -24,7 +24,12 @@ TreeRenderer::TreeRenderer(const vegetation::Forest& forest, Output output, std:
     : forest_(forest),
       output_(output),
       objectIdBase_(objectIdBase),
-      program_(loadSurfaceProgram("trees.vert", "trees.frag", output)) {
+      program_(loadSurfaceProgram("trees.vert", "trees.frag", output)),
+      viewUniforms_(kViewBlockBinding, sizeof(ViewBlock)) {
+  const VegetationSettings& wind = forest.settings();
+  program_.set("uWindStrength", static_cast<float>(wind.wind_strength));
+  program_.set("uWindOmega", static_cast<float>(2.0 * std::numbers::pi / wind.wind_period));
+  program_.set("uWindDirection", glm::vec2(wind.wind_direction));
   std::vector<TreeVertex> vertices;
   std::vector<std::uint32_t> indices;
   for (int s = 0; s < kSpeciesCount; ++s) {
@@ -79,7 +84,6 @@ TreeRenderer::Stats TreeRenderer::draw(const Camera& camera, std::span<const std
 TreeRenderer::Stats TreeRenderer::draw(const DrawView& view, std::span<const std::uint32_t> clusters) const {
   Stats stats;
   const double time = view.time;
-  const SunSettings& sun = view.sun;
   // Instances grouped by (species, LOD), base positions relative to the eye in double.
   auto& groups = groups_;
   for (auto& species : groups)
@@ -111,19 +115,9 @@ TreeRenderer::Stats TreeRenderer::draw(const DrawView& view, std::span<const std
   if (instances_->id() != ringBefore) glVertexArrayVertexBuffer(vertexArray_.id(), 1, instances_->id(), 0, sizeof(InstanceGpu));
   const GLuint baseInstance = static_cast<GLuint>(part.offset / sizeof(InstanceGpu));
 
-  const VegetationSettings& wind = forest_.settings();
-  program_.set("uViewProjectionRelative", glm::mat4(view.viewProjectionRelative));
-  program_.set("uLightDepthRow", glm::vec4(view.lightDepthRelative));
-  program_.set("uDepthSlopeBias", static_cast<float>(view.depthSlopeBias));
   // The shader evaluates the sway in float: t is reduced modulo 10 periods first (in double), a
   // common period of sin(ωt) and sin(2.7ωt), so long runs keep their precision.
-  program_.set("uTime", static_cast<float>(std::fmod(time, 10.0 * wind.wind_period)));
-  program_.set("uWindStrength", static_cast<float>(wind.wind_strength));
-  program_.set("uWindOmega", static_cast<float>(2.0 * std::numbers::pi / wind.wind_period));
-  program_.set("uWindDirection", glm::vec2(wind.wind_direction));
-  program_.set("uToSun", glm::vec3(-sun.direction));
-  program_.set("uSunColor", glm::vec3(sun.color));
-  program_.set("uAmbient", static_cast<float>(sun.ambient));
+  viewUniforms_.bind(viewBlock(view, std::fmod(time, 10.0 * forest_.settings().wind_period)));
   program_.use();
   glBindVertexArray(vertexArray_.id());
   for (int s = 0; s < kSpeciesCount; ++s) {

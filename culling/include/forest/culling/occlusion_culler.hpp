@@ -30,6 +30,7 @@
 // geometry pass equals drawing everything (exactness). Boxes holding the eye (grown by z_n) or
 // crossing the near plane count as visible without a query.
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <string_view>
@@ -41,6 +42,8 @@
 #include "forest/culling/bvh.hpp"
 #include "forest/gl/objects.hpp"
 #include "forest/gl/shader.hpp"
+#include "forest/gl/stream_ring.hpp"
+#include "forest/gl/uniform_stream.hpp"
 
 namespace forest::culling {
 
@@ -121,9 +124,15 @@ class OcclusionCuller {
   void endQueries();
 
   gl::Program program_;
+  // query_box.vert's block (binding 3): the camera-relative view-projection, written once per cull.
+  gl::UniformStream viewUniforms_;
+  glm::mat4 viewBlock_{1.0f};
   gl::VertexArray vertexArray_;
   gl::Buffer cube_;
   gl::Buffer cubeIndices_;
+  // The boxes of each query, camera-relative, written once into a mapped ring and drawn with one
+  // instanced call per query (DESIGN §9).
+  std::unique_ptr<gl::StreamRing> boxes_;
   std::vector<gl::Query> pool_;
   std::size_t used_ = 0;
   glm::dvec3 eye_{0.0};

@@ -54,6 +54,10 @@ std::filesystem::path shaderDirectory();
 // Compiles and links; throws forest::Error with "name:line: message" lines.
 Program compileProgram(const std::vector<ShaderSource>& sources);
 
+// A shader file's text (relative to shaderDirectory() unless absolute), e.g. a block declaration
+// to pass to loadProgram's `defines`.
+std::string readShader(const std::string& file);
+
 // Reads `files` (relative to shaderDirectory() unless absolute) and compiles them. `defines` are
 // inserted after the #version line ("#define A 1\n..."), keeping line numbers right.
 Program loadProgram(const std::vector<std::string>& files, const std::string& defines = "");

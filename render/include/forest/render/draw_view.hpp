@@ -9,6 +9,7 @@
 #include "forest/core/camera.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/gl/shader.hpp"
+#include "forest/render/uniform_blocks.hpp"
 
 namespace forest::render {
 
@@ -27,13 +28,18 @@ struct DrawView {
   static DrawView fromCamera(const Camera& camera, double time, const SunSettings& sun);
 };
 
+// The view block the surface shaders read (uniform_blocks.hpp), composed in double and
+// converted once (DESIGN §4); `windTime` for trees.
+ViewBlock viewBlock(const DrawView& view, double windTime = 0.0);
+
 // Framebuffer outputs every renderer offers: lit colour, object ID (GL_R32UI), the G-buffer of
 // the geometry pass (albedo, shading normal, geometric normal, object ID; see gbuffer.frag), or
 // depth only (the shadow pass: nothing but depth is attached).
 // LightDepth: depth only, written as the linear light depth (TSM §4, light_depth.frag).
 enum class SurfaceOutput { Lit, ObjectId, GBuffer, LightDepth };
 
-// A surface program for an output: defines OUTPUT_ID or OUTPUT_GBUFFER (and links gbuffer.frag).
+// A surface program for an output: defines OUTPUT_ID or OUTPUT_GBUFFER (and links gbuffer.frag);
+// every stage gets the view block's declaration (view_block.glsl).
 gl::Program loadSurfaceProgram(const std::string& vertex, const std::string& fragment, SurfaceOutput output,
                                const std::string& extraDefines = "");
 

@@ -1,7 +1,9 @@
 #pragma once
-// Draws the scene's props (boxes) with one instanced draw, lit by the sun: Lambert diffuse plus a
-// weak global ambient (thesis §6.2, without shadows yet).
+// Draws the scene's props (boxes) with one instanced draw per call, lit by the sun: Lambert diffuse
+// plus a weak global ambient (thesis §6.2, without shadows yet). Each draw writes its boxes,
+// relative to the view's origin, into a persistently mapped ring (DESIGN §9).
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -9,6 +11,8 @@
 #include "forest/core/scene.hpp"
 #include "forest/gl/objects.hpp"
 #include "forest/gl/shader.hpp"
+#include "forest/gl/stream_ring.hpp"
+#include "forest/gl/uniform_stream.hpp"
 #include "forest/render/draw_view.hpp"
 
 namespace forest::render {
@@ -18,6 +22,7 @@ class PropRenderer {
   // Lit, ObjectId (objectIdBase + prop index to a GL_R32UI target) or GBuffer.
   using Output = SurfaceOutput;
   explicit PropRenderer(const std::vector<PropBox>& props, Output output = Output::Lit, std::uint32_t objectIdBase = 1);
+  ~PropRenderer();
   // Uploads moved props (same count as at construction).
   void update(const std::vector<PropBox>& props);
 
@@ -25,21 +30,19 @@ class PropRenderer {
   void draw(const Camera& camera, const SunSettings& sun) const;
   // Draws only the given props (indices) from any view; returns the triangles drawn.
   long long draw(const DrawView& view, std::span<const std::uint32_t> props) const;
-  int triangleCount() const { return 12 * instanceCount_; }
+  int triangleCount() const { return 12 * static_cast<int>(props_.size()); }
 
  private:
   gl::Program program_;
+  mutable gl::UniformStream viewUniforms_;  // ViewBlock at binding 0
   gl::VertexArray vertexArray_;
   gl::Buffer vertices_;
   gl::Buffer indices_;
-  mutable gl::Buffer instances_;  // the boxes relative to uploadedOrigin_
+  std::unique_ptr<gl::StreamRing> instances_;  // each draw's boxes, relative to its view's origin
   std::vector<PropBox> props_;
-  int instanceCount_ = 0;
   std::uint32_t objectIdBase_ = 1;
-  mutable bool uploaded_ = false;
-  mutable glm::dvec3 uploadedOrigin_{0.0};
-  void uploadRelativeTo(const glm::dvec3& origin) const;
-  void setUniforms(const DrawView& view) const;
+  template <class PropIndices>
+  long long drawInstances(const DrawView& view, const PropIndices& props) const;
 };
 
 // Clears the bound framebuffer to `sky` with reversed-Z depth 0 and draws the props.

@@ -12,6 +12,7 @@
 #include "forest/core/scene.hpp"
 #include "forest/gl/objects.hpp"
 #include "forest/gl/stream_ring.hpp"
+#include "forest/gl/uniform_stream.hpp"
 #include "forest/gl/shader.hpp"
 #include "forest/render/draw_view.hpp"
 #include "forest/terrain/terrain.hpp"
@@ -49,6 +50,8 @@ class TerrainRenderer {
   const terrain::Terrain& terrain_;
   std::uint32_t objectIdBase_;
   gl::Program program_;
+  mutable gl::UniformStream viewUniforms_;         // ViewBlock at binding 0
+  mutable gl::UniformStream terrainViewUniforms_;  // terrain.vert's TerrainViewBlock at binding 1
   gl::Texture heights_;
   gl::Texture normals_;  // vertex normals of the lit and G-buffer outputs (empty for the others)
   gl::VertexArray vertexArray_;
@@ -58,8 +61,8 @@ class TerrainRenderer {
   // addresses its part by base instance; nothing the GPU may still read is rewritten.
   std::unique_ptr<gl::StreamRing> instances_;
   // Per-draw scratch, kept so the per-leaf draws of the culling traversal do not allocate.
-  mutable std::array<std::vector<glm::ivec2>, terrain::kLevels> byLevel_;
-  mutable std::vector<glm::ivec2> packed_;
+  mutable std::array<std::vector<glm::ivec4>, terrain::kLevels> byLevel_;  // (tx, tz, level, 0)
+  mutable std::vector<glm::ivec4> packed_;
   std::array<int, terrain::kLevels> indexOffset_{}, indexCount_{};
 };
 

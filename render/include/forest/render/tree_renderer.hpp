@@ -12,6 +12,7 @@
 #include "forest/core/scene.hpp"
 #include "forest/gl/objects.hpp"
 #include "forest/gl/stream_ring.hpp"
+#include "forest/gl/uniform_stream.hpp"
 #include "forest/gl/shader.hpp"
 #include "forest/render/draw_view.hpp"
 #include "forest/vegetation/forest.hpp"
@@ -57,6 +58,7 @@ class TreeRenderer {
   Output output_;
   std::uint32_t objectIdBase_;
   gl::Program program_;
+  mutable gl::UniformStream viewUniforms_;  // ViewBlock at binding 0
   gl::VertexArray vertexArray_;
   gl::Buffer vertices_, indices_;
   // Instances, written once per draw into a persistently mapped ring (DESIGN §9): each draw

@@ -1,0 +1,48 @@
+#pragma once
+// The uniform blocks of the shaders (std140), as C++ structs (DESIGN §9: per-frame and per-pass
+// values in buffers, written once through gl::UniformStream, never set per draw). Each mirrors a
+// declaration in shaders/; the test UniformBlocksMatchTheShaders asks the GL for every block's
+// size and member offsets and compares them with these.
+#include <glm/glm.hpp>
+
+#include "forest/gl/objects.hpp"
+#include "forest/terrain/terrain.hpp"
+
+namespace forest::render {
+
+// shaders/view_block.glsl, binding 0: the pass's view, read by every surface shader.
+struct ViewBlock {
+  glm::mat4 viewProjectionRelative{1.0f};  // (p − view origin) → clip
+  glm::vec4 lightDepthRow{0.0f};           // LightDepth output: (p − view origin, 1) → z_L
+  glm::vec4 toSunAmbient{0.0f};            // xyz: toward the sun; w: ambient share
+  glm::vec4 sunColorSlopeBias{0.0f};       // rgb: sun colour; w: LightDepth slope-scale bias
+  glm::vec4 windTime{0.0f};                // x: the trees' time, reduced modulo 10 wind periods
+};
+constexpr GLuint kViewBlockBinding = 0;
+
+// shaders/terrain.vert's TerrainViewBlock, binding 1: per view and level of detail.
+struct TerrainViewBlock {
+  glm::vec4 originRelative{0.0f};  // x, z: world (x, z) of sample (0, 0) minus the eye's; y: the eye's y
+  glm::vec4 eye{0.0f};             // xyz: the view's eye, world
+  glm::vec4 lodEyeRelative{0.0f};  // xyz: the LOD's eye minus the view's eye
+  glm::vec4 morph[terrain::kLevels]{};  // x, y: where the morph toward the next level starts, ends (m)
+};
+constexpr GLuint kTerrainViewBlockBinding = 1;
+
+// shaders/frame_block.glsl, binding 2: the full-screen passes' values, once per frame.
+struct FrameBlock {
+  glm::mat4 eyeRelativeToShadow{1.0f};    // (p − eye) → shadow clip, z in [0, 1], lookup shift applied
+  glm::vec4 eyeRelativeLightDepth{0.0f};  // tsm: (p − eye, 1) → z_L
+  glm::vec4 rays[3]{};                    // pixel rays at eye depth 1, column by column
+  glm::vec4 toSunUp{0.0f};                // xyz: toward the sun; w: 1 when above the horizon
+  glm::vec4 sunColorAmbient{0.0f};
+  glm::vec4 skyFog{0.0f};                 // rgb: sky; w: fog density per metre
+  glm::vec4 nearFar{0.0f};
+  glm::vec4 blur{0.0f};                   // radius px, reference depth m, relative depth tolerance
+  glm::ivec4 modes{0};                    // PCF radius, tsm linear depth, lighting blurs vertically, shadowed
+};
+constexpr GLuint kFrameBlockBinding = 2;
+
+// Binding 3: culling's query_box.vert (a mat4, the camera-relative view-projection).
+
+}  // namespace forest::render

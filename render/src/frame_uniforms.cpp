@@ -1,0 +1,32 @@
+#include "frame_uniforms.hpp"
+
+#include "fullscreen_triangle.hpp"
+#include "shadow_pass.hpp"
+
+namespace forest::render {
+
+FrameBlock frameBlock(const Camera& camera, const ShadowPlan& plan, const FrameSettings& settings, const Scene& scene,
+                      const glm::dvec3& l, bool sunUp) {
+  FrameBlock b;
+  glm::dmat4 lookup = eyeRelativeToShadowClip(plan.setup, camera.position);
+  if (settings.lookupShiftTexels != glm::dvec2(0.0)) {
+    glm::dmat4 shift(1.0);  // clip x, y += 2·shift/size · w
+    shift[3][0] = 2.0 * settings.lookupShiftTexels.x / settings.shadowMapSize;
+    shift[3][1] = 2.0 * settings.lookupShiftTexels.y / settings.shadowMapSize;
+    lookup = shift * lookup;
+  }
+  b.eyeRelativeToShadow = glm::mat4(lookup);
+  b.eyeRelativeLightDepth = plan.setup.eyeRelativeToLightDepthF;
+  const glm::mat3 rays = pixelRays(camera);
+  for (int c = 0; c < 3; ++c) b.rays[c] = glm::vec4(rays[c], 0.0f);
+  b.toSunUp = glm::vec4(glm::vec3(-l), sunUp ? 1.0f : 0.0f);
+  b.sunColorAmbient = glm::vec4(glm::vec3(scene.sun.color), static_cast<float>(scene.sun.ambient));
+  b.skyFog = glm::vec4(glm::vec3(scene.render.sky_color), static_cast<float>(settings.fogDensity));
+  b.nearFar = glm::vec4(static_cast<float>(camera.near), static_cast<float>(camera.far), 0.0f, 0.0f);
+  b.blur = glm::vec4(static_cast<float>(settings.blurRadius), static_cast<float>(settings.blurReferenceDepth),
+                     static_cast<float>(kBlurDepthTolerance), 0.0f);
+  b.modes = glm::ivec4(settings.pcfRadius, plan.setup.linearDepth ? 1 : 0, settings.blurRadius > 0.0 ? 1 : 0, plan.shadowed ? 1 : 0);
+  return b;
+}
+
+}  // namespace forest::render

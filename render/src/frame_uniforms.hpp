@@ -1,0 +1,26 @@
+#pragma once
+// The frame block's values (uniform_blocks.hpp: what the full-screen passes — shadow term, blur,
+// lighting — read), composed in double once per frame and written once into a mapped ring
+// (DESIGN §9) instead of a dozen glProgramUniform calls per pass.
+#include <glm/glm.hpp>
+
+#include "forest/core/camera.hpp"
+#include "forest/core/scene.hpp"
+#include "forest/gl/objects.hpp"
+#include "forest/render/frame.hpp"
+#include "forest/render/uniform_blocks.hpp"
+#include "shadow_setup_pass.hpp"
+
+namespace forest::render {
+
+
+// The blur averages only samples whose eye depth is within this share of the centre's (no bleeding
+// across silhouettes; a sloped surface's depth changes less than this over 16 pixels).
+constexpr double kBlurDepthTolerance = 0.05;
+
+// This frame's block: `l` the unit light direction, `sunUp` whether the sun is above the horizon;
+// the plan says whether the map holds its shadows (else the term is 0 everywhere).
+FrameBlock frameBlock(const Camera& camera, const ShadowPlan& plan, const FrameSettings& settings, const Scene& scene,
+                      const glm::dvec3& l, bool sunUp);
+
+}  // namespace forest::render
