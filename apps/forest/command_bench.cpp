@@ -49,6 +49,7 @@ struct BenchOptions {
   // first frame costs them all alike.
   RunLengthOptions length{60, 0};
   int leafSize = 1;
+  ModeOptions modes;
   std::string out = "out/bench-culling";
 };
 
@@ -187,10 +188,14 @@ int runBenchCulling(const BenchOptions& options) {
   const std::string device = gl::describe(context->info());
   log::info("{}", device);
   fs::create_directories(out);
+  render::FrameSettings modes;
+  options.modes.resolve(modes, context->info());
 
   ordered_json json;
   json["scene"] = scenePath;
   json["device"] = device;
+  json["timing"] = render::timingModeName(modes.timing);
+  json["queries"] = culling::queryModeName(modes.queries);
   json["frames_per_path"] = options.length.frames;
   json["warmup_frames"] = warmup;
   json["resolution"] = {options.size.width, options.size.height};
@@ -202,10 +207,13 @@ int runBenchCulling(const BenchOptions& options) {
                                 {"tight_box_area_ratio", base.culling.tight_box_area_ratio}};
   std::vector<PlotPanel> panels;
   std::string markdown = fmt::format(
-      "# Culling benchmark\n\n{} at {}x{}, {} frames per path, {}.\nFrame = culling + the geometry it draws (lit, no shadows), to "
-      "glFinish; the strategies take turns frame by frame. Oracle = drawing exactly the visible set (from the brute-force object-ID "
-      "buffer) with no queries.\n\n",
-      scenePath, options.size.width, options.size.height, options.length.frames, device);
+      "# Culling benchmark\n\n{} at {}x{}, {} frames per path, {}.\nFrame = culling + the geometry it draws (lit, no shadows), "
+      "timed by {}; the strategies take turns frame by frame; occlusion queries read {}. Oracle = drawing exactly the visible set "
+      "(from the brute-force object-ID buffer) with no queries.\n\n",
+      scenePath, options.size.width, options.size.height, options.length.frames, device,
+      modes.timing == gl::TimingMode::Profiling ? "glFinish and a clock (--timing profile)" : "GL timestamp queries (--timing queries)",
+      modes.queries == culling::QueryMode::Deterministic ? "at fixed traversal steps (--queries deterministic)"
+                                                          : "when available (--queries async)");
   const int total = static_cast<int>(options.trees.size() * options.paths.size()) * options.length.frames * static_cast<int>(strategies.size() + 2);
   int done = 0;
   const auto benchStart = Clock::now();
@@ -272,17 +280,24 @@ int runBenchCulling(const BenchOptions& options) {
       }
       // Frame by frame, every strategy (each with its own culler and so its own frame-to-frame
       // state) and the oracle in turn: a change in the machine's load hits them all alike.
+      // Each strategy is a pass of the timer's frame f: timed by glFinish + clock (profile) or by
+      // timestamp queries read frames later (queries), as --timing says.
       std::map<std::string, std::vector<FrameRecord>> records;
       std::vector<std::unique_ptr<culling::OcclusionCuller>> cullers;
       for (size_t k = 0; k < strategies.size(); ++k) {
         cullers.push_back(std::make_unique<culling::OcclusionCuller>());
         cullers.back()->setParameters(scene.culling);
+        cullers.back()->setQueryMode(modes.queries);
       }
+      gl::PassTimer timer(modes.timing);
+      std::vector<gl::FrameTiming> timings;
       for (size_t f = 0; f < path.size(); ++f) {
         const terrain::TerrainLod lod = terrain.lodFor(path[f], options.size.height);
+        timer.beginFrame();
         for (size_t k = 0; k <= strategies.size(); ++k) {
           const bool oracle = k == strategies.size();
-          const auto start = Clock::now();
+          const std::string name = oracle ? std::string(kOracle) : std::string(culling::cullingStrategyName(strategies[k]));
+          auto timed = timer.scope(name);
           beginPass(target.framebuffer().id(), false);
           render::SceneDrawer lit(objects, &terrainLit, &treesLit, &propsLit, path[f], &lod, 0.0, scene.sun);
           FrameRecord r;
@@ -293,12 +308,15 @@ int runBenchCulling(const BenchOptions& options) {
           } else {
             r.stats = cullers[k]->cull(bvh, objects.boxes(), path[f], strategies[k], lit).stats;
           }
-          glFinish();
-          r.milliseconds = 1e3 * std::chrono::duration<double>(Clock::now() - start).count();
-          records[oracle ? std::string(kOracle) : std::string(culling::cullingStrategyName(strategies[k]))].push_back(r);
+          records[name].push_back(r);
           showProgress("bench culling", "frames", ++done, total, std::chrono::duration<double>(Clock::now() - benchStart).count(), options.length.quiet);
         }
+        timer.endFrame();
+        for (gl::FrameTiming& t : timer.takeCompleted()) timings.push_back(std::move(t));
       }
+      for (gl::FrameTiming& t : timer.drain()) timings.push_back(std::move(t));
+      for (const gl::FrameTiming& t : timings)
+        for (const gl::PassTime& p : t.passes) records.at(p.pass).at(t.frame).milliseconds = p.ms;
       if (gl::debugErrorCount() > 0)
         throw Error(fmt::format("{} GL errors during the benchmark (first: {})", gl::debugErrorCount(), gl::debugErrorMessages().front()));
 
@@ -393,6 +411,7 @@ Run addBenchCommand(CLI::App& app) {
       ->capture_default_str();
   options->size.add(*cullingBench);
   options->length.add(*cullingBench, "60 along each path");
+  options->modes.add(*cullingBench);
   cullingBench->add_option("--leaf-size", options->leafSize, "Objects per BVH leaf")->check(CLI::Range(1, 64))->capture_default_str();
   cullingBench->add_option("--out", options->out, "Output folder")->capture_default_str();
   const Run speedError = addSpeedErrorCommand(*bench);

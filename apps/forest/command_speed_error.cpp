@@ -39,6 +39,7 @@ struct SpeedErrorOptions {
   std::vector<int> sizes{512, 1024, 2048, 4096};
   double target = 0.02;  // misclassification for the equal-error map sizes
   int softRays = 8;      // fewer than truth's 16: the sweep scores 130 frames
+  ModeOptions modes;
   bool quiet = false;
 };
 
@@ -172,11 +173,12 @@ int runSpeedError(const SpeedErrorOptions& options) {
       for (const std::string& focus : kFocus)
         for (int size : sizes) {
           render::FrameSettings settings = settingsFor(method, focus, size);
+          options.modes.resolve(settings, context->info());
           settings.blurRadius = 3.0;
           // One frame to settle CHC and the smoothed n, then the measured one.
           frame.resetHistory();
           frame.render(camera, 0.0, settings);
-          const render::FrameStats stats = frame.render(camera, 0.0, settings);
+          const render::FrameStats stats = renderWithPassTimes(frame, camera, 0.0, settings);
           Row r;
           r.scenario = s.name;
           r.method = method;
@@ -191,7 +193,7 @@ int runSpeedError(const SpeedErrorOptions& options) {
           // Misclassification is of the unblurred term in both.
           render::FrameSettings noBlur = settings;
           noBlur.blurRadius = 0.0;
-          const render::FrameStats offStats = frame.render(camera, 0.0, noBlur);
+          const render::FrameStats offStats = renderWithPassTimes(frame, camera, 0.0, noBlur);
           Row on = r, off = r;
           on.blur = true;
           on.frameMs = frameMs;
@@ -225,7 +227,8 @@ int runSpeedError(const SpeedErrorOptions& options) {
   for (const std::string& method : kMethods)
     for (const std::string& focus : kFocus)
       for (int size : sizes) {
-        const render::FrameSettings settings = settingsFor(method, focus, size);
+        render::FrameSettings settings = settingsFor(method, focus, size);
+        options.modes.resolve(settings, context->info());
         frame.resetHistory();
         const truth::FlickerResult f = truth::measureFlicker(frame, scene, path, 0.0, settings);
         flicker.push_back({{"method", method}, {"focus", focus}, {"map_size", size}, {"share", f.share()},
@@ -263,6 +266,7 @@ int runSpeedError(const SpeedErrorOptions& options) {
   report["version"] = 1;
   report["scene"] = scenePath;
   report["device"] = gl::describe(context->info());
+  report.update(options.modes.json(context->info()));
   report["resolution"] = {width, height};
   report["quick"] = options.quick;
   report["map_sizes"] = sizes;
@@ -397,6 +401,7 @@ Run addSpeedErrorCommand(CLI::App& bench) {
       ->check(CLI::Range(1e-6, 0.999999))
       ->capture_default_str();
   addSoftRaysOption(*command, options->softRays);
+  options->modes.add(*command);
   command->add_flag("--quiet", options->quiet, "No progress bar");
   return [options] { return runSpeedError(*options); };
 }

@@ -48,6 +48,23 @@ struct RunLengthOptions {
   CLI::Option* warmupOption = nullptr;
 };
 
+// --timing and --queries (DESIGN §9): how passes are timed and how occlusion queries are read, for
+// every command that renders frames (through FrameOptions) and for the benches.
+struct ModeOptions {
+  std::string timing = "auto";   // auto: profile on a software renderer, queries on a hardware one
+  std::string queries = "auto";  // auto: deterministic on a software renderer, async on a hardware one
+  void add(CLI::App& command);
+  // Sets the timing and query modes of `s` for the context (auto: render::defaultTimingMode,
+  // render::defaultQueryMode).
+  void resolve(render::FrameSettings& s, const gl::ContextInfo& context) const;
+  // {"timing": …, "queries": …} as resolved for the context.
+  nlohmann::ordered_json json(const gl::ContextInfo& context) const;
+};
+
+// Renders a frame; in the GpuQueries timing mode also waits (outside the frame) for its pass
+// times, so a benchmark reads them from the returned stats in either mode.
+render::FrameStats renderWithPassTimes(render::Frame& frame, const Camera& camera, double time, const render::FrameSettings& settings);
+
 // The frame's settings as flags (render, truth, walkthrough, budget, stress). One default for all:
 // the blur is on (3 px, thesis §9.4.2), so every command renders the same frame unless told.
 struct FrameOptions {
@@ -57,8 +74,7 @@ struct FrameOptions {
   int pcf = 0;
   double blur = 3.0;         // eye-space blur radius, pixels (0: off)
   double blurDepth = 10.0;   // metres up to which the full radius applies
-  std::string timing = "auto";   // auto: profile on a software renderer, queries on a hardware one
-  std::string queries = "auto";  // auto: deterministic on a software renderer, async on a hardware one
+  ModeOptions modes;
   void add(CLI::App& command, bool withCulling = true);
   // The settings; timing and query modes resolved for the context (auto: render::defaultTimingMode,
   // render::defaultQueryMode).
@@ -66,7 +82,7 @@ struct FrameOptions {
   render::FrameSettings settings(const gl::ContextInfo& context) const;
   render::FrameSettings settings() const { return settings(gl::ContextInfo{}); }  // before a context exists: checks only
   // Sets the timing and query modes of `s` for the context (what settings(context) does for them).
-  void resolveModes(render::FrameSettings& s, const gl::ContextInfo& context) const;
+  void resolveModes(render::FrameSettings& s, const gl::ContextInfo& context) const { modes.resolve(s, context); }
   // The settings as report.json writes them (timing as resolved for the context).
   nlohmann::ordered_json json(const gl::ContextInfo& context) const;
 };

@@ -91,6 +91,10 @@ void FrameOptions::add(CLI::App& command, bool withCulling) {
   command.add_option("--blur-depth", blurDepth, "Depth (m, 0.01 to 10000) up to which the blur has its full radius")
       ->check(CLI::Range(0.01, 1e4))
       ->capture_default_str();
+  modes.add(command);
+}
+
+void ModeOptions::add(CLI::App& command) {
   command.add_option("--timing", timing,
                      "Pass timing: profile (glFinish + clock around each pass; the pipeline is serialised),\n"
                      "queries (GL timestamp queries read frames later; nothing in a frame waits for the GPU),\n"
@@ -117,18 +121,32 @@ render::FrameSettings FrameOptions::settings(const gl::ContextInfo& context) con
   return s;
 }
 
-void FrameOptions::resolveModes(render::FrameSettings& s, const gl::ContextInfo& context) const {
+void ModeOptions::resolve(render::FrameSettings& s, const gl::ContextInfo& context) const {
   s.timing = timing == "auto" ? render::defaultTimingMode(context) : render::parseTimingMode(timing);
   s.queries = queries == "auto" ? render::defaultQueryMode(context) : culling::parseQueryMode(queries);
 }
 
+nlohmann::ordered_json ModeOptions::json(const gl::ContextInfo& context) const {
+  render::FrameSettings s;
+  resolve(s, context);
+  return {{"timing", render::timingModeName(s.timing)}, {"queries", culling::queryModeName(s.queries)}};
+}
+
+render::FrameStats renderWithPassTimes(render::Frame& frame, const Camera& camera, double time, const render::FrameSettings& settings) {
+  render::FrameStats stats = frame.render(camera, time, settings);
+  if (stats.passTimesPending) {
+    for (const gl::FrameTiming& t : frame.drainPassTimes())
+      if (t.frame == stats.frameNumber) stats.setPassTimes(t);
+    stats.passTimesPending = false;
+  }
+  return stats;
+}
+
 nlohmann::ordered_json FrameOptions::json(const gl::ContextInfo& context) const {
-  render::FrameSettings modes;
-  resolveModes(modes, context);
-  return {{"method", method},        {"shadow_size", shadowSize}, {"culling", culling},
-          {"pcf_radius", pcf},       {"blur_px", blur},          {"blur_depth_m", blurDepth},
-          {"timing", render::timingModeName(modes.timing)},
-          {"queries", culling::queryModeName(modes.queries)}};
+  nlohmann::ordered_json j = {{"method", method}, {"shadow_size", shadowSize}, {"culling", culling},
+                              {"pcf_radius", pcf}, {"blur_px", blur},         {"blur_depth_m", blurDepth}};
+  j.update(modes.json(context));
+  return j;
 }
 
 void addSoftRaysOption(CLI::App& command, int& softRays) {
