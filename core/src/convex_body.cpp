@@ -7,11 +7,20 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <span>
 
 namespace forest {
+
+std::pmr::memory_resource* convexBodyMemory() {
+  // Never destroyed: bodies in static storage may outlive any other owner.
+  static auto* const pool = new std::pmr::synchronized_pool_resource();
+  return pool;
+}
+
 namespace {
 
 using glm::dvec3;
+using Points = std::pmr::vector<dvec3>;
 
 bool lexLess(const dvec3& a, const dvec3& b) {
   if (a.x != b.x) return a.x < b.x;
@@ -38,42 +47,42 @@ dvec3 crossing(dvec3 a, double da, dvec3 b, double db) {
   return a + t * (b - a);
 }
 
-dvec3 centroidOf(const std::vector<dvec3>& points) {
+dvec3 centroidOf(std::span<const dvec3> points) {
   dvec3 sum(0.0);
   for (const dvec3& p : points) sum += p;
   return points.empty() ? sum : sum / static_cast<double>(points.size());
 }
 
 // Removes exact duplicates, keeping the first occurrence order irrelevant.
-std::vector<dvec3> distinct(std::vector<dvec3> points) {
+Points distinct(Points points) {
   std::sort(points.begin(), points.end(), lexLess);
   points.erase(std::unique(points.begin(), points.end()), points.end());
   return points;
 }
 
 // Orders coplanar points counter-clockwise about `normal`; empty if they span no area.
-Polygon polygonFromCoplanarPoints(const std::vector<dvec3>& pointsIn, const dvec3& normal, double tolerance) {
-  const std::vector<dvec3> points = distinct(pointsIn);
-  if (points.size() < 3) return {};
+Polygon polygonFromCoplanarPoints(const Points& pointsIn, const dvec3& normal, double tolerance) {
+  const Points points = distinct(Points(pointsIn, convexBodyMemory()));
+  if (points.size() < 3) return Polygon(convexBodyMemory());
   const dvec3 c = centroidOf(points);
   const dvec3 helper = std::abs(normal.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0);
   const dvec3 u = glm::normalize(glm::cross(normal, helper));
   const dvec3 v = glm::cross(normal, u);
-  std::vector<std::pair<double, dvec3>> byAngle;
+  std::pmr::vector<std::pair<double, dvec3>> byAngle(convexBodyMemory());
   for (const dvec3& p : points) byAngle.emplace_back(std::atan2(glm::dot(p - c, v), glm::dot(p - c, u)), p);
   std::sort(byAngle.begin(), byAngle.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  Polygon polygon;
+  Polygon polygon(convexBodyMemory());
   for (const auto& [angle, p] : byAngle) polygon.push_back(p);
   // Twice the area must exceed a sliver of tolerance × size.
   dvec3 newell(0.0);
   for (size_t i = 0; i < polygon.size(); ++i) newell += glm::cross(polygon[i], polygon[(i + 1) % polygon.size()]);
-  if (glm::length(newell) <= tolerance * tolerance) return {};
+  if (glm::length(newell) <= tolerance * tolerance) polygon.clear();
   return polygon;
 }
 
 // Reverses polygons whose normal points towards the body's centroid (convex bodies only).
-void orientOutward(std::vector<Polygon>& polygons) {
-  std::vector<dvec3> all;
+void orientOutward(PolygonList& polygons) {
+  Points all(convexBodyMemory());
   for (const Polygon& p : polygons) all.insert(all.end(), p.begin(), p.end());
   const dvec3 c = centroidOf(distinct(all));
   for (Polygon& p : polygons) {
@@ -81,7 +90,7 @@ void orientOutward(std::vector<Polygon>& polygons) {
   }
 }
 
-void dropDegenerate(std::vector<Polygon>& polygons) {
+void dropDegenerate(PolygonList& polygons) {
   for (Polygon& p : polygons) p.erase(std::unique(p.begin(), p.end()), p.end());
   for (Polygon& p : polygons) {
     if (p.size() > 1 && p.front() == p.back()) p.pop_back();
@@ -90,16 +99,16 @@ void dropDegenerate(std::vector<Polygon>& polygons) {
 }
 
 // A flat body (one polygon) becomes two-sided so that every edge has a twin.
-void makeTwoSidedIfFlat(std::vector<Polygon>& polygons) {
+void makeTwoSidedIfFlat(PolygonList& polygons) {
   if (polygons.size() != 1) return;
-  Polygon back(polygons[0].rbegin(), polygons[0].rend());
+  Polygon back(polygons[0].rbegin(), polygons[0].rend(), convexBodyMemory());
   polygons.push_back(std::move(back));
 }
 
-using EdgeOwners = std::map<std::pair<dvec3, dvec3>, size_t, LexLess>;
+using EdgeOwners = std::pmr::map<std::pair<dvec3, dvec3>, size_t, LexLess>;
 
-EdgeOwners directedEdges(const std::vector<Polygon>& polygons) {
-  EdgeOwners owners;
+EdgeOwners directedEdges(const PolygonList& polygons) {
+  EdgeOwners owners(convexBodyMemory());
   for (size_t i = 0; i < polygons.size(); ++i) {
     const Polygon& p = polygons[i];
     for (size_t k = 0; k < p.size(); ++k) owners[{p[k], p[(k + 1) % p.size()]}] = i;
@@ -122,8 +131,8 @@ dvec3 polygonNormal(const Polygon& polygon) {
 ConvexBody ConvexBody::fromCorners(const std::array<dvec3, 8>& c) {
   // Faces by corner index (bit 0 = x, bit 1 = y, bit 2 = z).
   constexpr int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-  std::vector<Polygon> polygons;
-  for (const auto& f : faces) polygons.push_back({c[f[0]], c[f[1]], c[f[2]], c[f[3]]});
+  PolygonList polygons(convexBodyMemory());
+  for (const auto& f : faces) polygons.emplace_back(std::initializer_list<dvec3>{c[f[0]], c[f[1]], c[f[2]], c[f[3]]});
   dropDegenerate(polygons);
   orientOutward(polygons);
   return ConvexBody(std::move(polygons));
@@ -135,7 +144,7 @@ ConvexBody ConvexBody::fromBox(const Aabb& box) {
   ConvexBody body = fromCorners(corners);
   if (body.polygons_.empty() && box.valid()) {  // flat box: its largest face
     const dvec3 e = box.extent();
-    Polygon face;
+    Polygon face(convexBodyMemory());
     if (e.x > 0 && e.z > 0) face = {box.corner(0), box.corner(1), box.corner(5), box.corner(4)};
     else if (e.x > 0 && e.y > 0) face = {box.corner(0), box.corner(1), box.corner(3), box.corner(2)};
     else if (e.y > 0 && e.z > 0) face = {box.corner(0), box.corner(2), box.corner(6), box.corner(4)};
@@ -154,8 +163,8 @@ ConvexBody ConvexBody::fromInverseViewProjection(const glm::dmat4& inverseViewPr
   return fromCorners(corners);
 }
 
-std::vector<dvec3> ConvexBody::vertices() const {
-  std::vector<dvec3> all;
+Points ConvexBody::vertices() const {
+  Points all(convexBodyMemory());
   for (const Polygon& p : polygons_) all.insert(all.end(), p.begin(), p.end());
   return distinct(std::move(all));
 }
@@ -243,10 +252,11 @@ void ConvexBody::clipWithin(const Plane& plane, const Aabb& within) {
   auto ontoPlane = [&](const dvec3& v, double distance) {
     return distance == 0.0 ? v : v - (distance / normalSquared) * plane.normal;
   };
-  std::vector<Polygon> kept;
-  std::vector<dvec3> onPlane;
+  PolygonList kept(convexBodyMemory());
+  Points onPlane(convexBodyMemory());
+  std::pmr::vector<double> d(convexBodyMemory());
   for (const Polygon& polygon : polygons_) {
-    std::vector<double> d(polygon.size());
+    d.assign(polygon.size(), 0.0);
     bool allOnPlane = true;
     for (size_t i = 0; i < polygon.size(); ++i) {
       d[i] = plane.signedDistance(polygon[i]);
@@ -256,7 +266,7 @@ void ConvexBody::clipWithin(const Plane& plane, const Aabb& within) {
       for (size_t i = 0; i < polygon.size(); ++i) onPlane.push_back(ontoPlane(polygon[i], d[i]));
       continue;
     }
-    Polygon clipped;
+    Polygon clipped(convexBodyMemory());
     for (size_t i = 0; i < polygon.size(); ++i) {
       const size_t j = (i + 1) % polygon.size();
       if (std::abs(d[i]) <= eps) {
@@ -294,7 +304,7 @@ void ConvexBody::clip(const ConvexBody& other) {
     polygons_.clear();
     return;
   }
-  std::vector<Plane> planes;  // copied first: `other` may be this body
+  std::pmr::vector<Plane> planes(convexBodyMemory());  // copied first: `other` may be this body
   for (const Polygon& p : other.polygons_) planes.push_back(Plane::through(centroidOf(p), polygonNormal(p)));
   const Aabb within = other.bounds();
   for (const Plane& plane : planes) clipWithin(plane, within);
@@ -306,7 +316,7 @@ void ConvexBody::hullWithPoint(const dvec3& point) {
   }
   makeTwoSidedIfFlat(polygons_);
   const double eps = tolerance();
-  std::vector<bool> sees(polygons_.size());
+  std::pmr::vector<bool> sees(polygons_.size(), false, convexBodyMemory());
   bool any = false;
   for (size_t i = 0; i < polygons_.size(); ++i) {
     sees[i] = Plane::through(polygons_[i].front(), polygonNormal(polygons_[i])).signedDistance(point) > eps;
@@ -314,7 +324,7 @@ void ConvexBody::hullWithPoint(const dvec3& point) {
   }
   if (!any) return;  // the point is inside
   const EdgeOwners owners = directedEdges(polygons_);
-  std::vector<Polygon> result;
+  PolygonList result(convexBodyMemory());
   for (size_t i = 0; i < polygons_.size(); ++i) {
     if (sees[i]) continue;
     const Polygon& p = polygons_[i];
@@ -323,7 +333,7 @@ void ConvexBody::hullWithPoint(const dvec3& point) {
       const dvec3& a = p[k];
       const dvec3& b = p[(k + 1) % p.size()];
       const auto twin = owners.find({b, a});
-      if (twin == owners.end() || sees[twin->second]) result.push_back({a, b, point});
+      if (twin == owners.end() || sees[twin->second]) result.emplace_back(std::initializer_list<dvec3>{a, b, point});
     }
   }
   dropDegenerate(result);
@@ -339,12 +349,12 @@ void ConvexBody::extrude(const dvec3& direction, const Aabb& until) {
   const dvec3 offset = (2.0 * reach.diagonal() + 1.0) * d;
 
   makeTwoSidedIfFlat(polygons_);
-  std::vector<bool> facing(polygons_.size());
+  std::pmr::vector<bool> facing(polygons_.size(), false, convexBodyMemory());
   for (size_t i = 0; i < polygons_.size(); ++i) facing[i] = glm::dot(polygonNormal(polygons_[i]), d) > 1e-12;
   const EdgeOwners owners = directedEdges(polygons_);
-  std::vector<Polygon> result;
+  PolygonList result(convexBodyMemory());
   for (size_t i = 0; i < polygons_.size(); ++i) {
-    Polygon p = polygons_[i];
+    Polygon p(polygons_[i], convexBodyMemory());
     for (size_t k = 0; k < p.size(); ++k) {
       const dvec3& a = p[k];
       const dvec3& b = p[(k + 1) % p.size()];
@@ -352,7 +362,8 @@ void ConvexBody::extrude(const dvec3& direction, const Aabb& until) {
       // A silhouette edge (one side facing, one not) becomes a quad along the sweep; an edge
       // without a twin is treated as silhouette so that no hole is left.
       const bool silhouette = twin == owners.end() ? true : (facing[i] != facing[twin->second]);
-      if (silhouette && (!facing[i] || twin == owners.end())) result.push_back({a, b, b + offset, a + offset});
+      if (silhouette && (!facing[i] || twin == owners.end()))
+        result.emplace_back(std::initializer_list<dvec3>{a, b, b + offset, a + offset});
     }
     if (facing[i]) {
       for (dvec3& v : p) v += offset;
@@ -365,7 +376,7 @@ void ConvexBody::extrude(const dvec3& direction, const Aabb& until) {
 }
 
 ConvexBody ConvexBody::transformed(const glm::dmat4& m) const {
-  std::vector<Polygon> out = polygons_;
+  PolygonList out(polygons_, convexBodyMemory());
   for (Polygon& p : out) {
     for (dvec3& v : p) {
       const glm::dvec4 h = m * glm::dvec4(v, 1.0);

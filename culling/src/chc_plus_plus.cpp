@@ -4,8 +4,6 @@
 // result as soon as GL_QUERY_RESULT_AVAILABLE says so, as the paper does.
 #include <algorithm>
 #include <cmath>
-#include <deque>
-#include <queue>
 
 #include "traversal.hpp"
 
@@ -27,11 +25,14 @@ std::uint64_t hashDraw(std::uint64_t node, std::uint64_t frame, std::uint64_t n)
 // depth count as themselves) when their total area is at most `ratio` × the node box's, trying
 // the deepest level first; else the node's own box. The union holds all of the node's geometry,
 // so a hidden result stays exact.
-void queryBoxes(const std::vector<BvhNode>& nodes, std::int32_t node, int depth, double ratio, std::vector<Aabb>& out) {
+// `level`, `next`, `best`: scratch lists.
+void queryBoxes(const std::vector<BvhNode>& nodes, std::int32_t node, int depth, double ratio, std::vector<Aabb>& out,
+                std::vector<std::int32_t>& level, std::vector<std::int32_t>& next, std::vector<std::int32_t>& best) {
   const double limit = ratio * surfaceArea(nodes[node].bounds);
-  std::vector<std::int32_t> level{node}, best{node};
+  level.assign(1, node);
+  best.assign(1, node);
   for (int d = 1; d <= depth; ++d) {
-    std::vector<std::int32_t> next;
+    next.clear();
     for (std::int32_t n : level) {
       if (nodes[n].leaf()) {
         next.push_back(n);
@@ -44,7 +45,7 @@ void queryBoxes(const std::vector<BvhNode>& nodes, std::int32_t node, int depth,
     double area = 0.0;
     for (std::int32_t n : next) area += surfaceArea(nodes[n].bounds);
     if (area <= limit) best = next;
-    level = std::move(next);
+    std::swap(level, next);
   }
   for (std::int32_t n : best) out.push_back(nodes[n].bounds);
 }
@@ -55,17 +56,18 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
   const std::vector<BvhNode>& nodes = t.nodes();
   const CullingSettings& p = parameters_;
   const std::uint64_t requery = static_cast<std::uint64_t>(std::max(1, p.visible_requery_frames));
-  struct Pending {
-    std::vector<std::int32_t> nodes;  // several: a multiquery
-    std::size_t slot;
-    bool drawnAlready;  // a visible leaf's query (v-queue): drawn this frame, asks about the next
-    int step;           // traversal step at which it was issued
-  };
-  std::priority_queue<Entry> traversal;
-  std::deque<Pending> pending;
-  std::vector<std::int32_t> invisibleQueue, visibleQueue, renderQueue;
-  std::vector<std::uint32_t> objects;
-  std::vector<Aabb> boxes;
+  // The lists live in the culler's scratch (allocated once); a pending query's nodes — several for
+  // a multiquery — are a range of groupNodes; drawnAlready marks a visible leaf's query (v-queue):
+  // drawn this frame, it asks about the next.
+  Scratch& scratch = t.scratch;
+  EntryHeap& traversal = scratch.traversal;
+  FifoQueue<PendingQuery>& pending = scratch.pending;
+  std::vector<std::int32_t>& invisibleQueue = scratch.invisibleQueue;
+  std::vector<std::int32_t>& visibleQueue = scratch.visibleQueue;
+  std::vector<std::int32_t>& renderQueue = scratch.renderQueue;
+  std::vector<std::int32_t>& groupNodes = scratch.groupNodes;
+  std::vector<std::uint32_t>& objects = scratch.drawList;
+  std::vector<Aabb>& boxes = scratch.boxes;
   int steps = 0;
 
   // §3.2: visible leaves wait in the render queue; it is drawn in one call before any query goes
@@ -79,14 +81,18 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     renderQueue.clear();
     drawObjects(t, objects);
   };
-  auto issue = [&](std::vector<std::int32_t> group, bool drawnAlready) {
+  auto issue = [&](std::span<const std::int32_t> group, bool drawnAlready) {
     boxes.clear();
-    for (std::int32_t n : group) queryBoxes(nodes, n, p.tight_box_depth, p.tight_box_area_ratio, boxes);
+    for (std::int32_t n : group)
+      queryBoxes(nodes, n, p.tight_box_depth, p.tight_box_area_ratio, boxes, scratch.level, scratch.next, scratch.best);
     ++t.stats.queriesIssued;
     if (group.size() > 1) ++t.stats.multiQueries;
     const std::size_t slot = issueQuery(boxes);
-    pending.push_back({std::move(group), slot, drawnAlready, steps});
+    const std::size_t first = groupNodes.size();
+    groupNodes.insert(groupNodes.end(), group.begin(), group.end());
+    pending.push({first, group.size(), slot, drawnAlready, steps});
   };
+  auto issueOne = [&](std::int32_t n, bool drawnAlready) { issue({&n, 1}, drawnAlready); };
   // §3.1, §3.4: the i-queue goes out as one batch; with multiqueries, nodes sorted by p_keep are
   // grouped greedily while the group's queries saved per query issued, |M| / (1 + (1 − Π p)·|M|),
   // grows (a single node is an ordinary query: cost 1).
@@ -94,28 +100,36 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     if (invisibleQueue.empty()) return;
     flushRender();
     if (!p.multiqueries) {
-      for (std::int32_t n : invisibleQueue) issue({n}, false);
+      for (std::int32_t n : invisibleQueue) issueOne(n, false);
       invisibleQueue.clear();
       return;
     }
-    std::stable_sort(invisibleQueue.begin(), invisibleQueue.end(),
-                     [&](std::int32_t a, std::int32_t b) { return state_[a].invisibleFrames > state_[b].invisibleFrames; });
+    // Most often hidden first, ties in queue order (a stable sort, without the buffer
+    // std::stable_sort would allocate).
+    auto& order = scratch.order;
+    order.clear();
+    for (size_t i = 0; i < invisibleQueue.size(); ++i)
+      order.push_back({-state_[invisibleQueue[i]].invisibleFrames, static_cast<int>(i), invisibleQueue[i]});
+    std::sort(order.begin(), order.end());
+    for (size_t i = 0; i < order.size(); ++i) invisibleQueue[i] = std::get<2>(order[i]);
     auto value = [](double keepAll, size_t size) {
       return size <= 1 ? static_cast<double>(size) : static_cast<double>(size) / (1.0 + (1.0 - keepAll) * static_cast<double>(size));
     };
-    std::vector<std::int32_t> group;
+    std::vector<std::int32_t>& group = scratch.group;
+    group.clear();
     double keepAll = 1.0;
     for (std::int32_t n : invisibleQueue) {
       const double keep = keepProbability(state_[n].invisibleFrames);
       if (!group.empty() && value(keepAll * keep, group.size() + 1) <= value(keepAll, group.size())) {
-        issue(std::move(group), false);
+        issue(group, false);
         group.clear();
         keepAll = 1.0;
       }
       group.push_back(n);
       keepAll *= keep;
     }
-    if (!group.empty()) issue(std::move(group), false);
+    if (!group.empty()) issue(group, false);
+    group.clear();
     invisibleQueue.clear();
   };
   auto traverseNode = [&](std::int32_t n) {
@@ -130,16 +144,16 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     state_[n].visible = false;
     state_[n].invisibleFrames = std::min(state_[n].invisibleFrames + 1, 1000);
   };
-  auto handleResult = [&](Pending& q, std::uint32_t samples) {
-    if (q.nodes.size() > 1) {  // a multiquery: all hidden, or ask each node on its own
-      if (samples == 0) {
-        for (std::int32_t n : q.nodes) foundInvisible(n);
-      } else {
-        for (std::int32_t n : q.nodes) issue({n}, false);
+  auto handleResult = [&](const PendingQuery& q, std::uint32_t samples) {
+    if (q.count > 1) {  // a multiquery: all hidden, or ask each node on its own
+      // By index: issuing appends to groupNodes, which may move its storage.
+      for (std::size_t i = q.first; i < q.first + q.count; ++i) {
+        if (samples == 0) foundInvisible(groupNodes[i]);
+        else issueOne(groupNodes[i], false);
       }
       return;
     }
-    const std::int32_t n = q.nodes.front();
+    const std::int32_t n = groupNodes[q.first];
     if (samples == 0) {
       foundInvisible(n);
       return;
@@ -155,8 +169,8 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     if (wasInvisible) traverseNode(n);
   };
   auto takeResult = [&] {
-    Pending q = std::move(pending.front());
-    pending.pop_front();
+    const PendingQuery q = pending.front();
+    pending.pop();
     handleResult(q, waitResult(q.slot, t.stats));
   };
 
@@ -176,7 +190,7 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
         // About to wait: issue the visible leaves' queries first (§3.2), then take a result.
         if (!visibleQueue.empty()) {
           flushRender();
-          for (std::int32_t n : visibleQueue) issue({n}, true);
+          for (std::int32_t n : visibleQueue) issueOne(n, true);
           visibleQueue.clear();
         }
         takeResult();
@@ -224,7 +238,7 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
   }
   flushRender();
   // The remaining visible leaves' queries (for the next frame); their results complete this frame's state.
-  for (std::int32_t n : visibleQueue) issue({n}, true);
+  for (std::int32_t n : visibleQueue) issueOne(n, true);
   visibleQueue.clear();
   while (!pending.empty()) takeResult();
 }

@@ -6,8 +6,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <deque>
-#include <queue>
 #include <thread>
 
 #include "forest/core/error.hpp"
@@ -63,9 +61,14 @@ constexpr GLuint kQueryViewBinding = 3;
 
 }  // namespace
 
+OcclusionCuller::~OcclusionCuller() = default;
+OcclusionCuller::OcclusionCuller(OcclusionCuller&&) noexcept = default;
+OcclusionCuller& OcclusionCuller::operator=(OcclusionCuller&&) noexcept = default;
+
 OcclusionCuller::OcclusionCuller()
     : program_(gl::loadProgram({"query_box.vert", "query_box.frag"})),
-      viewUniforms_(kQueryViewBinding, sizeof(glm::mat4)) {
+      viewUniforms_(kQueryViewBinding, sizeof(glm::mat4)),
+      scratch_(std::make_unique<Scratch>()) {
   const float corners[8][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
   // 12 triangles; both sides are rasterised (culling is off while querying).
   const unsigned indices[36] = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
@@ -173,11 +176,15 @@ void OcclusionCuller::pullUpVisibility(std::int32_t n) {
   for (n = nodes[n].parent; n >= 0 && !state_[n].visible; n = nodes[n].parent) state_[n].visible = true;
 }
 
-CullingResult OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb> objectBoxes, const Camera& camera,
-                                    CullingStrategy strategy, ObjectDrawer& drawer) {
+const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb> objectBoxes, const Camera& camera,
+                                           CullingStrategy strategy, ObjectDrawer& drawer) {
   if (objectBoxes.size() != bvh.objectCount())
     throw Error(fmt::format("OcclusionCuller: {} object boxes for a BVH over {}", objectBoxes.size(), bvh.objectCount()));
-  CullingResult result;
+  CullingResult& result = result_;
+  result.stats = CullingStats{};
+  result.visibleObjects.clear();
+  Scratch& scratch = *scratch_;
+  scratch.clear();
   ++frame_;
   used_ = 0;
   switches_ = 0;
@@ -188,14 +195,16 @@ CullingResult OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb> object
   if (stateOf_ != &bvh || state_.size() != bvh.nodes().size()) {
     state_.assign(bvh.nodes().size(), NodeState{});
     stateOf_ = &bvh;
+    scratch_->reserve(bvh.nodes().size(), bvh.objectCount(), result_.visibleObjects);
+    pool_.reserve(2 * bvh.nodes().size());
   }
-  Traversal t{bvh, camera, view, Frustum(camera), drawer, result.stats, {}};
+  Traversal t{bvh, camera, view, Frustum(camera), drawer, result.stats, result.visibleObjects, scratch};
   const std::vector<BvhNode>& nodes = bvh.nodes();
 
   switch (strategy) {
     case CullingStrategy::None:
     case CullingStrategy::Frustum: {
-      std::vector<std::int32_t> stack;
+      std::vector<std::int32_t>& stack = scratch.stack;
       if (!nodes.empty()) stack.push_back(0);
       while (!stack.empty()) {
         const std::int32_t n = stack.back();
@@ -214,7 +223,7 @@ CullingResult OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb> object
       break;
     }
     case CullingStrategy::StopAndWait: {
-      std::priority_queue<Entry> traversal;
+      EntryHeap& traversal = scratch.traversal;
       if (!nodes.empty()) traversal.push(t.entry(0));
       while (!traversal.empty()) {
         const std::int32_t n = traversal.top().node;
@@ -248,21 +257,16 @@ CullingResult OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb> object
   std::sort(visible.begin(), visible.end());
   visible.erase(std::unique(visible.begin(), visible.end()), visible.end());
   result.farDepth = farDepthOf(visible, objectBoxes, camera);
-  result.visibleObjects = std::move(visible);
   return result;
 }
 
 // CHC (Bittner et al. 2004, fig. 4).
 void OcclusionCuller::cullChc(Traversal& t) {
   const std::vector<BvhNode>& nodes = t.nodes();
-  std::priority_queue<Entry> traversal;
-  struct Pending {
-    std::int32_t node;
-    std::size_t slot;
-    bool leafAlreadyDrawn;  // a previously visible leaf: drawn at once, queried for the next frame
-    int step;               // traversal step at which it was issued
-  };
-  std::deque<Pending> queries;
+  EntryHeap& traversal = t.scratch.traversal;
+  // Each pending query holds one node (first); drawnAlready: a previously visible leaf, drawn at
+  // once and queried for the next frame.
+  FifoQueue<PendingQuery>& queries = t.scratch.pending;
   auto traverseNode = [&](std::int32_t n) {
     if (nodes[n].leaf()) {
       drawObjects(t, t.objectsOf(n));
@@ -271,11 +275,12 @@ void OcclusionCuller::cullChc(Traversal& t) {
       traversal.push(t.entry(nodes[n].right));
     }
   };
-  auto handleResult = [&](const Pending& p, std::uint32_t samples) {
+  auto handleResult = [&](const PendingQuery& p, std::uint32_t samples) {
     if (samples == 0) return;
-    pullUpVisibility(p.node);
-    if (nodes[p.node].leaf()) t.markVisible(p.node);
-    if (!p.leafAlreadyDrawn) traverseNode(p.node);
+    const std::int32_t node = static_cast<std::int32_t>(p.first);
+    pullUpVisibility(node);
+    if (nodes[node].leaf()) t.markVisible(node);
+    if (!p.drawnAlready) traverseNode(node);
   };
   if (!nodes.empty()) traversal.push(t.entry(0));
   int steps = 0;
@@ -288,8 +293,8 @@ void OcclusionCuller::cullChc(Traversal& t) {
       return steps % kBatchSteps == 0 && queries.front().step <= steps - kBatchSteps;
     };
     while (!queries.empty() && ready()) {
-      const Pending p = queries.front();
-      queries.pop_front();
+      const PendingQuery p = queries.front();
+      queries.pop();
       handleResult(p, waitResult(p.slot, t.stats));
     }
     if (traversal.empty()) continue;
@@ -311,7 +316,7 @@ void OcclusionCuller::cullChc(Traversal& t) {
     s.visible = false;
     s.lastVisited = frame_;
     if (!opened) {
-      queries.push_back({n, issueQuery({&nodes[n].bounds, 1}), wasVisible, steps});
+      queries.push({static_cast<std::size_t>(n), 1, issueQuery({&nodes[n].bounds, 1}), wasVisible, steps});
       ++t.stats.queriesIssued;
     }
     if (wasVisible) traverseNode(n);

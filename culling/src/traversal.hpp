@@ -2,9 +2,11 @@
 // One culling frame's shared state and the helpers every traversal strategy uses (internal).
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <span>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -42,6 +44,81 @@ struct Entry {
   bool operator<(const Entry& other) const { return distance > other.distance; }
 };
 
+// A nearest-first queue over a vector the culler keeps (std::priority_queue would own it).
+struct EntryHeap {
+  std::vector<Entry> items;
+  bool empty() const { return items.empty(); }
+  const Entry& top() const { return items.front(); }
+  void push(const Entry& e) {
+    items.push_back(e);
+    std::push_heap(items.begin(), items.end());
+  }
+  void pop() {
+    std::pop_heap(items.begin(), items.end());
+    items.pop_back();
+  }
+};
+
+// A first-in, first-out queue over a vector: popping moves a head index, clear() empties it; the
+// storage stays (std::deque frees and allocates blocks as it goes).
+template <class T>
+struct FifoQueue {
+  std::vector<T> items;
+  std::size_t head = 0;
+  bool empty() const { return head == items.size(); }
+  T& front() { return items[head]; }
+  void push(const T& v) { items.push_back(v); }
+  void pop() {
+    if (++head == items.size()) clear();
+  }
+  void clear() {
+    items.clear();
+    head = 0;
+  }
+};
+
+// A query waiting for its result: CHC's single node, or CHC++'s group of nodes (a multiquery),
+// `count` entries of Scratch::groupNodes from `first`.
+struct PendingQuery {
+  std::size_t first = 0, count = 0;
+  std::size_t slot = 0;
+  bool drawnAlready = false;  // a visible leaf's query: drawn this frame, asks about the next
+  int step = 0;               // traversal step at which it was issued
+};
+
+// Every list the traversals use, kept by the culler so a steady-state frame allocates nothing.
+struct OcclusionCuller::Scratch {
+  EntryHeap traversal;
+  std::vector<std::int32_t> stack;
+  FifoQueue<PendingQuery> pending;
+  std::vector<std::int32_t> groupNodes;  // the nodes of the pending queries
+  std::vector<std::int32_t> invisibleQueue, visibleQueue, renderQueue, group;
+  std::vector<std::int32_t> level, next, best;  // chc++'s tight query boxes
+  std::vector<std::tuple<int, int, std::int32_t>> order;  // chc++: the i-queue sorted by p_keep
+  std::vector<std::uint32_t> drawList;  // chc++: the render queue's objects
+  std::vector<Aabb> boxes;
+  // Room for the largest frame a BVH of `nodes` nodes over `objects` objects can make: each node
+  // is queued, opened and queried at most twice (a multiquery, then on its own), each object
+  // drawn and marked visible at most twice; so no frame grows a list.
+  void reserve(std::size_t nodes, std::size_t objects, std::vector<std::uint32_t>& visible) {
+    for (auto* v : {&stack, &invisibleQueue, &visibleQueue, &renderQueue, &group, &level, &next, &best}) v->reserve(2 * nodes);
+    traversal.items.reserve(2 * nodes);
+    pending.items.reserve(2 * nodes);
+    groupNodes.reserve(2 * nodes);
+    order.reserve(2 * nodes);
+    boxes.reserve(2 * nodes);
+    drawList.reserve(2 * objects);
+    visible.reserve(2 * objects);
+  }
+  void clear() {
+    traversal.items.clear();
+    stack.clear();
+    pending.clear();
+    groupNodes.clear();
+    for (auto* v : {&invisibleQueue, &visibleQueue, &renderQueue, &group}) v->clear();
+  }
+};
+
 struct OcclusionCuller::Traversal {
   const Bvh& bvh;
   const Camera& camera;
@@ -49,7 +126,8 @@ struct OcclusionCuller::Traversal {
   Frustum frustum;
   ObjectDrawer& drawer;
   CullingStats& stats;
-  std::vector<std::uint32_t> visible;  // objects of the leaves found visible (may repeat)
+  std::vector<std::uint32_t>& visible;  // objects of the leaves found visible (may repeat)
+  Scratch& scratch;
 
   const std::vector<BvhNode>& nodes() const { return bvh.nodes(); }
   std::span<const std::uint32_t> objectsOf(std::int32_t n) const {

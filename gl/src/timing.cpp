@@ -13,56 +13,67 @@ double millisecondsBetween(Clock::time_point a, Clock::time_point b) {
 PassTimer::PassTimer(TimingMode mode, int latency, std::uint64_t firstFrame)
     : mode_(mode), latency_(std::max(1, latency)), frameNumber_(firstFrame) {}
 
-Query PassTimer::takeQuery() {
-  if (spareQueries_.empty()) return Query(GL_TIMESTAMP);
-  Query q = std::move(spareQueries_.back());
-  spareQueries_.pop_back();
-  return q;
+PassTimer::Slot& PassTimer::current() {
+  if (current_ == kNone) throw Error("PassTimer: a pass outside beginFrame/endFrame");
+  return slots_[current_];
 }
 
 void PassTimer::beginFrame() {
-  current_ = PendingFrame{};
-  current_.timing.frame = frameNumber_++;
+  if (current_ != kNone) throw Error("PassTimer::beginFrame: the previous frame was not ended");
+  if (free_.empty()) {
+    free_.push_back(slots_.size());
+    slots_.emplace_back();
+  }
+  current_ = free_.back();
+  free_.pop_back();
+  Slot& slot = slots_[current_];
+  slot.timing.frame = frameNumber_++;
+  slot.timing.cpuFrameMs = 0.0;
+  slot.timing.passes.clear();
   open_.clear();
   if (mode_ == TimingMode::Profiling) glFinish();
   frameStart_ = Clock::now();
 }
 
 void PassTimer::begin(const std::string& pass) {
-  current_.timing.passes.push_back({pass, 0.0});
-  const size_t index = current_.timing.passes.size() - 1;
+  Slot& slot = current();
+  slot.timing.passes.push_back({pass, 0.0});
+  const size_t index = slot.timing.passes.size() - 1;
   // Profiling: the GPU is idle here (beginFrame or the previous pass's end finished it), so the
   // clock alone starts the pass.
   if (mode_ == TimingMode::GpuQueries) {
-    current_.queries.emplace_back(takeQuery(), takeQuery());
-    glQueryCounter(current_.queries.back().first.id(), GL_TIMESTAMP);
+    if (slot.queries.size() <= index) slot.queries.emplace_back(Query(GL_TIMESTAMP), Query(GL_TIMESTAMP));
+    glQueryCounter(slot.queries[index].first.id(), GL_TIMESTAMP);
   }
-  open_.push_back({pass, index, Clock::now()});
+  open_.push_back({index, Clock::now()});
 }
 
 void PassTimer::end() {
   if (open_.empty()) throw Error("PassTimer::end without begin");
   const OpenPass pass = open_.back();
   open_.pop_back();
+  Slot& slot = current();
   if (mode_ == TimingMode::Profiling) {
     glFinish();
-    current_.timing.passes[pass.recordIndex].ms = millisecondsBetween(pass.start, Clock::now());
+    slot.timing.passes[pass.recordIndex].ms = millisecondsBetween(pass.start, Clock::now());
   } else {
-    glQueryCounter(current_.queries[pass.recordIndex].second.id(), GL_TIMESTAMP);
+    glQueryCounter(slot.queries[pass.recordIndex].second.id(), GL_TIMESTAMP);
   }
 }
 
 void PassTimer::endFrame() {
-  if (!open_.empty()) throw Error("PassTimer::endFrame with pass '" + open_.back().name + "' still open");
+  Slot& slot = current();
+  if (!open_.empty())
+    throw Error("PassTimer::endFrame with pass '" + slot.timing.passes[open_.back().recordIndex].pass + "' still open");
   if (mode_ == TimingMode::Profiling) glFinish();
-  current_.timing.cpuFrameMs = millisecondsBetween(frameStart_, Clock::now());
+  slot.timing.cpuFrameMs = millisecondsBetween(frameStart_, Clock::now());
   if (mode_ == TimingMode::Profiling) {
-    completed_.push_back(std::move(current_.timing));
+    done_.push_back(current_);
   } else {
-    pending_.push_back(std::move(current_));
-    collect(static_cast<int>(pending_.size()) > latency_);
+    inFlight_.push_back(current_);
   }
-  current_ = PendingFrame{};
+  current_ = kNone;
+  if (mode_ == TimingMode::GpuQueries) collect(static_cast<int>(inFlight_.size()) > latency_);
 }
 
 // Reads finished frames' timestamps, oldest frame first. Every result is read only after
@@ -70,25 +81,24 @@ void PassTimer::endFrame() {
 // `wait` (more than `latency` frames in flight, or the end of a run) the oldest frame is polled
 // until its queries are available.
 void PassTimer::collect(bool wait) {
-  while (!pending_.empty()) {
-    PendingFrame& frame = pending_.front();
-    for (const auto& [startQuery, endQuery] : frame.queries)
-      for (const Query* q : {&startQuery, &endQuery}) {
+  while (!inFlight_.empty()) {
+    Slot& frame = slots_[inFlight_.front()];
+    const size_t passes = frame.timing.passes.size();
+    for (size_t i = 0; i < passes; ++i)
+      for (const Query* q : {&frame.queries[i].first, &frame.queries[i].second}) {
         GLint available = GL_FALSE;
         glGetQueryObjectiv(q->id(), GL_QUERY_RESULT_AVAILABLE, &available);
         while (!available && wait) glGetQueryObjectiv(q->id(), GL_QUERY_RESULT_AVAILABLE, &available);
         if (!available) return;
       }
-    for (size_t i = 0; i < frame.queries.size(); ++i) {
+    for (size_t i = 0; i < passes; ++i) {
       GLuint64 start = 0, stop = 0;
       glGetQueryObjectui64v(frame.queries[i].first.id(), GL_QUERY_RESULT, &start);
       glGetQueryObjectui64v(frame.queries[i].second.id(), GL_QUERY_RESULT, &stop);
       frame.timing.passes[i].ms = stop > start ? static_cast<double>(stop - start) * 1e-6 : 0.0;
-      spareQueries_.push_back(std::move(frame.queries[i].first));
-      spareQueries_.push_back(std::move(frame.queries[i].second));
     }
-    completed_.push_back(std::move(frame.timing));
-    pending_.pop_front();
+    done_.push_back(inFlight_.front());
+    inFlight_.erase(inFlight_.begin());  // a few frames at most
     wait = false;
   }
 }
@@ -96,12 +106,25 @@ void PassTimer::collect(bool wait) {
 std::vector<FrameTiming> PassTimer::takeCompleted() {
   if (mode_ == TimingMode::GpuQueries) collect(false);
   std::vector<FrameTiming> out;
-  out.swap(completed_);
+  for (size_t slot : done_) {
+    out.push_back(slots_[slot].timing);
+    free_.push_back(slot);
+  }
+  done_.clear();
   return out;
 }
 
+bool PassTimer::takeOldestCompleted(FrameTiming& into) {
+  if (mode_ == TimingMode::GpuQueries) collect(false);
+  if (done_.empty()) return false;
+  into = slots_[done_.front()].timing;
+  free_.push_back(done_.front());
+  done_.erase(done_.begin());
+  return true;
+}
+
 std::vector<FrameTiming> PassTimer::drain() {
-  while (!pending_.empty()) collect(true);
+  while (!inFlight_.empty()) collect(true);
   return takeCompleted();
 }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 #include <string>
 
 #include "forest/core/drawing.hpp"
@@ -27,7 +28,7 @@ Image8 filled(int width, int height, glm::vec3 colour) {
   return image;
 }
 
-std::vector<dvec2> footprint(const std::vector<dvec3>& points) {
+std::vector<dvec2> footprint(std::span<const dvec3> points) {
   std::vector<dvec2> xz;
   for (const dvec3& p : points) xz.emplace_back(p.x, p.z);
   return convexHull(std::move(xz));

@@ -112,6 +112,7 @@ Frame::Frame(const Scene& scene, int width, int height) : scene_(scene), width_(
   objects_ = std::make_unique<SceneObjects>(terrain_.get(), forest_.get(), scene.props);
   passes_ = std::make_unique<Passes>(*objects_, terrain_.get(), forest_.get(), scene.props, width, height);
   bvh_ = culling::Bvh(objects_->boxes(), 1);
+  visibleObjects_.reserve(objects_->boxes().size());  // the largest visible set: no growth per frame
   culler_.setParameters(scene_.culling);
   for (const Aabb& b : objects_->boxes()) sceneBounds_.extend(b);
 }
@@ -186,12 +187,13 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
 
   // 1. Geometry pass: the visible set and its z_f.
   culler_.setQueryMode(settings.queries);
-  culling::CullingResult visible;
+  const culling::CullingResult* culled = nullptr;  // the culler's storage, valid this frame
   {
     auto timed = timer.scope(kFramePassNames[0]);
     const bool frozen = settings.freezeCulling && haveVisibleSet_;
-    visible = p.geometry.run(camera, eye, eyeLod, settings.culling, culler_, bvh_, frozen ? &visibleObjects_ : nullptr);
+    culled = &p.geometry.run(camera, eye, eyeLod, settings.culling, culler_, bvh_, frozen ? &visibleObjects_ : nullptr);
   }
+  const culling::CullingResult& visible = *culled;
   haveVisibleSet_ = true;
   stats.culling = visible.stats;
   stats.visibleObjects = static_cast<int>(visible.visibleObjects.size());
@@ -233,7 +235,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   }
   timer.endFrame();
   if (settings.timing == gl::TimingMode::Profiling) {
-    for (const gl::FrameTiming& t : timer.takeCompleted()) stats.setPassTimes(t);
+    while (timer.takeOldestCompleted(passTiming_)) stats.setPassTimes(passTiming_);
   } else {
     stats.passTimesPending = true;
   }

@@ -28,9 +28,10 @@ GeometryPass::GeometryPass(const SceneObjects& objects, const terrain::Terrain* 
   if (terrain) terrain_ = std::make_unique<TerrainRenderer>(*terrain, TerrainRenderer::Output::GBuffer, objects.terrainIdBase());
   if (forest) trees_ = std::make_unique<TreeRenderer>(*forest, SurfaceOutput::GBuffer, objects.treeIdBase());
   props_ = std::make_unique<PropRenderer>(props, SurfaceOutput::GBuffer, objects.propIdBase());
+  drawer_ = std::make_unique<SceneDrawer>(objects, terrain_.get(), trees_.get(), props_.get(), DrawView{}, nullptr);
 }
 
-culling::CullingResult GeometryPass::run(const Camera& camera, const DrawView& eye, const terrain::TerrainLod* lod,
+const culling::CullingResult& GeometryPass::run(const Camera& camera, const DrawView& eye, const terrain::TerrainLod* lod,
                                          culling::CullingStrategy strategy, culling::OcclusionCuller& culler,
                                          const culling::Bvh& bvh, const std::vector<std::uint32_t>* frozen) {
   glBindFramebuffer(GL_FRAMEBUFFER, gbuffer_.framebuffer.id());
@@ -47,9 +48,11 @@ culling::CullingResult GeometryPass::run(const Camera& camera, const DrawView& e
   glClearBufferuiv(GL_COLOR, 3, zeroId);
   const float farDepth = 0.0f;
   glClearBufferfv(GL_DEPTH, 0, &farDepth);
-  SceneDrawer drawer(objects_, terrain_.get(), trees_.get(), props_.get(), eye, lod);
+  SceneDrawer& drawer = *drawer_;
+  drawer.setView(eye, lod);
   if (!frozen) return culler.cull(bvh, objects_.boxes(), camera, strategy, drawer);
-  culling::CullingResult visible;
+  culling::CullingResult& visible = frozenResult_;
+  visible.stats = culling::CullingStats{};
   visible.visibleObjects = *frozen;
   visible.stats.trianglesDrawn = drawer.draw(visible.visibleObjects);
   visible.stats.objectsDrawn = static_cast<int>(visible.visibleObjects.size());

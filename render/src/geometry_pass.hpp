@@ -24,8 +24,9 @@ class GeometryPass {
                const std::vector<PropBox>& props, int width, int height);
 
   // Clears the G-buffer and draws what the culler finds visible; with `frozen`, exactly those
-  // objects, without culling (FrameSettings::freezeCulling).
-  culling::CullingResult run(const Camera& camera, const DrawView& eye, const terrain::TerrainLod* lod,
+  // objects, without culling (FrameSettings::freezeCulling). The result is valid until the next run
+  // (the culler's or this pass's storage, reused).
+  const culling::CullingResult& run(const Camera& camera, const DrawView& eye, const terrain::TerrainLod* lod,
                              culling::CullingStrategy strategy, culling::OcclusionCuller& culler, const culling::Bvh& bvh,
                              const std::vector<std::uint32_t>* frozen);
   void propsMoved(const std::vector<PropBox>& props) { props_->update(props); }
@@ -38,6 +39,8 @@ class GeometryPass {
   std::unique_ptr<TerrainRenderer> terrain_;
   std::unique_ptr<TreeRenderer> trees_;
   std::unique_ptr<PropRenderer> props_;
+  std::unique_ptr<SceneDrawer> drawer_;
+  culling::CullingResult frozenResult_;
 };
 
 }  // namespace forest::render

@@ -38,7 +38,12 @@ std::int64_t SceneObjects::objectOfId(std::uint32_t id) const {
 
 SceneDrawer::SceneDrawer(const SceneObjects& objects, const TerrainRenderer* terrain, const TreeRenderer* trees,
                          const PropRenderer* props, const DrawView& view, const terrain::TerrainLod* lod)
-    : objects_(objects), terrain_(terrain), trees_(trees), props_(props), view_(view), lod_(lod) {}
+    : objects_(objects), terrain_(terrain), trees_(trees), props_(props), view_(view), lod_(lod) {
+  // Room for every object: a draw never grows the lists (no allocation per frame).
+  tiles_.reserve(objects.tileCount());
+  clusters_.reserve(objects.clusterCount());
+  propList_.reserve(objects.propCount());
+}
 
 long long SceneDrawer::draw(std::span<const std::uint32_t> objects) {
   tiles_.clear();

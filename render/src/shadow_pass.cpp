@@ -47,6 +47,7 @@ ShadowPass::ShadowPass(const SceneObjects& objects, const terrain::Terrain* terr
   if (terrain) terrain_ = std::make_unique<TerrainRenderer>(*terrain, TerrainRenderer::Output::ObjectId, objects.terrainIdBase());
   if (forest) trees_ = std::make_unique<TreeRenderer>(*forest, SurfaceOutput::ObjectId, objects.treeIdBase());
   props_ = std::make_unique<PropRenderer>(props, SurfaceOutput::ObjectId, objects.propIdBase());
+  drawer_ = std::make_unique<SceneDrawer>(objects, terrain_.get(), trees_.get(), props_.get(), DrawView{}, nullptr);
 }
 
 void ShadowPass::propsMoved(const std::vector<PropBox>& props) {
@@ -60,6 +61,8 @@ void ShadowPass::ensureLightDepthRenderers() {
     terrainLightDepth_ = std::make_unique<TerrainRenderer>(*terrainSource_, TerrainRenderer::Output::LightDepth, objects_.terrainIdBase());
   if (forestSource_) treesLightDepth_ = std::make_unique<TreeRenderer>(*forestSource_, SurfaceOutput::LightDepth, objects_.treeIdBase());
   propsLightDepth_ = std::make_unique<PropRenderer>(propsSource_, SurfaceOutput::LightDepth, objects_.propIdBase());
+  lightDepthDrawer_ = std::make_unique<SceneDrawer>(objects_, terrainLightDepth_.get(), treesLightDepth_.get(),
+                                                    propsLightDepth_.get(), DrawView{}, nullptr);
 }
 
 void ShadowPass::ensureMap(int size) {
@@ -107,11 +110,11 @@ long long ShadowPass::run(const ShadowPlan& plan, const DrawView& eye, const ter
     light.lightDepthRelative = glm::dvec4(dvec3(row), row.w + glm::dot(dvec3(row), eye.origin));
     light.depthSlopeBias = settings.slopeScaleBias;
     glDisable(GL_POLYGON_OFFSET_FILL);
-    SceneDrawer drawer(objects_, terrainLightDepth_.get(), treesLightDepth_.get(), propsLightDepth_.get(), light, lod);
-    triangles = drawer.draw(plan.casters);
+    lightDepthDrawer_->setView(light, lod);
+    triangles = lightDepthDrawer_->draw(plan.casters);
   } else {
-    SceneDrawer drawer(objects_, terrain_.get(), trees_.get(), props_.get(), light, lod);
-    triangles = drawer.draw(plan.casters);
+    drawer_->setView(light, lod);
+    triangles = drawer_->draw(plan.casters);
   }
   glDisable(GL_POLYGON_OFFSET_FILL);
   glFrontFace(GL_CCW);

@@ -40,6 +40,7 @@ class ShadowPass {
   std::unique_ptr<TerrainRenderer> terrain_, terrainLightDepth_;
   std::unique_ptr<TreeRenderer> trees_, treesLightDepth_;
   std::unique_ptr<PropRenderer> props_, propsLightDepth_;
+  std::unique_ptr<SceneDrawer> drawer_, lightDepthDrawer_;  // kept: their lists are reused
   gl::Texture map_;
   gl::Framebuffer framebuffer_;
   int size_ = 0;

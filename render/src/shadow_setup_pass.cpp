@@ -62,31 +62,37 @@ Aabb grownByFilter(Aabb box, const shadows::ShadowSetup& setup, int mapSize, dou
   return box;
 }
 
+}  // namespace
+
 // Casters of the visible receivers (DESIGN §4, Bittner et al. 2011): only the part of a receiver
 // inside the view (up to z_f) receives visible shadows, so each box is clipped to V first (a
 // 125 m terrain tile at the edge of the view does not pull in the casters of its unseen part),
 // then grown by the filter's footprint.
-std::vector<std::uint32_t> castersOfReceivers(const std::vector<Aabb>& receivers, const Camera& shadowCamera,
-                                              const shadows::ShadowSetup& setup, const FrameSettings& settings,
-                                              const dvec3& l, const SceneObjects& objects, const Aabb& sceneBounds) {
+void ShadowSetupPass::selectCastersOfReceivers(const Camera& shadowCamera, const shadows::ShadowSetup& setup,
+                                               const FrameSettings& settings, const dvec3& l, const SceneObjects& objects,
+                                               const Aabb& sceneBounds, std::vector<std::uint32_t>& casters) {
   const ConvexBody view = shadows::viewFrustumBody(shadowCamera);
   const double reach = filterReachTexels(settings.pcfRadius) + kFilterMarginTexels;
-  std::vector<Aabb> footprints;
-  for (const Aabb& receiver : receivers) {
+  footprints_.clear();
+  for (const Aabb& receiver : receivers_) {
     ConvexBody part = ConvexBody::fromBox(receiver);
     part.clip(view);
-    if (!part.empty()) footprints.push_back(grownByFilter(part.bounds(), setup, settings.shadowMapSize, reach, l, sceneBounds));
+    if (!part.empty()) footprints_.push_back(grownByFilter(part.bounds(), setup, settings.shadowMapSize, reach, l, sceneBounds));
   }
-  const shadows::CasterSelector selector(l, footprints);
-  return selector.select(objects.boxes());
+  selector_.rebuild(l, footprints_);
+  selector_.select(objects.boxes(), casters);
 }
-
-}  // namespace
 
 void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& visible, const FrameSettings& settings,
                           const dvec3& l, bool sunBelowHorizon, const SceneObjects& objects, const Aabb& sceneBounds,
                           ShadowPlan& plan, FrameStats& stats) {
-  std::vector<Aabb> receivers;
+  std::vector<Aabb>& receivers = receivers_;
+  receivers.clear();
+  // Room for every object as receiver and caster (a frame then never grows these lists).
+  receivers_.reserve(objects.boxes().size());
+  footprints_.reserve(objects.boxes().size());
+  plan.casters.reserve(objects.boxes().size());
+  selector_.reserve(objects.boxes().size());
   Aabb receiverBounds;
   for (std::uint32_t o : visible.visibleObjects) {
     receivers.push_back(objects.boxes()[o]);
@@ -120,7 +126,7 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
   previousN_ = settings.method == shadows::ShadowMethod::Lispsm && !plan.setup.empty ? plan.setup.diagnostics.n : 0.0;
   switch (settings.casters) {
     case CasterSelection::Receivers:
-      plan.casters = castersOfReceivers(receivers, input.camera, plan.setup, settings, l, objects, sceneBounds);
+      selectCastersOfReceivers(input.camera, plan.setup, settings, l, objects, sceneBounds, plan.casters);
       break;
     case CasterSelection::FrustumBody: {
       const ConvexBody body = shadows::computeFocusBody(camera, l, sceneBounds);

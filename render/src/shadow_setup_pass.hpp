@@ -8,6 +8,7 @@
 #include "forest/culling/occlusion_culler.hpp"
 #include "forest/render/frame.hpp"
 #include "forest/render/scene_objects.hpp"
+#include "forest/shadows/casters.hpp"
 #include "forest/shadows/shadow_setup.hpp"
 
 namespace forest::render {
@@ -35,8 +36,17 @@ class ShadowSetupPass {
   }
 
  private:
+  // Casters of the visible receivers (DESIGN §4): each receiver's part inside the view, grown by
+  // the filter's footprint, swept along the light (shadows::CasterSelector).
+  void selectCastersOfReceivers(const Camera& shadowCamera, const shadows::ShadowSetup& setup, const FrameSettings& settings,
+                                const glm::dvec3& l, const SceneObjects& objects, const Aabb& sceneBounds,
+                                std::vector<std::uint32_t>& casters);
+
   double previousN_ = 0.0;     // lispsm: the last frame's n (ShadowInput::previousN); 0: none
   double stableRadius_ = 0.0;  // uniform-stable: the last map radius (ShadowInput::previousStableRadius)
+  // Kept from frame to frame, so a steady-state frame allocates nothing (DESIGN §9).
+  std::vector<Aabb> receivers_, footprints_;
+  shadows::CasterSelector selector_;
 };
 
 }  // namespace forest::render

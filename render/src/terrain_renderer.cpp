@@ -79,6 +79,9 @@ TerrainRenderer::TerrainRenderer(const terrain::Terrain& terrain, Output output,
   indices_ = gl::Buffer(indices.size() * sizeof(std::uint32_t), indices.data(), 0);
   // A segment holds every tile (the largest draw), so the ring never grows.
   instances_ = std::make_unique<gl::StreamRing>(static_cast<size_t>(terrain.tileCount()) * sizeof(glm::ivec4), sizeof(glm::ivec4));
+  // Room for every tile in every list: a draw never grows them (no allocation per frame).
+  for (auto& level : byLevel_) level.reserve(static_cast<size_t>(terrain.tileCount()));
+  packed_.reserve(static_cast<size_t>(terrain.tileCount()));
 
   const GLuint vao = vertexArray_.id();
   glVertexArrayVertexBuffer(vao, 0, grid_.id(), 0, sizeof(glm::ivec2));

@@ -47,6 +47,7 @@ TreeRenderer::TreeRenderer(const vegetation::Forest& forest, Output output, std:
   indices_ = gl::Buffer(indices.size() * sizeof(std::uint32_t), indices.data(), 0);
   // A segment holds every tree (the largest draw), so the ring never grows.
   instances_ = std::make_unique<gl::StreamRing>(std::max<size_t>(1, forest.trees().size()) * sizeof(InstanceGpu), sizeof(InstanceGpu));
+  groupOf_.reserve(forest.trees().size());
 
   const GLuint vao = vertexArray_.id();
   glVertexArrayVertexBuffer(vao, 0, vertices_.id(), 0, sizeof(TreeVertex));
@@ -84,35 +85,34 @@ TreeRenderer::Stats TreeRenderer::draw(const Camera& camera, std::span<const std
 TreeRenderer::Stats TreeRenderer::draw(const DrawView& view, std::span<const std::uint32_t> clusters) const {
   Stats stats;
   const double time = view.time;
-  // Instances grouped by (species, LOD), base positions relative to the eye in double.
-  auto& groups = groups_;
-  for (auto& species : groups)
-    for (auto& group : species) group.clear();
-  for (std::uint32_t c : clusters) {
+  // Instances grouped by (species, LOD), base positions relative to the eye in double, written
+  // straight into the ring: count the groups, then place each tree in its group's part.
+  std::array<int, kSpeciesCount * kTreeLods> counts{}, cursor{};
+  groupOf_.clear();
+  for (std::uint32_t c : clusters)
+    for (std::uint32_t t : forest_.clusters()[c].trees) {
+      const int group = static_cast<int>(forest_.trees()[t].species) * kTreeLods + forest_.lodFor(t, view.lodEye);
+      groupOf_.push_back(static_cast<std::uint8_t>(group));
+      ++counts[static_cast<size_t>(group)];
+    }
+  if (groupOf_.empty()) return stats;
+  for (size_t g = 1; g < counts.size(); ++g) cursor[g] = cursor[g - 1] + counts[g - 1];
+  const std::array<int, kSpeciesCount * kTreeLods> first = cursor;
+  const GLuint ringBefore = instances_->id();
+  const gl::StreamRing::Allocation part = instances_->allocate(groupOf_.size() * sizeof(InstanceGpu));
+  if (instances_->id() != ringBefore) glVertexArrayVertexBuffer(vertexArray_.id(), 1, instances_->id(), 0, sizeof(InstanceGpu));
+  auto* out = static_cast<InstanceGpu*>(part.data);
+  size_t k = 0;
+  for (std::uint32_t c : clusters)
     for (std::uint32_t t : forest_.clusters()[c].trees) {
       const vegetation::TreeInstance& tree = forest_.trees()[t];
-      const int lod = forest_.lodFor(t, view.lodEye);
-      InstanceGpu g{};
+      InstanceGpu& g = out[cursor[groupOf_[k++]]++];
       g.baseYaw = glm::vec4(glm::vec3(tree.position - view.origin), static_cast<float>(tree.yaw));
       g.scalePhase = glm::vec4(static_cast<float>(tree.scale), static_cast<float>(tree.swayPhase), 0.0f, 0.0f);
       g.tint = glm::vec4(tree.tint, 1.0f);
       g.objectId = objectIdBase_ + t;
-      groups[static_cast<size_t>(tree.species)][lod].push_back(g);
+      g.padding[0] = g.padding[1] = g.padding[2] = 0;
     }
-  }
-  auto& packed = packed_;
-  packed.clear();
-  std::array<std::array<int, kTreeLods>, kSpeciesCount> first{};
-  for (int s = 0; s < kSpeciesCount; ++s)
-    for (int lod = 0; lod < kTreeLods; ++lod) {
-      first[s][lod] = static_cast<int>(packed.size());
-      packed.insert(packed.end(), groups[s][lod].begin(), groups[s][lod].end());
-    }
-  if (packed.empty()) return stats;
-  const GLuint ringBefore = instances_->id();
-  const gl::StreamRing::Allocation part = instances_->allocate(packed.size() * sizeof(InstanceGpu));
-  std::memcpy(part.data, packed.data(), packed.size() * sizeof(InstanceGpu));
-  if (instances_->id() != ringBefore) glVertexArrayVertexBuffer(vertexArray_.id(), 1, instances_->id(), 0, sizeof(InstanceGpu));
   const GLuint baseInstance = static_cast<GLuint>(part.offset / sizeof(InstanceGpu));
 
   // The shader evaluates the sway in float: t is reduced modulo 10 periods first (in double), a
@@ -122,13 +122,13 @@ TreeRenderer::Stats TreeRenderer::draw(const DrawView& view, std::span<const std
   glBindVertexArray(vertexArray_.id());
   for (int s = 0; s < kSpeciesCount; ++s) {
     for (int lod = 0; lod < kTreeLods; ++lod) {
-      const int count = static_cast<int>(groups[s][lod].size());
+      const int count = counts[static_cast<size_t>(s * kTreeLods + lod)];
       if (count == 0) continue;
       const Range& r = ranges_[s][lod];
       glDrawElementsInstancedBaseVertexBaseInstance(
           GL_TRIANGLES, r.indexCount, GL_UNSIGNED_INT,
           reinterpret_cast<const void*>(static_cast<std::uintptr_t>(r.firstIndex) * sizeof(std::uint32_t)), count,
-          r.baseVertex, baseInstance + static_cast<GLuint>(first[s][lod]));
+          r.baseVertex, baseInstance + static_cast<GLuint>(first[static_cast<size_t>(s * kTreeLods + lod)]));
       stats.trees += count;
       stats.treesPerLod[lod] += count;
       stats.triangles += static_cast<long long>(count) * r.indexCount / 3;

@@ -15,6 +15,11 @@ using glm::dvec3;
 
 constexpr int kMaxGridCellsPerSide = 256;
 
+// Cells per side of the grid for `receivers` receivers: about one receiver per cell.
+int gridSide(std::size_t receivers) {
+  return std::clamp(static_cast<int>(std::ceil(std::sqrt(static_cast<double>(receivers)))), 1, kMaxGridCellsPerSide);
+}
+
 }  // namespace
 
 std::pair<dvec3, dvec3> axesAcrossLight(const dvec3& l) {
@@ -41,35 +46,59 @@ bool sweptBoxMeetsBox(const Aabb& caster, const dvec3& l, const Aabb& receiver) 
   return true;
 }
 
-CasterSelector::CasterSelector(const dvec3& lightDirection, std::span<const Aabb> receivers)
-    : receivers_(receivers.begin(), receivers.end()) {
+CasterSelector::CasterSelector(const dvec3& lightDirection, std::span<const Aabb> receivers) {
+  rebuild(lightDirection, receivers);
+}
+
+void CasterSelector::reserve(std::size_t receivers) {
+  receivers_.reserve(receivers);
+  footprints_.reserve(receivers);
+  cellItems_.reserve(receivers);
+  const size_t side = static_cast<size_t>(gridSide(receivers));
+  cellStart_.reserve(side * side + 1);
+}
+
+void CasterSelector::rebuild(const dvec3& lightDirection, std::span<const Aabb> receivers) {
   const double length = glm::length(lightDirection);
   if (!std::isfinite(length) || length == 0.0) throw InputError("light direction: expected a finite non-zero vector");
+  receivers_.assign(receivers.begin(), receivers.end());
   light_ = lightDirection / length;
   std::tie(across_[0], across_[1]) = axesAcrossLight(light_);
+  gridCells_ = glm::ivec2(0);
+  cellStart_.clear();
+  cellItems_.clear();
   if (receivers_.empty()) return;
 
-  std::vector<Footprint> footprints;
-  footprints.reserve(receivers_.size());
+  std::vector<Footprint>& footprints = footprints_;
+  footprints.clear();
   dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  largestFootprint_ = dvec2(0.0);
   for (const Aabb& r : receivers_) {
     const Footprint f = footprint(r);
     footprints.push_back(f);
     lo = glm::min(lo, f.min);
     hi = glm::max(hi, f.max);
+    largestFootprint_ = glm::max(largestFootprint_, f.max - f.min);
   }
-  // About one receiver per cell.
-  const int side = std::clamp(static_cast<int>(std::ceil(std::sqrt(static_cast<double>(receivers_.size())))), 1,
-                              kMaxGridCellsPerSide);
+  const int side = gridSide(receivers_.size());
   gridCells_ = glm::ivec2(side);
   gridMin_ = lo;
   cellSize_ = glm::max((hi - lo) / static_cast<double>(side), dvec2(1e-300));
-  cells_.resize(static_cast<size_t>(side) * side);
-  for (std::uint32_t i = 0; i < footprints.size(); ++i) {
-    const glm::ivec2 a = cellOf(footprints[i].min), b = cellOf(footprints[i].max);
-    for (int y = a.y; y <= b.y; ++y)
-      for (int x = a.x; x <= b.x; ++x) cells_[static_cast<size_t>(y) * side + x].push_back(i);
-  }
+  // Counting sort by the low corner's cell: count, prefix sums, fill (each cell keeps increasing
+  // order).
+  const size_t cells = static_cast<size_t>(side) * side;
+  cellStart_.assign(cells + 1, 0);
+  auto cellIndex = [&](std::uint32_t i) {
+    const glm::ivec2 a = cellOf(footprints[i].min);
+    return static_cast<size_t>(a.y) * side + a.x;
+  };
+  for (std::uint32_t i = 0; i < footprints.size(); ++i) ++cellStart_[cellIndex(i) + 1];
+  for (size_t c = 0; c < cells; ++c) cellStart_[c + 1] += cellStart_[c];
+  cellItems_.resize(footprints.size());
+  for (std::uint32_t i = 0; i < footprints.size(); ++i) cellItems_[cellStart_[cellIndex(i)]++] = i;
+  // Each start was moved to its cell's end, which is the next cell's start: shift back by one.
+  for (size_t c = cells; c > 0; --c) cellStart_[c] = cellStart_[c - 1];
+  cellStart_[0] = 0;
 }
 
 CasterSelector::Footprint CasterSelector::footprint(const Aabb& box) const {
@@ -96,19 +125,28 @@ bool CasterSelector::needed(const Aabb& caster) const {
   // Footprints entirely outside the grid meet no receiver.
   const dvec2 gridMax = gridMin_ + cellSize_ * dvec2(gridCells_);
   if (f.max.x < gridMin_.x || f.max.y < gridMin_.y || f.min.x > gridMax.x || f.min.y > gridMax.y) return false;
-  const glm::ivec2 a = cellOf(f.min), b = cellOf(f.max);
+  // A receiver filed in cell (x, y) has its low corner there; it can reach this footprint only if
+  // that corner is within the largest footprint below the footprint's low corner.
+  const glm::ivec2 a = cellOf(f.min - largestFootprint_), b = cellOf(f.max);
   for (int y = a.y; y <= b.y; ++y)
-    for (int x = a.x; x <= b.x; ++x)
-      for (std::uint32_t i : cells_[static_cast<size_t>(y) * gridCells_.x + x])
-        if (sweptBoxMeetsBox(caster, light_, receivers_[i])) return true;
+    for (int x = a.x; x <= b.x; ++x) {
+      const size_t c = static_cast<size_t>(y) * gridCells_.x + x;
+      for (std::uint32_t k = cellStart_[c]; k < cellStart_[c + 1]; ++k)
+        if (sweptBoxMeetsBox(caster, light_, receivers_[cellItems_[k]])) return true;
+    }
   return false;
 }
 
 std::vector<std::uint32_t> CasterSelector::select(std::span<const Aabb> casters) const {
   std::vector<std::uint32_t> selected;
+  select(casters, selected);
+  return selected;
+}
+
+void CasterSelector::select(std::span<const Aabb> casters, std::vector<std::uint32_t>& selected) const {
+  selected.clear();
   for (std::uint32_t i = 0; i < casters.size(); ++i)
     if (needed(casters[i])) selected.push_back(i);
-  return selected;
 }
 
 bool mayIntersect(const ConvexBody& body, const Aabb& box) {

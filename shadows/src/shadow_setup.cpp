@@ -8,6 +8,7 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <span>
 #include <string>
 
 #include "forest/core/error.hpp"
@@ -35,7 +36,7 @@ dvec3 transformPoint(const dmat4& m, const dvec3& p) {
   return dvec3(h) / h.w;
 }
 
-Aabb boundsIn(const dmat4& m, const std::vector<dvec3>& points) {
+Aabb boundsIn(const dmat4& m, std::span<const dvec3> points) {
   Aabb box;
   for (const dvec3& p : points) box.extend(transformPoint(m, p));
   return box;
@@ -43,7 +44,7 @@ Aabb boundsIn(const dmat4& m, const std::vector<dvec3>& points) {
 
 // §9.2.6: the body vector, the sum of the vectors from the eye to every vertex of B; the view
 // direction when B gives none.
-dvec3 computeBodyVector(const std::vector<dvec3>& bodyVertices, const Camera& camera) {
+dvec3 computeBodyVector(std::span<const dvec3> bodyVertices, const Camera& camera) {
   dvec3 sum(0.0);
   for (const dvec3& p : bodyVertices) sum += p - camera.position;
   const double length = glm::length(sum);
@@ -75,7 +76,7 @@ dmat4 computeLightFrame(const dvec3& toLight, const dvec3& bodyVector, const Cam
 // §9.2.3 (orientation ray): e_world, the average of the vertices of V ∩ S nearest to the eye.
 dvec3 computeNearPoint(const ConvexBody& visibleBody, const Camera& camera) {
   const dmat4 view = camera.view();
-  const std::vector<dvec3> vertices = visibleBody.vertices();
+  const auto vertices = visibleBody.vertices();
   double nearest = -kInfinity, farthest = kInfinity;
   for (const dvec3& v : vertices) {
     const double z = transformPoint(view, v).z;
@@ -154,7 +155,7 @@ dmat4 fitToUnitCube(const Aabb& box, double borderXY) {
 double clipBorder(const ShadowInput& in) { return 2.0 * in.borderTexels / in.mapSize; }
 
 // Fits an orthographic map to B in the given light frame.
-dmat4 fitUniform(const dmat4& lightFrame, const std::vector<dvec3>& bodyVertices, double borderXY) {
+dmat4 fitUniform(const dmat4& lightFrame, std::span<const dvec3> bodyVertices, double borderXY) {
   const dmat4 warp = computeWarp(0.0, dvec3(0.0), 0.0);
   const dmat4 toMap = warp * lightFrame;
   return fitToUnitCube(boundsIn(toMap, bodyVertices), borderXY) * toMap;
@@ -165,14 +166,14 @@ dmat4 fitUniform(const dmat4& lightFrame, const std::vector<dvec3>& bodyVertices
 // footprint in L's plane, N_T applied to x, y and w only, the filter border kept after N_T; depth
 // stays L's linear z (§4).
 ShadowSetup computeTsm(const ShadowInput& in, bool iterative, const dmat4& lightFrame,
-                       const std::vector<dvec3>& bodyVertices, const ConvexBody& visible, ShadowSetup setup) {
+                       std::span<const dvec3> bodyVertices, const ConvexBody& visible, ShadowSetup setup) {
   const Camera& camera = in.camera;
   const dmat4 L = fitUniform(lightFrame, bodyVertices, 0.0);
   auto plane = [&](const dvec3& p) { return glm::dvec2(transformPoint(L, p)); };
   TrapezoidInput t;
   for (const dvec3& p : bodyVertices) t.footprint.push_back(plane(p));
   t.eye = plane(camera.position);
-  const std::vector<dvec3> visibleVertices = visible.vertices();
+  const auto visibleVertices = visible.vertices();
   dvec3 centre(0.0);
   double nearest = kInfinity, farthest = -kInfinity;
   for (const dvec3& p : visibleVertices) {
@@ -231,7 +232,7 @@ double shrinkMargin(int attempt) { return 4.0 * kFloatUnitRoundoff * std::ldexp(
 // GPU's rounding) is inside: see mapCoordinateBound. Nothing when no shrink does it (w may reach
 // 0 on the float32 path): the caller falls back.
 std::optional<ShadowSetup> finish(ShadowSetup setup, const dvec3& eye) {
-  const std::vector<dvec3> vertices = setup.body.vertices();
+  const auto vertices = setup.body.vertices();
   if (setup.linearDepth) {
     // The same for the linear depth row (tsm): shrink it about 0 until B's depth is inside
     // [−1, 1] as the GPU evaluates it in float32 (γ₄ bound, as in mapCoordinateBound).
@@ -369,7 +370,7 @@ std::optional<ShadowSetup> computeMethodSetup(const ShadowInput& in, ShadowMetho
     return finish(setup, camera.position);
   }
   setup.empty = false;
-  const std::vector<dvec3> bodyVertices = setup.body.vertices();
+  const auto bodyVertices = setup.body.vertices();
   const dvec3 bodyVector = computeBodyVector(bodyVertices, camera);
   setup.diagnostics.gammaDeg = angleDeg(bodyVector, l);
   if (method == ShadowMethod::UniformStable) {
@@ -379,7 +380,7 @@ std::optional<ShadowSetup> computeMethodSetup(const ShadowInput& in, ShadowMetho
     const dvec3 axis = std::abs(l.z) < 0.9 ? dvec3(0, 0, 1) : dvec3(1, 0, 0);
     const dmat4 frame = computeLightFrame(toLight, axis, camera, dvec3(0.0));
     const ConvexBody frustum = viewFrustumBody(camera);
-    const std::vector<dvec3> corners = frustum.vertices();
+    const auto corners = frustum.vertices();
     dvec3 centre(0.0);
     for (const dvec3& p : corners) centre += p;
     centre /= static_cast<double>(corners.size());
@@ -409,7 +410,7 @@ std::optional<ShadowSetup> computeMethodSetup(const ShadowInput& in, ShadowMetho
   ConvexBody visible = viewFrustumBody(camera);
   visible.clip(in.scene);
   if (in.receivers) visible.clip(*in.receivers);
-  std::vector<dvec3> fitVertices = bodyVertices;
+  std::pmr::vector<dvec3> fitVertices(bodyVertices.begin(), bodyVertices.end(), convexBodyMemory());
   for (const dvec3& v : visible.vertices()) fitVertices.push_back(v);
 
   // §9.2.3: light frame L (L_r is the identity for directional lights: the body vector already

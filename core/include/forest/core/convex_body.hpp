@@ -8,23 +8,39 @@
 // rounding error of its coordinates), so a body far from the origin or very small behaves the same.
 // Intersection points are computed from the lexicographically smaller endpoint of an edge, so the
 // two polygons sharing an edge get bit-identical vertices and the topology stays exact.
+//
+// Storage: every body, and the temporaries of its operations, take their memory from one pool
+// (convexBodyMemory()), so a frame that builds and clips bodies — the focus body, the receivers'
+// parts inside the view — reuses the blocks the last frame gave back instead of allocating
+// (DESIGN §9: no heap allocation in a steady-state frame).
 #include <glm/glm.hpp>
 
 #include <array>
+#include <memory_resource>
 #include <vector>
 
 #include "forest/core/bounds.hpp"
 
 namespace forest {
 
-using Polygon = std::vector<glm::dvec3>;  // convex, counter-clockwise seen from outside
+// The pool (std::pmr::synchronized_pool_resource: thread-safe; it keeps what it was given back).
+std::pmr::memory_resource* convexBodyMemory();
+
+using Polygon = std::pmr::vector<glm::dvec3>;  // convex, counter-clockwise seen from outside
+using PolygonList = std::pmr::vector<Polygon>;
 
 class ConvexBody {
  public:
   static constexpr double kRelativeTolerance = 1e-9;
 
-  ConvexBody() = default;
-  explicit ConvexBody(std::vector<Polygon> polygons) : polygons_(std::move(polygons)) {}
+  ConvexBody() : polygons_(convexBodyMemory()) {}
+  explicit ConvexBody(const PolygonList& polygons) : polygons_(polygons, convexBodyMemory()) {}
+  explicit ConvexBody(PolygonList&& polygons) : polygons_(std::move(polygons), convexBodyMemory()) {}
+  // Copies take their storage from the pool too (a pmr container's copy would use the default one).
+  ConvexBody(const ConvexBody& other) : polygons_(other.polygons_, convexBodyMemory()) {}
+  ConvexBody(ConvexBody&&) noexcept = default;
+  ConvexBody& operator=(const ConvexBody&) = default;
+  ConvexBody& operator=(ConvexBody&&) noexcept = default;
 
   static ConvexBody fromBox(const Aabb& box);
   // The 8 corners: bit 0 selects x, bit 1 y, bit 2 z (0 = low, 1 = high), any orientation.
@@ -33,10 +49,10 @@ class ConvexBody {
   // convention: NDC x, y ∈ [−1, 1], z ∈ [0, 1].
   static ConvexBody fromInverseViewProjection(const glm::dmat4& inverseViewProjection);
 
-  const std::vector<Polygon>& polygons() const { return polygons_; }
+  const PolygonList& polygons() const { return polygons_; }
   bool empty() const { return polygons_.empty(); }
-  // Distinct vertices (exact duplicates removed).
-  std::vector<glm::dvec3> vertices() const;
+  // Distinct vertices (exact duplicates removed), in pool storage.
+  std::pmr::vector<glm::dvec3> vertices() const;
   Aabb bounds() const;
   // The comparison tolerance for this body (world units).
   double tolerance() const;
@@ -66,7 +82,7 @@ class ConvexBody {
  private:
   double clipTolerance(const Plane& plane, const Aabb& within) const;
   void clipWithin(const Plane& plane, const Aabb& within);
-  std::vector<Polygon> polygons_;
+  PolygonList polygons_;
 };
 
 // Outward unit normal of a convex polygon (Newell's method); zero for a degenerate polygon.

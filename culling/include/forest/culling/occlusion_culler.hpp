@@ -89,10 +89,14 @@ double farDepthOf(std::span<const std::uint32_t> objects, std::span<const Aabb> 
 class OcclusionCuller {
  public:
   OcclusionCuller();  // needs a current GL context
+  ~OcclusionCuller();
+  OcclusionCuller(OcclusionCuller&&) noexcept;
+  OcclusionCuller& operator=(OcclusionCuller&&) noexcept;
 
   // One frame. `objectBoxes[i]` is object i's box (the BVH was built over them). The framebuffer
-  // the pass draws into must be bound and cleared; depth test GL_GREATER (reversed-Z).
-  CullingResult cull(const Bvh& bvh, std::span<const Aabb> objectBoxes, const Camera& camera, CullingStrategy strategy,
+  // the pass draws into must be bound and cleared; depth test GL_GREATER (reversed-Z). The result
+  // is the culler's, valid until its next frame (its storage is reused: no allocation per frame).
+  const CullingResult& cull(const Bvh& bvh, std::span<const Aabb> objectBoxes, const Camera& camera, CullingStrategy strategy,
                      ObjectDrawer& drawer);
   // Forgets the previous frame's visibility (after a BVH rebuild or a camera cut).
   void reset();
@@ -110,6 +114,7 @@ class OcclusionCuller {
     std::uint64_t nextQueryFrame = 0;  // chc++: a visible leaf is queried again from this frame
   };
   struct Traversal;  // one frame's shared state (src/traversal.hpp)
+  struct Scratch;    // the traversals' queues and lists, kept from frame to frame (src/traversal.hpp)
   // Issues one query for the boxes; returns its slot in the pool.
   std::size_t issueQuery(std::span<const Aabb> boxes);
   void cullChc(Traversal& t);
@@ -143,6 +148,9 @@ class OcclusionCuller {
   QueryMode queryMode_ = QueryMode::Deterministic;
   int switches_ = 0;
   std::vector<NodeState> state_;
+  // Reused every frame, so a steady-state frame allocates nothing (DESIGN §9).
+  std::unique_ptr<Scratch> scratch_;
+  CullingResult result_;
   const Bvh* stateOf_ = nullptr;
   std::uint64_t frame_ = 0;
 };

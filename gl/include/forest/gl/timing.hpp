@@ -7,7 +7,6 @@
 // takeCompleted() returns the frames whose times are known.
 #include <chrono>
 #include <cstdint>
-#include <deque>
 #include <string>
 #include <vector>
 
@@ -56,32 +55,37 @@ class PassTimer {
 
   // Frames whose pass times are all known, oldest first; each is returned once.
   std::vector<FrameTiming> takeCompleted();
+  // The oldest of them into `into` (its storage reused: no allocation once it has held a frame);
+  // false when none is known yet.
+  bool takeOldestCompleted(FrameTiming& into);
   // Waits for every frame still in flight (end of a run), then returns all of them.
   std::vector<FrameTiming> drain();
   TimingMode mode() const { return mode_; }
 
  private:
+  // A frame's record and its timestamp queries (start, end per pass), reused from frame to frame:
+  // a steady-state frame allocates nothing and creates no GL object (DESIGN §9).
+  struct Slot {
+    FrameTiming timing;
+    std::vector<std::pair<Query, Query>> queries;
+  };
   struct OpenPass {
-    std::string name;
     size_t recordIndex;
     std::chrono::steady_clock::time_point start;
   };
-  struct PendingFrame {
-    FrameTiming timing;
-    std::vector<std::pair<Query, Query>> queries;  // per pass: start and end timestamps
-  };
+  static constexpr size_t kNone = static_cast<size_t>(-1);
 
   TimingMode mode_;
   int latency_;
   std::uint64_t frameNumber_ = 0;
   std::chrono::steady_clock::time_point frameStart_;
-  PendingFrame current_;
+  std::vector<Slot> slots_;
+  std::vector<size_t> free_;      // slots not in use
+  std::vector<size_t> inFlight_;  // GpuQueries: ended frames waiting for their timestamps, oldest first
+  std::vector<size_t> done_;      // frames whose times are known, not yet taken, oldest first
+  size_t current_ = kNone;        // the frame being recorded
   std::vector<OpenPass> open_;
-  std::deque<PendingFrame> pending_;
-  std::vector<FrameTiming> completed_;
-  std::vector<Query> spareQueries_;
-
-  Query takeQuery();
+  Slot& current();
   void collect(bool wait);
 };
 

@@ -181,6 +181,7 @@ class Frame {
   std::vector<std::uint32_t> visibleObjects_;
   bool haveVisibleSet_ = false;
   std::unique_ptr<gl::PassTimer> timer_;  // made for the mode of the first frame, remade on a change
+  gl::FrameTiming passTiming_;            // profiling: this frame's pass times, read back (storage reused)
   std::uint64_t framesRendered_ = 0;
 };
 

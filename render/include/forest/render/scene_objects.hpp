@@ -28,6 +28,9 @@ class SceneObjects {
   };
   const std::vector<Aabb>& boxes() const { return boxes_; }
   const std::vector<Object>& objects() const { return objects_; }
+  std::size_t tileCount() const { return tiles_; }
+  std::size_t clusterCount() const { return clusters_; }
+  std::size_t propCount() const { return objects_.size() - tiles_ - clusters_; }
   // Boxes again after trees or props moved.
   void updateBoxes(const vegetation::Forest* forest, const std::vector<PropBox>& props);
 
@@ -58,6 +61,12 @@ class SceneDrawer : public culling::ObjectDrawer {
               const SunSettings& sun)
       : SceneDrawer(objects, terrain, trees, props, DrawView::fromCamera(camera, time, sun), lod) {}
   long long draw(std::span<const std::uint32_t> objects) override;
+  // Draws from another view from now on (a pass keeps its drawer, and so its lists, from frame to
+  // frame: no allocation per frame).
+  void setView(const DrawView& view, const terrain::TerrainLod* lod) {
+    view_ = view;
+    lod_ = lod;
+  }
 
  private:
   const SceneObjects& objects_;

@@ -64,9 +64,8 @@ class TreeRenderer {
   // Instances, written once per draw into a persistently mapped ring (DESIGN §9): each draw
   // addresses its part by base instance; nothing the GPU may still read is rewritten.
   std::unique_ptr<gl::StreamRing> instances_;
-  // Per-draw scratch, kept so the per-leaf draws of the culling traversal do not allocate.
-  mutable std::array<std::array<std::vector<InstanceGpu>, vegetation::kTreeLods>, vegetation::kSpeciesCount> groups_;
-  mutable std::vector<InstanceGpu> packed_;
+  // Per-draw scratch: each drawn tree's (species, LOD) group, room for every tree (no allocation).
+  mutable std::vector<std::uint8_t> groupOf_;
   std::array<std::array<Range, vegetation::kTreeLods>, vegetation::kSpeciesCount> ranges_{};
 };
 

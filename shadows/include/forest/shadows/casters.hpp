@@ -23,16 +23,26 @@ std::pair<glm::dvec3, glm::dvec3> axesAcrossLight(const glm::dvec3& l);
 bool sweptBoxMeetsBox(const Aabb& caster, const glm::dvec3& lightDirection, const Aabb& receiver);
 
 // The receivers' footprints on a 2D grid in the plane across the light, so a caster is tested
-// only against receivers whose footprint overlaps its own.
+// only against receivers whose footprint may overlap its own. A loose grid: each receiver is
+// filed once, in the cell of its footprint's low corner, and a caster searches the cells from its
+// own low corner less the largest receiver footprint to its high corner — so the grid's storage is
+// bounded by the receiver count and can be reserved once (no allocation per frame).
 class CasterSelector {
  public:
   // `lightDirection`: the way light travels (need not be unit). Receivers are copied.
   CasterSelector(const glm::dvec3& lightDirection, std::span<const Aabb> receivers);
+  CasterSelector() = default;  // no receivers: nothing is needed
+  // The same as constructing anew, reusing this selector's storage (a frame builds one per frame).
+  void rebuild(const glm::dvec3& lightDirection, std::span<const Aabb> receivers);
+  // Room for up to `receivers` receivers: rebuilding with no more than that never allocates.
+  void reserve(std::size_t receivers);
 
   // True iff the caster's box swept along the light meets some receiver's box.
   bool needed(const Aabb& caster) const;
   // Indices of the casters that are needed, in increasing order.
   std::vector<std::uint32_t> select(std::span<const Aabb> casters) const;
+  // The same into `selected` (cleared first; its storage reused).
+  void select(std::span<const Aabb> casters, std::vector<std::uint32_t>& selected) const;
 
   std::size_t receiverCount() const { return receivers_.size(); }
 
@@ -43,12 +53,16 @@ class CasterSelector {
   Footprint footprint(const Aabb& box) const;
   glm::ivec2 cellOf(const glm::dvec2& p) const;
 
-  glm::dvec3 light_;
-  glm::dvec3 across_[2];  // unit axes of the plane across the light
+  glm::dvec3 light_{0.0, -1.0, 0.0};
+  glm::dvec3 across_[2]{};  // unit axes of the plane across the light
   std::vector<Aabb> receivers_;
+  std::vector<Footprint> footprints_;
   glm::dvec2 gridMin_{0.0}, cellSize_{1.0};
+  glm::dvec2 largestFootprint_{0.0};  // per axis, over the receivers
   glm::ivec2 gridCells_{0};
-  std::vector<std::vector<std::uint32_t>> cells_;  // receiver indices per cell, row-major
+  // Receiver indices per cell (by the footprint's low corner), row-major, in one list: cell c
+  // holds cellItems_[cellStart_[c], cellStart_[c + 1]).
+  std::vector<std::uint32_t> cellStart_, cellItems_;
 };
 
 // Conservative overlap of a convex body and a box (separating planes: B's faces and the box's

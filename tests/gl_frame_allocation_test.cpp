@@ -1,0 +1,99 @@
+// DESIGN §9: a steady-state frame allocates nothing on the heap. Every operator new of this test
+// binary is counted (the GL driver's own mallocs are not: they are not this engine's); after a
+// warm-up along the default walk, frames further along it must make no allocation at all, in both
+// the profiling and the GPU modes. FOREST_ALLOCATION_TRACE=1 prints a backtrace per allocation.
+#include <execinfo.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <new>
+
+#include "forest/core/camera_path.hpp"
+#include "forest/core/scene.hpp"
+#include "forest/render/frame.hpp"
+#include "gl_test_support.hpp"
+
+namespace {
+
+std::atomic<bool> counting{false};
+std::atomic<long> allocations{0};
+
+void* countedAllocation(std::size_t bytes) {
+  if (counting.load(std::memory_order_relaxed)) {
+    allocations.fetch_add(1, std::memory_order_relaxed);
+    if (std::getenv("FOREST_ALLOCATION_TRACE") != nullptr) {
+      counting = false;  // backtrace_symbols_fd itself does not allocate, but be safe
+      void* frames[24];
+      const int n = backtrace(frames, 24);
+      (void)!write(2, "--- allocation\n", 15);
+      backtrace_symbols_fd(frames, n, 2);
+      counting = true;
+    }
+  }
+  if (void* p = std::malloc(bytes == 0 ? 1 : bytes)) return p;
+  throw std::bad_alloc();
+}
+
+}  // namespace
+
+void* operator new(std::size_t bytes) { return countedAllocation(bytes); }
+void* operator new[](std::size_t bytes) { return countedAllocation(bytes); }
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+
+namespace forest::test {
+namespace {
+
+constexpr double kFramesPerSecond = 5.0;
+
+// The first `frames` frames of the default walk (data/paths/walk.toml over data/scenes/forest.toml,
+// 320×180); returns the allocations made while rendering them (counted when `count`).
+long allocationsAlongWalk(render::Frame& frame, const CameraPath& path, const render::FrameSettings& settings, int frames,
+                          bool count) {
+  long made = 0;
+  frame.resetHistory();  // both passes start alike (a camera cut from the walk's end)
+  for (int f = 0; f < frames; ++f) {
+    const double time = path.startTime() + f / kFramesPerSecond;
+    const CameraPose pose = path.at(time);
+    Camera camera = frame.startCamera();
+    camera.position = pose.position;
+    if (path.aboveGround()) camera.position.y += frame.terrain()->heightAt(pose.position.x, pose.position.z);
+    camera.yaw = glm::radians(pose.yaw_deg);
+    camera.pitch = glm::radians(pose.pitch_deg);
+    allocations = 0;
+    counting = count;
+    frame.render(camera, time, settings);
+    counting = false;
+    made += allocations;
+    frame.takePassTimes();  // the caller's records, outside the frame
+  }
+  return made;
+}
+
+// Steady state = every list, pool and ring has reached the walk's high-water mark: the whole walk
+// once as warm-up, then again from the same start, counted (5 frames per second of path time). The engine's, not the
+// backend's: run on EGL only.
+TEST_F(GlTest, SteadyStateFramesOfTheDefaultWalkAllocateNothing) {
+  if (backendUnderTest() != "egl") GTEST_SKIP() << "the engine's allocations do not depend on the backend";
+  const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
+  const CameraPath path = CameraPath::load(std::string(FOREST_REPO_DATA) + "/paths/walk.toml");
+  render::Frame frame(scene, 320, 180);
+  const int frames = static_cast<int>(std::floor((path.endTime() - path.startTime()) * kFramesPerSecond)) + 1;
+  for (const auto& [timing, queries] : {std::pair{gl::TimingMode::Profiling, culling::QueryMode::Deterministic},
+                                        std::pair{gl::TimingMode::GpuQueries, culling::QueryMode::Async}}) {
+    render::FrameSettings settings;
+    settings.blurRadius = 3.0;
+    settings.timing = timing;
+    settings.queries = queries;
+    SCOPED_TRACE(std::string(render::timingModeName(timing)) + " timing");
+    allocationsAlongWalk(frame, path, settings, frames, false);
+    EXPECT_EQ(allocationsAlongWalk(frame, path, settings, frames, true), 0) << "heap allocations in " << frames << " frames";
+  }
+}
+
+}  // namespace
+}  // namespace forest::test
