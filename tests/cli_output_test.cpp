@@ -1,12 +1,16 @@
 // What a multi-frame command leaves in its output folder (apps/forest/run_output.hpp): a contact
-// sheet that spans the whole run, labelled; and a folder that holds one run only.
+// sheet that spans the whole run, labelled; a folder that holds one run only; the walk's video.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <tuple>
 
+#include "cli_test_support.hpp"
 #include "forest/core/image.hpp"
 #include "run_output.hpp"
 
@@ -85,6 +89,36 @@ TEST(RunOutput, AnEarlierRunsFilesAreRemovedAndNothingElse) {
   EXPECT_TRUE(fs::exists(folder / "notes.txt"));
   EXPECT_TRUE(fs::exists(folder / "frames" / "keep.txt"));
   EXPECT_EQ(app::clearEarlierWalk(folder / "absent"), 0);  // a new folder: nothing to do
+}
+
+// What ffprobe says of a video's first stream: "width,height,frames" (frames decoded and counted).
+std::string probeVideo(const fs::path& video) {
+  const std::string command = "ffprobe -v error -count_frames -select_streams v:0 -show_entries "
+                              "stream=width,height,nb_read_frames -of csv=p=0 '" + video.string() + "' 2>&1";
+  std::string out;
+  if (FILE* pipe = popen(command.c_str(), "r")) {
+    char buffer[256];
+    while (fgets(buffer, sizeof buffer, pipe) != nullptr) out += buffer;
+    pclose(pipe);
+  }
+  while (!out.empty() && (out.back() == '\n' || out.back() == ',')) out.pop_back();
+  return out;
+}
+
+// --every 1 writes walkthrough.mp4 (ffmpeg, installed by tools/setup.sh): one video frame per
+// rendered frame, at the frame's size — an odd one padded to the next even size (yuv420p).
+TEST(RunOutput, EveryFrameWalkWritesAVideoOfEveryFrame) {
+  ASSERT_EQ(std::system("command -v ffmpeg > /dev/null && command -v ffprobe > /dev/null"), 0)
+      << "ffmpeg and ffprobe are missing: tools/setup.sh installs them";
+  for (const auto& [width, height, expected] : {std::tuple{160, 90, "160,90,12"}, std::tuple{161, 91, "162,92,12"}}) {
+    const fs::path out = fs::path(FOREST_TEST_OUTPUT) / "cli" / ("video-" + std::to_string(width));
+    fs::remove_all(out);
+    const test::CliResult r = test::runForest("walkthrough --frames 12 --warmup 2 --every 1 --width " + std::to_string(width) +
+                                              " --height " + std::to_string(height) + " --quiet --out " + out.string());
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_THAT(r.out, ::testing::HasSubstr("walkthrough.mp4"));
+    EXPECT_EQ(probeVideo(out / "walkthrough.mp4"), expected);
+  }
 }
 
 }  // namespace

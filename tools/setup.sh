@@ -16,6 +16,8 @@ packages=(
   libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libfmt-dev libgtest-dev libgmock-dev libbenchmark-dev
   # GL calls per frame (tools/gl-calls.sh, the ctest gl_calls_per_frame)
   apitrace
+  # the walk as a video (walkthrough.mp4) and its test (ffprobe)
+  ffmpeg
 )
 
 missing=()

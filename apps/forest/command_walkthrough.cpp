@@ -3,6 +3,7 @@
 // ffmpeg is present, report.json (one record per frame) and a one-screen summary. Ctrl-C stops
 // after the current frame and still writes complete files for the frames done.
 #include <fmt/format.h>
+#include <sys/wait.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -33,6 +34,13 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+
+// `text` as one word for /bin/sh: in single quotes, each ' written as '\''.
+std::string shellQuoted(const std::string& text) {
+  std::string quoted = "'";
+  for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
 
 std::atomic<bool> gInterrupted{false};
 extern "C" void onInterrupt(int) { gInterrupted = true; }
@@ -198,13 +206,22 @@ int runWalkthrough(const WalkthroughOptions& options) {
   writeFileAtomic(out / "report.json", report.dump(1) + "\n");
   if (!sheet.empty()) writeImage(out / "contact-sheet.png", sheet.compose());
 
-  // An MP4 of the written frames when ffmpeg is there (the frames stay either way).
+  // An MP4 of the written frames when ffmpeg is there (tools/setup.sh installs it; the frames stay
+  // either way): H.264 in yuv420p, which needs even sizes, so an odd width or height gets one
+  // black row or column.
   bool video = false;
+  std::string noVideo = " (no MP4: needs ffmpeg and --every 1)";
   if (options.every == 1 && done > 1 && std::system("command -v ffmpeg > /dev/null 2>&1") == 0) {
     const std::string command = fmt::format(
-        "ffmpeg -loglevel error -y -framerate {} -i '{}/frames/frame%05d.png' -pix_fmt yuv420p '{}/walkthrough.mp4'",
-        options.fps, out.string(), out.string());
-    video = std::system(command.c_str()) == 0;
+        "ffmpeg -loglevel error -y -framerate {} -i {} -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -pix_fmt yuv420p {}", options.fps,
+        shellQuoted((out / "frames" / "frame%05d.png").string()), shellQuoted((out / "walkthrough.mp4").string()));
+    const int status = std::system(command.c_str());
+    video = status == 0;
+    if (!video) {
+      const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+      noVideo = fmt::format(" (no MP4: ffmpeg exited with {})", code);
+      log::warn("walkthrough: ffmpeg exited with {}: {}", code, command);
+    }
   }
 
   // Paths as the user would type them from here (the report keeps them absolute).
@@ -215,7 +232,7 @@ int runWalkthrough(const WalkthroughOptions& options) {
   printSummary(summary);
   const std::string shownOut = fs::proximate(out).string();
   std::cout << fmt::format("  wrote {}/report.json, {}/contact-sheet.png, frames every {} in {}/frames{}\n", shownOut, shownOut,
-                           options.every, shownOut, video ? ", walkthrough.mp4" : " (no MP4: needs ffmpeg and --every 1)");
+                           options.every, shownOut, video ? ", walkthrough.mp4" : noVideo);
   if (gInterrupted) {
     std::cout << "  interrupted: the report holds the frames done\n";
     return 130;
