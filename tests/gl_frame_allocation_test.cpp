@@ -1,12 +1,14 @@
 // DESIGN §9: a steady-state frame allocates nothing on the heap. Every operator new of this test
-// binary is counted (the GL driver's own mallocs are not: they are not this engine's); after a
-// warm-up along the default walk, frames further along it must make no allocation at all, in both
-// the profiling and the GPU modes. FOREST_ALLOCATION_TRACE=1 prints a backtrace per allocation.
+// binary is counted while a frame renders (the GL driver's own mallocs are not: they are not this
+// engine's); after a warm-up pass along the default walk, a second pass must make no allocation at
+// all, in both the profiling and the GPU modes. FOREST_ALLOCATION_TRACE=1 prints a backtrace per
+// allocation.
 #include <execinfo.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cmath>
+#include <cstddef>
 #include <cstdlib>
 #include <new>
 
@@ -20,30 +22,57 @@ namespace {
 std::atomic<bool> counting{false};
 std::atomic<long> allocations{0};
 
-void* countedAllocation(std::size_t bytes) {
-  if (counting.load(std::memory_order_relaxed)) {
-    allocations.fetch_add(1, std::memory_order_relaxed);
-    if (std::getenv("FOREST_ALLOCATION_TRACE") != nullptr) {
-      counting = false;  // backtrace_symbols_fd itself does not allocate, but be safe
-      void* frames[24];
-      const int n = backtrace(frames, 24);
-      (void)!write(2, "--- allocation\n", 15);
-      backtrace_symbols_fd(frames, n, 2);
-      counting = true;
-    }
+void count() {
+  if (!counting.load(std::memory_order_relaxed)) return;
+  allocations.fetch_add(1, std::memory_order_relaxed);
+  if (std::getenv("FOREST_ALLOCATION_TRACE") != nullptr) {
+    counting = false;
+    void* frames[24];
+    const int n = backtrace(frames, 24);
+    (void)!write(2, "--- allocation\n", 15);
+    backtrace_symbols_fd(frames, n, 2);
+    counting = true;
   }
-  if (void* p = std::malloc(bytes == 0 ? 1 : bytes)) return p;
+}
+
+void* allocate(std::size_t bytes, std::size_t alignment = 0) {
+  count();
+  if (alignment > alignof(std::max_align_t)) {
+    const std::size_t rounded = (std::max<std::size_t>(bytes, 1) + alignment - 1) / alignment * alignment;
+    return std::aligned_alloc(alignment, rounded);
+  }
+  return std::malloc(bytes == 0 ? 1 : bytes);
+}
+
+void* allocateOrThrow(std::size_t bytes, std::size_t alignment = 0) {
+  if (void* p = allocate(bytes, alignment)) return p;
   throw std::bad_alloc();
 }
 
 }  // namespace
 
-void* operator new(std::size_t bytes) { return countedAllocation(bytes); }
-void* operator new[](std::size_t bytes) { return countedAllocation(bytes); }
+// Every replaceable form, all on malloc/free, so memory allocated by one form (in this binary or
+// in a library, e.g. llvmpipe's LLVM) and freed by another always matches — also under ASan.
+void* operator new(std::size_t bytes) { return allocateOrThrow(bytes); }
+void* operator new[](std::size_t bytes) { return allocateOrThrow(bytes); }
+void* operator new(std::size_t bytes, const std::nothrow_t&) noexcept { return allocate(bytes); }
+void* operator new[](std::size_t bytes, const std::nothrow_t&) noexcept { return allocate(bytes); }
+void* operator new(std::size_t bytes, std::align_val_t a) { return allocateOrThrow(bytes, static_cast<std::size_t>(a)); }
+void* operator new[](std::size_t bytes, std::align_val_t a) { return allocateOrThrow(bytes, static_cast<std::size_t>(a)); }
+void* operator new(std::size_t bytes, std::align_val_t a, const std::nothrow_t&) noexcept { return allocate(bytes, static_cast<std::size_t>(a)); }
+void* operator new[](std::size_t bytes, std::align_val_t a, const std::nothrow_t&) noexcept { return allocate(bytes, static_cast<std::size_t>(a)); }
 void operator delete(void* p) noexcept { std::free(p); }
 void operator delete[](void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
 
 namespace forest::test {
 namespace {

@@ -54,6 +54,8 @@ dvec3 centroidOf(std::span<const dvec3> points) {
 }
 
 // Removes exact duplicates, keeping the first occurrence order irrelevant.
+// By value: callers move in, or copy with the pool explicitly (a pmr container copied plainly takes
+// the default resource, the heap).
 Points distinct(Points points) {
   std::sort(points.begin(), points.end(), lexLess);
   points.erase(std::unique(points.begin(), points.end()), points.end());
@@ -84,7 +86,7 @@ Polygon polygonFromCoplanarPoints(const Points& pointsIn, const dvec3& normal, d
 void orientOutward(PolygonList& polygons) {
   Points all(convexBodyMemory());
   for (const Polygon& p : polygons) all.insert(all.end(), p.begin(), p.end());
-  const dvec3 c = centroidOf(distinct(all));
+  const dvec3 c = centroidOf(distinct(std::move(all)));
   for (Polygon& p : polygons) {
     if (glm::dot(polygonNormal(p), centroidOf(p) - c) < 0.0) std::reverse(p.begin(), p.end());
   }
