@@ -135,6 +135,26 @@ TEST(SceneFile, BadVegetationValuesNameTheKey) {
   EXPECT_THAT(errorOf("[terrain]\n[vegetation]\nforce_lod0 = 1\n"), HasSubstr("vegetation.force_lod0 = 1: expected true or false"));
 }
 
+// [vegetation.stands] (docs/scene-format.md): read, range-checked, written back; absent by default.
+TEST(SceneFile, StandsSectionLoadsRoundTripsAndIsChecked) {
+  EXPECT_FALSE(parseScene("[terrain]\n[vegetation]\n", "v.toml").vegetation->stands.has_value());
+  const Scene scene =
+      parseScene("[terrain]\n[vegetation]\n[vegetation.stands]\ncover = 0.04\nfeature_m = 150.0\nmeadow = 0.003\n", "s.toml");
+  ASSERT_TRUE(scene.vegetation->stands.has_value());
+  EXPECT_EQ(scene.vegetation->stands->cover, 0.04);
+  EXPECT_EQ(scene.vegetation->stands->feature_m, 150.0);
+  EXPECT_EQ(scene.vegetation->stands->edge, StandSettings{}.edge);
+  EXPECT_EQ(scene.vegetation->stands->meadow, 0.003);
+  const Scene back = parseScene(sceneToToml(scene), "roundtrip.toml");
+  ASSERT_TRUE(back.vegetation->stands.has_value());
+  EXPECT_EQ(back.vegetation->stands->cover, 0.04);
+  EXPECT_EQ(back.vegetation->stands->meadow, 0.003);
+  EXPECT_THAT(errorOf("[terrain]\n[vegetation.stands]\ncover = 2.0\n"), HasSubstr("vegetation.stands.cover = 2.0: expected a number in [0.01, 0.95]"));
+  EXPECT_THAT(errorOf("[terrain]\n[vegetation.stands]\nfeature_m = 5.0\n"), HasSubstr("vegetation.stands.feature_m = 5.0"));
+  EXPECT_THAT(errorOf("[terrain]\n[vegetation.stands]\nedge = 0.0\n"), HasSubstr("vegetation.stands.edge = 0.0"));
+  EXPECT_THAT(errorOf("[terrain]\n[vegetation]\ngrid = 10\n[vegetation.stands]\n"), HasSubstr("vegetation.grid: a grid places trees evenly"));
+}
+
 TEST(Props, MovesReportTheBoxesThatChanged) {
   std::vector<PropBox> props(3);
   props[1].min = {5, 0, 5};

@@ -83,6 +83,49 @@ TEST(TreePlacement, SharesWithoutLimits) {
   EXPECT_NEAR(static_cast<double>(conifers) / 1000.0, 0.6, 0.05);
 }
 
+// [vegetation.stands]: a dart is kept with probability D (the density field), so, where spacing
+// never refuses one (1500 trees at 0.5 m on 25 ha), the share of trees in stands is the field's
+// own: p = ∫_stands D / ∫ D over the terrain (a 500² midpoint sum here, not the placement), within
+// 4 binomial standard deviations. Ignoring the field (p = cover) or inverting it fails.
+TEST(TreePlacement, StandsFollowTheDensityField) {
+  VegetationSettings v = testVegetation(1500, 5);
+  v.conifer = {0.6, 0.5, 90.0, -1e4, 1e4};
+  v.broadleaf = {0.4, 0.5, 90.0, -1e4, 1e4};
+  v.stands = StandSettings{0.2, 80.0, 0.3, 0.1};
+  const Forest f(v, testTerrain());
+  ASSERT_EQ(f.trees().size(), 1500u);
+  ASSERT_NE(f.stands(), nullptr);
+  const StandField& field = *f.stands();
+  const terrain::Heightfield& h = testTerrain().heightfield();
+  double all = 0.0, inStands = 0.0, standCells = 0.0;
+  constexpr int kCells = 500;
+  for (int j = 0; j < kCells; ++j)
+    for (int i = 0; i < kCells; ++i) {
+      const double x = h.origin().x + 1.0 + (i + 0.5) * (h.size() - 2.0) / kCells;
+      const double z = h.origin().y + 1.0 + (j + 0.5) * (h.size() - 2.0) / kCells;
+      const double d = field.density(x, z);
+      EXPECT_GE(d, 0.1);
+      EXPECT_LE(d, 1.0);
+      all += d;
+      if (field.inStand(x, z)) {
+        inStands += d;
+        standCells += 1.0;
+      }
+    }
+  // The stands cover what was asked, on this finer grid too (the quantile's grid is 256²).
+  EXPECT_NEAR(standCells / (kCells * kCells), 0.2, 0.01);
+  const double p = inStands / all;
+  const double placed = static_cast<double>(std::count_if(f.trees().begin(), f.trees().end(), [&](const TreeInstance& t) {
+                          return field.inStand(t.position.x, t.position.z);
+                        })) / 1500.0;
+  EXPECT_NEAR(placed, p, 4.0 * std::sqrt(p * (1.0 - p) / 1500.0)) << "expected share " << p;
+  EXPECT_GT(p, 0.5);  // the case means something: most trees stand on a fifth of the land
+  const ForestStats stats = forestStats(f);
+  EXPECT_EQ(stats.inStands, static_cast<int>(std::lround(placed * 1500.0)));
+  EXPECT_NEAR(stats.standAreaHa, field.standShare() * 25.0, 1e-9);
+  EXPECT_NEAR(stats.stemsPerHaInStands, stats.inStands / stats.standAreaHa, 1e-9);
+}
+
 TEST(TreePlacement, ReportsTheMostThatFit) {
   VegetationSettings v = testVegetation(100000);
   v.conifer.spacing = v.broadleaf.spacing = 12.0;

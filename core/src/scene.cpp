@@ -99,6 +99,14 @@ void readSpeciesPlacement(TomlSection& s, SpeciesPlacementSettings& p) {
   s.finish();
 }
 
+void readStands(TomlSection& s, StandSettings& t) {
+  t.cover = s.number("cover", t.cover, detail::closed(0.01, 0.95));
+  t.feature_m = s.number("feature_m", t.feature_m, detail::closed(10.0, 5000.0));
+  t.edge = s.number("edge", t.edge, detail::closed(0.01, 1.0));
+  t.meadow = s.number("meadow", t.meadow, detail::closed(0.0, 1.0));
+  s.finish();
+}
+
 void readVegetation(TomlSection& s, VegetationSettings& v) {
   v.style = s.oneOf("style", std::string("procedural"), {"procedural", "thesis"}) == "thesis" ? TreeStyle::Thesis : TreeStyle::Procedural;
   v.count = static_cast<int>(s.integer("count", v.count, 0, 1000000));
@@ -124,6 +132,8 @@ void readVegetation(TomlSection& s, VegetationSettings& v) {
   if (std::abs(windLength - 1.0) > 4.0 * std::numeric_limits<double>::epsilon()) v.wind_direction /= windLength;
   if (auto t = s.table("conifer")) readSpeciesPlacement(*t, v.conifer);
   if (auto t = s.table("broadleaf")) readSpeciesPlacement(*t, v.broadleaf);
+  if (auto t = s.table("stands")) readStands(*t, v.stands.emplace());
+  if (v.stands && v.grid > 0) s.fail(nullptr, "grid", "a grid places trees evenly; leave it out (or 0) with [vegetation.stands]");
   if (!(v.conifer.share + v.broadleaf.share > 0.0)) s.fail(nullptr, "conifer.share", "the species shares must not both be 0");
   s.finish();
 }
@@ -236,20 +246,26 @@ std::string sceneToToml(const Scene& scene) {
                          {"min_height", p.min_height},
                          {"max_height", p.max_height}};
     };
-    document.insert("vegetation", toml::table{{"style", v.style == TreeStyle::Thesis ? "thesis" : "procedural"},
-                                              {"count", v.count},
-                                              {"grid", v.grid},
-                                              {"scale_range", tomlArray(v.scale_range)},
-                                              {"seed", static_cast<std::int64_t>(v.seed)},
-                                              {"lod0_triangles", v.lod0_triangles},
-                                              {"force_lod0", v.force_lod0},
-                                              {"lod_distances", std::isinf(v.lod_distances.z) ? tomlArray(glm::dvec2(v.lod_distances))
-                                                                                              : tomlArray(v.lod_distances)},
-                                              {"wind_strength", v.wind_strength},
-                                              {"wind_period", v.wind_period},
-                                              {"wind_direction", tomlArray(v.wind_direction)},
-                                              {"conifer", species(v.conifer)},
-                                              {"broadleaf", species(v.broadleaf)}});
+    toml::table vegetation{{"style", v.style == TreeStyle::Thesis ? "thesis" : "procedural"},
+                           {"count", v.count},
+                           {"grid", v.grid},
+                           {"scale_range", tomlArray(v.scale_range)},
+                           {"seed", static_cast<std::int64_t>(v.seed)},
+                           {"lod0_triangles", v.lod0_triangles},
+                           {"force_lod0", v.force_lod0},
+                           {"lod_distances", std::isinf(v.lod_distances.z) ? tomlArray(glm::dvec2(v.lod_distances))
+                                                                           : tomlArray(v.lod_distances)},
+                           {"wind_strength", v.wind_strength},
+                           {"wind_period", v.wind_period},
+                           {"wind_direction", tomlArray(v.wind_direction)},
+                           {"conifer", species(v.conifer)},
+                           {"broadleaf", species(v.broadleaf)}};
+    if (v.stands)
+      vegetation.insert("stands", toml::table{{"cover", v.stands->cover},
+                                              {"feature_m", v.stands->feature_m},
+                                              {"edge", v.stands->edge},
+                                              {"meadow", v.stands->meadow}});
+    document.insert("vegetation", std::move(vegetation));
   }
   std::ostringstream out;
   out << document << "\n";

@@ -1,5 +1,6 @@
 #include "forest/vegetation/forest.hpp"
 
+#include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
@@ -89,17 +90,37 @@ void Forest::place() {
                       std::clamp(static_cast<int>((p.y - lo.y) / cell), 0, cellsZ - 1));
   };
 
+  // With stands, a dart is kept with probability D (the density field), so more are thrown: about
+  // 1 / mean(D) times as many.
+  double keptShare = 1.0;
+  if (settings_.stands) {
+    stands_.emplace(*settings_.stands, settings_.seed, lo, hi);
+    keptShare = stands_->standShare() + settings_.stands->meadow * (1.0 - stands_->standShare());
+  }
+  struct {
+    std::int64_t field = 0, height = 0, slope = 0, spacing = 0;
+  } refused;
   SplitMix64 random(SplitMix64::substream(settings_.seed, 0x7ee5ull));
-  const std::int64_t darts = static_cast<std::int64_t>(kDartsPerTree) * settings_.count + 1000;
+  const std::int64_t darts = static_cast<std::int64_t>(kDartsPerTree * settings_.count / std::max(keptShare, 0.01)) + 1000;
   for (std::int64_t dart = 0; dart < darts && static_cast<int>(trees_.size()) < settings_.count; ++dart) {
     const dvec2 p(lo.x + (hi.x - lo.x) * random.unit(), lo.y + (hi.y - lo.y) * random.unit());
     const Species species = random.unit() < coniferShare ? Species::Conifer : Species::Broadleaf;
     const double variation[5] = {random.unit(), random.unit(), random.unit(), random.unit(), random.unit()};
+    if (stands_ && random.unit() >= stands_->density(p.x, p.y)) {  // evenly spread: no draw, same sequence
+      ++refused.field;
+      continue;
+    }
     const SpeciesPlacementSettings& rule = placementOf(settings_, species);
     const double ground = terrain_.heightAt(p.x, p.y);
-    if (ground < rule.min_height || ground > rule.max_height) continue;
+    if (ground < rule.min_height || ground > rule.max_height) {
+      ++refused.height;
+      continue;
+    }
     const double slope = glm::degrees(std::acos(std::clamp(terrain_.normalAt(p.x, p.y).y, -1.0, 1.0)));
-    if (slope > rule.max_slope_deg) continue;
+    if (slope > rule.max_slope_deg) {
+      ++refused.slope;
+      continue;
+    }
     // Poisson-disk condition: no tree closer than the larger of the two species' spacings.
     const glm::ivec2 c = cellOf(p);
     bool free = true;
@@ -116,12 +137,19 @@ void Forest::place() {
           }
         }
       }
-    if (!free) continue;
+    if (!free) {
+      ++refused.spacing;
+      continue;
+    }
     grid[key(c.x, c.y)].push_back(static_cast<std::uint32_t>(trees_.size()));
     trees_.push_back(varied(species, {p.x, ground, p.y}, variation));
   }
+  const std::string why = fmt::format("darts refused: {} by the density field, {} by the height band, {} by the slope, {} by the spacing",
+                                      refused.field, refused.height, refused.slope, refused.spacing);
   if (static_cast<int>(trees_.size()) < settings_.count)
-    log::warn("vegetation: {} of {} trees fit the terrain (spacing, slope and height limits)", trees_.size(), settings_.count);
+    log::warn("vegetation: {} of {} trees fit the terrain ({})", trees_.size(), settings_.count, why);
+  else
+    log::info("vegetation: placed {} trees ({})", trees_.size(), why);
 }
 
 void Forest::buildClusters() {
@@ -208,6 +236,25 @@ std::vector<std::uint32_t> Forest::moveTrees(std::span<const Move> moves) {
   changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
   for (std::uint32_t c : changed) clusters_[c].bounds = clusterBounds(clusters_[c]);
   return changed;
+}
+
+ForestStats forestStats(const Forest& forest) {
+  ForestStats stats;
+  stats.trees = static_cast<int>(forest.trees().size());
+  stats.requested = forest.requestedCount();
+  // Trees stand within 1 m of the terrain's edge (the placement's inset); the area is the terrain's.
+  const double size = forest.terrainSize();
+  stats.terrainAreaHa = size * size / 1e4;
+  for (const TreeInstance& tree : forest.trees()) {
+    ++stats.perSpecies[static_cast<size_t>(tree.species)];
+    if (forest.stands() && forest.stands()->inStand(tree.position.x, tree.position.z)) ++stats.inStands;
+  }
+  if (forest.stands()) {
+    stats.standAreaHa = forest.stands()->standShare() * stats.terrainAreaHa;
+    if (stats.standAreaHa > 0.0) stats.stemsPerHaInStands = stats.inStands / stats.standAreaHa;
+  }
+  if (stats.trees > 0) stats.shareInStands = static_cast<double>(stats.inStands) / stats.trees;
+  return stats;
 }
 
 }  // namespace forest::vegetation

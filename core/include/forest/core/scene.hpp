@@ -81,6 +81,17 @@ struct SpeciesPlacementSettings {
   double max_height = 1e4;
 };
 
+// [vegetation.stands]: placement by a density field D (vegetation/stand_field.hpp,
+// docs/scene-format.md) — stands with soft edges, clearings and meadows between them. Without it
+// the trees are spread evenly.
+struct StandSettings {
+  double cover = 0.3;       // share of the terrain in stands (where D ≥ 1/2), [0.01, 0.95]
+  double feature_m = 200.0; // typical size of a stand or a clearing, metres, [10, 5000]
+  double edge = 0.15;       // softness of the stands' edges: the share of the noise range over which D
+                            // ramps from the meadow's value to 1, [0.01, 1]
+  double meadow = 0.02;     // D far from the stands (scattered trees; 0: none), [0, 1]
+};
+
 // [vegetation]: procedural trees on the terrain (module vegetation/; needs [terrain]).
 // procedural: two OpenMesh species with LOD chains (issue "Vegetation"); thesis: the "tree-like
 // objects" of the thesis demo (ch. 10) — a closed cone and a closed torus ring around it.
@@ -102,6 +113,7 @@ struct VegetationSettings {
   glm::dvec2 wind_direction{1.0, 0.3};    // (x, z), non-zero; normalised on load
   SpeciesPlacementSettings conifer{0.6, 4.0, 35.0, -1e4, 1e4};
   SpeciesPlacementSettings broadleaf{0.4, 6.0, 25.0, -1e4, 1e4};
+  std::optional<StandSettings> stands;  // absent: trees spread evenly
 };
 
 // [culling]: parameters of the chc++ strategy (Mattausch, Bittner, Wimmer, EG 2008).

@@ -5,6 +5,7 @@
 #include <glm/glm.hpp>
 
 #include <array>
+#include <optional>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "forest/core/scene.hpp"
 #include "forest/terrain/terrain.hpp"
 #include "forest/vegetation/species.hpp"
+#include "forest/vegetation/stand_field.hpp"
 
 namespace forest::vegetation {
 
@@ -50,6 +52,9 @@ class Forest {
   const std::vector<TreeInstance>& trees() const { return trees_; }
   const std::vector<TreeCluster>& clusters() const { return clusters_; }
   int requestedCount() const { return settings_.grid > 0 ? settings_.grid * settings_.grid : settings_.count; }
+  // The density field the trees were placed by ([vegetation.stands]); null when spread evenly.
+  const StandField* stands() const { return stands_ ? &*stands_ : nullptr; }
+  double terrainSize() const { return terrain_.heightfield().size(); }  // metres per side
 
   // Object → world at `time`: translate · windShear · rotateY(yaw) · scale.
   glm::dmat4 treeTransform(std::uint32_t tree, double time) const;
@@ -82,6 +87,20 @@ class Forest {
   std::vector<TreeInstance> trees_;
   std::vector<TreeCluster> clusters_;
   std::vector<std::uint32_t> clusterOf_;
+  std::optional<StandField> stands_;
 };
+
+// What `forest check --stats` prints: the placed trees per species, and how many stand in stands
+// (the density field's g ≥ τ) on how much area.
+struct ForestStats {
+  int trees = 0, requested = 0;
+  std::array<int, kSpeciesCount> perSpecies{};
+  double terrainAreaHa = 0.0;
+  double standAreaHa = 0.0;          // cover measured on the field's sample grid × terrain area; 0 without stands
+  int inStands = 0;
+  double shareInStands = 0.0;        // inStands / trees
+  double stemsPerHaInStands = 0.0;   // inStands / standAreaHa; 0 without stands
+};
+ForestStats forestStats(const Forest& forest);
 
 }  // namespace forest::vegetation
