@@ -447,9 +447,11 @@ TEST(ForestCli, TimingModesWriteTheSameReportFields) {
 TEST(ForestCli, WalkthroughInterruptedLeavesCompleteFiles) {
   const fs::path out = fs::path(FOREST_TEST_OUTPUT) / "cli" / "walk-interrupted";
   fs::remove_all(out);
-  // SIGINT after 3 s, long before the 901 frames are done.
-  const std::string command = "timeout -s INT 3 " + std::string(FOREST_EXE) +
-                              " walkthrough --width 160 --height 90 --quiet --out " + out.string() + " > /dev/null 2>&1";
+  // SIGINT once the first frame is on disk (startup takes 1–10 s, more under sanitizers and load),
+  // long before the 901 frames are done.
+  const std::string command = std::string(FOREST_EXE) + " walkthrough --width 160 --height 90 --quiet --out " + out.string() +
+                              " > /dev/null 2>&1 & pid=$!; for i in $(seq 1200); do [ -e '" + (out / "frames" / "frame00000.png").string() +
+                              "' ] && break; sleep 0.1; done; kill -INT $pid; wait $pid";
   std::system(command.c_str());
   ASSERT_TRUE(fs::exists(out / "report.json"));
   const nlohmann::json report = nlohmann::json::parse(readTextFile(out / "report.json"));  // complete JSON
