@@ -77,7 +77,7 @@ void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcep
 namespace forest::test {
 namespace {
 
-constexpr double kFramesPerSecond = 5.0;
+constexpr double kFramesPerSecond = 2.5;
 
 // The first `frames` frames of the default walk (data/paths/walk.toml over data/scenes/forest.toml,
 // 320×180); returns the allocations made while rendering them (counted when `count`).
@@ -104,8 +104,8 @@ long allocationsAlongWalk(render::Frame& frame, const CameraPath& path, const re
 }
 
 // Steady state = every list, pool and ring has reached the walk's high-water mark: the whole walk
-// once as warm-up, then again from the same start, counted (5 frames per second of path time). The engine's, not the
-// backend's: run on EGL only.
+// once as warm-up, then again from the same start, counted (2.5 frames per second of path time).
+// The engine's, not the backend's: run on EGL only.
 TEST_F(GlTest, SteadyStateFramesOfTheDefaultWalkAllocateNothing) {
   if (backendUnderTest() != "egl") GTEST_SKIP() << "the engine's allocations do not depend on the backend";
   const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
