@@ -87,12 +87,7 @@ long allocationsAlongWalk(render::Frame& frame, const CameraPath& path, const re
   frame.resetHistory();  // both passes start alike (a camera cut from the walk's end)
   for (int f = 0; f < frames; ++f) {
     const double time = path.startTime() + f / kFramesPerSecond;
-    const CameraPose pose = path.at(time);
-    Camera camera = frame.startCamera();
-    camera.position = pose.position;
-    if (path.aboveGround()) camera.position.y += frame.terrain()->heightAt(pose.position.x, pose.position.z);
-    camera.yaw = glm::radians(pose.yaw_deg);
-    camera.pitch = glm::radians(pose.pitch_deg);
+    const Camera camera = frame.cameraAt(path.at(time), path.aboveGround());
     allocations = 0;
     counting = count;
     frame.render(camera, time, settings);

@@ -160,11 +160,7 @@ int runWalkthrough(const WalkthroughOptions& options) {
   for (int f = 0; f < total && !gInterrupted; ++f) {
     const double time = path.startTime() + f / options.fps;
     const CameraPose pose = path.at(time);
-    Camera camera = frame.startCamera();
-    camera.position = pose.position;
-    if (path.aboveGround()) camera.position.y += frame.terrain()->heightAt(pose.position.x, pose.position.z);
-    camera.yaw = glm::radians(pose.yaw_deg);
-    camera.pitch = glm::radians(pose.pitch_deg);
+    const Camera camera = frame.cameraAt(pose, path.aboveGround());
     const auto frameStart = Clock::now();
     const render::FrameStats s = frame.render(camera, time, settings);
     const double frameMs = 1e3 * std::chrono::duration<double>(Clock::now() - frameStart).count();

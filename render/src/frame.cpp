@@ -166,6 +166,15 @@ Camera Frame::startCamera() const {
   return c;
 }
 
+Camera Frame::cameraAt(const CameraPose& pose, bool aboveGround) const {
+  Camera camera = startCamera();
+  camera.position = pose.position;
+  if (aboveGround && terrain_) camera.position.y += terrain_->heightAt(pose.position.x, pose.position.z);
+  camera.yaw = glm::radians(pose.yaw_deg);
+  camera.pitch = glm::radians(pose.pitch_deg);
+  return camera;
+}
+
 const shadows::ShadowSetup& Frame::shadowSetup() const { return passes_->plan.setup; }
 const std::vector<std::uint32_t>& Frame::casters() const { return passes_->plan.casters; }
 const Camera& Frame::shadowCamera() const { return passes_->plan.camera; }

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "forest/core/camera_path.hpp"
 #include "forest/core/image.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/culling/bvh.hpp"
@@ -163,6 +164,9 @@ class Frame {
   const Camera& shadowCamera() const;
   // The scene's start camera for this image (camera.above_ground applied).
   Camera startCamera() const;
+  // The start camera moved to a camera path's pose; `aboveGround`: the pose's height is over the
+  // terrain (CameraPath::aboveGround).
+  Camera cameraAt(const CameraPose& pose, bool aboveGround) const;
 
  private:
   void objectsMoved();
