@@ -1,6 +1,6 @@
 // vegetation_bench: mesh and instance memory of the default forest (data/scenes/forest.toml), and
 // triangles and milliseconds per frame for its 5000 trees from the walkthrough start — brute force
-// at LOD0 against the distance-band LOD, with and without frustum culling of clusters.
+// at LOD0 against the distance-band LOD, with and without frustum culling of trees.
 //   build/release/bench/vegetation_bench [--gl=auto|egl|osmesa] [--frames N]
 #include <chrono>
 #include <cstdio>
@@ -48,19 +48,19 @@ int main(int argc, char** argv) {
   Camera camera = scene.startCamera();
   camera.position.y = terrain.heightAt(camera.position.x, camera.position.z) + scene.camera.above_ground.value_or(1.7);
   render::OffscreenTarget target(scene.render.width, scene.render.height);
-  std::vector<std::uint32_t> all(forest.clusters().size());
-  for (std::uint32_t c = 0; c < all.size(); ++c) all[c] = c;
-  const std::vector<std::uint32_t> visible = renderer.clustersInFrustum(camera);
+  std::vector<std::uint32_t> all(forest.trees().size());
+  for (std::uint32_t t = 0; t < all.size(); ++t) all[t] = t;
+  const std::vector<std::uint32_t> visible = renderer.treesInFrustum(camera);
 
   struct Variant {
     const char* name;
     const render::TreeRenderer* renderer;
-    const std::vector<std::uint32_t>* clusters;
+    const std::vector<std::uint32_t>* trees;
   };
   const Variant variants[] = {{"brute force, LOD0", &rendererLod0, &all},
-                              {"all clusters, LOD bands", &renderer, &all},
-                              {"frustum clusters, LOD0", &rendererLod0, &visible},
-                              {"frustum clusters, LOD bands", &renderer, &visible}};
+                              {"all trees, LOD bands", &renderer, &all},
+                              {"frustum trees, LOD0", &rendererLod0, &visible},
+                              {"frustum trees, LOD bands", &renderer, &visible}};
   double baseMs = 0.0;
   long long baseTriangles = 0;
   std::printf("\n%-30s %8s %12s %10s   %s\n", "trees drawn", "trees", "triangles", "ms/frame", "vs brute force (triangles, time)");
@@ -69,12 +69,12 @@ int main(int argc, char** argv) {
     glClearDepth(0.0);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_GREATER);
-    render::TreeRenderer::Stats stats = v.renderer->draw(camera, *v.clusters, 0.0, scene.sun);  // warm-up
+    render::TreeRenderer::Stats stats = v.renderer->draw(camera, *v.trees, 0.0, scene.sun);  // warm-up
     glFinish();
     const auto t0 = Clock::now();
     for (int f = 0; f < frames; ++f) {
       glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-      stats = v.renderer->draw(camera, *v.clusters, 0.1 * f, scene.sun);
+      stats = v.renderer->draw(camera, *v.trees, 0.1 * f, scene.sun);
     }
     glFinish();
     const double ms = 1e3 * std::chrono::duration<double>(Clock::now() - t0).count() / frames;

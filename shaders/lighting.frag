@@ -2,12 +2,13 @@
 // Lighting (thesis §6.2): Phong — Lambert diffuse and a weak Blinn-Phong highlight from the sun,
 // both times the shadow term — plus a weak global ambient; the sky colour where nothing was drawn.
 // With the blur on, uShadowTerm is the horizontally blurred term and the vertical pass of the
-// blur happens here (blur_taps.frag), saving a full-screen pass; the term used is written out too.
+// blur happens here (blur_taps.frag), saving a full-screen pass; with the blur off, the term is
+// looked up here (shadow_lookup.frag) and no pass before writes it. The term used is written out.
 in vec3 vRay;                 // eye depth z → camera-relative position z · vRay
 
 layout(binding = 0) uniform sampler2D uAlbedo;
 layout(binding = 1) uniform sampler2D uShadingNormal;
-layout(binding = 4) uniform sampler2D uShadowTerm;  // r: term, g: eye depth (0: sky)
+layout(binding = 4) uniform sampler2D uShadowTerm;  // r: term, g: eye depth (0: sky); read with the blur on
 // The sun, sky, fog density (exponential fog toward the sky colour; 0: none) and whether to blur
 // uShadowTerm vertically (it then holds the horizontal pass) come from the frame block.
 
@@ -15,12 +16,13 @@ layout(location = 0) out vec4 fragColor;
 layout(location = 1) out vec2 usedTerm;  // the (blurred) term lit with: Frame::readBlurredShadowTerm
 
 vec2 blurTaps(sampler2D term, ivec2 pixel, ivec2 direction);
+vec2 shadowTermAt(ivec2 pixel, vec3 ray);
 
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
   vec3 toSun = uFrame.toSunUp.xyz, sky = uFrame.skyFog.rgb;
   float ambient = uFrame.sunColorAmbient.w, fogDensity = uFrame.skyFog.w;
-  vec2 term = uFrame.modes.z != 0 ? blurTaps(uShadowTerm, pixel, ivec2(0, 1)) : texelFetch(uShadowTerm, pixel, 0).rg;
+  vec2 term = uFrame.modes.z != 0 ? blurTaps(uShadowTerm, pixel, ivec2(0, 1)) : shadowTermAt(pixel, vRay);
   usedTerm = term;
   if (term.g == 0.0) { fragColor = vec4(sky, 1.0); return; }
   vec3 albedo = texelFetch(uAlbedo, pixel, 0).rgb;

@@ -1,43 +1,12 @@
 #version 450 core
-// Shadow term from the G-buffer (DESIGN §4, thesis §9.3): the pixel's camera-relative position
-// from its depth, into the shadow map with the eye-relative light matrix, hardware 2×2 PCF
-// (sampler2DShadow with linear filtering). Forced to 0 where the geometric normal faces away from
-// the sun: backside rendering leaves noise on lee faces, and the eye-space blur must not spread it.
-in vec3 vRay;                          // eye depth z → camera-relative position z · vRay
-
-// The rest comes from the frame block (frame_block.glsl): the lookup matrix, tsm's linear light
-// depth row, the sun, near and far, the PCF radius (0: one hardware 2×2 lookup; r: (2r+1)²
-// lookups a texel apart).
-layout(binding = 0) uniform sampler2D uDepth;              // reversed-Z: 0 where nothing was drawn (sky)
-layout(binding = 1) uniform sampler2D uGeometricNormal;
-layout(binding = 3) uniform sampler2DShadow uShadowMap;    // depth in [0, 1], near the light = 0
+// Pass 4 (with the blur on): the shadow term of every pixel into a texture the blur reads
+// (shadow_lookup.frag).
+in vec3 vRay;  // eye depth z → camera-relative position z · vRay
 
 // r: the shadow term; g: the pixel's eye depth in metres (0 for the sky), so that the blur reads
 // one texture per tap.
 out vec2 shadowTerm;
 
-float eyeDepth(float d) {  // reversed-Z → metres
-  float n = uFrame.nearFar.x, f = uFrame.nearFar.y;
-  return n * f / (n + d * (f - n));
-}
+vec2 shadowTermAt(ivec2 pixel, vec3 ray);
 
-void main() {
-  ivec2 pixel = ivec2(gl_FragCoord.xy);
-  float depth = texelFetch(uDepth, pixel, 0).r;
-  if (depth == 0.0) { shadowTerm = vec2(1.0, 0.0); return; }  // sky: the cleared far depth
-  float z = eyeDepth(depth);
-  vec3 n = texelFetch(uGeometricNormal, pixel, 0).xyz;
-  if (uFrame.modes.w == 0 || dot(n, uFrame.toSunUp.xyz) <= 0.0) { shadowTerm = vec2(0.0, z); return; }
-  vec3 relative = z * vRay;
-  vec4 s = uFrame.eyeRelativeToShadow * vec4(relative, 1.0);
-  vec3 ndc = s.xyz / s.w;
-  // TSM: texture(s, vec3(xy_T / w_T, z_L / w_L)), w_L = 1 for the sun's orthographic L.
-  if (uFrame.modes.y != 0) ndc.z = 0.5 * dot(uFrame.eyeRelativeLightDepth, vec4(relative, 1.0)) + 0.5;
-  vec2 uv = 0.5 * ndc.xy + 0.5;
-  vec2 texel = 1.0 / vec2(textureSize(uShadowMap, 0));
-  int radius = uFrame.modes.x;
-  float sum = 0.0;
-  for (int y = -radius; y <= radius; ++y)
-    for (int x = -radius; x <= radius; ++x) sum += texture(uShadowMap, vec3(uv + vec2(x, y) * texel, ndc.z));
-  shadowTerm = vec2(sum / float((2 * radius + 1) * (2 * radius + 1)), z);
-}
+void main() { shadowTerm = shadowTermAt(ivec2(gl_FragCoord.xy), vRay); }

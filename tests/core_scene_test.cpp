@@ -36,10 +36,12 @@ TEST(SceneFile, RoundTripsThroughToml) {
   scene.camera.near = 0.123456789012345;  // needs all 17 digits to survive
   scene.camera.position = {1e6 + 0.1, -3.0, 1.0 / 3.0};
   scene.culling.batch_size = 17;
+  scene.culling.leaf_size = 5;
   scene.culling.multiqueries = false;
   scene.culling.tight_box_area_ratio = 1.0 / 3.0;
   const Scene back = parseScene(sceneToToml(scene), "roundtrip.toml");
   EXPECT_EQ(back.culling.batch_size, 17);
+  EXPECT_EQ(back.culling.leaf_size, 5);
   EXPECT_FALSE(back.culling.multiqueries);
   EXPECT_EQ(back.culling.tight_box_area_ratio, scene.culling.tight_box_area_ratio);
   EXPECT_EQ(back.culling.visible_requery_frames, scene.culling.visible_requery_frames);
@@ -80,6 +82,7 @@ TEST(SceneFile, TerrainSectionLoadsAndRoundTrips) {
 
 TEST(SceneFile, BadCullingValuesNameTheKey) {
   EXPECT_THAT(errorOf("[culling]\nbatch_size = 0\n"), HasSubstr("culling.batch_size = 0: expected an integer in [1, 1000]"));
+  EXPECT_THAT(errorOf("[culling]\nleaf_size = 65\n"), HasSubstr("culling.leaf_size = 65: expected an integer in [1, 64]"));
   EXPECT_THAT(errorOf("[culling]\nvisible_requery_frames = 101\n"), HasSubstr("culling.visible_requery_frames = 101"));
   EXPECT_THAT(errorOf("[culling]\ntight_box_area_ratio = nan\n"), HasSubstr("culling.tight_box_area_ratio = nan"));
   EXPECT_THAT(errorOf("[culling]\nmultiqueries = 1\n"), HasSubstr("culling.multiqueries = 1: expected true or false"));

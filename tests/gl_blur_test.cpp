@@ -1,5 +1,6 @@
 // The eye-space blur of the shadow term (thesis §6.3, §9.4.2; render/src/blur_pass): off it is the
 // term itself, its width shrinks with depth, and it does not leak across depth discontinuities.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -24,16 +25,34 @@ class BlurGl : public GlTest {};
 // Eye depth of pixel i from the reversed-Z depth buffer.
 double eyeDepthAt(const Camera& c, float depth) { return c.near * c.far / (c.near + depth * (c.far - c.near)); }
 
-TEST_F(BlurGl, BlurOffIsTheTermItself) {
+// The blur off, the lighting pass looks the term up itself (no shadow-term pass runs): what it
+// used must equal, texel for texel, the term the shadow-term pass writes for the blur when the
+// blur is on — the same lookup on the same G-buffer and map.
+TEST_F(BlurGl, BlurOffLightsWithTheTermThePassWouldWrite) {
   Scene scene;
   scene.sun.direction = glm::normalize(dvec3(0.3, -1.0, 0.2));
   scene.props.push_back({dvec3(-40, -1, -80), dvec3(40, 0, 40), dvec3(0.6)});
   scene.props.push_back({dvec3(-2, 3, -2), dvec3(2, 5, 2), dvec3(0.8)});
   render::Frame frame(scene, kWidth, kHeight);
-  render::FrameSettings settings;
-  settings.blurRadius = 0.0;
-  frame.render(cameraAt({0, 6, 14}, 0.0, -20.0, 300.0), 0.0, settings);
-  EXPECT_EQ(frame.readBlurredShadowTerm(), frame.readShadowTerm());
+  const Camera camera = cameraAt({0, 6, 14}, 0.0, -20.0, 300.0);
+  for (const int pcf : {0, 2}) {
+    render::FrameSettings settings;
+    settings.pcfRadius = pcf;
+    settings.blurRadius = 0.0;
+    frame.resetHistory();
+    frame.render(camera, 0.0, settings);
+    const std::vector<float> inLighting = frame.readShadowTerm();
+    EXPECT_EQ(frame.readBlurredShadowTerm(), inLighting);
+    settings.blurRadius = 4.0;
+    frame.resetHistory();
+    frame.render(camera, 0.0, settings);
+    const std::vector<float> fromPass = frame.readShadowTerm();
+    EXPECT_EQ(inLighting, fromPass) << "pcf " << pcf;
+    // Not a trivial image: the box shadows part of the plane, and most of it is lit.
+    const auto shadowed = std::count_if(fromPass.begin(), fromPass.end(), [](float t) { return t < 0.5f; });
+    EXPECT_GT(shadowed, static_cast<long>(fromPass.size() / 100)) << "pcf " << pcf;
+    EXPECT_LT(shadowed, static_cast<long>(fromPass.size() / 2)) << "pcf " << pcf;
+  }
 }
 
 TEST_F(BlurGl, BlurWidensNearShadowEdgesMoreThanFarOnes) {

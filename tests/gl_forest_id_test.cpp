@@ -38,7 +38,7 @@ TEST_F(ForestIdGl, ObjectIdsMatchEmbreePrimaryRays) {
   for (auto& run : gpu) {
     target.bindAndClear();
     terrainRenderer.draw(camera, lod, scene.sun, terrainRenderer.tilesInFrustum(camera));
-    treeRenderer.draw(camera, treeRenderer.clustersInFrustum(camera), time, scene.sun);
+    treeRenderer.draw(camera, treeRenderer.treesInFrustum(camera), time, scene.sun);
     run = target.readIds();
   }
   EXPECT_EQ(gpu[0], gpu[1]) << "two runs differ";

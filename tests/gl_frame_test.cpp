@@ -163,7 +163,7 @@ TEST_F(FrameGl, BacksideRenderingHasNoAcneAndFrontFacesDo) {
 }
 
 // The casters of the visible receivers, grown by what the filter reads (r + 1 texels per axis for
-// --pcf r, shaders/shadow_term.frag), shadow exactly what all casters shadow: the term is equal
+// --pcf r, shaders/shadow_lookup.frag), shadow exactly what all casters shadow: the term is equal
 // pixel for pixel, for every PCF radius, along 30 views of the default forest (ground level and
 // 40 m up, three methods).
 TEST_F(FrameGl, CasterSelectionChangesNoShadowForAnyFilterAlongThirtyViews) {

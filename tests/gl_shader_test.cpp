@@ -118,9 +118,9 @@ TEST_F(GlTest, UniformBlocksMatchTheShaders) {
     programs.emplace_back("props/" + tag, render::loadSurfaceProgram("props.vert", "props.frag", output));
     programs.emplace_back("terrain/" + tag, render::loadSurfaceProgram("terrain.vert", "terrain.frag", output, levels));
   }
-  programs.emplace_back("shadow term", gl::loadProgram({"fullscreen.vert", "shadow_term.frag"}, frameBlock));
+  programs.emplace_back("shadow term", gl::loadProgram({"fullscreen.vert", "shadow_term.frag", "shadow_lookup.frag"}, frameBlock));
   programs.emplace_back("blur", gl::loadProgram({"fullscreen.vert", "shadow_blur.frag", "blur_taps.frag"}, frameBlock));
-  programs.emplace_back("lighting", gl::loadProgram({"fullscreen.vert", "lighting.frag", "blur_taps.frag"}, frameBlock));
+  programs.emplace_back("lighting", gl::loadProgram({"fullscreen.vert", "lighting.frag", "blur_taps.frag", "shadow_lookup.frag"}, frameBlock));
   programs.emplace_back("query box", gl::loadProgram({"query_box.vert", "query_box.frag"}));
 
   std::map<std::string, int> programsWith;

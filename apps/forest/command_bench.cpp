@@ -14,6 +14,7 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 
 #include "commands.hpp"
@@ -48,7 +49,7 @@ struct BenchOptions {
   // 60 frames per path; no warm-up by default: the strategies take turns frame by frame, so a cold
   // first frame costs them all alike.
   RunLengthOptions length{60, 0};
-  int leafSize = 1;
+  std::optional<int> leafSize;  // default: the scene's
   ModeOptions modes;
   std::string out = "out/bench-culling";
 };
@@ -171,6 +172,7 @@ glm::vec3 strategyColour(const std::string& name) {
 int runBenchCulling(const BenchOptions& options) {
   const std::string scenePath = sceneFileOr(options.scene);
   const Scene base = loadScene(scenePath);
+  const int leafSize = options.leafSize.value_or(base.culling.leaf_size);
   if (!base.terrain || !base.vegetation) throw InputError(scenePath + ": bench culling needs a scene with [terrain] and [vegetation]");
   if (options.length.frames < 2) throw InputError(fmt::format("--frames {}: expected at least 2", options.length.frames));
   const int warmup = options.length.warmupFor(options.length.frames);
@@ -199,7 +201,7 @@ int runBenchCulling(const BenchOptions& options) {
   json["frames_per_path"] = options.length.frames;
   json["warmup_frames"] = warmup;
   json["resolution"] = {options.size.width, options.size.height};
-  json["leaf_size"] = options.leafSize;
+  json["leaf_size"] = leafSize;
   json["culling_parameters"] = {{"batch_size", base.culling.batch_size},
                                 {"visible_requery_frames", base.culling.visible_requery_frames},
                                 {"multiqueries", base.culling.multiqueries},
@@ -227,7 +229,7 @@ int runBenchCulling(const BenchOptions& options) {
     const render::TerrainRenderer terrainLit(terrain), terrainIds(terrain, render::TerrainRenderer::Output::ObjectId, objects.terrainIdBase());
     const render::TreeRenderer treesLit(forest), treeIds(forest, render::TreeRenderer::Output::ObjectId, objects.treeIdBase());
     const render::PropRenderer propsLit(scene.props), propIds(scene.props, render::PropRenderer::Output::ObjectId, objects.propIdBase());
-    const culling::Bvh bvh(objects.boxes(), options.leafSize);
+    const culling::Bvh bvh(objects.boxes(), leafSize);
     const std::string size = std::to_string(forest.trees().size());
     json["scenes"][size] = {{"trees", forest.trees().size()}, {"terrain_size_m", scene.terrain->size},
                             {"objects", objects.boxes().size()}, {"bvh_nodes", bvh.nodes().size()}};
@@ -412,7 +414,8 @@ Run addBenchCommand(CLI::App& app) {
   options->size.add(*cullingBench);
   options->length.add(*cullingBench, "60 along each path");
   options->modes.add(*cullingBench);
-  cullingBench->add_option("--leaf-size", options->leafSize, "Objects per BVH leaf")->check(CLI::Range(1, 64))->capture_default_str();
+  cullingBench->add_option("--leaf-size", options->leafSize, "Objects per BVH leaf (1 to 64; default: the scene's [culling] leaf_size)")
+      ->check(CLI::Range(1, 64));
   cullingBench->add_option("--out", options->out, "Output folder")->capture_default_str();
   const Run speedError = addSpeedErrorCommand(*bench);
   return [options, cullingBench, speedError] { return cullingBench->parsed() ? runBenchCulling(*options) : speedError(); };

@@ -51,6 +51,7 @@ void readRender(TomlSection& s, RenderSettings& r) {
 }
 
 void readCulling(TomlSection& s, CullingSettings& c) {
+  c.leaf_size = static_cast<int>(s.integer("leaf_size", c.leaf_size, 1, 64));
   c.batch_size = static_cast<int>(s.integer("batch_size", c.batch_size, 1, 1000));
   c.visible_requery_frames = static_cast<int>(s.integer("visible_requery_frames", c.visible_requery_frames, 1, 100));
   c.multiqueries = s.boolean("multiqueries", c.multiqueries);
@@ -217,7 +218,8 @@ std::string sceneToToml(const Scene& scene) {
                                 {"albedo", tomlArray(p.albedo)}});
   }
   const CullingSettings& c = scene.culling;
-  toml::table culling{{"batch_size", c.batch_size},
+  toml::table culling{{"leaf_size", c.leaf_size},
+                      {"batch_size", c.batch_size},
                       {"visible_requery_frames", c.visible_requery_frames},
                       {"multiqueries", c.multiqueries},
                       {"tight_box_depth", c.tight_box_depth},

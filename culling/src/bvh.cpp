@@ -28,7 +28,9 @@ void Bvh::build(std::span<const Aabb> boxes) {
 }
 
 // Top-down SAH (MacDonald & Booth 1990): on each axis, objects sorted by centroid; the split
-// minimising area(left)·n(left) + area(right)·n(right) wins if it beats keeping a leaf.
+// minimising area(left)·n(left) + area(right)·n(right) wins. A range of at most leafSize objects
+// is a leaf: the leaf size is what a query decides for (one tree by default, DESIGN §4), not
+// left to the SAH, which would split every pair of trees apart anyway.
 std::int32_t Bvh::buildRange(std::span<const Aabb> boxes, std::uint32_t first, std::uint32_t count, std::int32_t parent) {
   const std::int32_t index = static_cast<std::int32_t>(nodes_.size());
   nodes_.emplace_back();
@@ -41,7 +43,7 @@ std::int32_t Bvh::buildRange(std::span<const Aabb> boxes, std::uint32_t first, s
     nodes_[index].count = count;
     return index;
   };
-  if (count <= static_cast<std::uint32_t>(leafSize_) && count <= 1) return makeLeaf();
+  if (count <= static_cast<std::uint32_t>(leafSize_)) return makeLeaf();
 
   const auto begin = objects_.begin() + first, end = begin + count;
   double bestCost = std::numeric_limits<double>::infinity();
@@ -69,9 +71,6 @@ std::int32_t Bvh::buildRange(std::span<const Aabb> boxes, std::uint32_t first, s
       }
     }
   }
-  // A leaf costs area·count; an interior node one traversal step plus its children.
-  const double area = surfaceArea(bounds);
-  if (count <= static_cast<std::uint32_t>(leafSize_) && area * count <= area + bestCost) return makeLeaf();
   std::sort(begin, end, [&](std::uint32_t a, std::uint32_t b) {
     const double ca = boxes[a].min[bestAxis] + boxes[a].max[bestAxis], cb = boxes[b].min[bestAxis] + boxes[b].max[bestAxis];
     return ca < cb || (ca == cb && a < b);

@@ -11,8 +11,7 @@ BlurPass::BlurPass(int width, int height)
   glTextureParameteri(horizontal_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
 }
 
-const gl::Texture& BlurPass::run(const gl::Texture& term, const FrameSettings& settings) {
-  if (!(settings.blurRadius > 0.0)) return term;
+const gl::Texture& BlurPass::run(const gl::Texture& term) {
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   glBindTextureUnit(0, term.id());
   triangle_.draw(program_);

@@ -13,9 +13,9 @@ namespace forest::render {
 class BlurPass {
  public:
   BlurPass(int width, int height);
-  // The term the lighting pass reads: the horizontally blurred term, or `term` itself when the
-  // blur is off (then this pass draws nothing). The radii come from the frame block, bound.
-  const gl::Texture& run(const gl::Texture& term, const FrameSettings& settings);
+  // The horizontally blurred term, which the lighting pass reads. The radii come from the frame
+  // block, bound. Runs only with the blur on.
+  const gl::Texture& run(const gl::Texture& term);
 
  private:
   gl::Texture horizontal_;

@@ -111,7 +111,7 @@ Frame::Frame(const Scene& scene, int width, int height) : scene_(scene), width_(
   }
   objects_ = std::make_unique<SceneObjects>(terrain_.get(), forest_.get(), scene.props);
   passes_ = std::make_unique<Passes>(*objects_, terrain_.get(), forest_.get(), scene.props, width, height);
-  bvh_ = culling::Bvh(objects_->boxes(), 1);
+  bvh_ = culling::Bvh(objects_->boxes(), scene.culling.leaf_size);
   visibleObjects_.reserve(objects_->boxes().size());  // the largest visible set: no growth per frame
   culler_.setParameters(scene_.culling);
   for (const Aabb& b : objects_->boxes()) sceneBounds_.extend(b);
@@ -223,24 +223,26 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
     stats.shadowTriangles = p.shadow.run(p.plan, eye, eyeLod, settings, l);
   }
 
-  // 4. Shadow term; the frame block holds what the full-screen passes read.
+  // 4. The frame block holds what the full-screen passes read. With the blur on: the shadow term
+  // into a texture, and the blur's horizontal half (4b); with it off, lighting looks the term up
+  // itself (no full-screen pass writes it).
+  const bool blurred = settings.blurRadius > 0.0;
+  const gl::Texture* blurredTerm = nullptr;
   {
     auto timed = timer.scope(kFramePassNames[3]);
     p.frameUniforms.bind(frameBlock(camera, p.plan, settings, scene_, l, !stats.sunBelowHorizon));
-    p.shadowTerm.run(p.geometry.gbuffer(), p.shadow.map());
+    if (blurred) p.shadowTerm.run(p.geometry.gbuffer(), p.shadow.map());
   }
-
-  // 4b. Eye-space blur, horizontal half (the vertical half runs in the lighting pass).
-  const gl::Texture* termForLighting = nullptr;
   {
     auto timed = timer.scope(kFramePassNames[4]);
-    termForLighting = &p.blur.run(p.shadowTerm.term(), settings);
+    if (blurred) blurredTerm = &p.blur.run(p.shadowTerm.term());
   }
+  termWritten_ = blurred;
 
   // 5. Lighting.
   {
     auto timed = timer.scope(kFramePassNames[5]);
-    p.lighting.run(p.geometry.gbuffer(), *termForLighting);
+    p.lighting.run(p.geometry.gbuffer(), blurredTerm, p.shadow.map());
   }
   timer.endFrame();
   if (settings.timing == gl::TimingMode::Profiling) {
@@ -278,7 +280,9 @@ Image8 Frame::readColor() const {
 std::vector<float> Frame::readShadowTerm() const {
   std::vector<float> v(static_cast<size_t>(width_) * height_);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glGetTextureImage(passes_->shadowTerm.term().id(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(v.size() * 4), v.data());
+  // The blur off, the lighting pass looked the term up and wrote it as the term it used.
+  const gl::Texture& term = termWritten_ ? passes_->shadowTerm.term() : passes_->lighting.usedTerm();
+  glGetTextureImage(term.id(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(v.size() * 4), v.data());
   return v;
 }
 

@@ -1,10 +1,12 @@
 #include "lighting_pass.hpp"
 
+#include "shadow_term_pass.hpp"
+
 namespace forest::render {
 
 LightingPass::LightingPass(int width, int height)
     : width_(width), height_(height), usedTerm_(GL_RG16F, width, height), color_(GL_RGBA8, width, height),
-      program_(loadFullScreenProgram({"lighting.frag", "blur_taps.frag"})) {
+      program_(loadFullScreenProgram({"lighting.frag", "blur_taps.frag", "shadow_lookup.frag"})) {
   framebuffer_.attach(GL_COLOR_ATTACHMENT0, color_);
   framebuffer_.attach(GL_COLOR_ATTACHMENT1, usedTerm_);
   const GLenum buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
@@ -14,16 +16,17 @@ LightingPass::LightingPass(int width, int height)
   glTextureParameteri(usedTerm_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
 }
 
-void LightingPass::run(const GBuffer& gbuffer, const gl::Texture& term) {
+void LightingPass::run(const GBuffer& gbuffer, const gl::Texture* term, const gl::Texture& shadowMap) {
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   glViewport(0, 0, width_, height_);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
   glBindTextureUnit(0, gbuffer.albedo.id());
   glBindTextureUnit(1, gbuffer.shadingNormal.id());
-  glBindTextureUnit(4, term.id());
+  if (term) glBindTextureUnit(4, term->id());
+  else bindShadowLookupInputs(gbuffer, shadowMap);
   triangle_.draw(program_);
-  for (GLuint unit = 0; unit < 5; ++unit) glBindTextureUnit(unit, 0);
+  for (GLuint unit = 0; unit < 7; ++unit) glBindTextureUnit(unit, 0);
   glEnable(GL_DEPTH_TEST);
   glEnable(GL_CULL_FACE);
 }

@@ -1,7 +1,7 @@
 #pragma once
 // Pass 5 of the frame (thesis §6.2, DESIGN §4): Phong lighting from the G-buffer with a weak
-// global ambient, the shadow term (with the blur's vertical half when the blur is on), fog and the
-// sky colour. Targets: the lit colour (RGBA8) and the term it used (RG16F).
+// global ambient, the shadow term (the blur's vertical half when the blur is on, the lookup itself
+// when it is off), fog and the sky colour. Targets: the lit colour (RGBA8) and the term it used (RG16F).
 #include <glm/glm.hpp>
 
 #include "forest/core/scene.hpp"
@@ -16,9 +16,10 @@ namespace forest::render {
 class LightingPass {
  public:
   LightingPass(int width, int height);
-  // `term`: the shadow term, horizontally blurred when the blur is on. The sun, sky, fog and blur
-  // come from the frame block (frame_uniforms.hpp), bound.
-  void run(const GBuffer& gbuffer, const gl::Texture& term);
+  // With the blur on, `term` is the horizontally blurred shadow term; with it off (null), the
+  // term is looked up in `shadowMap`. The sun, sky, fog and blur come from the frame block
+  // (frame_uniforms.hpp), bound.
+  void run(const GBuffer& gbuffer, const gl::Texture* term, const gl::Texture& shadowMap);
 
   const gl::Texture& color() const { return color_; }
   const gl::Texture& usedTerm() const { return usedTerm_; }

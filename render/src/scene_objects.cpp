@@ -9,15 +9,12 @@ SceneObjects::SceneObjects(const terrain::Terrain* terrain, const vegetation::Fo
     for (std::uint32_t t = 0; t < tiles_; ++t) objects_.push_back({Kind::Tile, t});
   }
   if (forest) {
-    clusters_ = static_cast<std::uint32_t>(forest->clusters().size());
-    for (std::uint32_t c = 0; c < clusters_; ++c) objects_.push_back({Kind::Cluster, c});
-    clusterOfTree_.assign(forest->trees().size(), 0);
-    for (std::uint32_t c = 0; c < clusters_; ++c)
-      for (std::uint32_t t : forest->clusters()[c].trees) clusterOfTree_[t] = c;
+    trees_ = static_cast<std::uint32_t>(forest->trees().size());
+    for (std::uint32_t t = 0; t < trees_; ++t) objects_.push_back({Kind::Tree, t});
   }
   for (std::uint32_t p = 0; p < props.size(); ++p) objects_.push_back({Kind::Prop, p});
   treeIdBase_ = 1 + tiles_;
-  propIdBase_ = treeIdBase_ + static_cast<std::uint32_t>(clusterOfTree_.size());
+  propIdBase_ = treeIdBase_ + trees_;
   boxes_.resize(objects_.size());
   if (terrain)
     for (std::uint32_t t = 0; t < tiles_; ++t) boxes_[t] = terrain->tileBox(static_cast<int>(t));
@@ -25,15 +22,13 @@ SceneObjects::SceneObjects(const terrain::Terrain* terrain, const vegetation::Fo
 }
 
 void SceneObjects::updateBoxes(const vegetation::Forest* forest, const std::vector<PropBox>& props) {
-  for (std::uint32_t c = 0; c < clusters_; ++c) boxes_[tiles_ + c] = forest->clusters()[c].bounds;
-  for (std::uint32_t p = 0; p < props.size(); ++p) boxes_[tiles_ + clusters_ + p] = Aabb{props[p].min, props[p].max};
+  for (std::uint32_t t = 0; t < trees_; ++t) boxes_[tiles_ + t] = forest->treeBounds(t);
+  for (std::uint32_t p = 0; p < props.size(); ++p) boxes_[tiles_ + trees_ + p] = Aabb{props[p].min, props[p].max};
 }
 
 std::int64_t SceneObjects::objectOfId(std::uint32_t id) const {
-  if (id == 0) return -1;
-  if (id < treeIdBase_) return id - 1;
-  if (id < propIdBase_) return tiles_ + clusterOfTree_[id - treeIdBase_];
-  return tiles_ + clusters_ + (id - propIdBase_);
+  if (id == 0 || id > objects_.size()) return -1;
+  return id - 1;  // tiles, trees and props take consecutive IDs from 1 in object order
 }
 
 SceneDrawer::SceneDrawer(const SceneObjects& objects, const TerrainRenderer* terrain, const TreeRenderer* trees,
@@ -41,25 +36,25 @@ SceneDrawer::SceneDrawer(const SceneObjects& objects, const TerrainRenderer* ter
     : objects_(objects), terrain_(terrain), trees_(trees), props_(props), view_(view), lod_(lod) {
   // Room for every object: a draw never grows the lists (no allocation per frame).
   tiles_.reserve(objects.tileCount());
-  clusters_.reserve(objects.clusterCount());
+  treeList_.reserve(objects.treeCount());
   propList_.reserve(objects.propCount());
 }
 
 long long SceneDrawer::draw(std::span<const std::uint32_t> objects) {
   tiles_.clear();
-  clusters_.clear();
+  treeList_.clear();
   propList_.clear();
   for (std::uint32_t o : objects) {
     const SceneObjects::Object& object = objects_.objects()[o];
     switch (object.kind) {
       case SceneObjects::Kind::Tile: tiles_.push_back(static_cast<int>(object.index)); break;
-      case SceneObjects::Kind::Cluster: clusters_.push_back(object.index); break;
+      case SceneObjects::Kind::Tree: treeList_.push_back(object.index); break;
       case SceneObjects::Kind::Prop: propList_.push_back(object.index); break;
     }
   }
   long long triangles = 0;
   if (terrain_ && lod_ && !tiles_.empty()) triangles += terrain_->draw(view_, *lod_, tiles_).triangles;
-  if (trees_ && !clusters_.empty()) triangles += trees_->draw(view_, clusters_).triangles;
+  if (trees_ && !treeList_.empty()) triangles += trees_->draw(view_, treeList_).triangles;
   if (props_ && !propList_.empty()) triangles += props_->draw(view_, propList_);
   return triangles;
 }

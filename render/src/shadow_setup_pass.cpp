@@ -13,7 +13,7 @@ namespace {
 using glm::dvec2;
 using glm::dvec3;
 
-// What the shadow term's filter reads (shaders/shadow_term.frag): a hardware 2×2 PCF lookup at a
+// What the shadow term's filter reads (shaders/shadow_lookup.frag): a hardware 2×2 PCF lookup at a
 // point reads the texels whose centres lie less than one texel from it along each map axis, and
 // (2r+1)² lookups one texel apart reach r + 1 texels along each axis.
 double filterReachTexels(int pcfRadius) { return pcfRadius + 1.0; }

@@ -1,7 +1,9 @@
 #pragma once
-// Pass 4 of the frame (thesis §9.4, DESIGN §4): the shadow term, full screen from the G-buffer —
-// hardware 2×2 PCF (sampler2DShadow), (2r+1)² of them for a wider filter, 0 where the geometric
-// N·L ≤ 0 before any blur. Target: RG16F (the term; the blur's inputs).
+// Pass 4 of the frame (thesis §9.4, DESIGN §4), run only when the blur is on: the shadow term, full
+// screen from the G-buffer — hardware 2×2 PCF (sampler2DShadow), (2r+1)² of them for a wider
+// filter, 0 where the geometric N·L ≤ 0 before any blur. Target: RG16F (the term; the blur's
+// inputs). With the blur off the lighting pass looks the term up itself (shaders/shadow_lookup.frag):
+// one full-screen pass fewer.
 #include <glm/glm.hpp>
 
 #include "forest/gl/objects.hpp"
@@ -11,6 +13,9 @@
 #include "geometry_pass.hpp"
 
 namespace forest::render {
+
+// Binds what shaders/shadow_lookup.frag reads: the G-buffer's depth and geometric normal, the map.
+void bindShadowLookupInputs(const GBuffer& gbuffer, const gl::Texture& shadowMap);
 
 class ShadowTermPass {
  public:

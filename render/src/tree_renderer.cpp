@@ -69,32 +69,31 @@ TreeRenderer::TreeRenderer(const vegetation::Forest& forest, Output output, std:
   glVertexArrayAttribBinding(vao, 6, 1);
 }
 
-std::vector<std::uint32_t> TreeRenderer::clustersInFrustum(const Camera& camera) const {
+std::vector<std::uint32_t> TreeRenderer::treesInFrustum(const Camera& camera) const {
   const Frustum frustum(camera);
-  std::vector<std::uint32_t> clusters;
-  for (std::uint32_t c = 0; c < forest_.clusters().size(); ++c)
-    if (frustum.mayIntersect(forest_.clusters()[c].bounds)) clusters.push_back(c);
-  return clusters;
+  std::vector<std::uint32_t> trees;
+  for (std::uint32_t t = 0; t < forest_.trees().size(); ++t)
+    if (frustum.mayIntersect(forest_.treeBounds(t))) trees.push_back(t);
+  return trees;
 }
 
-TreeRenderer::Stats TreeRenderer::draw(const Camera& camera, std::span<const std::uint32_t> clusters, double time,
+TreeRenderer::Stats TreeRenderer::draw(const Camera& camera, std::span<const std::uint32_t> trees, double time,
                                        const SunSettings& sun) const {
-  return draw(DrawView::fromCamera(camera, time, sun), clusters);
+  return draw(DrawView::fromCamera(camera, time, sun), trees);
 }
 
-TreeRenderer::Stats TreeRenderer::draw(const DrawView& view, std::span<const std::uint32_t> clusters) const {
+TreeRenderer::Stats TreeRenderer::draw(const DrawView& view, std::span<const std::uint32_t> trees) const {
   Stats stats;
   const double time = view.time;
   // Instances grouped by (species, LOD), base positions relative to the eye in double, written
   // straight into the ring: count the groups, then place each tree in its group's part.
   std::array<int, kSpeciesCount * kTreeLods> counts{}, cursor{};
   groupOf_.clear();
-  for (std::uint32_t c : clusters)
-    for (std::uint32_t t : forest_.clusters()[c].trees) {
-      const int group = static_cast<int>(forest_.trees()[t].species) * kTreeLods + forest_.lodFor(t, view.lodEye);
-      groupOf_.push_back(static_cast<std::uint8_t>(group));
-      ++counts[static_cast<size_t>(group)];
-    }
+  for (std::uint32_t t : trees) {
+    const int group = static_cast<int>(forest_.trees()[t].species) * kTreeLods + forest_.lodFor(t, view.lodEye);
+    groupOf_.push_back(static_cast<std::uint8_t>(group));
+    ++counts[static_cast<size_t>(group)];
+  }
   if (groupOf_.empty()) return stats;
   for (size_t g = 1; g < counts.size(); ++g) cursor[g] = cursor[g - 1] + counts[g - 1];
   const std::array<int, kSpeciesCount * kTreeLods> first = cursor;
@@ -103,16 +102,15 @@ TreeRenderer::Stats TreeRenderer::draw(const DrawView& view, std::span<const std
   if (instances_->id() != ringBefore) glVertexArrayVertexBuffer(vertexArray_.id(), 1, instances_->id(), 0, sizeof(InstanceGpu));
   auto* out = static_cast<InstanceGpu*>(part.data);
   size_t k = 0;
-  for (std::uint32_t c : clusters)
-    for (std::uint32_t t : forest_.clusters()[c].trees) {
-      const vegetation::TreeInstance& tree = forest_.trees()[t];
-      InstanceGpu& g = out[cursor[groupOf_[k++]]++];
-      g.baseYaw = glm::vec4(glm::vec3(tree.position - view.origin), static_cast<float>(tree.yaw));
-      g.scalePhase = glm::vec4(static_cast<float>(tree.scale), static_cast<float>(tree.swayPhase), 0.0f, 0.0f);
-      g.tint = glm::vec4(tree.tint, 1.0f);
-      g.objectId = objectIdBase_ + t;
-      g.padding[0] = g.padding[1] = g.padding[2] = 0;
-    }
+  for (std::uint32_t t : trees) {
+    const vegetation::TreeInstance& tree = forest_.trees()[t];
+    InstanceGpu& g = out[cursor[groupOf_[k++]]++];
+    g.baseYaw = glm::vec4(glm::vec3(tree.position - view.origin), static_cast<float>(tree.yaw));
+    g.scalePhase = glm::vec4(static_cast<float>(tree.scale), static_cast<float>(tree.swayPhase), 0.0f, 0.0f);
+    g.tint = glm::vec4(tree.tint, 1.0f);
+    g.objectId = objectIdBase_ + t;
+    g.padding[0] = g.padding[1] = g.padding[2] = 0;
+  }
   const GLuint baseInstance = static_cast<GLuint>(part.offset / sizeof(InstanceGpu));
 
   // The shader evaluates the sway in float: t is reduced modulo 10 periods first (in double), a

@@ -178,7 +178,7 @@ FrameError evaluateFrame(const render::Frame& frame, const render::FrameStats& s
   e.aliasingPixels = shadows::summarise(std::move(aliasingPixels));
   e.aliasingRelative = shadows::summarise(std::move(aliasingRelative));
 
-  // Caster oracle, in culling objects (a tree's object is its cluster).
+  // Caster oracle, in culling objects (each tree is one).
   std::set<std::uint32_t> occluderIds;
   for (const PixelTruth& t : truth)
     if (t.litFacing && t.occluder != kNoObject) occluderIds.insert(t.occluder);

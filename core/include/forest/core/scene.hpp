@@ -118,6 +118,10 @@ struct VegetationSettings {
 
 // [culling]: parameters of the chc++ strategy (Mattausch, Bittner, Wimmer, EG 2008).
 struct CullingSettings {
+  // Objects per leaf of the culling hierarchy, [1, 64]: 1 decides visibility and shadow casters per
+  // tree (the BVH's interior nodes group the trees); more trade drawn triangles for fewer queries,
+  // which pays where a query is dear (a software renderer flushes its pipeline on each result).
+  int leaf_size = 1;
   // Previously invisible nodes queued before their queries are issued, [1, 1000]. The paper's 50
   // suits a GPU that answers while the CPU goes on; on llvmpipe each result taken drains the whole
   // pipeline, and 200 halves chc++'s wait (bench culling, 50 000 trees, ground path).

@@ -1,5 +1,5 @@
 #pragma once
-// A bounding volume hierarchy over the scene's objects (terrain tiles, tree clusters, props —
+// A bounding volume hierarchy over the scene's objects (terrain tiles, trees, props —
 // anything with a box): the hierarchy coherent hierarchical culling traverses (Bittner et al.,
 // EG 2004). Built top-down with the surface area heuristic over sorted centroids; refitted in
 // place when objects move, rebuilt when refitting has degraded it past kRebuildCostRatio.
@@ -26,7 +26,7 @@ constexpr double kRebuildCostRatio = 1.5;
 class Bvh {
  public:
   Bvh() = default;
-  // `leafSize`: most objects per leaf, ≥ 1.
+  // `leafSize`: objects per leaf, ≥ 1: a range of that many or fewer becomes a leaf.
   Bvh(std::span<const Aabb> objectBoxes, int leafSize);
 
   const std::vector<BvhNode>& nodes() const { return nodes_; }

@@ -8,8 +8,9 @@
 //      float depth map; casters drawn at the eye's LOD;
 //   4. shadow term — full screen from the G-buffer, hardware 2×2 PCF (sampler2DShadow), 0 where the
 //      geometric N·L ≤ 0; then an optional depth-aware eye-space blur (separable, shrinking with
-//      depth): its horizontal pass;
-//   5. lighting — the blur's vertical pass, Phong with a weak global ambient, sky colour.
+//      depth): its horizontal pass; both only with the blur on;
+//   5. lighting — the blur's vertical pass (the blur off: the shadow term looked up here), Phong
+//      with a weak global ambient, sky colour.
 // Eye → light matrices are composed in double, camera-relative.
 #include <memory>
 #include <optional>
@@ -184,6 +185,7 @@ class Frame {
   Aabb sceneBounds_;
   std::vector<std::uint32_t> visibleObjects_;
   bool haveVisibleSet_ = false;
+  bool termWritten_ = false;  // the last frame's shadow term pass ran (the blur on)
   std::unique_ptr<gl::PassTimer> timer_;  // made for the mode of the first frame, remade on a change
   gl::FrameTiming passTiming_;            // profiling: this frame's pass times, read back (storage reused)
   std::uint64_t framesRendered_ = 0;

@@ -1,8 +1,10 @@
 #pragma once
-// The scene's objects as culling sees them: terrain tiles, then tree clusters, then props, each
-// with its box; and the drawer that renders any subset of them for one pass (culling::ObjectDrawer).
-// Object IDs in the ID buffer: 0 is the sky; tiles, trees (not clusters) and props follow in
-// blocks, so a pixel's object is known from its ID.
+// The scene's objects as culling sees them: terrain tiles, then trees, then props, each with its
+// box; and the drawer that renders any subset of them for one pass (culling::ObjectDrawer).
+// Each tree is an object of its own, so visibility and shadow casters are decided per tree, not
+// per cluster of trees (the BVH over the objects groups them; CHC++'s multiqueries and render
+// queue keep the queries and draw calls few). Object IDs in the ID buffer: 0 is the sky; tiles,
+// trees and props follow in blocks, so a pixel's object is known from its ID.
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -21,16 +23,16 @@ class SceneObjects {
  public:
   SceneObjects(const terrain::Terrain* terrain, const vegetation::Forest* forest, const std::vector<PropBox>& props);
 
-  enum class Kind { Tile, Cluster, Prop };
+  enum class Kind { Tile, Tree, Prop };
   struct Object {
     Kind kind;
-    std::uint32_t index;  // tile, cluster or prop index
+    std::uint32_t index;  // tile, tree or prop index
   };
   const std::vector<Aabb>& boxes() const { return boxes_; }
   const std::vector<Object>& objects() const { return objects_; }
   std::size_t tileCount() const { return tiles_; }
-  std::size_t clusterCount() const { return clusters_; }
-  std::size_t propCount() const { return objects_.size() - tiles_ - clusters_; }
+  std::size_t treeCount() const { return trees_; }
+  std::size_t propCount() const { return objects_.size() - tiles_ - trees_; }
   // Boxes again after trees or props moved.
   void updateBoxes(const vegetation::Forest* forest, const std::vector<PropBox>& props);
 
@@ -38,15 +40,14 @@ class SceneObjects {
   std::uint32_t terrainIdBase() const { return 1; }
   std::uint32_t treeIdBase() const { return treeIdBase_; }
   std::uint32_t propIdBase() const { return propIdBase_; }
-  // The culling object a pixel's ID belongs to (tree IDs map to their cluster); -1 for the sky.
+  // The culling object a pixel's ID belongs to; -1 for the sky.
   std::int64_t objectOfId(std::uint32_t id) const;
 
  private:
   std::vector<Aabb> boxes_;
   std::vector<Object> objects_;
-  std::uint32_t tiles_ = 0, clusters_ = 0;
+  std::uint32_t tiles_ = 0, trees_ = 0;
   std::uint32_t treeIdBase_ = 1, propIdBase_ = 1;
-  std::vector<std::uint32_t> clusterOfTree_;
 };
 
 // Draws subsets of the scene's objects with the given renderers (any may be null) for one view
@@ -76,7 +77,7 @@ class SceneDrawer : public culling::ObjectDrawer {
   DrawView view_;
   const terrain::TerrainLod* lod_;
   std::vector<int> tiles_;
-  std::vector<std::uint32_t> clusters_, propList_;
+  std::vector<std::uint32_t> treeList_, propList_;
 };
 
 }  // namespace forest::render

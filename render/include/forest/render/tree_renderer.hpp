@@ -1,7 +1,7 @@
 #pragma once
 // Draws the forest's trees (module vegetation/): one vertex and index buffer holding every LOD of
 // every species, a per-frame stream of instances grouped by (species, LOD), and one instanced
-// draw per group — at most 6 draws however many clusters are visible. trees.vert applies the
+// draw per group — at most 6 draws however many trees are visible. trees.vert applies the
 // same transform as Forest::treeTransform (scale, yaw, wind shear, camera-relative position).
 #include <array>
 #include <memory>
@@ -33,12 +33,13 @@ class TreeRenderer {
     std::array<int, vegetation::kTreeLods> treesPerLod{};
     int draws = 0;
   };
-  // Draws the trees of `clusters` at `time`, each at the LOD the eye's distance gives it.
-  Stats draw(const Camera& camera, std::span<const std::uint32_t> clusters, double time, const SunSettings& sun) const;
+  // Draws `trees` (indices into Forest::trees(), each once) at `time`, each at the LOD the eye's
+  // distance gives it.
+  Stats draw(const Camera& camera, std::span<const std::uint32_t> trees, double time, const SunSettings& sun) const;
   // The same from any view (LOD from view.lodEye).
-  Stats draw(const DrawView& view, std::span<const std::uint32_t> clusters) const;
-  // Clusters whose boxes meet the camera's frustum.
-  std::vector<std::uint32_t> clustersInFrustum(const Camera& camera) const;
+  Stats draw(const DrawView& view, std::span<const std::uint32_t> trees) const;
+  // Trees whose boxes meet the camera's frustum.
+  std::vector<std::uint32_t> treesInFrustum(const Camera& camera) const;
 
   std::size_t meshBytes() const { return vertices_.size() + indices_.size(); }
   std::size_t instanceBytes() const { return instances_->size(); }
