@@ -1,0 +1,149 @@
+// Visibility per tree (DESIGN §4 culling/): each tree is an object of the culling hierarchy, and
+// the visible trees are drawn by one instanced call per species × LOD. Checked on the GPU with
+// counts from outside the culler: the triangles the draw generates (GL_PRIMITIVES_GENERATED)
+// against the species meshes' triangle counts, and the trees in the object-ID image.
+#include <algorithm>
+#include <set>
+#include <vector>
+
+#include "forest/core/scene.hpp"
+#include "forest/culling/bvh.hpp"
+#include "forest/culling/occlusion_culler.hpp"
+#include "forest/gl/objects.hpp"
+#include "forest/render/scene_objects.hpp"
+#include "gl_test_support.hpp"
+
+namespace forest::test {
+namespace {
+
+using glm::dvec3;
+
+constexpr int kWidth = 320, kHeight = 180;
+
+class TreeVisibilityGl : public GlTest {};
+
+// The triangles of a tree list at the eye's LODs, from the species meshes.
+long long meshTriangles(const vegetation::Forest& forest, std::span<const std::uint32_t> trees, const dvec3& eye) {
+  long long sum = 0;
+  for (std::uint32_t t : trees)
+    sum += forest.model(forest.trees()[t].species).lods[static_cast<size_t>(forest.lodFor(t, eye))].triangleCount();
+  return sum;
+}
+
+// Wraps a drawer: counts how often each object is drawn and the primitives the GPU generated for
+// the draws (occlusion-query boxes are drawn outside them and not counted).
+struct CountingDrawer : culling::ObjectDrawer {
+  culling::ObjectDrawer& inner;
+  std::vector<int> timesDrawn;
+  long long primitives = 0;
+  gl::Query query{GL_PRIMITIVES_GENERATED};
+  CountingDrawer(culling::ObjectDrawer& drawer, std::size_t objects) : inner(drawer), timesDrawn(objects, 0) {}
+  long long draw(std::span<const std::uint32_t> objects) override {
+    for (std::uint32_t o : objects) ++timesDrawn[o];
+    glBeginQuery(GL_PRIMITIVES_GENERATED, query.id());
+    const long long triangles = inner.draw(objects);
+    glEndQuery(GL_PRIMITIVES_GENERATED);
+    GLuint64 generated = 0;
+    glGetQueryObjectui64v(query.id(), GL_QUERY_RESULT, &generated);
+    primitives += static_cast<long long>(generated);
+    return triangles;
+  }
+};
+
+// The batched draw: a list of trees of both species at every LOD becomes as many instances as
+// trees, each once — the GPU generates exactly the listed trees' mesh triangles, and the ID image
+// shows listed trees only.
+TEST_F(TreeVisibilityGl, TheBatchedDrawDrawsEachListedTreeOnce) {
+  const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
+  const terrain::Terrain terrain(*scene.terrain);
+  const vegetation::Forest forest(*scene.vegetation, terrain);
+  const render::TreeRenderer trees(forest, render::TreeRenderer::Output::ObjectId, 1);
+  Camera camera = scene.startCamera();
+  camera.aspect = static_cast<double>(kWidth) / kHeight;
+  camera.position.y = terrain.heightAt(camera.position.x, camera.position.z) + 30.0;
+  camera.pitch = glm::radians(-15.0);
+  const std::vector<std::uint32_t> inView = trees.treesInFrustum(camera);
+  std::vector<std::uint32_t> listed;  // every third tree in view
+  for (size_t k = 0; k < inView.size(); k += 3) listed.push_back(inView[k]);
+  ASSERT_GT(listed.size(), 50u);
+  std::set<int> lods;
+  for (std::uint32_t t : listed) lods.insert(forest.lodFor(t, camera.position));
+  EXPECT_GE(lods.size(), 2u) << "the list should span LODs";
+
+  const IdDepthTarget target(kWidth, kHeight);
+  target.bindAndClear();
+  gl::Query generated(GL_PRIMITIVES_GENERATED);
+  glBeginQuery(GL_PRIMITIVES_GENERATED, generated.id());
+  const render::TreeRenderer::Stats stats = trees.draw(camera, listed, 0.0, scene.sun);
+  glEndQuery(GL_PRIMITIVES_GENERATED);
+  GLuint64 primitives = 0;
+  glGetQueryObjectui64v(generated.id(), GL_QUERY_RESULT, &primitives);
+  EXPECT_EQ(static_cast<long long>(primitives), meshTriangles(forest, listed, camera.position));
+  EXPECT_EQ(stats.trees, static_cast<int>(listed.size()));
+  EXPECT_LE(stats.draws, vegetation::kSpeciesCount * vegetation::kTreeLods);
+
+  const std::set<std::uint32_t> listedSet(listed.begin(), listed.end());
+  std::set<std::uint32_t> seen;
+  for (std::uint32_t id : target.readIds())
+    if (id != 0) seen.insert(id - 1);
+  EXPECT_GT(seen.size(), listed.size() / 4);
+  for (std::uint32_t t : seen) EXPECT_TRUE(listedSet.count(t)) << "tree " << t << " has pixels but was not listed";
+}
+
+// One cluster of 16 trees (what culling decided for before: one object), seen through a narrow
+// view that holds one of them. Culling per tree draws that tree's triangles only, from the second
+// frame on (CHC++ has no history on the first); the whole cluster would be 16 trees' triangles.
+TEST_F(TreeVisibilityGl, OneVisibleTreeOfAClusterDrawsThatTreeOnly) {
+  Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/thesis-demo.toml");
+  scene.terrain->size = 64.0;
+  scene.terrain->samples = 65;
+  scene.terrain->height_max = 1.0;
+  scene.terrain->feature_size = 40.0;
+  scene.vegetation->grid = 4;  // 16 trees, 16 m apart
+  const terrain::Terrain terrain(*scene.terrain);
+  const vegetation::Forest forest(*scene.vegetation, terrain);
+  ASSERT_EQ(forest.trees().size(), 16u);
+  ASSERT_EQ(forest.clusters().size(), 1u);
+  const render::SceneObjects objects(&terrain, &forest, scene.props);
+  const render::TreeRenderer treeIds(forest, render::TreeRenderer::Output::ObjectId, objects.treeIdBase());
+  const culling::Bvh bvh(objects.boxes(), scene.culling.leaf_size);
+
+  // The eye 12 m above and 8 m beside the tree nearest the centre, looking at its box through a
+  // 10° field of view.
+  std::uint32_t target = 0;
+  for (std::uint32_t t = 1; t < forest.trees().size(); ++t)
+    if (glm::length(forest.trees()[t].position) < glm::length(forest.trees()[target].position)) target = t;
+  const dvec3 centre = forest.treeBounds(target).centre();
+  Camera camera;
+  camera.position = centre + dvec3(0.0, 12.0, 8.0);
+  camera.aspect = static_cast<double>(kWidth) / kHeight;
+  camera.fovy = glm::radians(10.0);
+  camera.near = 0.1;
+  camera.far = 100.0;
+  const dvec3 to = centre - camera.position;
+  camera.yaw = std::atan2(-to.x, -to.z);
+  camera.pitch = std::asin(to.y / glm::length(to));
+
+  const IdDepthTarget image(kWidth, kHeight);
+  culling::OcclusionCuller culler;
+  for (int frame = 0; frame < 4; ++frame) {
+    image.bindAndClear();
+    render::SceneDrawer drawer(objects, nullptr, &treeIds, nullptr, camera, nullptr, 0.0, SunSettings{});  // trees only
+    CountingDrawer counting(drawer, objects.boxes().size());
+    const culling::CullingResult& r = culler.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::ChcPlusPlus, counting);
+    std::set<std::uint32_t> treesInImage;
+    for (std::uint32_t id : image.readIds())
+      if (id >= objects.treeIdBase() && id < objects.propIdBase()) treesInImage.insert(id - objects.treeIdBase());
+    ASSERT_EQ(treesInImage, std::set<std::uint32_t>{target}) << "frame " << frame << ": the view should show one tree";
+    for (int times : counting.timesDrawn) EXPECT_LE(times, 1) << "frame " << frame;
+    if (frame == 0) continue;
+    const std::uint32_t one[] = {target};
+    EXPECT_EQ(counting.primitives, meshTriangles(forest, one, camera.position)) << "frame " << frame;
+    EXPECT_EQ(r.stats.trianglesDrawn, counting.primitives) << "frame " << frame;
+    EXPECT_TRUE(std::binary_search(r.visibleObjects.begin(), r.visibleObjects.end(),
+                                   static_cast<std::uint32_t>(objects.tileCount()) + target));
+  }
+}
+
+}  // namespace
+}  // namespace forest::test
