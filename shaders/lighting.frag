@@ -15,14 +15,24 @@ layout(binding = 4) uniform sampler2D uShadowTerm;  // r: term, g: eye depth (0:
 layout(location = 0) out vec4 fragColor;
 layout(location = 1) out vec2 usedTerm;  // the (blurred) term lit with: Frame::readBlurredShadowTerm
 
+// Two programs (lighting_pass.cpp): BLURRED_TERM links blur_taps.frag, else shadow_lookup.frag. One
+// program with both and a uniform branch costs the blur-on frame half again in this pass on
+// llvmpipe, which runs both sides.
+#ifdef BLURRED_TERM
 vec2 blurTaps(sampler2D term, ivec2 pixel, ivec2 direction);
+#else
 vec2 shadowTermAt(ivec2 pixel, vec3 ray);
+#endif
 
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
   vec3 toSun = uFrame.toSunUp.xyz, sky = uFrame.skyFog.rgb;
   float ambient = uFrame.sunColorAmbient.w, fogDensity = uFrame.skyFog.w;
-  vec2 term = uFrame.modes.z != 0 ? blurTaps(uShadowTerm, pixel, ivec2(0, 1)) : shadowTermAt(pixel, vRay);
+#ifdef BLURRED_TERM
+  vec2 term = blurTaps(uShadowTerm, pixel, ivec2(0, 1));
+#else
+  vec2 term = shadowTermAt(pixel, vRay);
+#endif
   usedTerm = term;
   if (term.g == 0.0) { fragColor = vec4(sky, 1.0); return; }
   vec3 albedo = texelFetch(uAlbedo, pixel, 0).rgb;

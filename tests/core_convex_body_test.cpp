@@ -7,6 +7,7 @@
 
 #include "forest/core/camera.hpp"
 #include "forest/core/convex_body.hpp"
+#include "forest/core/frustum.hpp"
 
 namespace forest {
 namespace {
@@ -109,6 +110,48 @@ TEST(ConvexBody, FrustumCornersComeFromTheInverseViewProjection) {
   // A point on the view axis is inside every face plane.
   const dvec3 inside = c.position + 5.0 * c.forward();
   for (const Polygon& p : v.polygons()) EXPECT_LT(Plane::through(p[0], polygonNormal(p)).signedDistance(inside), 0.0);
+}
+
+// Frustum::contains (a receiver inside the view skips its clip): against each corner projected by
+// the camera's own matrices (inside: |x|, |y| ≤ w and 0 ≤ z ≤ w in clip space, reversed-Z or not),
+// over random boxes near, across and outside the view.
+TEST(Frustum, ContainsExactlyTheBoxesWhoseCornersAllProjectInside) {
+  Camera c;
+  c.position = {3, 2, 1};
+  c.yaw = 0.4;
+  c.pitch = 0.2;
+  c.near = 0.5;
+  c.far = 40.0;
+  c.aspect = 1.5;
+  const Frustum frustum(c);
+  const glm::dmat4 clip = c.projection() * c.view();
+  std::uint64_t state = 12345;
+  auto uniform = [&](double lo, double hi) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return lo + (hi - lo) * static_cast<double>(state >> 11) / 9007199254740992.0;
+  };
+  int inside = 0, outside = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const dvec3 centre = c.position + uniform(-5.0, 45.0) * c.forward() + dvec3(uniform(-20, 20), uniform(-15, 15), uniform(-20, 20));
+    const dvec3 half(uniform(0.0, 3.0), uniform(0.0, 3.0), uniform(0.0, 3.0));
+    const Aabb box{centre - half, centre + half};
+    bool allInside = true;
+    for (int i = 0; i < 8; ++i) {
+      const glm::dvec4 h = clip * glm::dvec4(box.corner(i), 1.0);
+      const double w = h.w, eps = 1e-9 * std::abs(w);
+      allInside = allInside && std::abs(h.x) <= w + eps && std::abs(h.y) <= w + eps && h.z >= -eps && h.z <= w + eps;
+    }
+    // Boxes within a hair of a plane may go either way; the rest must agree.
+    if (frustum.contains(box) != allInside) {
+      double margin = 1e300;
+      for (int i = 0; i < 8; ++i)
+        for (const Plane& plane : frustum.planes()) margin = std::min(margin, std::abs(plane.signedDistance(box.corner(i))));
+      EXPECT_LT(margin, 1e-9) << "box " << k;
+    }
+    (allInside ? inside : outside) += 1;
+  }
+  EXPECT_GT(inside, 1000);
+  EXPECT_GT(outside, 1000);
 }
 
 TEST(ConvexBody, ClipToleranceFollowsTheKeptPartNotTheCutAway) {

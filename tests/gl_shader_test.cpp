@@ -120,7 +120,8 @@ TEST_F(GlTest, UniformBlocksMatchTheShaders) {
   }
   programs.emplace_back("shadow term", gl::loadProgram({"fullscreen.vert", "shadow_term.frag", "shadow_lookup.frag"}, frameBlock));
   programs.emplace_back("blur", gl::loadProgram({"fullscreen.vert", "shadow_blur.frag", "blur_taps.frag"}, frameBlock));
-  programs.emplace_back("lighting", gl::loadProgram({"fullscreen.vert", "lighting.frag", "blur_taps.frag", "shadow_lookup.frag"}, frameBlock));
+  programs.emplace_back("lighting, blurred term", gl::loadProgram({"fullscreen.vert", "lighting.frag", "blur_taps.frag"}, "#define BLURRED_TERM\n" + frameBlock));
+  programs.emplace_back("lighting, term looked up", gl::loadProgram({"fullscreen.vert", "lighting.frag", "shadow_lookup.frag"}, frameBlock));
   programs.emplace_back("query box", gl::loadProgram({"query_box.vert", "query_box.frag"}));
 
   std::map<std::string, int> programsWith;
@@ -140,11 +141,11 @@ TEST_F(GlTest, UniformBlocksMatchTheShaders) {
       }
     }
   }
-  // Every surface program reads the view block, the terrain's its own, the full-screen passes the
-  // frame block, the query boxes theirs.
+  // Every surface program reads the view block, the terrain's its own, the full-screen passes (the
+  // term, the blur, two lighting programs) the frame block, the query boxes theirs.
   EXPECT_EQ(programsWith["ViewBlock"], 12);
   EXPECT_EQ(programsWith["TerrainViewBlock"], 4);
-  EXPECT_EQ(programsWith["FrameBlock"], 3);
+  EXPECT_EQ(programsWith["FrameBlock"], 4);
   EXPECT_EQ(programsWith["QueryViewBlock"], 1);
 }
 

@@ -27,4 +27,14 @@ bool Frustum::mayIntersect(const Aabb& box) const {
   return true;
 }
 
+bool Frustum::contains(const Aabb& box) const {
+  for (const Plane& plane : planes_) {
+    // The corner farthest outside along the normal: if it is inside, every corner is.
+    const glm::dvec3 farthest(plane.normal.x > 0 ? box.max.x : box.min.x, plane.normal.y > 0 ? box.max.y : box.min.y,
+                              plane.normal.z > 0 ? box.max.z : box.min.z);
+    if (plane.signedDistance(farthest) > 0.0) return false;
+  }
+  return true;
+}
+
 }  // namespace forest

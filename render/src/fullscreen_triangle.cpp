@@ -17,10 +17,10 @@ glm::mat3 pixelRays(const Camera& camera) {
   return glm::mat3(glm::dmat3(ray(1.0, 0.0) - centre, ray(0.0, 1.0) - centre, -centre));
 }
 
-gl::Program loadFullScreenProgram(const std::vector<std::string>& fragments) {
+gl::Program loadFullScreenProgram(const std::vector<std::string>& fragments, const std::string& defines) {
   std::vector<std::string> files{"fullscreen.vert"};
   files.insert(files.end(), fragments.begin(), fragments.end());
-  return gl::loadProgram(files, gl::readShader("frame_block.glsl"));
+  return gl::loadProgram(files, defines + gl::readShader("frame_block.glsl"));
 }
 
 void FullScreenTriangle::draw(const gl::Program& program) const {

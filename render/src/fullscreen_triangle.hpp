@@ -17,8 +17,9 @@ namespace forest::render {
 // through that pixel scaled to eye depth 1 (the position of a pixel at eye depth z is z times it).
 glm::mat3 pixelRays(const Camera& camera);
 
-// fullscreen.vert linked with `fragments`, every stage declaring the frame block (frame_block.glsl).
-gl::Program loadFullScreenProgram(const std::vector<std::string>& fragments);
+// fullscreen.vert linked with `fragments`, every stage declaring the frame block (frame_block.glsl)
+// after `defines` (lines such as "#define X\n").
+gl::Program loadFullScreenProgram(const std::vector<std::string>& fragments, const std::string& defines = "");
 
 class FullScreenTriangle {
  public:

@@ -6,7 +6,8 @@ namespace forest::render {
 
 LightingPass::LightingPass(int width, int height)
     : width_(width), height_(height), usedTerm_(GL_RG16F, width, height), color_(GL_RGBA8, width, height),
-      program_(loadFullScreenProgram({"lighting.frag", "blur_taps.frag", "shadow_lookup.frag"})) {
+      blurred_(loadFullScreenProgram({"lighting.frag", "blur_taps.frag"}, "#define BLURRED_TERM\n")),
+      lookup_(loadFullScreenProgram({"lighting.frag", "shadow_lookup.frag"})) {
   framebuffer_.attach(GL_COLOR_ATTACHMENT0, color_);
   framebuffer_.attach(GL_COLOR_ATTACHMENT1, usedTerm_);
   const GLenum buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
@@ -25,7 +26,7 @@ void LightingPass::run(const GBuffer& gbuffer, const gl::Texture* term, const gl
   glBindTextureUnit(1, gbuffer.shadingNormal.id());
   if (term) glBindTextureUnit(4, term->id());
   else bindShadowLookupInputs(gbuffer, shadowMap);
-  triangle_.draw(program_);
+  triangle_.draw(term ? blurred_ : lookup_);
   for (GLuint unit = 0; unit < 7; ++unit) glBindTextureUnit(unit, 0);
   glEnable(GL_DEPTH_TEST);
   glEnable(GL_CULL_FACE);

@@ -29,7 +29,7 @@ class LightingPass {
   int width_, height_;
   gl::Texture usedTerm_, color_;
   gl::Framebuffer framebuffer_;
-  gl::Program program_;
+  gl::Program blurred_, lookup_;  // the term from the blur's horizontal pass, or looked up here
   FullScreenTriangle triangle_;
 };
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "forest/core/frustum.hpp"
 #include "forest/shadows/casters.hpp"
 #include "forest/shadows/focus_body.hpp"
 
@@ -72,9 +73,15 @@ void ShadowSetupPass::selectCastersOfReceivers(const Camera& shadowCamera, const
                                                const FrameSettings& settings, const dvec3& l, const SceneObjects& objects,
                                                const Aabb& sceneBounds, std::vector<std::uint32_t>& casters) {
   const ConvexBody view = shadows::viewFrustumBody(shadowCamera);
+  const Frustum viewPlanes(shadowCamera);
   const double reach = filterReachTexels(settings.pcfRadius) + kFilterMarginTexels;
   footprints_.clear();
   for (const Aabb& receiver : receivers_) {
+    // Most receivers (trees) lie wholly inside V: clipping would return the box itself.
+    if (viewPlanes.contains(receiver)) {
+      footprints_.push_back(grownByFilter(receiver, setup, settings.shadowMapSize, reach, l, sceneBounds));
+      continue;
+    }
     ConvexBody part = ConvexBody::fromBox(receiver);
     part.clip(view);
     if (!part.empty()) footprints_.push_back(grownByFilter(part.bounds(), setup, settings.shadowMapSize, reach, l, sceneBounds));

@@ -21,6 +21,8 @@ class Frustum {
   const std::array<Plane, 6>& planes() const { return planes_; }
   // False only when the box is entirely outside one plane.
   bool mayIntersect(const Aabb& box) const;
+  // True when the whole box is inside (every corner on the inner side of all six planes).
+  bool contains(const Aabb& box) const;
 
  private:
   std::array<Plane, 6> planes_;
