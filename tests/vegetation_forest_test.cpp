@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <random>
 #include <set>
@@ -182,6 +183,42 @@ TEST(TreeWind, EveryVertexOfASwayingTreeStaysInItsBox) {
     EXPECT_EQ(f.treeTransform(tree, t), m);
   }
   EXPECT_GT(largestShift, 0.1);  // the trees do sway
+}
+
+// The query slabs (what occlusion queries draw for a tree) hold every point of every triangle of
+// every LOD at any time: the vertices, edge midpoints and centroids, swayed, each inside one of
+// the tree's slab boxes. And they are tighter than the tree's box: their total volume is smaller.
+TEST(TreeWind, EveryPointOfASwayingTreeStaysInItsQuerySlabs) {
+  const Forest& f = sharedForest();
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> time(0.0, 1000.0);
+  std::uniform_int_distribution<std::uint32_t> pick(0, static_cast<std::uint32_t>(f.trees().size() - 1));
+  double slabVolume = 0.0, boxVolume = 0.0;
+  for (int k = 0; k < 100; ++k) {
+    const std::uint32_t tree = pick(rng);
+    const double t = time(rng);
+    const glm::dmat4 m = f.treeTransform(tree, t);
+    const std::array<Aabb, kQuerySlabs> slabs = f.treeQueryBoxes(tree);
+    auto inSomeSlab = [&](const dvec3& p) {
+      return std::any_of(slabs.begin(), slabs.end(), [&](const Aabb& b) { return b.valid() && b.contains(p, 1e-9); });
+    };
+    for (int lod = 0; lod < kTreeLods; ++lod) {
+      const TreeMesh& mesh = f.model(f.trees()[tree].species).lods[lod];
+      for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
+        const dvec3 a(m * glm::dvec4(dvec3(mesh.positions[mesh.indices[i]]), 1.0));
+        const dvec3 b(m * glm::dvec4(dvec3(mesh.positions[mesh.indices[i + 1]]), 1.0));
+        const dvec3 c(m * glm::dvec4(dvec3(mesh.positions[mesh.indices[i + 2]]), 1.0));
+        for (const dvec3& p : {a, b, c, 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a), (a + b + c) / 3.0})
+          ASSERT_TRUE(inSomeSlab(p)) << "tree " << tree << " LOD " << lod << " triangle " << i / 3 << " at t = " << t;
+      }
+    }
+    for (const Aabb& b : slabs)
+      if (b.valid()) slabVolume += b.extent().x * b.extent().y * b.extent().z;
+    const Aabb box = f.treeBounds(tree);
+    boxVolume += box.extent().x * box.extent().y * box.extent().z;
+  }
+  std::printf("[query slabs] their volume is %.2f of the trees' boxes\n", slabVolume / boxVolume);
+  EXPECT_LT(slabVolume, 0.9 * boxVolume);
 }
 
 TEST(TreeMoves, ReportTheClustersWhoseBoxesChanged) {

@@ -26,8 +26,11 @@ std::uint64_t hashDraw(std::uint64_t node, std::uint64_t frame, std::uint64_t n)
 // the deepest level first; else the node's own box. The union holds all of the node's geometry,
 // so a hidden result stays exact.
 // `level`, `next`, `best`: scratch lists.
+// `append(n, out)`: what node n's own query would draw (a leaf: its objects' query shapes).
+template <class AppendBoxes>
 void queryBoxes(const std::vector<BvhNode>& nodes, std::int32_t node, int depth, double ratio, std::vector<Aabb>& out,
-                std::vector<std::int32_t>& level, std::vector<std::int32_t>& next, std::vector<std::int32_t>& best) {
+                std::vector<std::int32_t>& level, std::vector<std::int32_t>& next, std::vector<std::int32_t>& best,
+                const AppendBoxes& append) {
   const double limit = ratio * surfaceArea(nodes[node].bounds);
   level.assign(1, node);
   best.assign(1, node);
@@ -47,7 +50,7 @@ void queryBoxes(const std::vector<BvhNode>& nodes, std::int32_t node, int depth,
     if (area <= limit) best = next;
     std::swap(level, next);
   }
-  for (std::int32_t n : best) out.push_back(nodes[n].bounds);
+  for (std::int32_t n : best) append(n, out);
 }
 
 }  // namespace
@@ -81,10 +84,11 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     renderQueue.clear();
     drawObjects(t, objects);
   };
+  const auto appendBoxes = [&t](std::int32_t n, std::vector<Aabb>& out) { t.appendQueryBoxes(n, out); };
   auto issue = [&](std::span<const std::int32_t> group, bool drawnAlready) {
     boxes.clear();
     for (std::int32_t n : group)
-      queryBoxes(nodes, n, p.tight_box_depth, p.tight_box_area_ratio, boxes, scratch.level, scratch.next, scratch.best);
+      queryBoxes(nodes, n, p.tight_box_depth, p.tight_box_area_ratio, boxes, scratch.level, scratch.next, scratch.best, appendBoxes);
     ++t.stats.queriesIssued;
     if (group.size() > 1) ++t.stats.multiQueries;
     const std::size_t slot = issueQuery(boxes);

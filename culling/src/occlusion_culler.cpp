@@ -177,7 +177,9 @@ void OcclusionCuller::pullUpVisibility(std::int32_t n) {
 }
 
 const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb> objectBoxes, const Camera& camera,
-                                           CullingStrategy strategy, ObjectDrawer& drawer) {
+                                           CullingStrategy strategy, ObjectDrawer& drawer, const QueryShapes& shapes) {
+  if (!shapes.empty() && shapes.first.size() != objectBoxes.size() + 1)
+    throw Error(fmt::format("OcclusionCuller: query shapes for {} objects, expected {}", shapes.first.size() - 1, objectBoxes.size()));
   if (objectBoxes.size() != bvh.objectCount())
     throw Error(fmt::format("OcclusionCuller: {} object boxes for a BVH over {}", objectBoxes.size(), bvh.objectCount()));
   CullingResult& result = result_;
@@ -195,10 +197,10 @@ const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb>
   if (stateOf_ != &bvh || state_.size() != bvh.nodes().size()) {
     state_.assign(bvh.nodes().size(), NodeState{});
     stateOf_ = &bvh;
-    scratch_->reserve(bvh.nodes().size(), bvh.objectCount(), result_.visibleObjects);
+    scratch_->reserve(bvh.nodes().size(), bvh.objectCount(), shapes.boxes.size(), result_.visibleObjects);
     pool_.reserve(2 * bvh.nodes().size());
   }
-  Traversal t{bvh, camera, view, Frustum(camera), drawer, result.stats, result.visibleObjects, scratch};
+  Traversal t{bvh, camera, view, Frustum(camera), drawer, result.stats, result.visibleObjects, scratch, shapes};
   const std::vector<BvhNode>& nodes = bvh.nodes();
 
   switch (strategy) {
@@ -232,7 +234,9 @@ const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb>
         ++result.stats.nodesVisited;
         bool isVisible = true;
         if (!t.visibleWithoutQuery(n)) {
-          const std::size_t slot = issueQuery({&nodes[n].bounds, 1});
+          scratch.boxes.clear();
+          t.appendQueryBoxes(n, scratch.boxes);
+          const std::size_t slot = issueQuery(scratch.boxes);
           ++result.stats.queriesIssued;
           isVisible = waitResult(slot, result.stats) > 0;
         }
@@ -316,7 +320,9 @@ void OcclusionCuller::cullChc(Traversal& t) {
     s.visible = false;
     s.lastVisited = frame_;
     if (!opened) {
-      queries.push({static_cast<std::size_t>(n), 1, issueQuery({&nodes[n].bounds, 1}), wasVisible, steps});
+      t.scratch.boxes.clear();
+      t.appendQueryBoxes(n, t.scratch.boxes);
+      queries.push({static_cast<std::size_t>(n), 1, issueQuery(t.scratch.boxes), wasVisible, steps});
       ++t.stats.queriesIssued;
     }
     if (wasVisible) traverseNode(n);

@@ -100,13 +100,13 @@ struct OcclusionCuller::Scratch {
   // Room for the largest frame a BVH of `nodes` nodes over `objects` objects can make: each node
   // is queued, opened and queried at most twice (a multiquery, then on its own), each object
   // drawn and marked visible at most twice; so no frame grows a list.
-  void reserve(std::size_t nodes, std::size_t objects, std::vector<std::uint32_t>& visible) {
+  void reserve(std::size_t nodes, std::size_t objects, std::size_t shapeBoxes, std::vector<std::uint32_t>& visible) {
     for (auto* v : {&stack, &invisibleQueue, &visibleQueue, &renderQueue, &group, &level, &next, &best}) v->reserve(2 * nodes);
     traversal.items.reserve(2 * nodes);
     pending.items.reserve(2 * nodes);
     groupNodes.reserve(2 * nodes);
     order.reserve(2 * nodes);
-    boxes.reserve(2 * nodes);
+    boxes.reserve(2 * (nodes + shapeBoxes));
     drawList.reserve(2 * objects);
     visible.reserve(2 * objects);
   }
@@ -128,6 +128,7 @@ struct OcclusionCuller::Traversal {
   CullingStats& stats;
   std::vector<std::uint32_t>& visible;  // objects of the leaves found visible (may repeat)
   Scratch& scratch;
+  const QueryShapes& shapes;
 
   const std::vector<BvhNode>& nodes() const { return bvh.nodes(); }
   std::span<const std::uint32_t> objectsOf(std::int32_t n) const {
@@ -137,6 +138,17 @@ struct OcclusionCuller::Traversal {
   void markVisible(std::int32_t n) {
     const auto objects = objectsOf(n);
     visible.insert(visible.end(), objects.begin(), objects.end());
+  }
+  // What a query of node n draws: a leaf's objects' query shapes when there are some, else the
+  // node's box.
+  void appendQueryBoxes(std::int32_t n, std::vector<Aabb>& out) const {
+    const BvhNode& node = bvh.nodes()[n];
+    if (!node.leaf() || shapes.empty()) {
+      out.push_back(node.bounds);
+      return;
+    }
+    for (std::uint32_t o : objectsOf(n))
+      out.insert(out.end(), shapes.boxes.begin() + shapes.first[o], shapes.boxes.begin() + shapes.first[o + 1]);
   }
   Entry entry(std::int32_t n) const { return {distanceToBox(bvh.nodes()[n].bounds, camera.position), n}; }
   // Visible without a query: the box holds the eye (grown by z_n) or reaches in front of the near

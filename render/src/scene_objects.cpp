@@ -24,6 +24,18 @@ SceneObjects::SceneObjects(const terrain::Terrain* terrain, const vegetation::Fo
 void SceneObjects::updateBoxes(const vegetation::Forest* forest, const std::vector<PropBox>& props) {
   for (std::uint32_t t = 0; t < trees_; ++t) boxes_[tiles_ + t] = forest->treeBounds(t);
   for (std::uint32_t p = 0; p < props.size(); ++p) boxes_[tiles_ + trees_ + p] = Aabb{props[p].min, props[p].max};
+  queryFirst_.clear();
+  queryBoxes_.clear();
+  for (std::uint32_t o = 0; o < objects_.size(); ++o) {
+    queryFirst_.push_back(static_cast<std::uint32_t>(queryBoxes_.size()));
+    if (objects_[o].kind != Kind::Tree) {
+      queryBoxes_.push_back(boxes_[o]);
+      continue;
+    }
+    for (const Aabb& slab : forest->treeQueryBoxes(objects_[o].index))
+      if (slab.valid()) queryBoxes_.push_back(slab);
+  }
+  queryFirst_.push_back(static_cast<std::uint32_t>(queryBoxes_.size()));
 }
 
 std::int64_t SceneObjects::objectOfId(std::uint32_t id) const {

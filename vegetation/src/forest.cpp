@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <unordered_map>
 
@@ -33,11 +34,46 @@ glm::dvec2 windShear(const VegetationSettings& s, double swayPhase, double time)
   return s.wind_strength * sway * s.wind_direction;
 }
 
+namespace {
+
+// Height slabs of a species over all its LODs: kQuerySlabs equal slabs of its height; each slab's
+// range is cut to the triangles that reach into it, and its radius is the largest distance from
+// the y axis over the vertices of those triangles — a triangle's points are no farther from the
+// axis than its farthest vertex (distance to a line is convex), so the cylinder of that radius
+// over the slab holds the part of every triangle inside the slab.
+std::array<glm::dvec3, kQuerySlabs> querySlabs(const SpeciesModel& model, const Aabb& bounds) {
+  std::array<glm::dvec3, kQuerySlabs> slabs;
+  slabs.fill(glm::dvec3(std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(), 0.0));
+  const double bottom = bounds.min.y, height = bounds.max.y - bounds.min.y;
+  const auto slabOf = [&](double y) {
+    if (!(height > 0.0)) return 0;
+    return std::clamp(static_cast<int>(std::floor((y - bottom) / height * kQuerySlabs)), 0, kQuerySlabs - 1);
+  };
+  for (const TreeMesh& mesh : model.lods) {
+    for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
+      const glm::dvec3 a(mesh.positions[mesh.indices[t]]), b(mesh.positions[mesh.indices[t + 1]]), c(mesh.positions[mesh.indices[t + 2]]);
+      const double low = std::min({a.y, b.y, c.y}), high = std::max({a.y, b.y, c.y});
+      const double radius = std::max({std::hypot(a.x, a.z), std::hypot(b.x, b.z), std::hypot(c.x, c.z)});
+      for (int k = slabOf(low); k <= slabOf(high); ++k) {
+        const double slabLow = bottom + height * k / kQuerySlabs, slabHigh = k == kQuerySlabs - 1 ? bounds.max.y : bottom + height * (k + 1) / kQuerySlabs;
+        glm::dvec3& s = slabs[static_cast<size_t>(k)];
+        s.x = std::min(s.x, std::max(low, slabLow));
+        s.y = std::max(s.y, std::min(high, slabHigh));
+        s.z = std::max(s.z, radius);
+      }
+    }
+  }
+  return slabs;
+}
+
+}  // namespace
+
 Forest::Forest(const VegetationSettings& settings, const terrain::Terrain& terrain) : settings_(settings), terrain_(terrain) {
   for (Species s : {Species::Conifer, Species::Broadleaf}) {
     const size_t i = static_cast<size_t>(s);
     species_[i] = settings.style == TreeStyle::Thesis ? buildThesisTree(s) : buildSpecies(s, settings.lod0_triangles, settings.seed);
     for (const TreeMesh& lod : species_[i].lods) speciesBounds_[i].extend(lod.bounds);
+    slabs_[i] = querySlabs(species_[i], speciesBounds_[i]);
   }
   if (settings.grid > 0) placeOnGrid();
   else place();
@@ -208,6 +244,27 @@ Aabb Forest::treeBounds(std::uint32_t index) const {
   box.min += t.position - dvec3(reach, 0.0, reach);
   box.max += t.position + dvec3(reach, 0.0, reach);
   return box;
+}
+
+std::array<Aabb, kQuerySlabs> Forest::treeQueryBoxes(std::uint32_t index) const {
+  const TreeInstance& t = trees_[index];
+  const Aabb whole = treeBounds(index);
+  std::array<Aabb, kQuerySlabs> boxes;
+  for (int k = 0; k < kQuerySlabs; ++k) {
+    const glm::dvec3& slab = slabs_[static_cast<size_t>(t.species)][static_cast<size_t>(k)];
+    if (!(slab.x <= slab.y)) {  // no triangle reaches into this slab: an empty box
+      boxes[static_cast<size_t>(k)] = Aabb();
+      continue;
+    }
+    // Uniform scale and a yaw keep the distance from the axis; the shear moves a point at height h
+    // by at most strength · |h| (as in treeBounds).
+    const double radius = slab.z * t.scale + settings_.wind_strength * t.scale * std::max(std::abs(slab.x), std::abs(slab.y));
+    Aabb box{t.position + glm::dvec3(-radius, slab.x * t.scale, -radius), t.position + glm::dvec3(radius, slab.y * t.scale, radius)};
+    box.min = glm::max(box.min, whole.min);
+    box.max = glm::min(box.max, whole.max);
+    boxes[static_cast<size_t>(k)] = box;
+  }
+  return boxes;
 }
 
 int Forest::lodFor(std::uint32_t tree, const glm::dvec3& eye) const {

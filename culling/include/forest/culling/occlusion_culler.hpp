@@ -25,7 +25,8 @@
 // GL_QUERY_RESULT_AVAILABLE and taking a result as soon as the GPU has it while traversal goes on;
 // a result is read only after the GL reported it available, so the CPU never blocks in a read.
 // Both are exact.
-// A query tests the node's box (grown by a few ulps) against the depth of what has been drawn so
+// A query tests the node's box (or, for a leaf, its objects' query shapes; grown by a few ulps)
+// against the depth of what has been drawn so
 // far, which only gets nearer as more is drawn: a box found hidden holds nothing visible, so the
 // geometry pass equals drawing everything (exactness). Boxes holding the eye (grown by z_n) or
 // crossing the near plane count as visible without a query.
@@ -58,6 +59,15 @@ class ObjectDrawer {
  public:
   virtual ~ObjectDrawer() = default;
   virtual long long draw(std::span<const std::uint32_t> objects) = 0;
+};
+
+// Query shapes tighter than the objects' boxes (optional): object o is queried with
+// boxes[first[o], first[o + 1]), boxes whose union holds all of its geometry (a tree's height
+// slabs), instead of its box. `first` has one entry per object and one more.
+struct QueryShapes {
+  std::span<const std::uint32_t> first;
+  std::span<const Aabb> boxes;
+  bool empty() const { return first.empty(); }
 };
 
 enum class QueryMode { Deterministic, Async };
@@ -96,8 +106,9 @@ class OcclusionCuller {
   // One frame. `objectBoxes[i]` is object i's box (the BVH was built over them). The framebuffer
   // the pass draws into must be bound and cleared; depth test GL_GREATER (reversed-Z). The result
   // is the culler's, valid until its next frame (its storage is reused: no allocation per frame).
+  // `shapes`: what a leaf's query draws instead of the leaf's box (none: the box).
   const CullingResult& cull(const Bvh& bvh, std::span<const Aabb> objectBoxes, const Camera& camera, CullingStrategy strategy,
-                     ObjectDrawer& drawer);
+                            ObjectDrawer& drawer, const QueryShapes& shapes = {});
   // Forgets the previous frame's visibility (after a BVH rebuild or a camera cut).
   void reset();
   // The chc++ parameters (the scene file's [culling] section); takes effect next frame.

@@ -29,6 +29,9 @@ class SceneObjects {
     std::uint32_t index;  // tile, tree or prop index
   };
   const std::vector<Aabb>& boxes() const { return boxes_; }
+  // What occlusion queries draw for each object: a tree's height slabs
+  // (vegetation::Forest::treeQueryBoxes), any other object's box.
+  culling::QueryShapes queryShapes() const { return {queryFirst_, queryBoxes_}; }
   const std::vector<Object>& objects() const { return objects_; }
   std::size_t tileCount() const { return tiles_; }
   std::size_t treeCount() const { return trees_; }
@@ -46,6 +49,8 @@ class SceneObjects {
  private:
   std::vector<Aabb> boxes_;
   std::vector<Object> objects_;
+  std::vector<std::uint32_t> queryFirst_;
+  std::vector<Aabb> queryBoxes_;
   std::uint32_t tiles_ = 0, trees_ = 0;
   std::uint32_t treeIdBase_ = 1, propIdBase_ = 1;
 };

@@ -32,6 +32,8 @@ struct TreeCluster {
   Aabb bounds;                       // union of the trees' boxes, sway included
 };
 
+constexpr int kQuerySlabs = 4;  // height slabs of a tree's query boxes (Forest::treeQueryBoxes)
+
 constexpr int kMinClusterSize = 16;
 constexpr int kMaxClusterSize = 64;
 
@@ -60,6 +62,11 @@ class Forest {
   glm::dmat4 treeTransform(std::uint32_t tree, double time) const;
   // World box of a tree over all times (sway inflated by the largest shear) and all LODs.
   Aabb treeBounds(std::uint32_t tree) const;
+  // Tighter: kQuerySlabs boxes whose union holds the tree at all times and LODs — one per height
+  // slab, as wide as the species' widest point in that slab (its radius from the trunk's axis, so
+  // any yaw), grown by the sway at the slab's top, each cut to treeBounds. The culler queries with
+  // them (a crown's box no longer shows where only its corners would).
+  std::array<Aabb, kQuerySlabs> treeQueryBoxes(std::uint32_t tree) const;
   // LOD by distance bands from the eye to the tree's base (force_lod0 → 0): a pure function of the
   // camera, so culling never changes what is drawn.
   int lodFor(std::uint32_t tree, const glm::dvec3& eye) const;
@@ -84,6 +91,9 @@ class Forest {
   const terrain::Terrain& terrain_;
   std::array<SpeciesModel, kSpeciesCount> species_;
   std::array<Aabb, kSpeciesCount> speciesBounds_;  // object space, all LODs
+  // Per species and height slab, in object space over all LODs: the slab's height range [x, y]
+  // (empty: x > y) and z, the largest distance from the y axis of a point of the mesh in it.
+  std::array<std::array<glm::dvec3, kQuerySlabs>, kSpeciesCount> slabs_{};
   std::vector<TreeInstance> trees_;
   std::vector<TreeCluster> clusters_;
   std::vector<std::uint32_t> clusterOf_;
