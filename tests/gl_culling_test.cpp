@@ -139,7 +139,7 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongSixtyViews) {
       const CullingStrategy s = runs[k].strategy;
       target.bindAndClear();
       render::SceneDrawer drawer(objects, &terrainIds, &treeIds, &propIds, view.camera, &lod, time, scene.sun);
-      const culling::CullingResult r = cullers[k].cull(bvh, objects.boxes(), view.camera, s, drawer, objects.queryShapes());
+      const culling::CullingResult r = cullers[k].cull(bvh, objects.boxes(), view.camera, s, drawer, objects.queryShapes(&lod));
       asyncPolls += r.stats.availabilityPolls;
       if (runs[k].mode == culling::QueryMode::Deterministic) {
         EXPECT_EQ(r.stats.availabilityPolls, 0);

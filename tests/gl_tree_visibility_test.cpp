@@ -130,7 +130,7 @@ TEST_F(TreeVisibilityGl, OneVisibleTreeOfAClusterDrawsThatTreeOnly) {
     image.bindAndClear();
     render::SceneDrawer drawer(objects, nullptr, &treeIds, nullptr, camera, nullptr, 0.0, SunSettings{});  // trees only
     CountingDrawer counting(drawer, objects.boxes().size());
-    const culling::CullingResult& r = culler.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::ChcPlusPlus, counting, objects.queryShapes());
+    const culling::CullingResult& r = culler.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::ChcPlusPlus, counting, objects.queryShapes(nullptr));
     std::set<std::uint32_t> treesInImage;
     for (std::uint32_t id : image.readIds())
       if (id >= objects.treeIdBase() && id < objects.propIdBase()) treesInImage.insert(id - objects.treeIdBase());

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <random>
 #include <set>
+#include <span>
 
 #include "forest/core/error.hpp"
 #include "forest/terrain/terrain.hpp"
@@ -173,6 +174,47 @@ TEST(TerrainLod, EveryMorphStateStaysInsideItsTileBox) {
     }
   }
   EXPECT_GT(morphing, 0);  // the states include partly morphed tiles
+}
+
+// The block boxes a tile's occlusion query draws at a level (Terrain::blockBoxes) hold what that
+// level draws, in every morph state: each drawn cell's four (morphed) corners lie in one block box,
+// so the cell's two triangles do. And they are tighter than the tile box where the tile is not flat.
+TEST(TerrainLod, EveryDrawnCellLiesInOneBlockBoxOfItsLevel) {
+  const Terrain& t = sharedTerrain();
+  double blockVolume = 0.0, tileVolume = 0.0;
+  std::vector<TerrainLod> states = lodStates(t);
+  // And states that morph every level everywhere: ramps over the whole terrain (k from 0 to ~1
+  // across it), and ramps already ended (k = 1: every odd vertex at its target).
+  for (const double end : {2.0 * t.heightfield().size(), 1e-6}) {
+    TerrainLod all = states.front();
+    all.eye = t.bounds().min;
+    all.morphStart.fill(0.0);
+    all.morphEnd.fill(end);
+    states.push_back(all);
+  }
+  for (const TerrainLod& lod : states) {
+    for (int tile = 0; tile < t.tileCount(); ++tile) {
+      for (int level = 0; level < kLevels; ++level) {
+        const std::span<const Aabb> blocks = t.blockBoxes(tile, level);
+        const int step = 1 << level;
+        for (int j = 0; j < kTileQuads; j += step)
+          for (int i = 0; i < kTileQuads; i += step) {
+            const dvec3 corners[4] = {t.drawnVertex(tile, i, j, level, lod), t.drawnVertex(tile, i + step, j, level, lod),
+                                      t.drawnVertex(tile, i, j + step, level, lod), t.drawnVertex(tile, i + step, j + step, level, lod)};
+            const bool inOne = std::any_of(blocks.begin(), blocks.end(), [&](const Aabb& b) {
+              return std::all_of(std::begin(corners), std::end(corners), [&](const dvec3& c) { return b.contains(c, 1e-9); });
+            });
+            ASSERT_TRUE(inOne) << "tile " << tile << " level " << level << " cell (" << i << ", " << j << ")";
+          }
+        if (level == 0 && &lod == &states.front()) {
+          for (const Aabb& b : blocks) blockVolume += b.extent().x * b.extent().y * b.extent().z;
+          const Aabb& box = t.tileBox(tile);
+          tileVolume += box.extent().x * box.extent().y * box.extent().z;
+        }
+      }
+    }
+  }
+  EXPECT_LT(blockVolume, 0.8 * tileVolume);
 }
 
 TEST(TerrainLod, NeighboursDrawTheSameEdgeVertices) {

@@ -308,7 +308,7 @@ int runBenchCulling(const BenchOptions& options) {
             r.stats.objectsDrawn = static_cast<int>(visibleSets[f].size());
             r.stats.drawCalls = 1;
           } else {
-            r.stats = cullers[k]->cull(bvh, objects.boxes(), path[f], strategies[k], lit, objects.queryShapes()).stats;
+            r.stats = cullers[k]->cull(bvh, objects.boxes(), path[f], strategies[k], lit, objects.queryShapes(&lod)).stats;
           }
           records[name].push_back(r);
           showProgress("bench culling", "frames", ++done, total, std::chrono::duration<double>(Clock::now() - benchStart).count(), options.length.quiet);

@@ -178,8 +178,8 @@ void OcclusionCuller::pullUpVisibility(std::int32_t n) {
 
 const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb> objectBoxes, const Camera& camera,
                                            CullingStrategy strategy, ObjectDrawer& drawer, const QueryShapes& shapes) {
-  if (!shapes.empty() && shapes.first.size() != objectBoxes.size() + 1)
-    throw Error(fmt::format("OcclusionCuller: query shapes for {} objects, expected {}", shapes.first.size() - 1, objectBoxes.size()));
+  if (!shapes.empty() && shapes.ranges.size() != objectBoxes.size())
+    throw Error(fmt::format("OcclusionCuller: query shapes for {} objects, expected {}", shapes.ranges.size(), objectBoxes.size()));
   if (objectBoxes.size() != bvh.objectCount())
     throw Error(fmt::format("OcclusionCuller: {} object boxes for a BVH over {}", objectBoxes.size(), bvh.objectCount()));
   CullingResult& result = result_;
@@ -200,7 +200,8 @@ const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb>
     scratch_->reserve(bvh.nodes().size(), bvh.objectCount(), shapes.boxes.size(), result_.visibleObjects);
     pool_.reserve(2 * bvh.nodes().size());
   }
-  Traversal t{bvh, camera, view, Frustum(camera), drawer, result.stats, result.visibleObjects, scratch, shapes};
+  Traversal t{bvh, camera, view, Frustum(camera), drawer, result.stats, result.visibleObjects, scratch, shapes,
+              parameters_.tight_box_area_ratio};
   const std::vector<BvhNode>& nodes = bvh.nodes();
 
   switch (strategy) {

@@ -129,6 +129,7 @@ struct OcclusionCuller::Traversal {
   std::vector<std::uint32_t>& visible;  // objects of the leaves found visible (may repeat)
   Scratch& scratch;
   const QueryShapes& shapes;
+  double shapeAreaRatio;  // the chc++ tight-box rule (§3.5): shapes only when their area ≤ this × the box's
 
   const std::vector<BvhNode>& nodes() const { return bvh.nodes(); }
   std::span<const std::uint32_t> objectsOf(std::int32_t n) const {
@@ -139,16 +140,26 @@ struct OcclusionCuller::Traversal {
     const auto objects = objectsOf(n);
     visible.insert(visible.end(), objects.begin(), objects.end());
   }
-  // What a query of node n draws: a leaf's objects' query shapes when there are some, else the
-  // node's box.
+  // What a query of node n draws: a leaf's objects' query shapes when there are some and their
+  // total surface area is at most shapeAreaRatio × the leaf box's (each box drawn costs its
+  // rasterised area: CHC++ §3.5's rule for tighter boxes), else the node's box.
   void appendQueryBoxes(std::int32_t n, std::vector<Aabb>& out) const {
     const BvhNode& node = bvh.nodes()[n];
     if (!node.leaf() || shapes.empty()) {
       out.push_back(node.bounds);
       return;
     }
+    double area = 0.0;
     for (std::uint32_t o : objectsOf(n))
-      out.insert(out.end(), shapes.boxes.begin() + shapes.first[o], shapes.boxes.begin() + shapes.first[o + 1]);
+      for (std::uint32_t k = 0; k < shapes.ranges[o].count; ++k) area += surfaceArea(shapes.boxes[shapes.ranges[o].first + k]);
+    if (area > shapeAreaRatio * surfaceArea(node.bounds)) {
+      out.push_back(node.bounds);
+      return;
+    }
+    for (std::uint32_t o : objectsOf(n)) {
+      const auto first = shapes.boxes.begin() + shapes.ranges[o].first;
+      out.insert(out.end(), first, first + shapes.ranges[o].count);
+    }
   }
   Entry entry(std::int32_t n) const { return {distanceToBox(bvh.nodes()[n].bounds, camera.position), n}; }
   // Visible without a query: the box holds the eye (grown by z_n) or reaches in front of the near

@@ -1,9 +1,12 @@
 #include "forest/render/scene_objects.hpp"
 
+#include <algorithm>
+
 namespace forest::render {
 
 SceneObjects::SceneObjects(const terrain::Terrain* terrain, const vegetation::Forest* forest,
                            const std::vector<PropBox>& props) {
+  terrain_ = terrain;
   if (terrain) {
     tiles_ = static_cast<std::uint32_t>(terrain->tileCount());
     for (std::uint32_t t = 0; t < tiles_; ++t) objects_.push_back({Kind::Tile, t});
@@ -24,18 +27,34 @@ SceneObjects::SceneObjects(const terrain::Terrain* terrain, const vegetation::Fo
 void SceneObjects::updateBoxes(const vegetation::Forest* forest, const std::vector<PropBox>& props) {
   for (std::uint32_t t = 0; t < trees_; ++t) boxes_[tiles_ + t] = forest->treeBounds(t);
   for (std::uint32_t p = 0; p < props.size(); ++p) boxes_[tiles_ + trees_ + p] = Aabb{props[p].min, props[p].max};
-  queryFirst_.clear();
-  queryBoxes_.clear();
-  for (std::uint32_t o = 0; o < objects_.size(); ++o) {
-    queryFirst_.push_back(static_cast<std::uint32_t>(queryBoxes_.size()));
-    if (objects_[o].kind != Kind::Tree) {
+  // Tiles' slots first (filled per call), then each tree's slabs and each prop's box.
+  queryRanges_.assign(objects_.size(), {});
+  queryBoxes_.assign(static_cast<size_t>(tiles_) * terrain::Terrain::kMaxBlockBoxes, Aabb());
+  for (std::uint32_t o = tiles_; o < objects_.size(); ++o) {
+    const std::uint32_t first = static_cast<std::uint32_t>(queryBoxes_.size());
+    if (objects_[o].kind == Kind::Tree) {
+      for (const Aabb& slab : forest->treeQueryBoxes(objects_[o].index))
+        if (slab.valid()) queryBoxes_.push_back(slab);
+    } else {
       queryBoxes_.push_back(boxes_[o]);
+    }
+    queryRanges_[o] = {first, static_cast<std::uint32_t>(queryBoxes_.size()) - first};
+  }
+}
+
+culling::QueryShapes SceneObjects::queryShapes(const terrain::TerrainLod* lod) const {
+  for (std::uint32_t t = 0; t < tiles_; ++t) {
+    const std::uint32_t first = t * terrain::Terrain::kMaxBlockBoxes;
+    if (!lod) {
+      queryBoxes_[first] = boxes_[t];
+      queryRanges_[t] = {first, 1};
       continue;
     }
-    for (const Aabb& slab : forest->treeQueryBoxes(objects_[o].index))
-      if (slab.valid()) queryBoxes_.push_back(slab);
+    const std::span<const Aabb> blocks = terrain_->blockBoxes(static_cast<int>(t), terrain_->tileLevel(static_cast<int>(t), *lod));
+    std::copy(blocks.begin(), blocks.end(), queryBoxes_.begin() + first);
+    queryRanges_[t] = {first, static_cast<std::uint32_t>(blocks.size())};
   }
-  queryFirst_.push_back(static_cast<std::uint32_t>(queryBoxes_.size()));
+  return {queryRanges_, queryBoxes_};
 }
 
 std::int64_t SceneObjects::objectOfId(std::uint32_t id) const {

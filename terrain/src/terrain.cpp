@@ -45,6 +45,22 @@ Terrain::Terrain(const TerrainSettings& settings) : settings_(settings), heightf
       tileDiagonal_ = std::max(tileDiagonal_, box.diagonal());
     }
   }
+  // Block boxes (blockBoxes): the samples of each block, its edge rows included.
+  for (const int quads : {16, 32}) {
+    std::vector<Aabb>& blocks = quads == 16 ? blocks16_ : blocks32_;
+    const int perSide = kTileQuads / quads;
+    blocks.resize(static_cast<size_t>(tileCount() * perSide * perSide));
+    for (int tile = 0; tile < tileCount(); ++tile) {
+      const int tx = tile % tilesPerSide_, tz = tile / tilesPerSide_;
+      for (int bz = 0; bz < perSide; ++bz)
+        for (int bx = 0; bx < perSide; ++bx) {
+          Aabb& box = blocks[static_cast<size_t>((tile * perSide + bz) * perSide + bx)];
+          for (int j = 0; j <= quads; ++j)
+            for (int i = 0; i <= quads; ++i)
+              box.extend(h.position(tx * kTileQuads + bx * quads + i, tz * kTileQuads + bz * quads + j));
+        }
+    }
+  }
   // ε(L): the level-L mesh against every sample it skips. Morphed states lie between level L
   // and L+1 vertex by vertex; the bound is stated for the fully morphed (integer) levels.
   for (int level = 1; level < kLevels; ++level) {
@@ -102,6 +118,13 @@ TerrainLod Terrain::lodFor(const Camera& camera, int viewportHeight) const {
     previousEnd = lod.morphEnd[level];
   }
   return lod;
+}
+
+std::span<const Aabb> Terrain::blockBoxes(int tile, int level) const {
+  const size_t t = static_cast<size_t>(tile);
+  if (level <= 3) return {blocks16_.data() + 16 * t, 16};  // 2^(level+1) ≤ 16
+  if (level == 4) return {blocks32_.data() + 4 * t, 4};
+  return {&tileBoxes_[t], 1};
 }
 
 int Terrain::tileLevel(int tile, const TerrainLod& lod) const {

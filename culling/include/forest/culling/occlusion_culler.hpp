@@ -61,13 +61,16 @@ class ObjectDrawer {
   virtual long long draw(std::span<const std::uint32_t> objects) = 0;
 };
 
-// Query shapes tighter than the objects' boxes (optional): object o is queried with
-// boxes[first[o], first[o + 1]), boxes whose union holds all of its geometry (a tree's height
-// slabs), instead of its box. `first` has one entry per object and one more.
+// Query shapes tighter than the objects' boxes (optional): object o is queried with the boxes
+// boxes[ranges[o].first, ranges[o].first + ranges[o].count), whose union holds all of its geometry
+// (a tree's height slabs, a terrain tile's blocks), instead of its box.
 struct QueryShapes {
-  std::span<const std::uint32_t> first;
+  struct Range {
+    std::uint32_t first = 0, count = 0;
+  };
+  std::span<const Range> ranges;  // one per object
   std::span<const Aabb> boxes;
-  bool empty() const { return first.empty(); }
+  bool empty() const { return ranges.empty(); }
 };
 
 enum class QueryMode { Deterministic, Async };

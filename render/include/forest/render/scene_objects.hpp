@@ -30,8 +30,9 @@ class SceneObjects {
   };
   const std::vector<Aabb>& boxes() const { return boxes_; }
   // What occlusion queries draw for each object: a tree's height slabs
-  // (vegetation::Forest::treeQueryBoxes), any other object's box.
-  culling::QueryShapes queryShapes() const { return {queryFirst_, queryBoxes_}; }
+  // (vegetation::Forest::treeQueryBoxes), a terrain tile's blocks at the level `lod` draws it
+  // (terrain::Terrain::blockBoxes; without a LOD, its box), a prop's box. Valid until the next call.
+  culling::QueryShapes queryShapes(const terrain::TerrainLod* lod) const;
   const std::vector<Object>& objects() const { return objects_; }
   std::size_t tileCount() const { return tiles_; }
   std::size_t treeCount() const { return trees_; }
@@ -49,8 +50,11 @@ class SceneObjects {
  private:
   std::vector<Aabb> boxes_;
   std::vector<Object> objects_;
-  std::vector<std::uint32_t> queryFirst_;
-  std::vector<Aabb> queryBoxes_;
+  const terrain::Terrain* terrain_ = nullptr;
+  // Query shapes: each tile owns kMaxBlockBoxes slots from the start, rewritten for the LOD of the
+  // call (hence mutable: a cache of the last queryShapes call); trees and props follow.
+  mutable std::vector<culling::QueryShapes::Range> queryRanges_;
+  mutable std::vector<Aabb> queryBoxes_;
   std::uint32_t tiles_ = 0, trees_ = 0;
   std::uint32_t treeIdBase_ = 1, propIdBase_ = 1;
 };

@@ -13,6 +13,7 @@
 #include <glm/glm.hpp>
 
 #include <array>
+#include <span>
 #include <vector>
 
 #include "forest/core/bounds.hpp"
@@ -63,6 +64,12 @@ class Terrain {
   // Tile t covers samples [tx·64, tx·64 + 64] × [tz·64, tz·64 + 64], t = tz · tilesPerSide + tx.
   const Aabb& tileBox(int tile) const { return tileBoxes_[tile]; }
   const std::vector<Aabb>& tileBoxes() const { return tileBoxes_; }
+  // Tighter boxes of a tile drawn at `level`, whose union holds everything drawn of it: the boxes
+  // of its blocks of B = max(16, 2^(level+1)) quads (16, 4 or 1 of them). A level-L cell and the
+  // coarser cell its vertices morph toward (2^(L+1) quads) lie inside one such block, so every
+  // drawn vertex over a block is a mix of that block's samples.
+  std::span<const Aabb> blockBoxes(int tile, int level) const;
+  static constexpr int kMaxBlockBoxes = (kTileQuads / 16) * (kTileQuads / 16);
   Aabb bounds() const { return bounds_; }
   // Largest vertical distance between the level-L mesh and the samples it skips, over all tiles
   // (0 for level 0).
@@ -96,6 +103,7 @@ class Terrain {
   Heightfield heightfield_;
   int tilesPerSide_ = 0;
   std::vector<Aabb> tileBoxes_;
+  std::vector<Aabb> blocks16_, blocks32_;  // per tile: 16 and 4 block boxes, row-major
   Aabb bounds_;
   std::array<double, kLevels> levelError_{};
   double tileDiagonal_ = 0.0;
