@@ -26,7 +26,7 @@ std::uint64_t hashDraw(std::uint64_t node, std::uint64_t frame, std::uint64_t n)
 // the deepest level first; else the node's own box. The union holds all of the node's geometry,
 // so a hidden result stays exact.
 // `level`, `next`, `best`: scratch lists.
-// `append(n, out)`: what node n's own query would draw (a leaf: its objects' query shapes).
+// `append(n, out)`: what node n's own query draws (a leaf: its objects' query shapes).
 template <class AppendBoxes>
 void queryBoxes(const std::vector<BvhNode>& nodes, std::int32_t node, int depth, double ratio, std::vector<Aabb>& out,
                 std::vector<std::int32_t>& level, std::vector<std::int32_t>& next, std::vector<std::int32_t>& best,
@@ -50,7 +50,11 @@ void queryBoxes(const std::vector<BvhNode>& nodes, std::int32_t node, int depth,
     if (area <= limit) best = next;
     std::swap(level, next);
   }
-  for (std::int32_t n : best) append(n, out);
+  // A leaf queried on its own draws its shapes; descendants standing in for a node draw their
+  // boxes (their shapes would multiply the boxes of one query: 8 leaves × 4 slabs).
+  if (best.size() == 1 && best.front() == node) append(node, out);
+  else
+    for (std::int32_t n : best) out.push_back(nodes[n].bounds);
 }
 
 }  // namespace
