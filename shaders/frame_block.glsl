@@ -9,6 +9,6 @@ layout(std140, binding = 2) uniform FrameBlock {
   vec4 skyFog;                 // rgb: sky colour; w: fog density per metre (0: none)
   vec4 nearFar;                // x: near, y: far (metres)
   vec4 blur;                   // x: radius (pixels), y: reference depth (m), z: relative depth tolerance
-  ivec4 modes;                 // x: PCF radius; y: tsm linear depth (1/0); z: the blur is on (1/0; lighting_pass.cpp picks its program by it);
+  ivec4 modes;                 // x: PCF radius; y: tsm linear depth (1/0); z: unused (0: lighting picks its program by the blur, lighting_pass.cpp);
                                // w: the map holds the sun's shadows (1/0; 0: the term is 0 everywhere)
 } uFrame;

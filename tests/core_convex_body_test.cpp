@@ -92,14 +92,20 @@ TEST(ConvexBody, HullWithPointAddsAnApex) {
   EXPECT_EQ(b.volume(), before);
 }
 
-TEST(ConvexBody, FrustumCornersComeFromTheInverseViewProjection) {
+// A camera off the origin, turned and tilted, with the given far distance.
+Camera tiltedCamera(double far) {
   Camera c;
   c.position = {3, 2, 1};
   c.yaw = 0.4;
   c.pitch = 0.2;
   c.near = 0.5;
-  c.far = 20.0;
+  c.far = far;
   c.aspect = 1.5;
+  return c;
+}
+
+TEST(ConvexBody, FrustumCornersComeFromTheInverseViewProjection) {
+  const Camera c = tiltedCamera(20.0);
   const ConvexBody v = ConvexBody::fromInverseViewProjection(glm::inverse(c.projection() * c.view()));
   EXPECT_TRUE(v.isClosed());
   EXPECT_EQ(v.vertices().size(), 8u);
@@ -116,13 +122,7 @@ TEST(ConvexBody, FrustumCornersComeFromTheInverseViewProjection) {
 // the camera's own matrices (inside: |x|, |y| ≤ w and 0 ≤ z ≤ w in clip space, reversed-Z or not),
 // over random boxes near, across and outside the view.
 TEST(Frustum, ContainsExactlyTheBoxesWhoseCornersAllProjectInside) {
-  Camera c;
-  c.position = {3, 2, 1};
-  c.yaw = 0.4;
-  c.pitch = 0.2;
-  c.near = 0.5;
-  c.far = 40.0;
-  c.aspect = 1.5;
+  const Camera c = tiltedCamera(40.0);
   const Frustum frustum(c);
   const glm::dmat4 clip = c.projection() * c.view();
   std::uint64_t state = 12345;

@@ -17,23 +17,27 @@ Frustum::Frustum(const glm::dmat4& m) {
   }
 }
 
+namespace {
+
+// The corner of the box farthest along `direction`.
+glm::dvec3 cornerAlong(const Aabb& box, const glm::dvec3& direction) {
+  return {direction.x > 0 ? box.max.x : box.min.x, direction.y > 0 ? box.max.y : box.min.y,
+          direction.z > 0 ? box.max.z : box.min.z};
+}
+
+}  // namespace
+
 bool Frustum::mayIntersect(const Aabb& box) const {
-  for (const Plane& plane : planes_) {
-    // The corner farthest inside along −normal: if even it is outside, the box is.
-    const glm::dvec3 nearest(plane.normal.x > 0 ? box.min.x : box.max.x, plane.normal.y > 0 ? box.min.y : box.max.y,
-                             plane.normal.z > 0 ? box.min.z : box.max.z);
-    if (plane.signedDistance(nearest) > 0.0) return false;
-  }
+  // The corner farthest inside (along −normal): if even it is outside, the box is.
+  for (const Plane& plane : planes_)
+    if (plane.signedDistance(cornerAlong(box, -plane.normal)) > 0.0) return false;
   return true;
 }
 
 bool Frustum::contains(const Aabb& box) const {
-  for (const Plane& plane : planes_) {
-    // The corner farthest outside along the normal: if it is inside, every corner is.
-    const glm::dvec3 farthest(plane.normal.x > 0 ? box.max.x : box.min.x, plane.normal.y > 0 ? box.max.y : box.min.y,
-                              plane.normal.z > 0 ? box.max.z : box.min.z);
-    if (plane.signedDistance(farthest) > 0.0) return false;
-  }
+  // The corner farthest outside (along the normal): if it is inside, every corner is.
+  for (const Plane& plane : planes_)
+    if (plane.signedDistance(cornerAlong(box, plane.normal)) > 0.0) return false;
   return true;
 }
 

@@ -122,17 +122,18 @@ Frame::~Frame() = default;
 void Frame::moveTrees(std::span<const vegetation::Forest::Move> moves) {
   if (!forest_) throw InputError("moveTrees: the scene has no trees");
   forest_->moveTrees(moves);  // the tree renderers read the forest at every draw
+  objects_->updateTrees(*forest_, moves);
   objectsMoved();
 }
 
 void Frame::propsMoved() {
   passes_->geometry.propsMoved(scene_.props);
   passes_->shadow.propsMoved(scene_.props);
+  objects_->updateBoxes(forest_.get(), scene_.props);
   objectsMoved();
 }
 
 void Frame::objectsMoved() {
-  objects_->updateBoxes(forest_.get(), scene_.props);
   // A rebuild renumbers the BVH's nodes: the culler's per-node history would belong to other
   // nodes, so it starts afresh (a refit keeps the nodes and their history).
   if (bvh_.refit(objects_->boxes())) culler_.reset();

@@ -25,7 +25,7 @@ FrameBlock frameBlock(const Camera& camera, const ShadowPlan& plan, const FrameS
   b.nearFar = glm::vec4(static_cast<float>(camera.near), static_cast<float>(camera.far), 0.0f, 0.0f);
   b.blur = glm::vec4(static_cast<float>(settings.blurRadius), static_cast<float>(settings.blurReferenceDepth),
                      static_cast<float>(kBlurDepthTolerance), 0.0f);
-  b.modes = glm::ivec4(settings.pcfRadius, plan.setup.linearDepth ? 1 : 0, settings.blurRadius > 0.0 ? 1 : 0, plan.shadowed ? 1 : 0);
+  b.modes = glm::ivec4(settings.pcfRadius, plan.setup.linearDepth ? 1 : 0, 0, plan.shadowed ? 1 : 0);
   return b;
 }
 

@@ -21,25 +21,42 @@ SceneObjects::SceneObjects(const terrain::Terrain* terrain, const vegetation::Fo
   boxes_.resize(objects_.size());
   if (terrain)
     for (std::uint32_t t = 0; t < tiles_; ++t) boxes_[t] = terrain->tileBox(static_cast<int>(t));
+  queryRanges_.assign(objects_.size(), {});
+  std::uint32_t slots = tiles_ * terrain::Terrain::kMaxBlockBoxes;
+  for (std::uint32_t o = tiles_; o < objects_.size(); ++o) {
+    std::uint32_t count = 1;
+    if (objects_[o].kind == Kind::Tree) {
+      const auto slabs = forest->treeQueryBoxes(objects_[o].index);
+      count = static_cast<std::uint32_t>(std::count_if(slabs.begin(), slabs.end(), [](const Aabb& b) { return b.valid(); }));
+    }
+    queryRanges_[o] = {slots, count};
+    slots += count;
+  }
+  queryBoxes_.resize(slots);
   updateBoxes(forest, props);
 }
 
+void SceneObjects::updateTree(const vegetation::Forest& forest, std::uint32_t tree) {
+  const std::uint32_t o = tiles_ + tree;
+  boxes_[o] = forest.treeBounds(tree);
+  auto slot = queryBoxes_.begin() + queryRanges_[o].first;
+  for (const Aabb& slab : forest.treeQueryBoxes(tree))
+    if (slab.valid()) *slot++ = slab;
+}
+
+void SceneObjects::updateProp(const PropBox& prop, std::uint32_t index) {
+  const std::uint32_t o = tiles_ + trees_ + index;
+  boxes_[o] = Aabb{prop.min, prop.max};
+  queryBoxes_[queryRanges_[o].first] = boxes_[o];
+}
+
 void SceneObjects::updateBoxes(const vegetation::Forest* forest, const std::vector<PropBox>& props) {
-  for (std::uint32_t t = 0; t < trees_; ++t) boxes_[tiles_ + t] = forest->treeBounds(t);
-  for (std::uint32_t p = 0; p < props.size(); ++p) boxes_[tiles_ + trees_ + p] = Aabb{props[p].min, props[p].max};
-  // Tiles' slots first (filled per call), then each tree's slabs and each prop's box.
-  queryRanges_.assign(objects_.size(), {});
-  queryBoxes_.assign(static_cast<size_t>(tiles_) * terrain::Terrain::kMaxBlockBoxes, Aabb());
-  for (std::uint32_t o = tiles_; o < objects_.size(); ++o) {
-    const std::uint32_t first = static_cast<std::uint32_t>(queryBoxes_.size());
-    if (objects_[o].kind == Kind::Tree) {
-      for (const Aabb& slab : forest->treeQueryBoxes(objects_[o].index))
-        if (slab.valid()) queryBoxes_.push_back(slab);
-    } else {
-      queryBoxes_.push_back(boxes_[o]);
-    }
-    queryRanges_[o] = {first, static_cast<std::uint32_t>(queryBoxes_.size()) - first};
-  }
+  for (std::uint32_t t = 0; t < trees_; ++t) updateTree(*forest, t);
+  for (std::uint32_t p = 0; p < props.size(); ++p) updateProp(props[p], p);
+}
+
+void SceneObjects::updateTrees(const vegetation::Forest& forest, std::span<const vegetation::Forest::Move> moves) {
+  for (const vegetation::Forest::Move& move : moves) updateTree(forest, move.tree);
 }
 
 culling::QueryShapes SceneObjects::queryShapes(const terrain::TerrainLod* lod) const {

@@ -170,7 +170,7 @@ class Frame {
   Camera cameraAt(const CameraPose& pose, bool aboveGround) const;
 
  private:
-  void objectsMoved();
+  void objectsMoved();  // after object boxes changed: refit the BVH, recompute the scene bounds
   std::optional<terrain::TerrainLod> terrainLodFor(const Camera& camera) const;  // none without terrain
   struct Passes;  // the passes in order (src/*_pass.hpp)
   const Scene& scene_;

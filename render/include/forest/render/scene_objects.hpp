@@ -39,6 +39,8 @@ class SceneObjects {
   std::size_t propCount() const { return objects_.size() - tiles_ - trees_; }
   // Boxes again after trees or props moved.
   void updateBoxes(const vegetation::Forest* forest, const std::vector<PropBox>& props);
+  // The same for the listed trees only (Frame::moveTrees: a frame moves a few of many trees).
+  void updateTrees(const vegetation::Forest& forest, std::span<const vegetation::Forest::Move> moves);
 
   // The ID scheme of the geometry pass.
   std::uint32_t terrainIdBase() const { return 1; }
@@ -48,11 +50,16 @@ class SceneObjects {
   std::int64_t objectOfId(std::uint32_t id) const;
 
  private:
+  // Object o's box and query shapes (written into the slots laid out at construction).
+  void updateTree(const vegetation::Forest& forest, std::uint32_t tree);
+  void updateProp(const PropBox& prop, std::uint32_t index);
+
   std::vector<Aabb> boxes_;
   std::vector<Object> objects_;
   const terrain::Terrain* terrain_ = nullptr;
-  // Query shapes: each tile owns kMaxBlockBoxes slots from the start, rewritten for the LOD of the
-  // call (hence mutable: a cache of the last queryShapes call); trees and props follow.
+  // Query shapes, laid out at construction: each tile owns kMaxBlockBoxes slots from the start,
+  // rewritten for the LOD of each queryShapes call (hence mutable); then each tree's non-empty
+  // slabs (how many depends on the species only) and each prop's box.
   mutable std::vector<culling::QueryShapes::Range> queryRanges_;
   mutable std::vector<Aabb> queryBoxes_;
   std::uint32_t tiles_ = 0, trees_ = 0;

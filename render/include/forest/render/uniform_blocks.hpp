@@ -39,7 +39,7 @@ struct FrameBlock {
   glm::vec4 skyFog{0.0f};                 // rgb: sky; w: fog density per metre
   glm::vec4 nearFar{0.0f};
   glm::vec4 blur{0.0f};                   // radius px, reference depth m, relative depth tolerance
-  glm::ivec4 modes{0};                    // PCF radius, tsm linear depth, lighting blurs vertically, shadowed
+  glm::ivec4 modes{0};                    // PCF radius, tsm linear depth, unused (0), shadowed
 };
 constexpr GLuint kFrameBlockBinding = 2;
 
