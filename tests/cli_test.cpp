@@ -66,21 +66,30 @@ TEST(ForestCli, CheckAcceptsTheRepositoryScene) {
   EXPECT_THAT(r.out, HasSubstr("ok — 640x360"));
 }
 
-// check --stats: the vegetation statistics of data/scenes/stands.toml, whose stands are to hold
-// ≥ 70% of the 5000 trees at ≥ 600 stems/ha (issue "A forest to walk through"); the JSON's figures
-// agree with each other; a scene without stands says so.
+// check --stats: the vegetation statistics of the default scene, data/scenes/forest.toml, whose
+// stands are to hold ≥ 70% of the 5000 trees at ≥ 600 stems/ha, with three species in three size
+// classes (issue "A forest to walk through"); the JSON's figures agree with each other; a scene
+// without stands (data/scenes/park.toml) says so.
 TEST(ForestCli, CheckStatsPrintsTheVegetationOfAScene) {
-  const Result r = runForest("check --scene " + std::string(FOREST_REPO_DATA) + "/scenes/stands.toml --stats --json");
+  const Result r = runForest("check --scene " + std::string(FOREST_REPO_DATA) + "/scenes/forest.toml --stats --json");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["trees"].get<int>(), 5000);
-  EXPECT_EQ(j["species"]["conifer"].get<int>() + j["species"]["broadleaf"].get<int>(), 5000);
+  int trees = 0;
+  for (const char* species : {"conifer", "broadleaf", "shrub"}) {
+    const nlohmann::json& s = j["species"][species];
+    EXPECT_GT(s["trees"].get<int>(), 0) << species;
+    EXPECT_EQ(s["young"].get<int>() + s["mature"].get<int>() + s["old"].get<int>(), s["trees"].get<int>()) << species;
+    for (const char* size : {"young", "mature", "old"}) EXPECT_GT(s[size].get<int>(), 0) << species << " " << size;
+    trees += s["trees"].get<int>();
+  }
+  EXPECT_EQ(trees, 5000);
   EXPECT_TRUE(j["stands"].get<bool>());
   EXPECT_GE(j["share_in_stands"].get<double>(), 0.70);
   EXPECT_GE(j["stems_per_ha_in_stands"].get<double>(), 600.0);
   EXPECT_NEAR(j["stems_per_ha_in_stands"].get<double>(), j["trees_in_stands"].get<int>() / j["stand_area_ha"].get<double>(), 1e-9);
   EXPECT_NEAR(j["share_in_stands"].get<double>(), j["trees_in_stands"].get<int>() / 5000.0, 1e-12);
-  const Result even = runForest("check --scene " + std::string(FOREST_REPO_DATA) + "/scenes/forest.toml --stats");
+  const Result even = runForest("check --scene " + std::string(FOREST_REPO_DATA) + "/scenes/park.toml --stats");
   ASSERT_EQ(even.exitCode, 0) << even.err;
   EXPECT_THAT(even.out, HasSubstr("stands: none"));
   EXPECT_EQ(runForest("check --scene " + std::string(FOREST_REPO_DATA) + "/scenes/boxes.toml --stats").exitCode, 2);

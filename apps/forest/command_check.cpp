@@ -28,9 +28,13 @@ nlohmann::ordered_json vegetationStats(const Scene& scene) {
   const terrain::Terrain terrain(*scene.terrain);
   const vegetation::Forest forest(*scene.vegetation, terrain);
   const vegetation::ForestStats s = vegetation::forestStats(forest);
+  // Per species: its trees, and how many of them in each size class.
   nlohmann::ordered_json species;
-  for (int k = 0; k < vegetation::kSpeciesCount; ++k)
-    species[std::string(vegetation::speciesName(static_cast<vegetation::Species>(k)))] = s.perSpecies[static_cast<size_t>(k)];
+  for (int k = 0; k < vegetation::kSpeciesCount; ++k) {
+    const auto& bySize = s.perSpeciesAndSize[static_cast<size_t>(k)];
+    species[std::string(vegetation::speciesName(static_cast<vegetation::Species>(k)))] = {
+        {"trees", s.perSpecies[static_cast<size_t>(k)]}, {"young", bySize[0]}, {"mature", bySize[1]}, {"old", bySize[2]}};
+  }
   nlohmann::ordered_json j = {{"trees", s.trees},
                               {"requested", s.requested},
                               {"species", species},
@@ -46,7 +50,9 @@ nlohmann::ordered_json vegetationStats(const Scene& scene) {
 
 void printStats(const nlohmann::ordered_json& j) {
   std::string species;
-  for (const auto& [name, count] : j["species"].items()) species += fmt::format("{}{} {}", species.empty() ? "" : ", ", count.get<int>(), name);
+  for (const auto& [name, count] : j["species"].items())
+    species += fmt::format("{}{} {} ({} young, {} mature, {} old)", species.empty() ? "" : "; ", count["trees"].get<int>(), name,
+                           count["young"].get<int>(), count["mature"].get<int>(), count["old"].get<int>());
   std::cout << fmt::format("  trees: {} of {} requested ({}); {:.1f} ha of terrain, {:.1f} stems/ha overall\n", j["trees"].get<int>(),
                            j["requested"].get<int>(), species, j["terrain_area_ha"].get<double>(), j["stems_per_ha_overall"].get<double>());
   if (!j["stands"].get<bool>()) {

@@ -12,8 +12,25 @@
 namespace forest {
 
 std::pmr::memory_resource* convexBodyMemory() {
-  // Never destroyed: bodies in static storage may outlive any other owner.
-  static auto* const pool = new std::pmr::synchronized_pool_resource();
+  // Never destroyed: bodies in static storage may outlive any other owner. Reserved up front: the
+  // pool keeps what it is given back, and a frame's bodies hold at most a few hundred blocks of a
+  // size (extrude's edge map has a node per edge), so once the reserve is handed back no frame asks
+  // the heap for more — whatever its visible set, which with asynchronous queries differs from run
+  // to run, so one walk as warm-up does not reach every high-water mark (DESIGN §9).
+  static auto* const pool = [] {
+    std::pmr::pool_options options;
+    options.largest_required_pool_block = 64 * 1024;  // bodies' vertex lists reach a few KiB
+    auto* p = new std::pmr::synchronized_pool_resource(options);
+    std::vector<std::pair<void*, size_t>> reserve;
+    // Sizes at least as fine as the pool's size classes (8-byte steps to 128, then coarser), so
+    // every class up to 16 KiB gets blocks: about 3 MiB in all.
+    for (size_t bytes = 8; bytes <= 16384; bytes += bytes < 128 ? 8 : bytes < 512 ? 64 : bytes / 2) {
+      const int blocks = bytes <= 128 ? 512 : bytes <= 512 ? 256 : bytes <= 4096 ? 64 : 16;
+      for (int k = 0; k < blocks; ++k) reserve.emplace_back(p->allocate(bytes), bytes);
+    }
+    for (const auto& [block, bytes] : reserve) p->deallocate(block, bytes);
+    return p;
+  }();
   return pool;
 }
 

@@ -97,6 +97,16 @@ void readSpeciesPlacement(TomlSection& s, SpeciesPlacementSettings& p) {
   p.min_height = s.number("min_height", p.min_height, detail::closed(-1e4, 1e4));
   p.max_height = s.number("max_height", p.max_height, detail::closed(-1e4, 1e4));
   if (!(p.max_height >= p.min_height)) s.fail(nullptr, "max_height", "must be at least min_height");
+  p.altitude_bias = s.number("altitude_bias", p.altitude_bias, detail::closed(-1.0, 1.0));
+  p.slope_bias = s.number("slope_bias", p.slope_bias, detail::closed(-1.0, 1.0));
+  p.shade_bias = s.number("shade_bias", p.shade_bias, detail::closed(-1.0, 1.0));
+  s.finish();
+}
+
+void readSizes(TomlSection& s, SizeClassSettings& t) {
+  t.share = s.vec3("share", t.share, detail::closed(0.0, 1.0));
+  if (!(t.share.x + t.share.y + t.share.z > 0.0)) s.fail(nullptr, "share", "the size classes' shares must not all be 0");
+  t.scale = s.vec3("scale", t.scale, detail::closed(1e-3, 4.0));
   s.finish();
 }
 
@@ -133,9 +143,11 @@ void readVegetation(TomlSection& s, VegetationSettings& v) {
   if (std::abs(windLength - 1.0) > 4.0 * std::numeric_limits<double>::epsilon()) v.wind_direction /= windLength;
   if (auto t = s.table("conifer")) readSpeciesPlacement(*t, v.conifer);
   if (auto t = s.table("broadleaf")) readSpeciesPlacement(*t, v.broadleaf);
+  if (auto t = s.table("shrub")) readSpeciesPlacement(*t, v.shrub);
+  if (auto t = s.table("sizes")) readSizes(*t, v.sizes);
   if (auto t = s.table("stands")) readStands(*t, v.stands.emplace());
   if (v.stands && v.grid > 0) s.fail(nullptr, "grid", "a grid places trees evenly; leave it out (or 0) with [vegetation.stands]");
-  if (!(v.conifer.share + v.broadleaf.share > 0.0)) s.fail(nullptr, "conifer.share", "the species shares must not both be 0");
+  if (!(v.conifer.share + v.broadleaf.share + v.shrub.share > 0.0)) s.fail(nullptr, "conifer.share", "the species shares must not all be 0");
   s.finish();
 }
 
@@ -246,7 +258,10 @@ std::string sceneToToml(const Scene& scene) {
                          {"spacing", p.spacing},
                          {"max_slope_deg", p.max_slope_deg},
                          {"min_height", p.min_height},
-                         {"max_height", p.max_height}};
+                         {"max_height", p.max_height},
+                         {"altitude_bias", p.altitude_bias},
+                         {"slope_bias", p.slope_bias},
+                         {"shade_bias", p.shade_bias}};
     };
     toml::table vegetation{{"style", v.style == TreeStyle::Thesis ? "thesis" : "procedural"},
                            {"count", v.count},
@@ -261,7 +276,9 @@ std::string sceneToToml(const Scene& scene) {
                            {"wind_period", v.wind_period},
                            {"wind_direction", tomlArray(v.wind_direction)},
                            {"conifer", species(v.conifer)},
-                           {"broadleaf", species(v.broadleaf)}};
+                           {"broadleaf", species(v.broadleaf)},
+                           {"shrub", species(v.shrub)},
+                           {"sizes", toml::table{{"share", tomlArray(v.sizes.share)}, {"scale", tomlArray(v.sizes.scale)}}}};
     if (v.stands)
       vegetation.insert("stands", toml::table{{"cover", v.stands->cover},
                                               {"feature_m", v.stands->feature_m},

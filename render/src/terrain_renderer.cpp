@@ -1,10 +1,13 @@
 #include "forest/render/terrain_renderer.hpp"
 
+#include <fmt/format.h>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 
+#include "forest/core/error.hpp"
 #include "forest/core/frustum.hpp"
 
 namespace forest::render {
@@ -63,6 +66,12 @@ TerrainRenderer::TerrainRenderer(const terrain::Terrain& terrain, Output output,
     glTextureSubImage2D(normals_.id(), 0, 0, 0, h.samples(), h.samples(), GL_RG, GL_SHORT, packed.data());
     glTextureParameteri(normals_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(normals_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    const float meadow = 0.0f;
+    setGroundCover(std::span<const float>(&meadow, 1), 1);
+    const Aabb box = terrain.bounds();
+    program_.set("uCoverOriginInvSize", glm::vec4(static_cast<float>(h.origin().x), static_cast<float>(h.origin().y),
+                                                  static_cast<float>(1.0 / h.size()), 0.0f));
+    program_.set("uHeightRange", glm::vec2(static_cast<float>(box.min.y), static_cast<float>(std::max(box.max.y - box.min.y, 1e-6))));
   }
 
   std::vector<glm::ivec2> local;
@@ -94,6 +103,20 @@ TerrainRenderer::TerrainRenderer(const terrain::Terrain& terrain, Output output,
   glEnableVertexArrayAttrib(vao, 1);
   glVertexArrayAttribIFormat(vao, 1, 4, GL_INT, 0);
   glVertexArrayAttribBinding(vao, 1, 1);
+}
+
+void TerrainRenderer::setGroundCover(std::span<const float> cover, int side) {
+  if (side < 1 || cover.size() != static_cast<size_t>(side) * side)
+    throw Error(fmt::format("TerrainRenderer::setGroundCover: {} values for a {}² grid", cover.size(), side));
+  if (normals_.id() == 0) return;  // an output without a material
+  std::vector<float> clamped(cover.begin(), cover.end());
+  for (float& c : clamped) c = std::isfinite(c) ? std::clamp(c, 0.0f, 1.0f) : 0.0f;  // nothing else reaches the GPU
+  cover_ = gl::Texture(GL_R16F, side, side);
+  glTextureSubImage2D(cover_.id(), 0, 0, 0, side, side, GL_RED, GL_FLOAT, clamped.data());
+  glTextureParameteri(cover_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(cover_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(cover_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(cover_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
 }
 
 std::vector<int> TerrainRenderer::tilesInFrustum(const Camera& camera) const {
@@ -150,8 +173,9 @@ TerrainRenderer::Stats TerrainRenderer::draw(const DrawView& view, const terrain
   terrainViewUniforms_.bind(block);
   program_.use();
   glBindTextureUnit(0, heights_.id());
-  // Outputs without normals never read unit 1; a valid texture stays bound there all the same.
+  // Outputs without normals or cover never read units 1 and 2; valid textures stay bound there.
   glBindTextureUnit(1, normals_.id() != 0 ? normals_.id() : heights_.id());
+  glBindTextureUnit(2, cover_.id() != 0 ? cover_.id() : heights_.id());
   glBindVertexArray(vertexArray_.id());
   for (int level = 0; level < kLevels; ++level) {
     const int count = static_cast<int>(byLevel[level].size());

@@ -20,7 +20,26 @@ using glm::dvec2;
 using glm::dvec3;
 
 const SpeciesPlacementSettings& placementOf(const VegetationSettings& s, Species species) {
-  return species == Species::Conifer ? s.conifer : s.broadleaf;
+  switch (species) {
+    case Species::Conifer: return s.conifer;
+    case Species::Broadleaf: return s.broadleaf;
+    case Species::Shrub: return s.shrub;
+  }
+  return s.conifer;
+}
+
+// A species' weight at a site (scene.hpp, SpeciesPlacementSettings): share × one linear factor per
+// bias, each factor in [0, 2] and 1 for a bias of 0. `altitude`, `slope` and `shade` are in [0, 1].
+double siteWeight(const SpeciesPlacementSettings& rule, double altitude, double slope, double shade) {
+  return rule.share * (1.0 + rule.altitude_bias * (2.0 * altitude - 1.0)) * (1.0 + rule.slope_bias * (2.0 * slope - 1.0)) *
+         (1.0 + rule.shade_bias * (2.0 * shade - 1.0));
+}
+
+// The size class for a uniform draw u in [0, 1), by the classes' normalised shares.
+SizeClass sizeClassFor(const SizeClassSettings& sizes, double u) {
+  const double total = sizes.share.x + sizes.share.y + sizes.share.z;
+  const double x = u * total;
+  return x < sizes.share.x ? SizeClass::Young : x < sizes.share.x + sizes.share.y ? SizeClass::Mature : SizeClass::Old;
 }
 
 // Darts per requested tree before placement gives up (the rest do not fit).
@@ -69,9 +88,11 @@ std::array<glm::dvec3, kQuerySlabs> querySlabs(const SpeciesModel& model, const 
 }  // namespace
 
 Forest::Forest(const VegetationSettings& settings, const terrain::Terrain& terrain) : settings_(settings), terrain_(terrain) {
-  for (Species s : {Species::Conifer, Species::Broadleaf}) {
+  for (Species s : kAllSpecies) {
     const size_t i = static_cast<size_t>(s);
-    species_[i] = settings.style == TreeStyle::Thesis ? buildThesisTree(s) : buildSpecies(s, settings.lod0_triangles, settings.seed);
+    // A shrub is a fifth of a tree's height: half the LOD0 budget keeps its triangles as dense.
+    const int budget = s == Species::Shrub ? std::max(kMinLod0Triangles, settings.lod0_triangles / 2) : settings.lod0_triangles;
+    species_[i] = settings.style == TreeStyle::Thesis ? buildThesisTree(s) : buildSpecies(s, budget, settings.seed);
     for (const TreeMesh& lod : species_[i].lods) speciesBounds_[i].extend(lod.bounds);
     slabs_[i] = querySlabs(species_[i], speciesBounds_[i]);
   }
@@ -80,14 +101,18 @@ Forest::Forest(const VegetationSettings& settings, const terrain::Terrain& terra
   buildClusters();
 }
 
-TreeInstance Forest::varied(Species species, const glm::dvec3& base, const double (&variation)[5]) const {
+TreeInstance Forest::varied(Species species, SizeClass size, const glm::dvec3& base, const double (&variation)[5]) const {
   TreeInstance tree;
   tree.species = species;
+  tree.size = size;
   tree.position = base;
   tree.yaw = 2.0 * std::numbers::pi * variation[0];
-  tree.scale = settings_.scale_range.x + (settings_.scale_range.y - settings_.scale_range.x) * variation[1];
-  tree.tint = glm::vec3(static_cast<float>(0.9 + 0.2 * variation[2]), static_cast<float>(0.9 + 0.2 * variation[3]),
-                        static_cast<float>(0.9 + 0.2 * variation[2] * variation[3]));
+  tree.scale = settings_.sizes.scale[static_cast<int>(size)] *
+               (settings_.scale_range.x + (settings_.scale_range.y - settings_.scale_range.x) * variation[1]);
+  // Young foliage is lighter, old darker.
+  const float age = size == SizeClass::Young ? 1.1f : size == SizeClass::Old ? 0.92f : 1.0f;
+  tree.tint = age * glm::vec3(static_cast<float>(0.9 + 0.2 * variation[2]), static_cast<float>(0.9 + 0.2 * variation[3]),
+                              static_cast<float>(0.9 + 0.2 * variation[2] * variation[3]));
   tree.swayPhase = 2.0 * std::numbers::pi * variation[4];
   return tree;
 }
@@ -98,15 +123,20 @@ void Forest::placeOnGrid() {
   const terrain::Heightfield& h = terrain_.heightfield();
   const double inset = 1.0, cell = (h.size() - 2.0 * inset) / settings_.grid;
   const dvec2 lo(h.origin().x + inset, h.origin().y + inset);
-  const double shares = settings_.conifer.share + settings_.broadleaf.share;
+  const double shares = settings_.conifer.share + settings_.broadleaf.share + settings_.shrub.share;
   SplitMix64 random(SplitMix64::substream(settings_.seed, 0x96edull));
+  SplitMix64 sizeRandom(SplitMix64::substream(settings_.seed, 0x512eull));
   trees_.reserve(static_cast<size_t>(settings_.grid) * settings_.grid);
   for (int z = 0; z < settings_.grid; ++z)
     for (int x = 0; x < settings_.grid; ++x) {
       const dvec2 p = lo + cell * dvec2(x + 0.5 + 0.8 * (random.unit() - 0.5), z + 0.5 + 0.8 * (random.unit() - 0.5));
-      const Species species = random.unit() * shares < settings_.conifer.share ? Species::Conifer : Species::Broadleaf;
+      const double u = random.unit() * shares;
+      const Species species = u < settings_.conifer.share                              ? Species::Conifer
+                              : u < settings_.conifer.share + settings_.broadleaf.share ? Species::Broadleaf
+                                                                                         : Species::Shrub;
       const double variation[5] = {random.unit(), random.unit(), random.unit(), random.unit(), random.unit()};
-      trees_.push_back(varied(species, {p.x, terrain_.heightAt(p.x, p.y), p.y}, variation));
+      const SizeClass size = sizeClassFor(settings_.sizes, sizeRandom.unit());
+      trees_.push_back(varied(species, size, {p.x, terrain_.heightAt(p.x, p.y), p.y}, variation));
     }
 }
 
@@ -114,12 +144,12 @@ void Forest::place() {
   const terrain::Heightfield& h = terrain_.heightfield();
   const double inset = 1.0;
   const dvec2 lo(h.origin().x + inset, h.origin().y + inset), hi(h.origin().x + h.size() - inset, h.origin().y + h.size() - inset);
-  const double shares = settings_.conifer.share + settings_.broadleaf.share;
-  const double coniferShare = settings_.conifer.share / shares;
-  const double cell = std::max(settings_.conifer.spacing, settings_.broadleaf.spacing);
+  const double cell = std::max({settings_.conifer.spacing, settings_.broadleaf.spacing, settings_.shrub.spacing}) *
+                      std::max({settings_.sizes.scale.x, settings_.sizes.scale.y, settings_.sizes.scale.z});
   const int cellsX = std::max(1, static_cast<int>(std::ceil((hi.x - lo.x) / cell)));
   const int cellsZ = std::max(1, static_cast<int>(std::ceil((hi.y - lo.y) / cell)));
   std::unordered_map<std::int64_t, std::vector<std::uint32_t>> grid;
+  std::vector<double> spacingOf;  // per placed tree: its species' spacing × its class's scale
   auto key = [&](int x, int z) { return static_cast<std::int64_t>(z) * cellsX + x; };
   auto cellOf = [&](const dvec2& p) {
     return glm::ivec2(std::clamp(static_cast<int>((p.x - lo.x) / cell), 0, cellsX - 1),
@@ -133,31 +163,52 @@ void Forest::place() {
     stands_.emplace(*settings_.stands, settings_.seed, lo, hi);
     keptShare = stands_->standShare() + settings_.stands->meadow * (1.0 - stands_->standShare());
   }
+  const Aabb ground = terrain_.bounds();
+  const double altitudeRange = std::max(ground.max.y - ground.min.y, 1e-9);
   struct {
     std::int64_t field = 0, height = 0, slope = 0, spacing = 0;
   } refused;
   SplitMix64 random(SplitMix64::substream(settings_.seed, 0x7ee5ull));
+  SplitMix64 sizeRandom(SplitMix64::substream(settings_.seed, 0x512eull));
   const std::int64_t darts = static_cast<std::int64_t>(kDartsPerTree * settings_.count / std::max(keptShare, 0.01)) + 1000;
   for (std::int64_t dart = 0; dart < darts && static_cast<int>(trees_.size()) < settings_.count; ++dart) {
     const dvec2 p(lo.x + (hi.x - lo.x) * random.unit(), lo.y + (hi.y - lo.y) * random.unit());
-    const Species species = random.unit() < coniferShare ? Species::Conifer : Species::Broadleaf;
+    const double speciesDraw = random.unit();
     const double variation[5] = {random.unit(), random.unit(), random.unit(), random.unit(), random.unit()};
-    if (stands_ && random.unit() >= stands_->density(p.x, p.y)) {  // evenly spread: no draw, same sequence
+    const SizeClass size = sizeClassFor(settings_.sizes, sizeRandom.unit());
+    const double density = stands_ ? stands_->density(p.x, p.y) : 1.0;
+    if (stands_ && random.unit() >= density) {  // evenly spread: no draw, same sequence
       ++refused.field;
       continue;
     }
-    const SpeciesPlacementSettings& rule = placementOf(settings_, species);
-    const double ground = terrain_.heightAt(p.x, p.y);
-    if (ground < rule.min_height || ground > rule.max_height) {
-      ++refused.height;
-      continue;
-    }
+    // The species, by the site's weights among those whose height band and slope limit it passes.
+    const double height = terrain_.heightAt(p.x, p.y);
     const double slope = glm::degrees(std::acos(std::clamp(terrain_.normalAt(p.x, p.y).y, -1.0, 1.0)));
-    if (slope > rule.max_slope_deg) {
-      ++refused.slope;
+    const double altitude = std::clamp((height - ground.min.y) / altitudeRange, 0.0, 1.0);
+    std::array<double, kSpeciesCount> weight{};
+    bool inBand = false;
+    for (Species s : kAllSpecies) {
+      const SpeciesPlacementSettings& rule = placementOf(settings_, s);
+      if (!(rule.share > 0.0) || height < rule.min_height || height > rule.max_height) continue;
+      inBand = true;
+      if (slope > rule.max_slope_deg) continue;
+      weight[static_cast<size_t>(s)] = siteWeight(rule, altitude, std::min(slope / 45.0, 1.0), density);
+    }
+    const double total = weight[0] + weight[1] + weight[2];
+    if (!(total > 0.0)) {
+      ++(inBand ? refused.slope : refused.height);
       continue;
     }
-    // Poisson-disk condition: no tree closer than the larger of the two species' spacings.
+    Species species = Species::Shrub;
+    for (double below = 0.0; Species s : kAllSpecies) {
+      below += weight[static_cast<size_t>(s)];
+      if (speciesDraw * total < below) {
+        species = s;
+        break;
+      }
+    }
+    // Poisson-disk condition: no tree closer than the larger of the two trees' spacings.
+    const double spacing = placementOf(settings_, species).spacing * settings_.sizes.scale[static_cast<int>(size)];
     const glm::ivec2 c = cellOf(p);
     bool free = true;
     for (int z = c.y - 1; z <= c.y + 1 && free; ++z)
@@ -166,8 +217,7 @@ void Forest::place() {
         if (found == grid.end()) continue;
         for (std::uint32_t other : found->second) {
           const TreeInstance& o = trees_[other];
-          const double spacing = std::max(rule.spacing, placementOf(settings_, o.species).spacing);
-          if (glm::distance(dvec2(o.position.x, o.position.z), p) < spacing) {
+          if (glm::distance(dvec2(o.position.x, o.position.z), p) < std::max(spacing, spacingOf[other])) {
             free = false;
             break;
           }
@@ -178,7 +228,8 @@ void Forest::place() {
       continue;
     }
     grid[key(c.x, c.y)].push_back(static_cast<std::uint32_t>(trees_.size()));
-    trees_.push_back(varied(species, {p.x, ground, p.y}, variation));
+    spacingOf.push_back(spacing);
+    trees_.push_back(varied(species, size, {p.x, height, p.y}, variation));
   }
   const std::string why = fmt::format("darts refused: {} by the density field, {} by the height band, {} by the slope, {} by the spacing",
                                       refused.field, refused.height, refused.slope, refused.spacing);
@@ -269,9 +320,13 @@ std::array<Aabb, kQuerySlabs> Forest::treeQueryBoxes(std::uint32_t index) const 
 
 int Forest::lodFor(std::uint32_t tree, const glm::dvec3& eye) const {
   if (settings_.force_lod0) return 0;
-  const double distance = glm::distance(eye, trees_[tree].position);
+  // Bands scaled by the size class (a tree twice as tall keeps its detail twice as far); a young
+  // tree's chain starts at LOD1.
+  const TreeInstance& t = trees_[tree];
+  const double distance = glm::distance(eye, t.position) / settings_.sizes.scale[static_cast<int>(t.size)];
   const glm::dvec3& d = settings_.lod_distances;
-  return distance < d.x ? 0 : distance < d.y ? 1 : distance < d.z ? 2 : 3;
+  const int lod = distance < d.x ? 0 : distance < d.y ? 1 : distance < d.z ? 2 : 3;
+  return t.size == SizeClass::Young ? std::max(lod, 1) : lod;
 }
 
 Aabb Forest::clusterBounds(const TreeCluster& cluster) const {
@@ -304,6 +359,7 @@ ForestStats forestStats(const Forest& forest) {
   stats.terrainAreaHa = size * size / 1e4;
   for (const TreeInstance& tree : forest.trees()) {
     ++stats.perSpecies[static_cast<size_t>(tree.species)];
+    ++stats.perSpeciesAndSize[static_cast<size_t>(tree.species)][static_cast<size_t>(tree.size)];
     if (forest.stands() && forest.stands()->inStand(tree.position.x, tree.position.z)) ++stats.inStands;
   }
   if (forest.stands()) {

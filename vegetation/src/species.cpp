@@ -37,6 +37,7 @@ constexpr double kRootDepth = 0.6;
 const OpenMesh::Vec3f kBark(0.30f, 0.21f, 0.13f);
 const OpenMesh::Vec3f kNeedles(0.10f, 0.26f, 0.12f);
 const OpenMesh::Vec3f kLeaves(0.20f, 0.40f, 0.12f);
+const OpenMesh::Vec3f kShrubLeaves(0.16f, 0.31f, 0.09f);
 
 OpenMesh::Vec3d om(const dvec3& p) { return {p.x, p.y, p.z}; }
 
@@ -252,12 +253,49 @@ void buildBroadleaf(ComponentBuilder& b, double quality, Random& random) {
   }
 }
 
+// Shrub, 2.2 m (the understorey): three stems leaning out from the base, each under a lumpy blob,
+// and two low blobs between them — eight closed components.
+void buildShrub(ComponentBuilder& b, double quality, Random& random) {
+  const double height = 2.2;
+  const int segments = std::max(4, static_cast<int>(std::lround(5 * quality)));
+  const int longitudes = std::max(6, static_cast<int>(std::lround(12 * quality)));
+  const int latitudes = std::max(4, static_cast<int>(std::lround(7 * quality)));
+  for (int stem = 0; stem < 3; ++stem) {
+    const double azimuth = 2.0 * std::numbers::pi * (stem + random.uniform(-0.2, 0.2)) / 3.0;
+    const dvec3 out(std::cos(azimuth), 0.0, std::sin(azimuth));
+    const dvec3 top = dvec3(0.0, 0.62 * height, 0.0) + 0.28 * height * out;
+    b.tube({dvec3(0.0, -kRootDepth, 0.0) + 0.05 * out, 0.5 * top + dvec3(0.0, -0.1, 0.0), top}, {0.06, 0.045, 0.03}, segments, kBark);
+    const double r = height * random.uniform(0.2, 0.26);
+    b.blob(top + dvec3(0.0, 0.25 * r, 0.0), dvec3(r, 0.85 * r, r), 0.15, longitudes, latitudes, random.uniform(0.0, 6.28), kShrubLeaves);
+  }
+  for (int low = 0; low < 2; ++low) {
+    const double azimuth = 2.0 * std::numbers::pi * (low + 0.25) / 2.0;
+    const double r = height * random.uniform(0.17, 0.21);
+    const dvec3 centre(0.22 * height * std::cos(azimuth), 0.75 * r, 0.22 * height * std::sin(azimuth));
+    b.blob(centre, dvec3(r, 0.75 * r, r), 0.15, longitudes, latitudes, random.uniform(0.0, 6.28), kShrubLeaves);
+  }
+}
+
 void buildAt(OMesh& mesh, Species species, double quality, std::uint64_t seed) {
   mesh = OMesh();  // fresh, with one "component" property
   ComponentBuilder builder(mesh);
-  Random random(seed ^ (species == Species::Conifer ? 0xC0F1ull : 0xB70Aull));
-  if (species == Species::Conifer) buildConifer(builder, quality, random);
-  else buildBroadleaf(builder, quality, random);
+  switch (species) {
+    case Species::Conifer: {
+      Random random(seed ^ 0xC0F1ull);
+      buildConifer(builder, quality, random);
+      break;
+    }
+    case Species::Broadleaf: {
+      Random random(seed ^ 0xB70Aull);
+      buildBroadleaf(builder, quality, random);
+      break;
+    }
+    case Species::Shrub: {
+      Random random(seed ^ 0x5A2Bull);
+      buildShrub(builder, quality, random);
+      break;
+    }
+  }
 }
 
 // Quadric edge collapses (Garland & Heckbert 1997) down to `faces`, refusing collapses that flip
@@ -326,7 +364,14 @@ SpeciesModel buildThesisTree(Species species) {
   return model;
 }
 
-std::string_view speciesName(Species species) { return species == Species::Conifer ? "conifer" : "broadleaf"; }
+std::string_view speciesName(Species species) {
+  switch (species) {
+    case Species::Conifer: return "conifer";
+    case Species::Broadleaf: return "broadleaf";
+    case Species::Shrub: return "shrub";
+  }
+  return "unknown";
+}
 
 std::array<int, kTreeLods> lodTriangleTargets(int lod0Triangles) {
   return {lod0Triangles, std::max(120, lod0Triangles / 4), std::max(120, lod0Triangles / 16), std::max(48, lod0Triangles / 64)};

@@ -46,4 +46,15 @@ double StandField::density(double x, double z) const {
   return settings_.meadow + (1.0 - settings_.meadow) * ramp;
 }
 
+std::vector<float> StandField::densityGrid(int side, const glm::dvec2& areaMin, const glm::dvec2& areaMax) const {
+  std::vector<float> grid;
+  grid.reserve(static_cast<size_t>(side) * side);
+  for (int j = 0; j < side; ++j)
+    for (int i = 0; i < side; ++i) {
+      const glm::dvec2 p = areaMin + glm::dvec2((i + 0.5) / side, (j + 0.5) / side) * (areaMax - areaMin);
+      grid.push_back(static_cast<float>(density(p.x, p.y)));
+    }
+  return grid;
+}
+
 }  // namespace forest::vegetation

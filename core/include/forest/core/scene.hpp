@@ -72,13 +72,31 @@ struct TerrainSettings {
   glm::dvec3 albedo{0.32, 0.42, 0.2};  // grass; steep slopes blend to rock
 };
 
-// [vegetation.conifer] / [vegetation.broadleaf]: where a species grows.
+// [vegetation.conifer] / [vegetation.broadleaf] / [vegetation.shrub]: where a species grows. A
+// placed tree's species is drawn with weights share × (1 + altitude_bias (2a − 1)) ×
+// (1 + slope_bias (2s − 1)) × (1 + shade_bias (2D − 1)) among the species whose hard rules (height
+// band, slope) the site passes: a is the altitude in the terrain's height range, s the slope over
+// 45° (at most 1), D the stand density (docs/scene-format.md). The biases are in [−1, 1]; 0 leaves
+// the share alone.
 struct SpeciesPlacementSettings {
   double share = 0.5;             // share of the trees, [0, 1] (the shares are normalised)
-  double spacing = 4.0;           // metres, minimum distance to any other tree, [0.5, 100]
+  double spacing = 4.0;           // metres, minimum distance to any other tree, [0.5, 100] (× the size class's scale)
   double max_slope_deg = 35.0;    // steepest ground it grows on, [0, 90]
   double min_height = -1e4;       // world height band of its bases
   double max_height = 1e4;
+  double altitude_bias = 0.0;     // > 0: more of it higher up
+  double slope_bias = 0.0;        // > 0: more of it on steep ground
+  double shade_bias = 0.0;        // > 0: more of it inside stands (shade, moist floor); < 0: at edges and in clearings
+};
+
+// [vegetation.sizes]: size classes young, mature, old — their shares (normalised) and scale
+// factors (× the per-tree scale). A young tree's LOD chain starts at LOD1 (a quarter of the LOD0
+// budget), and every tree's LOD distance bands grow with its class's scale (LOD by size on screen).
+enum class SizeClass { Young, Mature, Old };
+constexpr int kSizeClassCount = 3;
+struct SizeClassSettings {
+  glm::dvec3 share{0.0, 1.0, 0.0};   // [0, 1] each, not all 0
+  glm::dvec3 scale{0.45, 1.0, 1.35}; // (0, 4] each
 };
 
 // [vegetation.stands]: placement by a density field D (vegetation/stand_field.hpp,
@@ -93,7 +111,7 @@ struct StandSettings {
 };
 
 // [vegetation]: procedural trees on the terrain (module vegetation/; needs [terrain]).
-// procedural: two OpenMesh species with LOD chains (issue "Vegetation"); thesis: the "tree-like
+// procedural: three OpenMesh species (conifer, broadleaf, shrub) with LOD chains (issue "Vegetation"); thesis: the "tree-like
 // objects" of the thesis demo (ch. 10) — a closed cone and a closed torus ring around it.
 enum class TreeStyle { Procedural, Thesis };
 
@@ -113,6 +131,8 @@ struct VegetationSettings {
   glm::dvec2 wind_direction{1.0, 0.3};    // (x, z), non-zero; normalised on load
   SpeciesPlacementSettings conifer{0.6, 4.0, 35.0, -1e4, 1e4};
   SpeciesPlacementSettings broadleaf{0.4, 6.0, 25.0, -1e4, 1e4};
+  SpeciesPlacementSettings shrub{0.0, 1.5, 40.0, -1e4, 1e4};  // understorey; none unless a share is given
+  SizeClassSettings sizes;
   std::optional<StandSettings> stands;  // absent: trees spread evenly
 };
 

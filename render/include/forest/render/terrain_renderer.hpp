@@ -41,6 +41,11 @@ class TerrainRenderer {
              std::span<const int> tiles) const;
   // The same from any view — e.g. the light's in the shadow pass, which draws the eye's LOD.
   Stats draw(const DrawView& view, const terrain::TerrainLod& lod, std::span<const int> tiles) const;
+  // The ground cover the lit and G-buffer materials read (terrain.frag): a side × side grid of the
+  // forest's stand density D in [0, 1] over the terrain (StandField::densityGrid), row by row,
+  // filtered linearly. Forest floor where D is high, meadow where it is low; without a call the
+  // ground is meadow everywhere.
+  void setGroundCover(std::span<const float> cover, int side);
   // Tiles whose boxes meet the camera's frustum.
   std::vector<int> tilesInFrustum(const Camera& camera) const;
 
@@ -54,6 +59,7 @@ class TerrainRenderer {
   mutable gl::UniformStream terrainViewUniforms_;  // terrain.vert's TerrainViewBlock at binding 1
   gl::Texture heights_;
   gl::Texture normals_;  // vertex normals of the lit and G-buffer outputs (empty for the others)
+  gl::Texture cover_;    // the ground cover, R16F (1 × 1 meadow until setGroundCover)
   gl::VertexArray vertexArray_;
   gl::Buffer grid_;
   gl::Buffer indices_;

@@ -20,9 +20,10 @@ namespace forest::vegetation {
 
 struct TreeInstance {
   Species species = Species::Conifer;
+  SizeClass size = SizeClass::Mature;  // scale and LOD chain ([vegetation.sizes])
   glm::dvec3 position{0.0};   // base, on the terrain
   double yaw = 0.0;           // radians about +y
-  double scale = 1.0;
+  double scale = 1.0;         // the class's scale × the per-tree variation
   glm::vec3 tint{1.0f};       // albedo multiplier
   double swayPhase = 0.0;     // radians
 };
@@ -67,8 +68,9 @@ class Forest {
   // any yaw), grown by the sway at the slab's top, each cut to treeBounds. The culler queries with
   // them (a crown's box no longer shows where only its corners would).
   std::array<Aabb, kQuerySlabs> treeQueryBoxes(std::uint32_t tree) const;
-  // LOD by distance bands from the eye to the tree's base (force_lod0 → 0): a pure function of the
-  // camera, so culling never changes what is drawn.
+  // LOD by distance bands from the eye to the tree's base, divided by its size class's scale; a
+  // young tree never takes LOD0 (force_lod0 → 0 for all): a pure function of the camera, so
+  // culling never changes what is drawn.
   int lodFor(std::uint32_t tree, const glm::dvec3& eye) const;
 
   // Moves trees between frames (base snapped to the terrain); returns the clusters whose boxes
@@ -83,7 +85,7 @@ class Forest {
  private:
   void place();        // Poisson-disk dart throwing (count, spacing, slope, height band)
   void placeOnGrid();  // jittered regular grid (settings.grid > 0)
-  TreeInstance varied(Species species, const glm::dvec3& base, const double (&variation)[5]) const;
+  TreeInstance varied(Species species, SizeClass size, const glm::dvec3& base, const double (&variation)[5]) const;
   void buildClusters();
   Aabb clusterBounds(const TreeCluster& cluster) const;
 
@@ -105,6 +107,7 @@ class Forest {
 struct ForestStats {
   int trees = 0, requested = 0;
   std::array<int, kSpeciesCount> perSpecies{};
+  std::array<std::array<int, kSizeClassCount>, kSpeciesCount> perSpeciesAndSize{};
   double terrainAreaHa = 0.0;
   double standAreaHa = 0.0;          // cover measured on the field's sample grid × terrain area; 0 without stands
   int inStands = 0;

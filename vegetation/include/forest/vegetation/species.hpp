@@ -15,8 +15,9 @@
 
 namespace forest::vegetation {
 
-enum class Species { Conifer, Broadleaf };
-constexpr int kSpeciesCount = 2;
+enum class Species { Conifer, Broadleaf, Shrub };
+constexpr int kSpeciesCount = 3;
+constexpr Species kAllSpecies[kSpeciesCount] = {Species::Conifer, Species::Broadleaf, Species::Shrub};
 constexpr int kTreeLods = 4;
 std::string_view speciesName(Species species);
 

@@ -7,6 +7,7 @@
 // spread of g (its 5th to 95th percentile). Dart throwing keeps a dart with probability D
 // (vegetation/forest.cpp).
 #include <cstdint>
+#include <vector>
 
 #include "forest/core/bounds.hpp"
 #include "forest/core/scene.hpp"
@@ -20,6 +21,9 @@ class StandField {
   StandField(const StandSettings& settings, std::uint64_t seed, const glm::dvec2& areaMin, const glm::dvec2& areaMax);
 
   double density(double x, double z) const;  // D, in [meadow, 1]
+  // D at the centres of side × side cells over [areaMin, areaMax], row by row (+x first, then +z):
+  // the ground cover the terrain's material reads (render/terrain_renderer.hpp).
+  std::vector<float> densityGrid(int side, const glm::dvec2& areaMin, const glm::dvec2& areaMax) const;
   bool inStand(double x, double z) const { return noise(x, z) >= threshold_; }
   // The share of the area in stands, from the same sample grid as the quantile.
   double standShare() const { return standShare_; }
