@@ -1,6 +1,7 @@
 #version 450 core
 // Lighting (thesis §6.2): Phong — Lambert diffuse and a weak Blinn-Phong highlight from the sun,
-// both times the shadow term — plus a weak global ambient; the sky colour where nothing was drawn.
+// both times the shadow term — plus a weak hemispheric ambient (sky above, ground bounce below);
+// distance haze; where nothing was drawn, a sky gradient with the sun's disc.
 // With the blur on, uShadowTerm is the horizontally blurred term and the vertical pass of the
 // blur happens here (blur_taps.frag), saving a full-screen pass; with the blur off, the term is
 // looked up here (shadow_lookup.frag) and no pass before writes it. The term used is written out.
@@ -9,7 +10,7 @@ in vec3 vRay;                 // eye depth z → camera-relative position z · v
 layout(binding = 0) uniform sampler2D uAlbedo;
 layout(binding = 1) uniform sampler2D uShadingNormal;
 layout(binding = 4) uniform sampler2D uShadowTerm;  // r: term, g: eye depth (0: sky); read with the blur on
-// The sun, sky, fog density (exponential fog toward the sky colour; 0: none) and whether to blur
+// The sun, sky, haze density (exponential extinction per metre; 0: none) and whether to blur
 // uShadowTerm vertically (it then holds the horizontal pass) come from the frame block.
 
 layout(location = 0) out vec4 fragColor;
@@ -24,30 +25,62 @@ vec2 blurTaps(sampler2D term, ivec2 pixel, ivec2 direction);
 vec2 shadowTermAt(ivec2 pixel, vec3 ray);
 #endif
 
+// The sky (linear): the scene's sky colour at the zenith, paler toward the horizon (a gradient in
+// elevation), a little darker below it, and, with the sun up, its disc (drawn 1.6° across so that
+// it covers a few pixels; the real one is 0.53°) and a glow around it.
+vec3 skyRadiance(vec3 d, vec3 zenith, vec3 toSun, vec3 sunColor, bool sunUp) {
+  vec3 horizon = mix(zenith, vec3(0.75, 0.8, 0.85), 0.55);
+  vec3 sky = d.y >= 0.0 ? mix(horizon, zenith, smoothstep(0.0, 0.6, d.y)) : horizon * (1.0 + 0.3 * d.y);
+  if (!sunUp) return sky;
+  float c = dot(d, toSun);
+  float disc = smoothstep(0.99985, 0.99990, c);  // cos 1.0° to cos 0.8°
+  float glow = 0.6 * pow(max(c, 0.0), 400.0) + 0.08 * pow(max(c, 0.0), 8.0);
+  return sky + sunColor * (12.0 * disc + glow);
+}
+
+// The colour that distance haze fades toward along d: the horizon's, brighter toward the sun
+// (light scattered forward).
+vec3 hazeRadiance(vec3 d, vec3 zenith, vec3 toSun, vec3 sunColor, bool sunUp) {
+  vec3 horizon = mix(zenith, vec3(0.75, 0.8, 0.85), 0.55);
+  return horizon + (sunUp ? 0.25 * sunColor * pow(max(dot(d, toSun), 0.0), 8.0) : vec3(0.0));
+}
+
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
-  vec3 toSun = uFrame.toSunUp.xyz, sky = uFrame.skyFog.rgb;
-  float ambient = uFrame.sunColorAmbient.w, fogDensity = uFrame.skyFog.w;
+  vec3 toSun = uFrame.toSunUp.xyz, zenith = pow(uFrame.skyFog.rgb, vec3(2.2));
+  vec3 sunColor = uFrame.sunColorAmbient.rgb;
+  bool sunUp = uFrame.toSunUp.w != 0.0;
+  float ambient = uFrame.sunColorAmbient.w, hazeDensity = uFrame.skyFog.w;
 #ifdef BLURRED_TERM
   vec2 term = blurTaps(uShadowTerm, pixel, ivec2(0, 1));
 #else
   vec2 term = shadowTermAt(pixel, vRay);
 #endif
   usedTerm = term;
-  if (term.g == 0.0) { fragColor = vec4(sky, 1.0); return; }
+  vec3 view = normalize(vRay);
+  if (term.g == 0.0) {
+    fragColor = vec4(pow(skyRadiance(view, zenith, toSun, sunColor, sunUp), vec3(1.0 / 2.2)), 1.0);
+    return;
+  }
   vec3 albedo = texelFetch(uAlbedo, pixel, 0).rgb;
   vec3 n = normalize(texelFetch(uShadingNormal, pixel, 0).xyz);
   float shadow = term.r;
-  vec3 linear = albedo * ambient;
+  // Hemispheric ambient: the sky's light from above (its colour at unit luminance), the ground's
+  // bounce from below, blended by the normal's elevation.
+  vec3 skyLight = mix(zenith, vec3(0.75, 0.8, 0.85), 0.5);
+  skyLight /= max(dot(skyLight, vec3(0.2126, 0.7152, 0.0722)), 1e-4);
+  const vec3 groundLight = vec3(0.42, 0.40, 0.30);
+  vec3 linear = albedo * ambient * mix(groundLight, skyLight, 0.5 + 0.5 * n.y);
   vec3 relative = term.g * vRay;
-  if (uFrame.toSunUp.w != 0.0) {
-    vec3 toEye = normalize(-relative);
+  if (sunUp) {
+    vec3 toEye = -view;
     float diffuse = max(dot(n, toSun), 0.0);
     float c = max(dot(n, normalize(toSun + toEye)), 0.0);  // c^32 by squaring
     c *= c; c *= c; c *= c; c *= c; c *= c;
     float specular = c * step(0.0, dot(n, toSun));
-    linear += (1.0 - ambient) * shadow * uFrame.sunColorAmbient.rgb * (albedo * diffuse + 0.04 * specular);
+    linear += (1.0 - ambient) * shadow * sunColor * (albedo * diffuse + 0.04 * specular);
   }
-  vec3 display = pow(linear, vec3(1.0 / 2.2));
-  fragColor = vec4(fogDensity > 0.0 ? mix(sky, display, exp(-fogDensity * length(relative))) : display, 1.0);
+  if (hazeDensity > 0.0)  // exponential extinction with in-scattered haze (linear light)
+    linear = mix(hazeRadiance(view, zenith, toSun, sunColor, sunUp), linear, exp(-hazeDensity * length(relative)));
+  fragColor = vec4(pow(linear, vec3(1.0 / 2.2)), 1.0);
 }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -44,6 +45,24 @@ inline glm::dvec3 pixelPosition(const Camera& camera, int x, int y, float depth,
   const glm::dmat4 inverse = glm::inverse(camera.projection() * camera.view());
   const glm::dvec4 h = inverse * glm::dvec4(2.0 * (x + 0.5) / width - 1.0, 2.0 * (y + 0.5) / height - 1.0, depth, 1.0);
   return glm::dvec3(h) / h.w;
+}
+
+// The sky's display colour (0–255) along the unit view direction d: the closed form of
+// shaders/lighting.frag's skyRadiance — the zenith (`skyColor`, display values, γ 2.2) fading to
+// mix(zenith, (0.75, 0.8, 0.85), 0.55) at the horizon by smoothstep(0, 0.6, d.y), darker below it,
+// plus the sun's glow 0.6 c^400 + 0.08 c^8 and its disc (12 × the sun's colour, cos θ ≥ 0.9999),
+// c = d · toSun. Pixels whose c lies in the disc's edge ramp (cos 1°…cos 0.8°) are not compared.
+inline glm::dvec3 skyDisplay(const glm::dvec3& d, const glm::dvec3& skyColor, const glm::dvec3& toSun, const glm::dvec3& sunColor,
+                             bool sunUp) {
+  const glm::dvec3 zenith = glm::pow(skyColor, glm::dvec3(2.2));
+  const glm::dvec3 horizon = zenith + 0.55 * (glm::dvec3(0.75, 0.8, 0.85) - zenith);
+  const double t = std::clamp(d.y / 0.6, 0.0, 1.0), s = t * t * (3.0 - 2.0 * t);
+  glm::dvec3 sky = d.y >= 0.0 ? horizon + s * (zenith - horizon) : horizon * (1.0 + 0.3 * d.y);
+  if (sunUp) {
+    const double c = glm::dot(d, toSun), cp = std::max(c, 0.0);
+    sky += sunColor * ((c >= 0.99990 ? 12.0 : 0.0) + 0.6 * std::pow(cp, 400.0) + 0.08 * std::pow(cp, 8.0));
+  }
+  return 255.0 * glm::pow(glm::clamp(sky, 0.0, 1.0), glm::dvec3(1.0 / 2.2));
 }
 
 // Whether the ray from `origin` (excluding its first 1e-6) meets the box (slab test).

@@ -1,4 +1,5 @@
-// forest bench culling: the culling strategies along three paths — a ground-level walk through the
+// forest bench culling: the culling strategies along four paths — under the canopy of the densest
+// stand, a ground-level walk through the
 // forest, an open view above the canopy, a crossing of the highest hill — in scenes of several
 // tree counts at equal density. Per frame: time (culling + geometry drawn, to glFinish), triangles,
 // draw calls, queries (single and multi), state switches, CPU wait. Against frustum culling and the
@@ -43,7 +44,7 @@ struct BenchOptions {
   GlOptions gl;
   std::string scene;
   std::vector<int> trees{5000, 50000};
-  std::vector<std::string> paths{"ground", "canopy", "hill"};
+  std::vector<std::string> paths{"forest", "ground", "canopy", "hill"};
   std::vector<std::string> strategies = culling::cullingStrategyNames();
   ImageSizeOptions size{640, 360};
   // 60 frames per path; no warm-up by default: the strategies take turns frame by frame, so a cold
@@ -129,14 +130,85 @@ std::vector<Camera> hillPath(const Scene& scene, const terrain::Terrain& terrain
   return cameras;
 }
 
-std::vector<Camera> benchPath(const std::string& kind, const Scene& scene, const terrain::Terrain& terrain, int frames, double aspect) {
+}  // namespace
+
+namespace {
+constexpr double kStandCell = 20.0;  // metres
+
+std::map<std::pair<int, int>, int> treesPerCell(const vegetation::Forest& forest) {
+  std::map<std::pair<int, int>, int> trees;
+  for (const vegetation::TreeInstance& t : forest.trees())
+    ++trees[{static_cast<int>(std::floor(t.position.x / kStandCell)), static_cast<int>(std::floor(t.position.z / kStandCell))}];
+  return trees;
+}
+}  // namespace
+
+glm::dvec2 densestStand(const vegetation::Forest& forest) {
+  std::pair<int, int> densest{0, 0};
+  int most = -1;
+  for (const auto& [cell, count] : treesPerCell(forest))
+    if (count > most) std::tie(densest, most) = std::tie(cell, count);
+  return {(densest.first + 0.5) * kStandCell, (densest.second + 0.5) * kStandCell};
+}
+
+glm::dvec2 clearingNear(const vegetation::Forest& forest, const Aabb& bounds, const glm::dvec2& stand) {
+  const std::map<std::pair<int, int>, int> trees = treesPerCell(forest);
+  const auto treesNear = [&](int cx, int cz) {  // trees in the 3 × 3 cells around (cx, cz): within 30 m of the centre
+    int n = 0;
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dx = -1; dx <= 1; ++dx)
+        if (const auto it = trees.find({cx + dx, cz + dz}); it != trees.end()) n += it->second;
+    return n;
+  };
+  const int sx = static_cast<int>(std::floor(stand.x / kStandCell)), sz = static_cast<int>(std::floor(stand.y / kStandCell));
+  for (int ring = 3; ring <= 30; ++ring)  // cells 60–600 m away, nearest rings first
+    for (int dz = -ring; dz <= ring; ++dz)
+      for (int dx = -ring; dx <= ring; ++dx) {
+        if (std::max(std::abs(dx), std::abs(dz)) != ring) continue;
+        const glm::dvec2 centre((sx + dx + 0.5) * kStandCell, (sz + dz + 0.5) * kStandCell);
+        if (centre.x < bounds.min.x + 30.0 || centre.x > bounds.max.x - 30.0 || centre.y < bounds.min.z + 30.0 || centre.y > bounds.max.z - 30.0)
+          continue;  // keep 30 m from the terrain's edge
+        if (treesNear(sx + dx, sz + dz) == 0) return centre;
+      }
+  return stand;
+}
+
+namespace {
+
+// Under the canopy: from the middle of the densest stand at eye height, 0.7 m per frame along the
+// view, turning 1.2° per frame — a slow loop inside it.
+std::vector<Camera> underCanopyPath(const Scene& scene, const terrain::Terrain& terrain, const vegetation::Forest& forest, int frames,
+                                    double aspect) {
+  const glm::dvec2 stand = densestStand(forest);
+  Camera c = scene.startCamera();
+  c.aspect = aspect;
+  c.pitch = 0.0;
+  c.position = glm::dvec3(stand.x, 0.0, stand.y);
+  const double above = scene.camera.above_ground.value_or(1.7);
+  const Aabb bounds = terrain.bounds();
+  std::vector<Camera> cameras;
+  for (int f = 0; f < frames; ++f) {
+    c.position.x = std::clamp(c.position.x, bounds.min.x + 1.0, bounds.max.x - 1.0);
+    c.position.z = std::clamp(c.position.z, bounds.min.z + 1.0, bounds.max.z - 1.0);
+    c.position.y = terrain.heightAt(c.position.x, c.position.z) + above;
+    cameras.push_back(c);
+    c.position += 0.7 * directionFromYawPitch(c.yaw, 0.0);
+    c.yaw += glm::radians(1.2);
+  }
+  return cameras;
+}
+
+std::vector<Camera> benchPath(const std::string& kind, const Scene& scene, const terrain::Terrain& terrain, const vegetation::Forest& forest,
+                              int frames, double aspect) {
+  if (kind == "forest") return underCanopyPath(scene, terrain, forest, frames, aspect);
   if (kind == "ground") return walkPath(scene, terrain, frames, aspect);
   if (kind == "canopy") return canopyPath(scene, terrain, frames, aspect);
   return hillPath(scene, terrain, frames, aspect);
 }
 
 const std::map<std::string, std::string>& pathDescriptions() {
-  static const std::map<std::string, std::string> d = {{"ground", "ground-level walk through the forest"},
+  static const std::map<std::string, std::string> d = {{"forest", "under the canopy of the densest stand"},
+                                                        {"ground", "ground-level walk through the forest"},
                                                         {"canopy", "open view 40 m above the canopy"},
                                                         {"hill", "crossing the highest hill at eye height"}};
   return d;
@@ -260,7 +332,7 @@ int runBenchCulling(const BenchOptions& options) {
 
     for (const std::string& pathName : options.paths) {
       const std::vector<Camera> path =
-          benchPath(pathName, scene, terrain, options.length.frames, static_cast<double>(options.size.width) / options.size.height);
+          benchPath(pathName, scene, terrain, forest, options.length.frames, static_cast<double>(options.size.width) / options.size.height);
       // The visible set of every frame: objects with a pixel in the brute-force ID buffer.
       std::vector<std::vector<std::uint32_t>> visibleSets(path.size());
       {
@@ -393,7 +465,8 @@ Run addBenchCommand(CLI::App& app) {
   bench->require_subcommand(1);
   CLI::App* cullingBench = bench->add_subcommand(
       "culling",
-      "The culling strategies along a ground-level walk, an open view above the canopy and a hill crossing, in\n"
+      "The culling strategies under the canopy of the densest stand, along a ground-level walk, an open view\n"
+      "above the canopy and a hill crossing, in\n"
       "scenes of several tree counts at equal density: p50/p95 frame time, triangles, draw calls, queries\n"
       "(single and multi), state switches, CPU wait; ratios to frustum culling and to the oracle (the exact\n"
       "visible set drawn without queries). Writes JSON, a Markdown table and a PNG plot");
@@ -403,9 +476,11 @@ Run addBenchCommand(CLI::App& app) {
       ->delimiter(',')
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
-  cullingBench->add_option("--paths", options->paths, "Paths: ground, canopy, hill")
+  cullingBench->add_option("--paths", options->paths,
+                           "Paths: forest (under the canopy of the densest stand), ground (a walk from the scene's camera), "
+                           "canopy (40 m over the ground), hill (over the highest hill)")
       ->delimiter(',')
-      ->check(CLI::IsMember({"ground", "canopy", "hill"}))
+      ->check(CLI::IsMember({"forest", "ground", "canopy", "hill"}))
       ->capture_default_str();
   cullingBench->add_option("--strategies", options->strategies, "Culling strategies")
       ->delimiter(',')

@@ -37,7 +37,7 @@ struct RenderOptions {
   std::string casters = "receivers";
   double bias = 0.0;
   bool frontFaces = false;
-  double fog = 0.0;
+  std::optional<double> fog;
   std::vector<double> camera;  // x y z yaw pitch
   std::vector<double> sun;     // x y z
   std::string debug;           // folder for the debug images (empty: none)
@@ -190,7 +190,7 @@ int runRender(const RenderOptions& options) {
                    {"culling", options.frame.culling}, {"casters", options.casters},
                    {"slope_bias", options.bias},       {"backside", settings.backside},
                    {"pcf_radius", options.frame.pcf},  {"blur_px", options.frame.blur},
-                   {"fog", options.fog},               {"timing", render::timingModeName(settings.timing)},
+                   {"fog", options.fog.value_or(scene.render.haze)},               {"timing", render::timingModeName(settings.timing)},
                    {"queries", culling::queryModeName(settings.queries)}};
   j["passes_ms"] = {{"geometry", stats.geometryMs},
                     {"shadow_setup", stats.shadowSetupMs},
@@ -242,9 +242,9 @@ void addFrameInputs(CLI::App* command, RenderOptions* options) {
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
   command->add_flag("--front-faces", options->frontFaces, "Render front faces into the shadow map (not backside rendering)");
-  command->add_option("--fog", options->fog, "Exponential fog density per metre (0: none)")
-      ->check(CLI::Range(0.0, 1.0))
-      ->capture_default_str();
+  command->add_option("--fog", options->fog,
+                      "Distance haze: exponential extinction per metre, 0 to 1 (0: none; default: the scene's [render] haze)")
+      ->check(CLI::Range(0.0, 1.0));
 }
 
 }  // namespace

@@ -21,7 +21,9 @@
 #include "forest/core/scene.hpp"
 #include "forest/gl/context.hpp"
 #include "forest/gl/debug.hpp"
+#include "forest/terrain/terrain.hpp"
 #include "forest/truth/frame_truth.hpp"
+#include "forest/vegetation/forest.hpp"
 
 namespace forest::app {
 namespace {
@@ -65,8 +67,9 @@ dvec3 sunRelativeTo(const Camera& camera, double elevationDeg, double azimuthDeg
 
 // Ground level (the scene's start) and above the canopy (30 m higher, 20° down), suns at 15°, 45°,
 // 75° from behind-left; dueling frusta: looking down along the light (sun behind, 30°) and up into it
-// (sun ahead, 20°).
-std::vector<Scenario> makeScenarios(const render::Frame& frame, bool quick) {
+// (sun ahead, 20°); with stands, under the canopy of the densest stand (5° up) and in a clearing
+// beside it, looking at it, sun at 45°.
+std::vector<Scenario> makeScenarios(const Scene& scene, const render::Frame& frame, bool quick) {
   const Camera ground = frame.startCamera();
   Camera canopy = ground;
   canopy.position.y += 30.0;
@@ -80,6 +83,22 @@ std::vector<Scenario> makeScenarios(const render::Frame& frame, bool quick) {
   Camera ahead = ground;
   ahead.pitch = glm::radians(20.0);
   all.push_back({"dueling, sun ahead", ahead, sunRelativeTo(ahead, 20.0, 180.0)});
+  // Under the canopy of the densest stand and in a clearing beside it, looking at it (with stands).
+  if (const vegetation::Forest* forest = frame.forest(); forest && forest->stands() && frame.terrain()) {
+    const terrain::Terrain& terrain = *frame.terrain();
+    const glm::dvec2 stand = densestStand(*forest), clearing = clearingNear(*forest, terrain.bounds(), stand);
+    const double above = scene.camera.above_ground.value_or(1.7);
+    Camera under = ground;
+    under.position = dvec3(stand.x, terrain.heightAt(stand.x, stand.y) + above, stand.y);
+    under.pitch = glm::radians(5.0);
+    all.push_back({"under the canopy, sun 45 deg", under, sunRelativeTo(under, 45.0, 135.0)});
+    Camera open = ground;
+    open.position = dvec3(clearing.x, terrain.heightAt(clearing.x, clearing.y) + above, clearing.y);
+    const glm::dvec2 toStand = stand - clearing;
+    if (glm::length(toStand) > 1.0) open.yaw = std::atan2(-toStand.x, -toStand.y);
+    open.pitch = 0.0;
+    all.push_back({"clearing, sun 45 deg", open, sunRelativeTo(open, 45.0, 135.0)});
+  }
   if (quick) return {all[1], all[6]};
   return all;
 }
@@ -150,7 +169,7 @@ int runSpeedError(const SpeedErrorOptions& options) {
   auto context = gl::createContext(contextOptions);
   log::info("{}", gl::describe(context->info()));
   render::Frame frame(scene, width, height);
-  const std::vector<Scenario> scenarios = makeScenarios(frame, options.quick);
+  const std::vector<Scenario> scenarios = makeScenarios(scene, frame, options.quick);
 
   truth::TruthOptions truthOptions;
   truthOptions.softRays = options.softRays;

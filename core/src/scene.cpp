@@ -47,6 +47,7 @@ void readRender(TomlSection& s, RenderSettings& r) {
   r.width = static_cast<int>(s.integer("width", r.width, 1, kMaxImageSide));
   r.height = static_cast<int>(s.integer("height", r.height, 1, kMaxImageSide));
   r.sky_color = s.vec3("sky_color", r.sky_color, detail::closed(0.0, 1.0));
+  r.haze = s.number("haze", r.haze, detail::closed(0.0, 1.0));
   s.finish();
 }
 
@@ -221,7 +222,8 @@ std::string sceneToToml(const Scene& scene) {
                   {"ambient", scene.sun.ambient}};
   toml::table render{{"width", scene.render.width},
                      {"height", scene.render.height},
-                     {"sky_color", tomlArray(scene.render.sky_color)}};
+                     {"sky_color", tomlArray(scene.render.sky_color)},
+                     {"haze", scene.render.haze}};
   toml::array props;
   for (const PropBox& p : scene.props) {
     props.push_back(toml::table{{"shape", "box"},

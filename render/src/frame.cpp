@@ -24,8 +24,8 @@ void validate(const FrameSettings& settings) {
     throw InputError(fmt::format("shadow map size {}: expected 512 to 8192", settings.shadowMapSize));
   if (settings.pcfRadius < 0 || settings.pcfRadius > 4)
     throw InputError(fmt::format("PCF radius {}: expected 0 to 4", settings.pcfRadius));
-  if (!(settings.fogDensity >= 0.0 && settings.fogDensity <= 1.0))
-    throw InputError(fmt::format("fog density {}: expected 0 to 1 per metre", settings.fogDensity));
+  if (settings.fogDensity && !(*settings.fogDensity >= 0.0 && *settings.fogDensity <= 1.0))
+    throw InputError(fmt::format("fog density {}: expected 0 to 1 per metre", *settings.fogDensity));
   if (!(settings.blurRadius >= 0.0 && settings.blurRadius <= 16.0))
     throw InputError(fmt::format("blur radius {}: expected 0 to 16 pixels", settings.blurRadius));
   if (!std::isfinite(settings.lookupShiftTexels.x) || !std::isfinite(settings.lookupShiftTexels.y))

@@ -39,7 +39,8 @@ struct SunSettings {
 struct RenderSettings {
   int width = 1280;   // [1, 16384]
   int height = 720;   // [1, 16384]
-  glm::dvec3 sky_color{0.55, 0.7, 0.9};
+  glm::dvec3 sky_color{0.55, 0.7, 0.9};  // the zenith's; the horizon is paler (lighting.frag)
+  double haze = 0.0;                     // distance haze: exponential extinction per metre, [0, 1]; 0: none
 };
 
 // [[props]]: simple solid objects (boxes) — test scenes, obstacles and moving objects.

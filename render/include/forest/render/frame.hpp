@@ -65,7 +65,7 @@ struct FrameSettings {
   // blurReferenceDepth away, shrinking as 1/z beyond; 0 = off. [0, 16].
   double blurRadius = 0.0;
   double blurReferenceDepth = 10.0;  // metres, > 0
-  double fogDensity = 0.0;        // exponential fog per metre, [0, 1]; 0: none
+  std::optional<double> fogDensity;  // distance haze per metre, [0, 1] (0: none); unset: the scene's [render] haze
   // Error injection for validating the error figures (ground truth tests): the shadow-term lookup
   // reads the map this many texels off in x and y. 0 in normal use.
   glm::dvec2 lookupShiftTexels{0.0};
