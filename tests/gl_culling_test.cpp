@@ -1,5 +1,5 @@
-// Culling on the GPU. Exactness on the geometry pass (DESIGN §4): along 60 views of the default
-// forest — a ground-level walk, above the canopy, facing a hill, facing the sky, the eye inside a
+// Culling on the GPU. Exactness on the geometry pass (DESIGN §4): along 80 views of the default
+// forest — a ground-level walk, 20 under the canopy of the densest stand, above the canopy, facing a hill, facing the sky, the eye inside a
 // cluster's box, trees and props moving between frames — frustum, stop-and-wait, CHC and CHC++
 // draw the same depth and object-ID images as drawing everything. The CHC and CHC++ visible sets
 // hold every object with a visible pixel, and z_f reaches the farthest depth drawn. A synthetic box scene (a wall
@@ -34,7 +34,7 @@ struct GeometryTarget : IdDepthTarget {
 class CullingGl : public GlTest {};
 
 // Exactness, with deterministic and with async query reads: depth and object ID equal brute force.
-TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongSixtyViews) {
+TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongEightyViews) {
   Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
   const terrain::Terrain terrain(*scene.terrain);
   vegetation::Forest forest(*scene.vegetation, terrain);
@@ -86,6 +86,21 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongSixtyViews) {
   };
   for (int k = 0; k < 25; ++k)  // ground-level walk, turning slowly
     views.push_back({camera(start.x + 2.0 * k, start.z - 3.0 * k, 1.7, 210.0 + 3.0 * k, -2.0), "walk"});
+  {  // under the canopy: a slow loop from the middle of the densest stand (the 20 m cell with the most trees)
+    std::map<std::pair<int, int>, int> cells;
+    for (const vegetation::TreeInstance& t : forest.trees())
+      ++cells[{static_cast<int>(std::floor(t.position.x / 20.0)), static_cast<int>(std::floor(t.position.z / 20.0))}];
+    auto densest = cells.begin();
+    for (auto it = cells.begin(); it != cells.end(); ++it)
+      if (it->second > densest->second) densest = it;
+    dvec3 eye((densest->first.first + 0.5) * 20.0, 0.0, (densest->first.second + 0.5) * 20.0);
+    for (int k = 0; k < 20; ++k) {
+      const double yaw = 30.0 + 9.0 * k;
+      ASSERT_GE(forest.stands()->density(eye.x, eye.z), 0.9) << "view " << k << " is not in the stand";
+      views.push_back({camera(eye.x, eye.z, 1.7, yaw, 4.0 - 0.5 * k), "under the canopy"});
+      eye += 1.2 * directionFromYawPitch(glm::radians(yaw), 0.0);
+    }
+  }
   for (int k = 0; k < 8; ++k)  // above the canopy
     views.push_back({camera(start.x + 40.0 * k, start.z, 45.0, 45.0 * k, -20.0), "above the canopy"});
   for (int k = 0; k < 6; ++k) {  // facing the highest point of the terrain from its foot
@@ -108,7 +123,7 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongSixtyViews) {
   }
   for (int k = 0; k < 10; ++k)  // trees and props move between frames
     views.push_back({camera(start.x - 5.0, start.z + 5.0, 1.7, 225.0, -3.0), "moving objects", true});
-  ASSERT_GE(views.size(), 50u);
+  ASSERT_GE(views.size(), 70u);
 
   int differingPixels = 0, compared = 0;
   std::map<CullingStrategy, int> queries;

@@ -58,6 +58,7 @@ TEST_F(OutdoorsGl, SkyIsTheGradientOfItsClosedFormWithTheSunsDisc) {
 // the same for both views; no haze): under the densest stand the material is forest floor,
 // (0.24, 0.19, 0.11), g/r = 0.79; in a meadow it is grass between (0.32, 0.42, 0.2) and dry grass
 // (0.45, 0.42, 0.22), g/r ≥ 0.93 (shaders/terrain.frag). Without the ground cover both are grass.
+// Each view rendered twice gives the same pixels.
 TEST_F(OutdoorsGl, ForestFloorUnderTheStandsGrassInTheMeadows) {
   Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
   scene.render.haze = 0.0;
@@ -88,6 +89,8 @@ TEST_F(OutdoorsGl, ForestFloorUnderTheStandsGrassInTheMeadows) {
                                    static_cast<double>(kWidth) / kHeight);
     frame.render(camera, 0.0, render::FrameSettings{});
     const Image8 color = frame.readColor();
+    frame.render(camera, 0.0, render::FrameSettings{});
+    EXPECT_EQ(frame.readColor().pixels, color.pixels);  // the material is a pure function: the same pixels twice
     const std::vector<std::uint32_t> ids = frame.readObjectIds();
     const std::vector<float> depth = frame.readDepth();
     double sum = 0.0;

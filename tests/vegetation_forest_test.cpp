@@ -5,12 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 #include <random>
 #include <set>
 
+#include "forest/core/camera_path.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/vegetation/forest.hpp"
 
@@ -125,6 +127,73 @@ TEST(TreePlacement, StandsFollowTheDensityField) {
   EXPECT_EQ(stats.inStands, static_cast<int>(std::lround(placed * 1500.0)));
   EXPECT_NEAR(stats.standAreaHa, field.standShare() * 25.0, 1e-9);
   EXPECT_NEAR(stats.stemsPerHaInStands, stats.inStands / stats.standAreaHa, 1e-9);
+}
+
+// Species by site: with equal shares, conifer altitude_bias +1 and broadleaf −1, the weights at
+// altitude a are 2a and 2(1 − a), so a tree at a is a conifer with probability a (scene.hpp). Per
+// fifth of the altitude range the conifers' share is the mean a of its trees, within 4 binomial
+// standard deviations (and 0.02 for the bins' width). Biases ignored (p = 1/2 everywhere) or
+// reversed fail in the top and bottom fifths.
+TEST(TreePlacement, SpeciesFollowTheirAltitudeBias) {
+  VegetationSettings v = testVegetation(3000, 11);
+  v.conifer = {0.5, 2.0, 90.0, -1e4, 1e4, 1.0, 0.0, 0.0};
+  v.broadleaf = {0.5, 2.0, 90.0, -1e4, 1e4, -1.0, 0.0, 0.0};
+  const Forest f(v, testTerrain());
+  ASSERT_EQ(f.trees().size(), 3000u);
+  const Aabb ground = testTerrain().bounds();
+  std::array<double, 5> sumA{}, conifers{}, trees{};
+  for (const TreeInstance& t : f.trees()) {
+    const double a = std::clamp((t.position.y - ground.min.y) / (ground.max.y - ground.min.y), 0.0, 1.0);
+    const size_t bin = std::min<size_t>(4, static_cast<size_t>(a * 5.0));
+    sumA[bin] += a;
+    trees[bin] += 1.0;
+    conifers[bin] += t.species == Species::Conifer ? 1.0 : 0.0;
+  }
+  int checked = 0;
+  for (size_t b = 0; b < 5; ++b) {
+    if (trees[b] < 50.0) continue;  // too few trees at that altitude to say anything
+    const double p = sumA[b] / trees[b], share = conifers[b] / trees[b];
+    EXPECT_NEAR(share, p, 4.0 * std::sqrt(p * (1.0 - p) / trees[b]) + 0.02) << "altitude fifth " << b << ", " << trees[b] << " trees";
+    ++checked;
+  }
+  EXPECT_GE(checked, 3);
+}
+
+// Size classes: counts by their shares (4 binomial standard deviations), each tree's scale is its
+// class's factor × a draw from scale_range, spacing shrinks with the class (young trees stand
+// closer), and a young tree never takes LOD0 while an old one keeps LOD0 farther than a mature one.
+TEST(TreePlacement, SizeClassesSetScaleSpacingAndLod) {
+  VegetationSettings v = testVegetation(1500, 13);
+  v.sizes = SizeClassSettings{{0.3, 0.5, 0.2}, {0.5, 1.0, 1.5}};
+  const Forest f(v, testTerrain());
+  ASSERT_EQ(f.trees().size(), 1500u);
+  std::array<int, 3> counts{};
+  for (std::uint32_t i = 0; i < f.trees().size(); ++i) {
+    const TreeInstance& t = f.trees()[i];
+    const int c = static_cast<int>(t.size);
+    ++counts[static_cast<size_t>(c)];
+    const double factor = v.sizes.scale[c];
+    EXPECT_GE(t.scale, factor * v.scale_range.x - 1e-12) << i;
+    EXPECT_LE(t.scale, factor * v.scale_range.y + 1e-12) << i;
+    const dvec3 eye = t.position + dvec3(0.0, 1.7, 1.0);  // 1 m away: LOD0 for all but the young
+    EXPECT_EQ(f.lodFor(i, eye), t.size == SizeClass::Young ? 1 : 0) << i;
+    // 70 m: beyond the first band (60 m) for mature trees, inside it (× 1.5 = 90 m) for old ones.
+    EXPECT_EQ(f.lodFor(i, t.position + dvec3(70.0, 0.0, 0.0)), t.size == SizeClass::Old ? 0 : 1) << i;
+  }
+  for (int c = 0; c < 3; ++c) {
+    const double p = v.sizes.share[c];
+    EXPECT_NEAR(counts[static_cast<size_t>(c)] / 1500.0, p, 4.0 * std::sqrt(p * (1.0 - p) / 1500.0)) << "class " << c;
+  }
+  for (size_t i = 0; i < f.trees().size(); ++i)
+    for (size_t j = i + 1; j < f.trees().size(); ++j) {
+      const TreeInstance &a = f.trees()[i], &b = f.trees()[j];
+      const auto spacing = [&](const TreeInstance& t) {
+        return (t.species == Species::Conifer ? v.conifer : v.broadleaf).spacing * v.sizes.scale[static_cast<int>(t.size)];
+      };
+      ASSERT_GE(glm::distance(glm::dvec2(a.position.x, a.position.z), glm::dvec2(b.position.x, b.position.z)),
+                std::max(spacing(a), spacing(b)) - 1e-9)
+          << i << ", " << j;
+    }
 }
 
 TEST(TreePlacement, ReportsTheMostThatFit) {
@@ -300,6 +369,56 @@ TEST(ThesisDemo, PresetPlacesTheGridOfClosedConeAndRingTrees) {
       EXPECT_NEAR(topology.componentVolumes[0] / cone, 1.0, 0.01);
       EXPECT_NEAR(topology.componentVolumes[1] / torus, 1.0, 0.02);
     }
+}
+
+}  // namespace
+}  // namespace forest::vegetation
+
+namespace forest::vegetation {
+namespace {
+
+// The default walk (data/paths/walk.toml over data/scenes/forest.toml), sampled every 0.1 s: it
+// loads with heights over the ground; it starts outside a stand (D < 1/2) and is in one within
+// 3 s; it spends ≥ 10 s in stands (issue "A forest to walk through"); the terrain within 0.3 m of
+// the eye (the near plane's corners are 0.24 m away) stays 1 m below it; after the stands it
+// climbs ≥ 25 m from its lowest ground to the end (the ridge), where it looks down.
+TEST(DefaultWalk, StartsAtAStandsEdgeWalksUnderTheCanopyAndEndsOnTheRidge) {
+  const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
+  const CameraPath path = CameraPath::load(std::string(FOREST_REPO_DATA) + "/paths/walk.toml");
+  ASSERT_TRUE(path.aboveGround());
+  const terrain::Terrain terrain(*scene.terrain);
+  const Forest forest(*scene.vegetation, terrain);
+  ASSERT_NE(forest.stands(), nullptr);
+  const StandField& stands = *forest.stands();
+  constexpr double kStep = 0.1;
+  double inStands = 0.0, firstInStand = -1.0, lastInStand = -1.0, lowestAfter = 1e9;
+  for (double t = path.startTime(); t <= path.endTime() + 1e-9; t += kStep) {
+    const CameraPose pose = path.at(t);
+    const double ground = terrain.heightAt(pose.position.x, pose.position.z);
+    const double eye = ground + pose.position.y;
+    for (int k = 0; k < 8; ++k) {
+      const double a = 2.0 * std::numbers::pi * k / 8.0;
+      ASSERT_LT(terrain.heightAt(pose.position.x + 0.3 * std::cos(a), pose.position.z + 0.3 * std::sin(a)), eye - 1.0) << "t = " << t;
+    }
+    if (stands.density(pose.position.x, pose.position.z) >= 0.5) {
+      inStands += kStep;
+      if (firstInStand < 0.0) firstInStand = t;
+      lastInStand = t;
+      lowestAfter = 1e9;
+    } else if (lastInStand >= 0.0) {
+      lowestAfter = std::min(lowestAfter, ground);
+    }
+  }
+  const CameraPose start = path.at(path.startTime()), end = path.at(path.endTime());
+  EXPECT_LT(stands.density(start.position.x, start.position.z), 0.5);
+  EXPECT_GE(firstInStand, 0.0);
+  EXPECT_LE(firstInStand, path.startTime() + 3.0);
+  EXPECT_GE(inStands, 10.0);
+  const double endGround = terrain.heightAt(end.position.x, end.position.z);
+  EXPECT_GE(endGround - lowestAfter, 25.0);
+  EXPECT_LT(end.pitch_deg, 0.0);
+  std::printf("[walk] %.1f s in stands of %.1f s (first at %.1f s, last at %.1f s); then down to %.1f m and up to the ridge at %.1f m\n",
+              inStands, path.endTime() - path.startTime(), firstInStand, lastInStand, lowestAfter, endGround);
 }
 
 }  // namespace
