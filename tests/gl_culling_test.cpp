@@ -87,13 +87,8 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongEightyViews) {
   for (int k = 0; k < 25; ++k)  // ground-level walk, turning slowly
     views.push_back({camera(start.x + 2.0 * k, start.z - 3.0 * k, 1.7, 210.0 + 3.0 * k, -2.0), "walk"});
   {  // under the canopy: a slow loop from the middle of the densest stand (the 20 m cell with the most trees)
-    std::map<std::pair<int, int>, int> cells;
-    for (const vegetation::TreeInstance& t : forest.trees())
-      ++cells[{static_cast<int>(std::floor(t.position.x / 20.0)), static_cast<int>(std::floor(t.position.z / 20.0))}];
-    auto densest = cells.begin();
-    for (auto it = cells.begin(); it != cells.end(); ++it)
-      if (it->second > densest->second) densest = it;
-    dvec3 eye((densest->first.first + 0.5) * 20.0, 0.0, (densest->first.second + 0.5) * 20.0);
+    const glm::dvec2 stand = vegetation::densestStand(forest);
+    dvec3 eye(stand.x, 0.0, stand.y);
     for (int k = 0; k < 20; ++k) {
       const double yaw = 30.0 + 9.0 * k;
       ASSERT_GE(forest.stands()->density(eye.x, eye.z), 0.9) << "view " << k << " is not in the stand";

@@ -67,14 +67,9 @@ TEST_F(OutdoorsGl, ForestFloorUnderTheStandsGrassInTheMeadows) {
   const vegetation::Forest& forest = *frame.forest();
   const terrain::Terrain& terrain = *frame.terrain();
   const vegetation::StandField& stands = *forest.stands();
-  // The densest stand's middle: the 20 m cell with the most trees; a meadow: the first point on a
-  // 50 m grid whose density is the meadow's.
-  std::map<std::pair<int, int>, int> cells;
-  for (const vegetation::TreeInstance& t : forest.trees()) ++cells[{static_cast<int>(std::floor(t.position.x / 20.0)), static_cast<int>(std::floor(t.position.z / 20.0))}];
-  auto densest = cells.begin();
-  for (auto it = cells.begin(); it != cells.end(); ++it)
-    if (it->second > densest->second) densest = it;
-  const glm::dvec2 stand((densest->first.first + 0.5) * 20.0, (densest->first.second + 0.5) * 20.0);
+  // The densest stand's middle; a meadow: the first point on a 50 m grid whose density is the
+  // meadow's, on gentle ground.
+  const glm::dvec2 stand = vegetation::densestStand(forest);
   glm::dvec2 meadow = stand;
   for (double z = -500.0; z <= 500.0 && meadow == stand; z += 50.0)
     for (double x = -500.0; x <= 500.0; x += 50.0)

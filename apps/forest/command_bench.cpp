@@ -143,14 +143,6 @@ std::map<std::pair<int, int>, int> treesPerCell(const vegetation::Forest& forest
 }
 }  // namespace
 
-glm::dvec2 densestStand(const vegetation::Forest& forest) {
-  std::pair<int, int> densest{0, 0};
-  int most = -1;
-  for (const auto& [cell, count] : treesPerCell(forest))
-    if (count > most) std::tie(densest, most) = std::tie(cell, count);
-  return {(densest.first + 0.5) * kStandCell, (densest.second + 0.5) * kStandCell};
-}
-
 glm::dvec2 clearingNear(const vegetation::Forest& forest, const Aabb& bounds, const glm::dvec2& stand) {
   const std::map<std::pair<int, int>, int> trees = treesPerCell(forest);
   const auto treesNear = [&](int cx, int cz) {  // trees in the 3 × 3 cells around (cx, cz): within 30 m of the centre
@@ -179,7 +171,7 @@ namespace {
 // view, turning 1.2° per frame — a slow loop inside it.
 std::vector<Camera> underCanopyPath(const Scene& scene, const terrain::Terrain& terrain, const vegetation::Forest& forest, int frames,
                                     double aspect) {
-  const glm::dvec2 stand = densestStand(forest);
+  const glm::dvec2 stand = vegetation::densestStand(forest, kStandCell);
   Camera c = scene.startCamera();
   c.aspect = aspect;
   c.pitch = 0.0;

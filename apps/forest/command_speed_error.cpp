@@ -86,7 +86,7 @@ std::vector<Scenario> makeScenarios(const Scene& scene, const render::Frame& fra
   // Under the canopy of the densest stand and in a clearing beside it, looking at it (with stands).
   if (const vegetation::Forest* forest = frame.forest(); forest && forest->stands() && frame.terrain()) {
     const terrain::Terrain& terrain = *frame.terrain();
-    const glm::dvec2 stand = densestStand(*forest), clearing = clearingNear(*forest, terrain.bounds(), stand);
+    const glm::dvec2 stand = vegetation::densestStand(*forest), clearing = clearingNear(*forest, terrain.bounds(), stand);
     const double above = scene.camera.above_ground.value_or(1.7);
     Camera under = ground;
     under.position = dvec3(stand.x, terrain.heightAt(stand.x, stand.y) + above, stand.y);

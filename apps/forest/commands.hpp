@@ -133,9 +133,7 @@ void printSummary(const nlohmann::ordered_json& summary);
 // turning 0.8° per frame, camera.above_ground (or 1.7 m) over the ground.
 std::vector<Camera> walkPath(const Scene& scene, const terrain::Terrain& terrain, int frames, double aspect);
 
-// The middle of the densest stand: the centre (x, z) of the 20 m cell holding the most trees.
-glm::dvec2 densestStand(const vegetation::Forest& forest);
-// A clearing beside it: the centre of the nearest 20 m cell at least 60 m from `stand` and 30 m
+// A clearing beside the densest stand (vegetation::densestStand): the centre of the nearest 20 m cell at least 60 m from `stand` and 30 m
 // inside `bounds` (the terrain's) with no tree in it or its 8 neighbours (`stand` when none is).
 glm::dvec2 clearingNear(const vegetation::Forest& forest, const Aabb& bounds, const glm::dvec2& stand);
 

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <tuple>
 #include <numbers>
 #include <unordered_map>
 
@@ -348,6 +350,17 @@ std::vector<std::uint32_t> Forest::moveTrees(std::span<const Move> moves) {
   changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
   for (std::uint32_t c : changed) clusters_[c].bounds = clusterBounds(clusters_[c]);
   return changed;
+}
+
+glm::dvec2 densestStand(const Forest& forest, double cell) {
+  std::map<std::pair<std::int64_t, std::int64_t>, int> trees;
+  for (const TreeInstance& t : forest.trees())
+    ++trees[{static_cast<std::int64_t>(std::floor(t.position.x / cell)), static_cast<std::int64_t>(std::floor(t.position.z / cell))}];
+  std::pair<std::int64_t, std::int64_t> densest{0, 0};
+  int most = -1;
+  for (const auto& [square, count] : trees)
+    if (count > most) std::tie(densest, most) = std::tie(square, count);
+  return {(static_cast<double>(densest.first) + 0.5) * cell, (static_cast<double>(densest.second) + 0.5) * cell};
 }
 
 ForestStats forestStats(const Forest& forest) {

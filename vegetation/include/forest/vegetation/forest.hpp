@@ -116,4 +116,9 @@ struct ForestStats {
 };
 ForestStats forestStats(const Forest& forest);
 
+// The middle of the densest stand: the centre (x, z) of the `cell` × `cell` square of the world
+// grid holding the most trees (the first in (x, z) order among equals). Benchmarks and tests stand
+// under the canopy there.
+glm::dvec2 densestStand(const Forest& forest, double cell = 20.0);
+
 }  // namespace forest::vegetation
