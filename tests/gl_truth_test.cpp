@@ -3,6 +3,7 @@
 // eq. 8.9, the caster selection never misses an oracle caster, and texel-snapped maps do not flicker.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 
@@ -73,6 +74,55 @@ TEST_F(TruthGl, BoxOverAPlaneTruthIsTheAnalyticShadow) {
   EXPECT_EQ(e.casters.needed, 1);
   EXPECT_EQ(e.casters.missing, 0);
   EXPECT_EQ(e.errorImage.width, kWidth);
+}
+
+// Misclassification by distance: a plane reaching 600 m ahead, a box near the eye. Each band's
+// lit-facing pixels are counted again from the GPU's depth buffer (the pixel's position, its
+// distance from the eye) — equal up to the pixels within 0.5 m of a band's edge, where the
+// rasterised and the ray-traced hit may fall either side; the bands' misclassified pixels add up
+// to the frame's, and each band's share is its own count over its pixels.
+TEST_F(TruthGl, MisclassificationByDistanceBandsCountsEachPixelOnce) {
+  Scene scene;
+  scene.sun.direction = glm::normalize(dvec3(0.35, -1.0, 0.25));
+  scene.props.push_back({dvec3(-300, -1, -620), dvec3(300, 0, 20), dvec3(0.6)});  // the plane (top at y = 0)
+  scene.props.push_back({dvec3(-2, 3, -22), dvec3(2, 5, -18), dvec3(0.8)});       // a box 20 m ahead
+  render::Frame frame(scene, kWidth, kHeight);
+  const Camera camera = cameraAt({0, 6, 0}, 0.0, -6.0, 1000.0, kAspect);
+  render::FrameSettings settings;
+  settings.shadowMapSize = 1024;
+  const render::FrameStats stats = frame.render(camera, 0.0, settings);
+  truth::TruthOptions options;
+  options.softRays = 0;
+  const truth::FrameError e = truth::evaluateFrame(frame, stats, scene, camera, 0.0, options);
+  ASSERT_EQ(e.bands.size(), 3u);
+  const std::vector<float> depth = frame.readDepth();
+  std::array<int, 3> counted{};
+  int ambiguous = 0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      const size_t i = static_cast<size_t>(y) * kWidth + x;
+      if (e.truthState[i] < 0) continue;  // not lit-facing
+      const double d = glm::distance(pixelPosition(camera, x, y, depth[i], kWidth, kHeight), camera.position);
+      ambiguous += std::abs(d - 50.0) < 0.5 || std::abs(d - 200.0) < 0.5 ? 1 : 0;
+      ++counted[d < 50.0 ? 0 : d < 200.0 ? 1 : 2];
+    }
+  int misclassified = 0, litFacing = 0;
+  for (size_t k = 0; k < 3; ++k) {
+    const truth::DistanceBand& b = e.bands[k];
+    EXPECT_NEAR(b.litFacing, counted[k], ambiguous) << "band " << k;
+    EXPECT_GT(b.litFacing, 1000) << "band " << k;  // the plane spans all three
+    EXPECT_DOUBLE_EQ(b.misclassification, static_cast<double>(b.misclassified) / b.litFacing);
+    misclassified += b.misclassified;
+    litFacing += b.litFacing;
+  }
+  EXPECT_EQ(e.bands[0].fromM, 0.0);
+  EXPECT_EQ(e.bands[1].fromM, 50.0);
+  EXPECT_TRUE(std::isinf(e.bands[2].toM));
+  EXPECT_EQ(litFacing, e.litFacing);
+  EXPECT_EQ(misclassified, static_cast<int>(std::lround(e.misclassification * e.litFacing)));
+  std::printf("[bands] lit-facing %d / %d / %d (depth buffer %d / %d / %d, %d within 0.5 m of an edge); misclassified %d / %d / %d\n",
+              e.bands[0].litFacing, e.bands[1].litFacing, e.bands[2].litFacing, counted[0], counted[1], counted[2], ambiguous,
+              e.bands[0].misclassified, e.bands[1].misclassified, e.bands[2].misclassified);
 }
 
 TEST_F(TruthGl, ABrokenLookupRaisesMisclassificationByTheExpectedAmount) {

@@ -81,6 +81,16 @@ void writeDebugImages(const render::Frame& frame, const glm::dvec3& sunDirection
 }
 
 // forest truth: the frame against the ray-traced truth; truth.json, error.png and a summary.
+// "0–50 m 0.120% of 48211, 50–200 m …, 200 m+ …": each band's misclassification and lit-facing pixels.
+std::string bandsLine(const std::vector<truth::DistanceBand>& bands) {
+  std::string line;
+  for (const truth::DistanceBand& b : bands) {
+    const std::string range = std::isinf(b.toM) ? fmt::format("{:.0f} m+", b.fromM) : fmt::format("{:.0f}–{:.0f} m", b.fromM, b.toM);
+    line += fmt::format("{}{} {:.3f}% of {}", line.empty() ? "" : ", ", range, 100.0 * b.misclassification, b.litFacing);
+  }
+  return line;
+}
+
 void writeTruth(const render::Frame& frame, const render::FrameStats& stats, const Scene& scene, const Camera& camera,
                 const RenderOptions& options) {
   const std::filesystem::path folder = options.truthFolder;
@@ -102,6 +112,12 @@ void writeTruth(const render::Frame& frame, const render::FrameStats& stats, con
                             {"elsewhere", e.misclassificationElsewhere},
                             {"false_shadow", e.falseShadow},
                             {"false_light", e.falseLight}};
+  j["bands"] = nlohmann::ordered_json::array();
+  for (const truth::DistanceBand& b : e.bands)
+    j["bands"].push_back({{"from_m", b.fromM},
+                          {"to_m", std::isinf(b.toM) ? nlohmann::ordered_json() : nlohmann::ordered_json(b.toM)},
+                          {"lit_facing", b.litFacing},
+                          {"misclassification", b.misclassification}});
   const bool soft = options.softRays > 0;
   j["soft"] = {{"rays", options.softRays},
                {"sun_disc_deg", truthOptions.sunDiscDeg},
@@ -120,12 +136,13 @@ void writeTruth(const render::Frame& frame, const render::FrameStats& stats, con
   std::cout << fmt::format(
       "truth ({:.1f} s): {} lit-facing pixels scored; misclassified {:.3f}% (near edges {:.3f}%, elsewhere {:.3f}%; "
       "false shadow {:.3f}%, false light {:.3f}%)\n"
+      "  by distance: {}\n"
       "  soft shadow: {}\n"
       "  aliasing: {:.2f} / {:.2f} / {:.2f} px per texel (max / p95 / mean)\n"
       "  casters: {} selected ({} triangles), {} needed by the oracle ({} triangles), {} missing\n"
       "  wrote {} and {}\n",
       seconds, e.litFacing, 100 * e.misclassification, 100 * e.misclassificationNearEdge, 100 * e.misclassificationElsewhere,
-      100 * e.falseShadow, 100 * e.falseLight,
+      100 * e.falseShadow, 100 * e.falseLight, bandsLine(e.bands),
       soft ? fmt::format("blurred term vs {}-ray sun disc, mean |error| {:.4f}", options.softRays, e.softMeanAbsoluteError)
            : std::string("not measured (--soft-rays 0)"),
       e.aliasingPixels.max,

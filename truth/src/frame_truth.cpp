@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <set>
 #include <thread>
@@ -124,6 +125,19 @@ FrameError evaluateFrame(const render::Frame& frame, const render::FrameStats& s
   const int mapSize = frame.shadowMapSize();
   e.errorImage = Image8(width, height, 3);
   e.truthState.assign(truth.size(), -1);
+  for (size_t k = 0; k <= options.bandEdges.size(); ++k) {
+    DistanceBand band;
+    band.fromM = k == 0 ? 0.0 : options.bandEdges[k - 1];
+    band.toM = k < options.bandEdges.size() ? options.bandEdges[k] : std::numeric_limits<double>::infinity();
+    if (!(band.toM > band.fromM)) throw InputError("truth: the distance bands' edges must increase");
+    e.bands.push_back(band);
+  }
+  const auto bandOf = [&](const dvec3& p) -> DistanceBand& {
+    const double distance = glm::distance(p, camera.position);
+    size_t k = 0;
+    while (k + 1 < e.bands.size() && distance >= e.bands[k].toM) ++k;
+    return e.bands[k];
+  };
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
       const size_t i = static_cast<size_t>(y) * width + x;
@@ -135,6 +149,8 @@ FrameError evaluateFrame(const render::Frame& frame, const render::FrameStats& s
       if (!t.litFacing) continue;
       ++e.litFacing;
       e.truthState[i] = t.shadowed ? 0 : 1;
+      DistanceBand& band = bandOf(t.position);
+      ++band.litFacing;
       // Near a true edge: a lit-facing neighbour within edgePixels with the other truth.
       bool nearEdge = false;
       for (int dy = -options.edgePixels; dy <= options.edgePixels && !nearEdge; ++dy)
@@ -148,6 +164,7 @@ FrameError evaluateFrame(const render::Frame& frame, const render::FrameStats& s
       const bool renderedShadow = term[i] < 0.5f;
       if (renderedShadow != t.shadowed) {
         ++wrong;
+        ++band.misclassified;
         wrongNear += nearEdge ? 1 : 0;
         (renderedShadow ? falseShadow : falseLight) += 1;
         out[0] = renderedShadow ? 230 : 30;
@@ -171,6 +188,8 @@ FrameError evaluateFrame(const render::Frame& frame, const render::FrameStats& s
   e.misclassificationNearEdge = e.nearEdge ? static_cast<double>(wrongNear) / e.nearEdge : 0.0;
   e.misclassificationElsewhere =
       e.litFacing > e.nearEdge ? static_cast<double>(wrong - wrongNear) / (e.litFacing - e.nearEdge) : 0.0;
+  for (DistanceBand& band : e.bands)
+    band.misclassification = band.litFacing > 0 ? static_cast<double>(band.misclassified) / band.litFacing : 0.0;
   e.falseShadow = falseShadow / lit;
   e.falseLight = falseLight / lit;
   e.softMeanAbsoluteError = options.softRays > 0 ? softError / lit : 0.0;

@@ -22,6 +22,19 @@ struct TruthOptions {
   // The shadow ray starts kOffsetUlps float32 ulps of |p| along the geometric normal (the mirror
   // traces in float32).
   double offsetUlps = 256.0;
+  // Edges (metres from the eye, increasing) of the distance bands the misclassification is also
+  // split into: [0, 50), [50, 200), [200, ∞) by default — near field, mid field, far field
+  // (issue "Z-partitioned shadows").
+  std::vector<double> bandEdges{50.0, 200.0};
+};
+
+// The lit-facing pixels whose ray-traced hit lies [fromM, toM) from the eye, and the share of them
+// misclassified.
+struct DistanceBand {
+  double fromM = 0.0, toM = 0.0;  // toM = +∞ for the last band
+  int litFacing = 0;
+  int misclassified = 0;
+  double misclassification = 0.0;  // misclassified / litFacing (0 when empty)
 };
 
 struct CasterOracle {
@@ -42,6 +55,7 @@ struct FrameError {
   double misclassification = 0.0;
   double misclassificationNearEdge = 0.0;   // of the near-edge pixels
   double misclassificationElsewhere = 0.0;  // of the others
+  std::vector<DistanceBand> bands;           // TruthOptions::bandEdges' bands, nearest first
   double falseShadow = 0.0;    // rendered shadow, truth lit
   double falseLight = 0.0;     // rendered lit, truth shadowed
   double softMeanAbsoluteError = 0.0;  // blurred term against the sun-disc truth (softRays > 0)
