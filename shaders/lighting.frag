@@ -25,11 +25,14 @@ vec2 blurTaps(sampler2D term, ivec2 pixel, ivec2 direction);
 vec2 shadowTermAt(ivec2 pixel, vec3 ray);
 #endif
 
+// The horizon's colour (linear): the zenith's, paled toward a hazy white.
+vec3 horizonRadiance(vec3 zenith) { return mix(zenith, vec3(0.75, 0.8, 0.85), 0.55); }
+
 // The sky (linear): the scene's sky colour at the zenith, paler toward the horizon (a gradient in
 // elevation), a little darker below it, and, with the sun up, its disc (drawn 1.6° across so that
 // it covers a few pixels; the real one is 0.53°) and a glow around it.
 vec3 skyRadiance(vec3 d, vec3 zenith, vec3 toSun, vec3 sunColor, bool sunUp) {
-  vec3 horizon = mix(zenith, vec3(0.75, 0.8, 0.85), 0.55);
+  vec3 horizon = horizonRadiance(zenith);
   vec3 sky = d.y >= 0.0 ? mix(horizon, zenith, smoothstep(0.0, 0.6, d.y)) : horizon * (1.0 + 0.3 * d.y);
   if (!sunUp) return sky;
   float c = dot(d, toSun);
@@ -41,8 +44,7 @@ vec3 skyRadiance(vec3 d, vec3 zenith, vec3 toSun, vec3 sunColor, bool sunUp) {
 // The colour that distance haze fades toward along d: the horizon's, brighter toward the sun
 // (light scattered forward).
 vec3 hazeRadiance(vec3 d, vec3 zenith, vec3 toSun, vec3 sunColor, bool sunUp) {
-  vec3 horizon = mix(zenith, vec3(0.75, 0.8, 0.85), 0.55);
-  return horizon + (sunUp ? 0.25 * sunColor * pow(max(dot(d, toSun), 0.0), 8.0) : vec3(0.0));
+  return horizonRadiance(zenith) + (sunUp ? 0.25 * sunColor * pow(max(dot(d, toSun), 0.0), 8.0) : vec3(0.0));
 }
 
 void main() {

@@ -27,6 +27,7 @@ using ::testing::HasSubstr;
 
 using Result = test::CliResult;
 using test::expectOneLineError;
+using test::expectSkyBetweenZenithAndHorizon;
 using test::runForest;
 
 std::string bad(const std::string& name) { return std::string(FOREST_TEST_DATA) + "/bad/" + name; }
@@ -120,20 +121,6 @@ TEST(ForestCli, HelpExplainsEveryCommand) {
   const Result renderHelp = runForest("render --help");
   EXPECT_THAT(renderHelp.out, HasSubstr("--scene"));
   EXPECT_THAT(renderHelp.out, HasSubstr("--gl"));
-}
-
-// The sky's colour at a pixel lies between the zenith's (the scene's sky_color) and the horizon's,
-// mix(zenith, (0.75, 0.8, 0.85), 0.55) in linear light (shaders/lighting.frag), channel by channel
-// in 8-bit display values (γ 2.2), ±1 for rounding.
-void expectSkyBetweenZenithAndHorizon(const Image8& png, int x, int y, const glm::dvec3& zenithDisplay) {
-  const glm::dvec3 white(0.75, 0.8, 0.85);
-  for (int c = 0; c < 3; ++c) {
-    const double zenith = std::pow(zenithDisplay[c], 2.2);
-    const double horizon = zenith + 0.55 * (white[c] - zenith);
-    const double a = 255.0 * std::pow(zenith, 1.0 / 2.2), b = 255.0 * std::pow(horizon, 1.0 / 2.2);
-    EXPECT_GE(png.at(x, y, c), std::floor(std::min(a, b)) - 1.0) << "channel " << c << " at " << x << ", " << y;
-    EXPECT_LE(png.at(x, y, c), std::ceil(std::max(a, b)) + 1.0) << "channel " << c << " at " << x << ", " << y;
-  }
 }
 
 TEST(ForestCli, RenderWritesALitImageHeadless) {

@@ -12,7 +12,12 @@
 #include <filesystem>
 #include <string>
 
+#include <glm/glm.hpp>
+
+#include <cmath>
+
 #include "forest/core/files.hpp"
+#include "forest/core/image.hpp"
 
 namespace forest::test {
 
@@ -45,6 +50,20 @@ inline void expectOneLineError(const CliResult& r, const std::string& file, cons
   EXPECT_THAT(r.err, ::testing::StartsWith("forest: error: " + file));
   EXPECT_THAT(r.err, ::testing::HasSubstr(key));
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+// The sky's colour at a pixel lies between the zenith's (the scene's sky_color) and the horizon's,
+// mix(zenith, (0.75, 0.8, 0.85), 0.55) in linear light (shaders/lighting.frag), channel by channel
+// in 8-bit display values (γ 2.2), ±1 for rounding.
+inline void expectSkyBetweenZenithAndHorizon(const Image8& png, int x, int y, const glm::dvec3& zenithDisplay) {
+  const glm::dvec3 white(0.75, 0.8, 0.85);
+  for (int c = 0; c < 3; ++c) {
+    const double zenith = std::pow(zenithDisplay[c], 2.2);
+    const double horizon = zenith + 0.55 * (white[c] - zenith);
+    const double a = 255.0 * std::pow(zenith, 1.0 / 2.2), b = 255.0 * std::pow(horizon, 1.0 / 2.2);
+    EXPECT_GE(png.at(x, y, c), std::floor(std::min(a, b)) - 1.0) << "channel " << c << " at " << x << ", " << y;
+    EXPECT_LE(png.at(x, y, c), std::ceil(std::max(a, b)) + 1.0) << "channel " << c << " at " << x << ", " << y;
+  }
 }
 
 }  // namespace forest::test
