@@ -11,15 +11,33 @@
 // lookups a texel apart).
 layout(binding = 5) uniform sampler2D uDepth;              // reversed-Z: 0 where nothing was drawn (sky)
 layout(binding = 6) uniform sampler2D uGeometricNormal;
-layout(binding = 3) uniform sampler2DShadow uShadowMap;    // depth in [0, 1], near the light = 0
+layout(binding = 3) uniform sampler2DArrayShadow uShadowMap;  // a layer per slice; depth in [0, 1], near the light = 0
 
 float eyeDepth(float d) {  // reversed-Z → metres
   float n = uFrame.nearFar.x, f = uFrame.nearFar.y;
   return n * f / (n + d * (f - n));
 }
 
+// The PCF term of a camera-relative point in one slice's layer.
+float termInSlice(int slice, vec3 relative) {
+  vec4 s = uFrame.eyeRelativeToShadow[slice] * vec4(relative, 1.0);
+  vec3 ndc = s.xyz / s.w;
+  // TSM: texture(s, vec3(xy_T / w_T, z_L / w_L)), w_L = 1 for the sun's orthographic L.
+  if (uFrame.modes.y != 0) ndc.z = 0.5 * dot(uFrame.eyeRelativeLightDepth[slice], vec4(relative, 1.0)) + 0.5;
+  vec2 uv = 0.5 * ndc.xy + 0.5;
+  vec2 texel = 1.0 / vec2(textureSize(uShadowMap, 0).xy);
+  int radius = uFrame.modes.x;
+  float sum = 0.0;
+  for (int y = -radius; y <= radius; ++y)
+    for (int x = -radius; x <= radius; ++x) sum += texture(uShadowMap, vec4(uv + vec2(x, y) * texel, float(slice), ndc.z));
+  return sum / float((2 * radius + 1) * (2 * radius + 1));
+}
+
 // r: the shadow term (1 lit, 0 shadowed); g: the pixel's eye depth in metres (0 for the sky).
 // `ray`: eye depth z → camera-relative position z · ray.
+// The slice is the first whose end lies beyond z (Zhang et al. 2006); in the blend band just past
+// a split the nearer slice's term fades into the farther one's (that slice's B reaches over the
+// band, render/src/shadow_setup_pass.cpp).
 vec2 shadowTermAt(ivec2 pixel, vec3 ray) {
   float depth = texelFetch(uDepth, pixel, 0).r;
   if (depth == 0.0) return vec2(1.0, 0.0);  // sky: the cleared far depth
@@ -27,15 +45,12 @@ vec2 shadowTermAt(ivec2 pixel, vec3 ray) {
   vec3 n = texelFetch(uGeometricNormal, pixel, 0).xyz;
   if (uFrame.modes.w == 0 || dot(n, uFrame.toSunUp.xyz) <= 0.0) return vec2(0.0, z);
   vec3 relative = z * ray;
-  vec4 s = uFrame.eyeRelativeToShadow * vec4(relative, 1.0);
-  vec3 ndc = s.xyz / s.w;
-  // TSM: texture(s, vec3(xy_T / w_T, z_L / w_L)), w_L = 1 for the sun's orthographic L.
-  if (uFrame.modes.y != 0) ndc.z = 0.5 * dot(uFrame.eyeRelativeLightDepth, vec4(relative, 1.0)) + 0.5;
-  vec2 uv = 0.5 * ndc.xy + 0.5;
-  vec2 texel = 1.0 / vec2(textureSize(uShadowMap, 0));
-  int radius = uFrame.modes.x;
-  float sum = 0.0;
-  for (int y = -radius; y <= radius; ++y)
-    for (int x = -radius; x <= radius; ++x) sum += texture(uShadowMap, vec3(uv + vec2(x, y) * texel, ndc.z));
-  return vec2(sum / float((2 * radius + 1) * (2 * radius + 1)), z);
+  int slice = 0;
+  while (slice + 1 < uFrame.modes.z && z >= uFrame.cascadeEnds[slice]) ++slice;
+  float term = termInSlice(slice, relative);
+  if (slice > 0) {
+    float split = uFrame.cascadeEnds[slice - 1], band = uFrame.cascadeBlend.x * split;
+    if (z < split + band) term = mix(termInSlice(slice - 1, relative), term, (z - split) / band);
+  }
+  return vec2(term, z);
 }

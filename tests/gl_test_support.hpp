@@ -16,6 +16,7 @@
 #include "forest/gl/debug.hpp"
 #include "forest/gl/gl.hpp"
 #include "forest/gl/objects.hpp"
+#include "forest/render/frame.hpp"
 
 namespace forest::test {
 
@@ -94,6 +95,73 @@ inline Camera cameraAt(glm::dvec3 position, double yawDeg, double pitchDeg, doub
 }
 
 // The geometry pass's target in tests: object IDs (GL_R32UI) and reversed-Z float depth.
+// The frame's shadow term on a plane's pixels against the CPU's ray toward the sun past boxes,
+// away from the CPU's shadow edges. The band left out: max(2 px, 1.5 projected texels) of the
+// slice the pixel reads (of both in a blend band) — the caster's edge is rasterised at texel
+// centres (half a texel) and 2×2 PCF blends over one more texel, so the term's 0.5 crossing lies
+// within 1.5 texels of the true edge (2 px: the pixel grid).
+struct CpuAgreement {
+  int checked = 0, wrong = 0, shadowed = 0;
+  std::vector<double> checkedDepths;  // eye depth of each checked pixel
+  std::vector<int> checkedStates;     // 1: in the CPU's shadow
+};
+inline CpuAgreement agreementWithCpuShadow(const render::Frame& frame, const Camera& camera, const std::vector<float>& term,
+                                           std::uint32_t plane, const std::vector<Aabb>& boxes, const glm::dvec3& toSun) {
+  const int width = frame.width(), height = frame.height();
+  const std::vector<std::uint32_t> ids = frame.readObjectIds();
+  const std::vector<float> depth = frame.readDepth();
+  const int mapSize = frame.shadowMapSize();
+  auto position = [&](int x, int y) { return pixelPosition(camera, x, y, depth[static_cast<size_t>(y) * width + x], width, height); };
+  std::vector<int> cpu(term.size(), -1);  // 1: the ray toward the sun hits a box
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const size_t i = static_cast<size_t>(y) * width + x;
+      if (ids[i] != plane) continue;
+      cpu[i] = 0;
+      for (const Aabb& box : boxes) cpu[i] |= rayHitsBox(position(x, y), toSun, box) ? 1 : 0;
+    }
+  CpuAgreement a;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const size_t i = static_cast<size_t>(y) * width + x;
+      if (cpu[i] < 0) continue;
+      const glm::dvec3 p = position(x, y);
+      const double eyeDepth = glm::dot(p - camera.position, camera.forward());
+      auto screen = [&](const glm::dvec3& q) {
+        const glm::dvec4 h = camera.projection() * camera.view() * glm::dvec4(q, 1.0);
+        return glm::dvec2(h) / h.w * glm::dvec2(0.5 * width, 0.5 * height);
+      };
+      double pixelsPerTexel = 0.0;
+      for (int slice = 0; slice < frame.cascadeCount(); ++slice) {
+        const Camera& reach = frame.shadowCamera(slice);  // the slice's B covers [near, far]
+        if (frame.cascadeCount() > 1 && (eyeDepth < reach.near || eyeDepth > reach.far)) continue;
+        const glm::dmat4& toShadow = frame.shadowSetup(slice).worldToShadowClip;
+        auto texel = [&](const glm::dvec3& q) {
+          const glm::dvec4 h = toShadow * glm::dvec4(q, 1.0);
+          return glm::dvec2(h) / h.w * (0.5 * mapSize);
+        };
+        for (const glm::dvec3& d : {glm::dvec3(0.01, 0, 0), glm::dvec3(0, 0, 0.01)})
+          pixelsPerTexel = std::max(pixelsPerTexel, glm::length(screen(p + d) - screen(p)) / glm::length(texel(p + d) - texel(p)));
+      }
+      const int band = static_cast<int>(std::ceil(std::max(2.0, 1.5 * pixelsPerTexel)));
+      bool nearEdge = false;
+      for (int dy = -band; dy <= band && !nearEdge; ++dy)
+        for (int dx = -band; dx <= band && !nearEdge; ++dx) {
+          const int nx = x + dx, ny = y + dy;
+          if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
+          const int other = cpu[static_cast<size_t>(ny) * width + nx];
+          nearEdge = other >= 0 && other != cpu[i];
+        }
+      if (nearEdge) continue;
+      ++a.checked;
+      a.shadowed += cpu[i];
+      a.checkedDepths.push_back(eyeDepth);
+      a.checkedStates.push_back(cpu[i]);
+      if ((term[i] < 0.5f) != (cpu[i] == 1)) ++a.wrong;
+    }
+  return a;
+}
+
 struct IdDepthTarget {
   gl::Texture ids, depth;
   gl::Framebuffer framebuffer;

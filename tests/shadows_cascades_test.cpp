@@ -15,7 +15,7 @@ namespace {
 TEST(CascadeSplits, MatchTheUniformTheLogarithmicAndTheirMean) {
   const double near = 0.5, far = 2000.0;
   for (int k = 1; k <= kMaxCascades; ++k) {
-    const std::vector<double> uniform = cascadeSplits(near, far, k, 0.0), logarithmic = cascadeSplits(near, far, k, 1.0),
+    const SplitDepths uniform = cascadeSplits(near, far, k, 0.0), logarithmic = cascadeSplits(near, far, k, 1.0),
                               half = cascadeSplits(near, far, k, 0.5);
     ASSERT_EQ(uniform.size(), static_cast<size_t>(k) + 1);
     for (int i = 0; i <= k; ++i) {
@@ -36,7 +36,7 @@ TEST(CascadeSplits, CoverTheRangeWithoutGapsForAnyLambda) {
     for (double far : {near * 1.0001, near * 50.0, near * 1e7})
       for (int k = 1; k <= kMaxCascades; ++k)
         for (double lambda : {0.0, 0.3, 0.75, 1.0}) {
-          const std::vector<double> z = cascadeSplits(near, far, k, lambda);
+          const SplitDepths z = cascadeSplits(near, far, k, lambda);
           EXPECT_EQ(z.front(), near);  // exactly: slice 0 starts where the view does
           EXPECT_EQ(z.back(), far);    // and the last ends at z_f
           for (size_t i = 0; i + 1 < z.size(); ++i) EXPECT_LT(z[i], z[i + 1]) << near << " " << far << " " << k << " " << lambda;

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "forest/core/error.hpp"
+#include "forest/shadows/cascades.hpp"
 #include "forest/shadows/focus_body.hpp"
 #include "forest/shadows/stability.hpp"
 
@@ -80,6 +81,44 @@ TEST(StabilitySuite, TenThousandRandomConfigurationsKeepEveryInvariant) {
   std::printf("10000 random configurations x 5 methods: largest |coordinate| %.9f, largest float32 shrink %.2e, %d warped, %d empty, "
               "%d configurations refused (outside the float32 domain)\n",
               largest, largestShrink, warped, empty, refused);
+}
+
+// Z-partitioning: every slice of a view is a setup of its own and keeps every invariant — its B
+// inside its layer in float32, the visible part of its slice (V_i ∩ S) inside the layer's x, y
+// range — on the hard cases and 10 000 random configurations, K = 2, 3, 4 in turn. The slices
+// cover the view without gaps: each starts at or before the previous one's far end.
+TEST(StabilitySuite, EverySliceOfHardAndRandomViewsKeepsEveryInvariant) {
+  std::vector<StabilityCase> cases = loadStabilityCases(FOREST_REPO_DATA "/stability/hard-cases.json");
+  for (std::uint64_t i = 0; i < 10000; ++i) cases.push_back(randomStabilityCase(20061125, i));
+  int failed = 0, setups = 0, refused = 0, warped = 0;
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const StabilityCase& c = cases[i];
+    const int k = 2 + static_cast<int>(i % 3);
+    const std::vector<ShadowInput> slices = cascadeInputs(c.input, k, 0.8, 0.1);
+    ASSERT_EQ(slices.size(), static_cast<size_t>(k));
+    EXPECT_EQ(slices.front().camera.near, c.input.camera.near) << c.name;
+    EXPECT_EQ(slices.back().camera.far, c.input.camera.far) << c.name;
+    for (int s = 1; s < k; ++s) EXPECT_LE(slices[static_cast<size_t>(s)].camera.near, slices[static_cast<size_t>(s) - 1].camera.far) << c.name;
+    for (int s = 0; s < k; ++s) {
+      const ShadowInput& slice = slices[static_cast<size_t>(s)];
+      if (outsideShadowDomain(slice)) {  // a thin slice far from the origin: refused like a thin view
+        ++refused;
+        continue;
+      }
+      for (ShadowMethod method : kMethods) {
+        const ShadowSetup setup = computeShadowSetup(slice, method);
+        const StabilityReport report = checkSetupInvariants(slice, method, setup);
+        ++setups;
+        warped += setup.diagnostics.warp > 0.0 ? 1 : 0;
+        if (!report.passed() && ++failed <= 10) ADD_FAILURE() << "slice " << s << " of " << k << ": " << failures(c, method, report);
+      }
+    }
+  }
+  EXPECT_EQ(failed, 0);
+  EXPECT_GT(warped, 3000);
+  EXPECT_LT(refused, 1500);
+  std::printf("%zu views in 2-4 slices: %d slice setups, %d warped, %d slices refused (outside the float32 domain)\n", cases.size(),
+              setups, warped, refused);
 }
 
 TEST(StabilitySuite, CasesOnceFoundInAMillionStayFixed) {

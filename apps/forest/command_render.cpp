@@ -61,11 +61,16 @@ unsigned char toByte(double v) {
 }
 
 // Shadow map (EXR and a picture with its scale) and the shadow term before and after the blur.
-void writeDebugImages(const render::Frame& frame, const glm::dvec3& sunDirection, const std::filesystem::path& folder) {
+void writeDebugImages(const render::Frame& frame, const Camera& camera, const glm::dvec3& sunDirection,
+                      const std::filesystem::path& folder) {
   const int size = frame.shadowMapSize();
-  const ImageF map = channelImage(frame.readShadowMap(), size, size);
-  writeImage(folder / "shadow-map.exr", map);
-  writeImage(folder / "shadow-map.png", render::shadowMapPicture(frame.readShadowMap(), size));
+  for (int slice = 0; slice < frame.cascadeCount(); ++slice) {  // cascades: shadow-map-<slice>.*
+    const std::string name = frame.cascadeCount() == 1 ? "shadow-map" : fmt::format("shadow-map-{}", slice);
+    const std::vector<float> map = frame.readShadowMap(slice);
+    writeImage(folder / (name + ".exr"), channelImage(map, size, size));
+    writeImage(folder / (name + ".png"), render::shadowMapPicture(map, size));
+  }
+  writeImage(folder / "cascades.png", render::cascadesPicture(frame, camera));
   const ImageF term = channelImage(frame.readShadowTerm(), frame.width(), frame.height());
   const ImageF blurred = channelImage(frame.readBlurredShadowTerm(), frame.width(), frame.height());
   writeImage(folder / "shadow-term.exr", term);
@@ -106,6 +111,10 @@ void writeTruth(const render::Frame& frame, const render::FrameStats& stats, con
   nlohmann::ordered_json j;
   j["method"] = options.frame.method;
   j["shadow_size"] = options.frame.shadowSize;
+  j["shadow_texels"] = static_cast<long long>(stats.cascades) * options.frame.shadowSize * options.frame.shadowSize;
+  j["cascades"] = {{"count", stats.cascades}, {"splits_m", nlohmann::ordered_json::array()}, {"slices", cascadesJson(stats)}};
+  for (int i = 0; i <= stats.cascades; ++i)
+    j["cascades"]["splits_m"].push_back(stats.cascade[static_cast<size_t>(std::min(i, stats.cascades - 1))].*(i < stats.cascades ? &render::CascadeStats::fromM : &render::CascadeStats::toM));
   j["pixels"] = {{"total", e.pixels}, {"scored", e.scored}, {"lit_facing", e.litFacing}, {"near_edge", e.nearEdge}};
   j["misclassification"] = {{"all", e.misclassification},
                             {"near_edge", e.misclassificationNearEdge},
@@ -192,7 +201,7 @@ int runRender(const RenderOptions& options) {
                             gl::debugErrorMessages().front()));
   }
   writeImage(options.out, image);
-  if (!options.debug.empty()) writeDebugImages(frame, scene.sun.direction, options.debug);
+  if (!options.debug.empty()) writeDebugImages(frame, camera, scene.sun.direction, options.debug);
   if (!options.truthFolder.empty()) writeTruth(frame, stats, scene, camera, options);
 
   nlohmann::ordered_json j;
@@ -203,7 +212,11 @@ int runRender(const RenderOptions& options) {
   j["camera"] = {{"position", {camera.position.x, camera.position.y, camera.position.z}},
                  {"yaw_deg", glm::degrees(camera.yaw)},
                  {"pitch_deg", glm::degrees(camera.pitch)}};
+  const ShadowSettings cascades = render::resolveCascades(settings, scene);
   j["settings"] = {{"method", options.frame.method}, {"shadow_size", options.frame.shadowSize},
+                   {"cascades", cascades.cascades}, {"split_lambda", cascades.split_lambda},
+                   {"cascade_blend", cascades.cascade_blend},
+                   {"shadow_texels", static_cast<long long>(cascades.cascades) * options.frame.shadowSize * options.frame.shadowSize},
                    {"culling", options.frame.culling}, {"casters", options.casters},
                    {"slope_bias", options.bias},       {"backside", settings.backside},
                    {"pcf_radius", options.frame.pcf},  {"blur_px", options.frame.blur},
@@ -227,14 +240,16 @@ int runRender(const RenderOptions& options) {
                  {"sun_below_horizon", stats.sunBelowHorizon}};
   j["z_f"] = stats.farDepth;
   j["n_optimal"] = stats.shadow.nOptimal;
+  j["nearest_depth_m"] = stats.nearestDepth;
+  j["cascades"] = cascadesJson(stats);
   const std::string jsonPath =
       options.json.empty() ? std::filesystem::path(options.out).replace_extension(".json").string() : options.json;
   writeFileAtomic(jsonPath, j.dump(2) + "\n");
   std::cout << fmt::format(
-      "wrote {} and {} ({}x{}): {} visible objects, {} triangles; shadow {} {}² with {} casters, {} triangles; "
+      "wrote {} and {} ({}x{}): {} visible objects, {} triangles; shadow {} {}{}² with {} casters, {} triangles; "
       "z_f {:.1f} m, n {:.2f}, γ {:.1f}°{}\n",
       options.out, jsonPath, image.width, image.height, stats.visibleObjects, stats.geometryTriangles, options.frame.method,
-      options.frame.shadowSize, stats.casterObjects, stats.shadowTriangles, stats.farDepth, stats.shadow.n, stats.shadow.gammaDeg,
+      cascades.cascades > 1 ? fmt::format("{}×", cascades.cascades) : "", options.frame.shadowSize, stats.casterObjects, stats.shadowTriangles, stats.farDepth, stats.shadow.n, stats.shadow.gammaDeg,
       stats.sunBelowHorizon ? " (sun below the horizon: ambient only)" : "");
   return 0;
 }
@@ -283,8 +298,10 @@ Run addRenderCommand(CLI::App& app) {
           "", "image file"));
   command->add_option("--json", options->json, "JSON record of the frame (default: the image path with .json)");
   command->add_option("--debug", options->debug,
-                      "Folder for debug images: shadow map (EXR, and a PNG with its depth scale), shadow term before and after\n"
-                      "the blur, top-down.png (legend, view frustum, focus body B, light frustum, receivers, casters)");
+                      "Folder for debug images: shadow map (EXR, and a PNG with its depth scale; with cascades one per\n"
+                      "slice, shadow-map-<i>.*), shadow term before and after the blur, top-down.png (legend, view frustum,\n"
+                      "focus body B, light frustum — per slice with cascades —, receivers, casters), cascades.png (the image\n"
+                      "tinted by the slice each pixel reads)");
   return [options] { return runRender(*options); };
 }
 

@@ -1,58 +1,53 @@
-// forest bench speed-error: shadow methods × focus bounds × map sizes × scenarios, each frame timed
-// and measured against the ray-traced truth (truth/), with flicker along a short moving path.
-// Writes report.json (docs/speed-error.md), results.csv, table.md, plots with the Pareto front per
+// forest bench speed-error: shadow methods × focus bounds × map layouts (one map, or K slices at
+// equal total texels) × scenarios, each frame timed and measured against the ray-traced truth
+// (truth/), with flicker along a short moving path. The report (speed_error_report.cpp):
+// report.json (docs/speed-error.md), results.csv, table.md, plots with the Pareto front per
 // scenario, and the error image of each method's worst case.
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <map>
 #include <memory>
-#include <sstream>
 
-#include "commands.hpp"
 #include "forest/core/error.hpp"
-#include "forest/core/files.hpp"
+#include "forest/core/image.hpp"
 #include "forest/core/log.hpp"
-#include "forest/core/plot.hpp"
-#include "forest/core/scene.hpp"
 #include "forest/gl/context.hpp"
 #include "forest/gl/debug.hpp"
 #include "forest/terrain/terrain.hpp"
-#include "forest/truth/frame_truth.hpp"
 #include "forest/vegetation/forest.hpp"
+#include "speed_error.hpp"
 
 namespace forest::app {
+
+std::string MapLayout::label() const {
+  return cascades == 1 ? fmt::format("{}²", layerSize) : fmt::format("{}×{}²", cascades, layerSize);
+}
+
+std::string seriesName(const std::string& method, int cascades) {
+  return cascades == 1 ? method : fmt::format("{} ×{}", method, cascades);
+}
+
+std::vector<MapLayout> mapLayouts(const std::vector<int>& sizes, const std::vector<int>& cascades) {
+  std::vector<MapLayout> layouts;
+  for (int k : cascades)
+    for (int size : sizes) {
+      const int layer = static_cast<int>(std::lround(size / std::sqrt(static_cast<double>(k))));
+      if (layer >= 512) layouts.push_back({k, layer, size});
+    }
+  return layouts;
+}
+
 namespace {
 
 using Clock = std::chrono::steady_clock;
 using glm::dvec3;
 using nlohmann::ordered_json;
-
-struct SpeedErrorOptions {
-  GlOptions gl;
-  std::string scene;
-  std::string out = "out/speed-error";
-  bool quick = false;
-  ImageSizeOptions size{1280, 720};
-  std::vector<int> sizes{512, 1024, 2048, 4096};
-  double target = 0.02;  // misclassification for the equal-error map sizes
-  int softRays = 8;      // fewer than truth's 16: the sweep scores 130 frames
-  ModeOptions modes;
-  bool quiet = false;
-};
-
-const std::vector<std::string> kMethods{"uniform", "uniform-stable", "lispsm", "tsm"};
-const std::vector<std::string> kFocus{"receivers", "frustum"};
-
-struct Scenario {
-  std::string name;
-  Camera camera;
-  dvec3 sun;  // the way light travels
-};
 
 // The light's direction for a sun `elevationDeg` above the horizon whose light travels at
 // `azimuthDeg` from the camera's horizontal forward (0: along the view, the sun behind the eye).
@@ -103,52 +98,18 @@ std::vector<Scenario> makeScenarios(const Scene& scene, const render::Frame& fra
   return all;
 }
 
-struct Row {
-  std::string scenario, method, focus;
-  int mapSize = 0;
-  bool blur = false;
-  double frameMs = 0.0, shadowMs = 0.0;
-  truth::FrameError error;
-  double softError = 0.0;  // of the term lighting used (blurred or not)
-};
-
-render::FrameSettings settingsFor(const std::string& method, const std::string& focus, int mapSize) {
+render::FrameSettings settingsFor(const std::string& method, const std::string& focus, const MapLayout& layout) {
   render::FrameSettings settings;
   settings.method = shadows::parseShadowMethod(method);
   settings.focus = render::parseFocusBound(focus);
-  settings.shadowMapSize = mapSize;
+  settings.shadowMapSize = layout.layerSize;
+  settings.cascades = layout.cascades;
   return settings;
 }
 
-const glm::vec3 kMethodColour[] = {{0.85f, 0.2f, 0.15f}, {0.95f, 0.6f, 0.1f}, {0.15f, 0.45f, 0.85f}, {0.2f, 0.65f, 0.3f}};
-
-glm::vec3 methodColour(const std::string& method) {
-  const auto it = std::find(kMethods.begin(), kMethods.end(), method);
-  return kMethodColour[it - kMethods.begin()];
-}
-
-// One image: a panel per scenario, frame (or shadow-pass) ms against an error figure, a series per
-// method, the Pareto front in black.
-void writePlot(const std::filesystem::path& file, const std::vector<Scenario>& scenarios, const std::vector<Row>& rows,
-               const std::string& xLabel, double (*x)(const Row&), bool shadowPass) {
-  std::vector<PlotPanel> panels;
-  for (const Scenario& s : scenarios) {
-    PlotPanel panel;
-    panel.title = s.name;
-    panel.xLabel = xLabel;
-    panel.yLabel = shadowPass ? "shadow pass ms" : "frame ms";
-    std::vector<glm::dvec2> all;
-    for (const std::string& method : kMethods) {
-      PlotSeries series{method, methodColour(method), {}, false};
-      for (const Row& r : rows)
-        if (r.scenario == s.name && r.method == method) series.points.emplace_back(x(r), shadowPass ? r.shadowMs : r.frameMs);
-      all.insert(all.end(), series.points.begin(), series.points.end());
-      panel.series.push_back(std::move(series));
-    }
-    panel.series.push_back({"Pareto front", glm::vec3(0.0f), paretoFront(all), true});
-    panels.push_back(std::move(panel));
-  }
-  writeImage(file, plotPanels(panels, std::min<int>(4, static_cast<int>(panels.size()))));
+// Cascades are swept with B on the visible receivers only (their slices are bounded by the visible set).
+std::vector<std::string> focusBoundsFor(const MapLayout& layout) {
+  return layout.cascades == 1 ? kSpeedErrorFocus : std::vector<std::string>{"receivers"};
 }
 
 int runSpeedError(const SpeedErrorOptions& options) {
@@ -160,6 +121,7 @@ int runSpeedError(const SpeedErrorOptions& options) {
   const std::filesystem::path out = options.out;
   std::filesystem::create_directories(out);
   const std::vector<int> sizes = options.quick ? std::vector<int>{1024} : options.sizes;
+  const std::vector<MapLayout> layouts = mapLayouts(sizes, options.cascades);
   const int width = options.quick ? 640 : options.size.width, height = options.quick ? 360 : options.size.height;
 
   gl::ContextOptions contextOptions;
@@ -173,8 +135,9 @@ int runSpeedError(const SpeedErrorOptions& options) {
 
   truth::TruthOptions truthOptions;
   truthOptions.softRays = options.softRays;
-  const int flickerRuns = static_cast<int>(kMethods.size() * kFocus.size() * sizes.size());
-  const int total = static_cast<int>(scenarios.size() * kMethods.size() * kFocus.size() * sizes.size()) + flickerRuns;
+  int runsPerScenario = 0;
+  for (const MapLayout& layout : layouts) runsPerScenario += static_cast<int>(kSpeedErrorMethods.size() * focusBoundsFor(layout).size());
+  const int total = runsPerScenario * static_cast<int>(scenarios.size() + 1);  // + the flicker walks
   int done = 0;
   const auto start = Clock::now();
   auto tick = [&] {
@@ -183,18 +146,18 @@ int runSpeedError(const SpeedErrorOptions& options) {
   };
 
   std::vector<Row> rows;
-  std::map<std::string, std::pair<double, Image8>> worst;  // per method: misclassification, error image
+  std::map<std::string, std::pair<double, Image8>> worst;  // per method (-xK): misclassification, error image
   for (const Scenario& s : scenarios) {
     scene.sun.direction = s.sun;
     Camera camera = s.camera;
     camera.aspect = static_cast<double>(width) / height;
-    for (const std::string& method : kMethods)
-      for (const std::string& focus : kFocus)
-        for (int size : sizes) {
-          render::FrameSettings settings = settingsFor(method, focus, size);
+    for (const MapLayout& layout : layouts)
+      for (const std::string& method : kSpeedErrorMethods)
+        for (const std::string& focus : focusBoundsFor(layout)) {
+          render::FrameSettings settings = settingsFor(method, focus, layout);
           options.modes.resolve(settings, context->info());
           settings.blurRadius = 3.0;
-          // One frame to settle CHC and the smoothed n, then the measured one.
+          // One frame to settle CHC, the smoothed n and the splits, then the measured one.
           frame.resetHistory();
           frame.render(camera, 0.0, settings);
           const render::FrameStats stats = renderWithPassTimes(frame, camera, 0.0, settings);
@@ -202,9 +165,10 @@ int runSpeedError(const SpeedErrorOptions& options) {
           r.scenario = s.name;
           r.method = method;
           r.focus = focus;
-          r.mapSize = size;
+          r.layout = layout;
           r.error = truth::evaluateFrame(frame, stats, scene, camera, 0.0, truthOptions);
           r.shadowMs = stats.shadowMs;
+          r.shadowTriangles = stats.shadowTriangles;
           const double frameMs = stats.passesMs();
           // Blur on (as rendered) and off: the same frame rendered again with no blur at all (no
           // horizontal pass, no vertical half in the lighting), timed on its own; the history it
@@ -221,8 +185,9 @@ int runSpeedError(const SpeedErrorOptions& options) {
           off.frameMs = offStats.passesMs();
           off.shadowMs = offStats.shadowMs;
           off.softError = r.error.softMeanAbsoluteErrorUnblurred;
-          if (worst[method].second.empty() || r.error.misclassification > worst[method].first)
-            worst[method] = {r.error.misclassification, r.error.errorImage};
+          const std::string series = layout.cascades == 1 ? method : fmt::format("{}-x{}", method, layout.cascades);
+          if (worst[series].second.empty() || r.error.misclassification > worst[series].first)
+            worst[series] = {r.error.misclassification, r.error.errorImage};
           on.error.errorImage = Image8();
           off.error.errorImage = Image8();
           rows.push_back(std::move(on));
@@ -241,158 +206,28 @@ int runSpeedError(const SpeedErrorOptions& options) {
     c.position += 0.4 * i * c.forward();
     path.push_back(c);
   }
-  ordered_json flicker = ordered_json::array();
-  std::map<std::string, std::vector<glm::dvec2>> flickerPoints;  // method → (share, frame ms)
-  for (const std::string& method : kMethods)
-    for (const std::string& focus : kFocus)
-      for (int size : sizes) {
-        render::FrameSettings settings = settingsFor(method, focus, size);
+  std::vector<FlickerRow> flicker;
+  for (const MapLayout& layout : layouts)
+    for (const std::string& method : kSpeedErrorMethods)
+      for (const std::string& focus : focusBoundsFor(layout)) {
+        render::FrameSettings settings = settingsFor(method, focus, layout);
         options.modes.resolve(settings, context->info());
         frame.resetHistory();
-        const truth::FlickerResult f = truth::measureFlicker(frame, scene, path, 0.0, settings);
-        flicker.push_back({{"method", method}, {"focus", focus}, {"map_size", size}, {"share", f.share()},
-                           {"probes", f.probes}, {"comparisons", f.comparisons}, {"changes", f.changes}});
-        double frameMs = 0.0;
+        FlickerRow f{method, focus, layout, truth::measureFlicker(frame, scene, path, 0.0, settings), 0.0};
         for (const Row& r : rows)
-          if (r.scenario == scenarios.front().name && r.method == method && r.focus == focus && r.mapSize == size && r.blur)
-            frameMs = r.frameMs;
-        flickerPoints[method].emplace_back(f.share(), frameMs);
+          if (r.scenario == scenarios.front().name && r.method == method && r.focus == focus && r.layout.label() == layout.label() && r.blur)
+            f.frameMs = r.frameMs;
+        flicker.push_back(std::move(f));
         tick();
       }
   if (gl::debugErrorCount() > 0)
     throw Error(fmt::format("{} GL errors during the sweep (first: {})", gl::debugErrorCount(), gl::debugErrorMessages().front()));
 
-  // Equal-error map sizes: per scenario and method (B from the receivers), the smallest size whose
-  // misclassification is at most the target.
-  ordered_json equalError;
-  for (const Scenario& s : scenarios)
-    for (const std::string& method : kMethods) {
-      ordered_json size = nullptr;
-      for (int candidate : sizes) {
-        const auto it = std::find_if(rows.begin(), rows.end(), [&](const Row& r) {
-          return r.scenario == s.name && r.method == method && r.focus == "receivers" && r.mapSize == candidate && r.blur;
-        });
-        if (it != rows.end() && it->error.misclassification <= options.target) {
-          size = candidate;
-          break;
-        }
-      }
-      equalError[s.name][method] = size;
-    }
-
-  // report.json, results.csv, table.md.
-  ordered_json report;
-  report["version"] = 1;
-  report["scene"] = scenePath;
-  report["device"] = gl::describe(context->info());
-  report.update(options.modes.json(context->info()));
-  report["resolution"] = {width, height};
-  report["quick"] = options.quick;
-  report["map_sizes"] = sizes;
-  report["soft_rays"] = options.softRays;
-  report["target_misclassification"] = options.target;
-  report["scenarios"] = ordered_json::array();
-  for (const Scenario& s : scenarios)
-    report["scenarios"].push_back({{"name", s.name},
-                                   {"camera", {s.camera.position.x, s.camera.position.y, s.camera.position.z}},
-                                   {"yaw_deg", glm::degrees(s.camera.yaw)},
-                                   {"pitch_deg", glm::degrees(s.camera.pitch)},
-                                   {"sun_direction", {s.sun.x, s.sun.y, s.sun.z}}});
-  std::ostringstream csv;
-  csv << "scenario,method,focus,map_size,blur,frame_ms,shadow_ms,misclassification,near_edge,elsewhere,false_shadow,"
-         "false_light,soft_mae,aliasing_p95_px,aliasing_max_px,casters_selected,casters_needed,casters_missing\n";
-  report["rows"] = ordered_json::array();
-  for (const Row& r : rows) {
-    const truth::FrameError& e = r.error;
-    report["rows"].push_back({{"scenario", r.scenario},
-                              {"method", r.method},
-                              {"focus", r.focus},
-                              {"map_size", r.mapSize},
-                              {"blur", r.blur},
-                              {"frame_ms", r.frameMs},
-                              {"shadow_ms", r.shadowMs},
-                              {"misclassification", e.misclassification},
-                              {"near_edge", e.misclassificationNearEdge},
-                              {"elsewhere", e.misclassificationElsewhere},
-                              {"false_shadow", e.falseShadow},
-                              {"false_light", e.falseLight},
-                              {"soft_mae", options.softRays > 0 ? nlohmann::ordered_json(r.softError) : nlohmann::ordered_json()},
-                              {"aliasing_p95_px", e.aliasingPixels.p95},
-                              {"aliasing_max_px", e.aliasingPixels.max},
-                              {"lit_facing_pixels", e.litFacing},
-                              {"casters_selected", e.casters.selected},
-                              {"casters_needed", e.casters.needed},
-                              {"casters_missing", e.casters.missing}});
-    csv << fmt::format("\"{}\",{},{},{},{},{:.3f},{:.3f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.4f},{:.4f},{},{},{}\n", r.scenario,
-                       r.method, r.focus, r.mapSize, r.blur ? 1 : 0, r.frameMs, r.shadowMs, e.misclassification,
-                       e.misclassificationNearEdge, e.misclassificationElsewhere, e.falseShadow, e.falseLight, r.softError,
-                       e.aliasingPixels.p95, e.aliasingPixels.max, e.casters.selected, e.casters.needed, e.casters.missing);
-  }
-  report["flicker"] = flicker;
-  report["equal_error_map_size"] = equalError;
-
-  std::ostringstream md;
-  md << fmt::format("Speed against error: {} at {}x{}, B from the visible receivers, blur 3 px ({}).\n\n"
-                    "Misclassified lit-facing pixels (%) / frame ms, per map size:\n\n",
-                    std::filesystem::path(scenePath).filename().string(), width, height, gl::describe(context->info()));
-  md << "| scenario | method |";
-  for (int size : sizes) md << fmt::format(" {}² |", size);
-  md << " equal-error size (≤ " << 100 * options.target << "%) |\n|---|---|";
-  for (size_t i = 0; i <= sizes.size(); ++i) md << "---|";
-  md << "\n";
-  for (const Scenario& s : scenarios)
-    for (const std::string& method : kMethods) {
-      md << "| " << s.name << " | " << method << " |";
-      for (int size : sizes)
-        for (const Row& r : rows)
-          if (r.scenario == s.name && r.method == method && r.focus == "receivers" && r.mapSize == size && r.blur)
-            md << fmt::format(" {:.2f} / {:.0f} |", 100 * r.error.misclassification, r.frameMs);
-      const ordered_json& e = equalError[s.name][method];
-      md << " " << (e.is_null() ? std::string("> ") + std::to_string(sizes.back()) : std::to_string(e.get<int>())) << " |\n";
-    }
-  md << "\nFlicker (share of probe states that change between consecutive frames, " << scenarios.front().name
-     << ", walking 0.4 m and turning 0.3 deg per frame), B from the receivers:\n\n| method |";
-  for (int size : sizes) md << fmt::format(" {}² |", size);
-  md << "\n|---|";
-  for (size_t i = 0; i < sizes.size(); ++i) md << "---|";
-  md << "\n";
-  for (const std::string& method : kMethods) {
-    md << "| " << method << " |";
-    for (int size : sizes)
-      for (const auto& f : flicker)
-        if (f["method"] == method && f["focus"] == "receivers" && f["map_size"] == size) md << fmt::format(" {:.4f} |", f["share"].get<double>());
-    md << "\n";
-  }
-
-  writeFileAtomic(out / "report.json", report.dump(2) + "\n");
-  writeFileAtomic(out / "results.csv", csv.str());
-  writeFileAtomic(out / "table.md", md.str());
-  writePlot(out / "frame-ms-vs-misclassification.png", scenarios, rows, "misclassified pixels (share)",
-            [](const Row& r) { return r.error.misclassification; }, false);
-  writePlot(out / "shadow-ms-vs-misclassification.png", scenarios, rows, "misclassified pixels (share)",
-            [](const Row& r) { return r.error.misclassification; }, true);
-  if (options.softRays > 0)  // --soft-rays 0: no soft truth, no plot of it
-    writePlot(out / "frame-ms-vs-soft-error.png", scenarios, rows, "mean |term - soft truth|", [](const Row& r) { return r.softError; },
-              false);
-  writePlot(out / "frame-ms-vs-aliasing.png", scenarios, rows, "aliasing p95 (px per texel)",
-            [](const Row& r) { return r.error.aliasingPixels.p95; }, false);
-  {
-    PlotPanel panel;
-    panel.title = "flicker, " + scenarios.front().name + " (moving camera)";
-    panel.xLabel = "share of probes changing state per frame";
-    panel.yLabel = "frame ms";
-    std::vector<glm::dvec2> all;
-    for (const std::string& method : kMethods) {
-      panel.series.push_back({method, methodColour(method), flickerPoints[method], false});
-      all.insert(all.end(), flickerPoints[method].begin(), flickerPoints[method].end());
-    }
-    panel.series.push_back({"Pareto front", glm::vec3(0.0f), paretoFront(all), true});
-    writeImage(out / "frame-ms-vs-flicker.png", plotPanels({panel}, 1));
-  }
-  for (const auto& [method, w] : worst) writeImage(out / fmt::format("worst-{}.png", method), w.second);
-
-  std::cout << md.str() << fmt::format("\nwrote {}/report.json, results.csv, table.md, 5 plots, {} worst-case error images\n",
-                                       out.string(), worst.size());
+  const std::string table = writeSpeedErrorReport(out, options, scenePath, gl::describe(context->info()), options.modes.json(context->info()),
+                                                  width, height, scenarios, layouts, rows, flicker);
+  for (const auto& [series, w] : worst) writeImage(out / fmt::format("worst-{}.png", series), w.second);
+  std::cout << table << fmt::format("\nwrote {}/report.json, results.csv, table.md, 5 plots, {} worst-case error images\n", out.string(),
+                                    worst.size());
   return 0;
 }
 
@@ -415,6 +250,12 @@ Run addSpeedErrorCommand(CLI::App& bench) {
   command->add_option("--sizes", options->sizes, "Shadow map sizes, texels per side (comma-separated, 512 to 8192)")
       ->delimiter(',')
       ->check(CLI::Range(512, 8192))
+      ->capture_default_str();
+  command->add_option("--cascades", options->cascades,
+                      "Slices per layout (comma-separated, 1 to 4): K > 1 at equal total texels, K layers of\n"
+                      "(size / sqrt K)² per size (4 x 1024² beside 2048²), B on the receivers")
+      ->delimiter(',')
+      ->check(CLI::Range(1, shadows::kMaxCascades))
       ->capture_default_str();
   command->add_option("--target", options->target, "Misclassification share for the equal-error map sizes (0 to 1, exclusive)")
       ->check(CLI::Range(1e-6, 0.999999))

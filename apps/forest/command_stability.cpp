@@ -16,6 +16,7 @@
 #include "forest/core/error.hpp"
 #include "forest/core/files.hpp"
 #include "forest/shadows/aliasing.hpp"
+#include "forest/shadows/cascades.hpp"
 #include "forest/shadows/stability.hpp"
 
 namespace forest::app {
@@ -33,6 +34,9 @@ struct StabilityOptions {
   bool json = false;
   bool aliasing = false;
   std::vector<int> screen{1280, 720};
+  int cascades = 1;            // > 1: every slice of each case is a setup of its own (shadows::cascadeInputs)
+  double splitLambda = 0.8;
+  double cascadeBlend = 0.1;
 };
 
 ordered_json vec3(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
@@ -66,12 +70,14 @@ ordered_json caseJson(const shadows::StabilityCase& c) {
   return j;
 }
 
-ordered_json recordJson(const shadows::StabilityCase& c, ShadowMethod method, const shadows::ShadowSetup& setup,
-                        const shadows::StabilityReport& report, const shadows::AliasingReport* aliasing) {
+ordered_json recordJson(const shadows::StabilityCase& c, ShadowMethod method, int slice, const shadows::ShadowInput& input,
+                        const shadows::ShadowSetup& setup, const shadows::StabilityReport& report,
+                        const shadows::AliasingReport* aliasing) {
   const shadows::ShadowDiagnostics& d = setup.diagnostics;
   ordered_json j;
   j["case"] = c.name;
   j["method"] = shadows::shadowMethodName(method);
+  if (slice >= 0) j["slice"] = {{"index", slice}, {"near", input.camera.near}, {"far", input.camera.far}};
   j["passed"] = report.passed();
   ordered_json invariants;
   for (const shadows::InvariantCheck& check : report.checks) invariants[check.name] = check.passed;
@@ -153,52 +159,69 @@ int runStability(const StabilityOptions& options) {
     ++tally.failed;
     if (tally.firstFailures.size() < 10) tally.firstFailures.push_back(std::move(failure));
   };
-  auto evaluate = [&](const shadows::StabilityCase& c, std::ostream* out) {
-    for (ShadowMethod method : methods) {
-      const std::string_view name = shadows::shadowMethodName(method);
-      ++tally.records;
-      // One case never stops the suite: an input outside the domain is counted as refused, any
-      // other exception as a failure, and either is written as a record.
-      std::optional<shadows::ShadowSetup> setup;
-      try {
-        const auto start = std::chrono::steady_clock::now();
-        setup = shadows::computeShadowSetup(c.input, method);
-        tally.setupSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      } catch (const InputError& e) {
-        ++tally.refused;
-        if (out) *out << ordered_json{{"case", c.name}, {"method", name}, {"refused", e.what()}, {"input", caseJson(c)}}.dump() << '\n';
-        continue;
-      } catch (const std::exception& e) {
-        noteFailure(fmt::format("{} / {}: exception: {}", c.name, name, e.what()));
-        if (out)
-          *out << ordered_json{{"case", c.name}, {"method", name}, {"passed", false}, {"failures", {{"exception", e.what()}}}, {"input", caseJson(c)}}.dump() << '\n';
-        continue;
-      }
-      const shadows::StabilityReport report = shadows::checkSetupInvariants(c.input, method, *setup);
-      tally.empty += setup->empty ? 1 : 0;
-      tally.warped += setup->diagnostics.warp > 0.0 ? 1 : 0;
-      tally.largestCoordinate = std::max(tally.largestCoordinate, report.maxMapCoordinate);
-      tally.largestShrink = std::max(tally.largestShrink, setup->diagnostics.floatShrink);
-      if (!report.passed()) {
-        for (const shadows::InvariantCheck& check : report.checks)
-          if (!check.passed) {
-            noteFailure(fmt::format("{} / {}: {}: {}", c.name, name, check.name, check.detail));
-            break;
-          }
-      }
-      std::optional<shadows::AliasingReport> aliasing;
-      if (options.aliasing && !setup->empty) {
-        shadows::AliasingOptions aliasingOptions;
-        aliasingOptions.width = options.screen[0];
-        aliasingOptions.height = options.screen[1];
-        aliasing = shadows::analyseAliasing(c.input, *setup, aliasingOptions);
-        if (aliasing->perspective.samples > 0)
-          tally.aliasing[std::string(name)].push_back(
-              {aliasing->perspective.max, aliasing->floor > 0.0 ? aliasing->perspective.max / aliasing->floor : 0.0,
-               aliasing->surfacePixels.p95, aliasing->storageFactor});
-      }
-      if (out) *out << recordJson(c, method, *setup, report, aliasing ? &*aliasing : nullptr).dump() << '\n';
+  // One setup: a case's whole view, or one of its slices (slice ≥ 0).
+  auto evaluateOne = [&](const shadows::StabilityCase& c, const shadows::ShadowInput& input, int slice, ShadowMethod method,
+                         std::ostream* out) {
+    const std::string_view name = shadows::shadowMethodName(method);
+    const std::string where = slice >= 0 ? fmt::format("{} (slice {})", c.name, slice) : c.name;
+    ++tally.records;
+    // One case never stops the suite: an input outside the domain is counted as refused, any
+    // other exception as a failure, and either is written as a record.
+    std::optional<shadows::ShadowSetup> setup;
+    try {
+      const auto start = std::chrono::steady_clock::now();
+      setup = shadows::computeShadowSetup(input, method);
+      tally.setupSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    } catch (const InputError& e) {
+      ++tally.refused;
+      if (out) *out << ordered_json{{"case", where}, {"method", name}, {"refused", e.what()}, {"input", caseJson(c)}}.dump() << '\n';
+      return;
+    } catch (const std::exception& e) {
+      noteFailure(fmt::format("{} / {}: exception: {}", where, name, e.what()));
+      if (out)
+        *out << ordered_json{{"case", where}, {"method", name}, {"passed", false}, {"failures", {{"exception", e.what()}}}, {"input", caseJson(c)}}.dump() << '\n';
+      return;
     }
+    const shadows::StabilityReport report = shadows::checkSetupInvariants(input, method, *setup);
+    tally.empty += setup->empty ? 1 : 0;
+    tally.warped += setup->diagnostics.warp > 0.0 ? 1 : 0;
+    tally.largestCoordinate = std::max(tally.largestCoordinate, report.maxMapCoordinate);
+    tally.largestShrink = std::max(tally.largestShrink, setup->diagnostics.floatShrink);
+    if (!report.passed()) {
+      for (const shadows::InvariantCheck& check : report.checks)
+        if (!check.passed) {
+          noteFailure(fmt::format("{} / {}: {}: {}", where, name, check.name, check.detail));
+          break;
+        }
+    }
+    std::optional<shadows::AliasingReport> aliasing;
+    if (options.aliasing && !setup->empty) {
+      shadows::AliasingOptions aliasingOptions;
+      aliasingOptions.width = options.screen[0];
+      aliasingOptions.height = options.screen[1];
+      aliasing = shadows::analyseAliasing(input, *setup, aliasingOptions);
+      if (aliasing->perspective.samples > 0)
+        tally.aliasing[std::string(name)].push_back(
+            {aliasing->perspective.max, aliasing->floor > 0.0 ? aliasing->perspective.max / aliasing->floor : 0.0,
+             aliasing->surfacePixels.p95, aliasing->storageFactor});
+    }
+    if (out) *out << recordJson(c, method, slice, input, *setup, report, aliasing ? &*aliasing : nullptr).dump() << '\n';
+  };
+  // With --cascades K, each slice of the case's view (shadows::cascadeInputs) is a setup of its own.
+  auto evaluate = [&](const shadows::StabilityCase& c, std::ostream* out) {
+    std::vector<shadows::ShadowInput> inputs{c.input};
+    if (options.cascades > 1) {
+      try {
+        inputs = shadows::cascadeInputs(c.input, options.cascades, options.splitLambda, options.cascadeBlend);
+      } catch (const InputError& e) {  // a view the splits refuse (none inside the domain): refused like its setups
+        tally.records += methods.size();
+        tally.refused += methods.size();
+        if (out) *out << ordered_json{{"case", c.name}, {"refused", e.what()}, {"input", caseJson(c)}}.dump() << '\n';
+        return;
+      }
+    }
+    for (size_t slice = 0; slice < inputs.size(); ++slice)
+      for (ShadowMethod method : methods) evaluateOne(c, inputs[slice], options.cascades > 1 ? static_cast<int>(slice) : -1, method, out);
   };
 
   auto runAll = [&](std::ostream* out) {
@@ -245,10 +268,11 @@ int runStability(const StabilityOptions& options) {
     std::cout << summary.dump(2) << '\n';
   } else {
     std::cout << fmt::format(
-        "{} setups ({} case(s) from file, {} random, seed {}, methods {}): {} failed, {} refused (outside the shadow domain)\n"
+        "{} setups ({} case(s) from file, {} random, seed {}, methods {}{}): {} failed, {} refused (outside the shadow domain)\n"
         "  largest |map coordinate| of B on the float32 path {:.9f}, largest float32 shrink {:.2e}\n"
         "  {} empty focus bodies, {} warped (lispsm), {:.1f} µs per setup\n",
-        tally.records, fileCases.size(), options.random, options.seed, fmt::join(options.methods, ","), tally.failed,
+        tally.records, fileCases.size(), options.random, options.seed, fmt::join(options.methods, ","),
+        options.cascades > 1 ? fmt::format(", {} slices each, λ {}", options.cascades, options.splitLambda) : std::string(), tally.failed,
         tally.refused, tally.largestCoordinate, tally.largestShrink, tally.empty, tally.warped, microseconds);
     if (!tally.aliasing.empty()) {
       std::cout << fmt::format("  aliasing, medians over cases ({}x{} screen):\n  {:<15} {:>6} {:>16} {:>12} {:>18} {:>14}\n",
@@ -286,6 +310,17 @@ Run addStabilityCommand(CLI::App& app) {
   command->add_option("--out", options->out,
                       "Write one JSON record per case and method (JSON Lines): diagnostics, invariants, the\n"
                       "float32 world → shadow-clip matrix (16 numbers, column-major) and the case itself");
+  command->add_option("--cascades", options->cascades,
+                      "Z-partitioning: split each case's view [near, far] into K slices (Zhang et al. 2006 eq. 4)\n"
+                      "and check every invariant on every slice's setup (1 to 4; 1: the whole view)")
+      ->check(CLI::Range(1, shadows::kMaxCascades))
+      ->capture_default_str();
+  command->add_option("--split-lambda", options->splitLambda, "Split scheme with --cascades: 1 logarithmic, 0 uniform")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  command->add_option("--cascade-blend", options->cascadeBlend, "Blend band beyond each split with --cascades (0 to 0.5)")
+      ->check(CLI::Range(0.0, 0.5))
+      ->capture_default_str();
   command->add_flag("--json", options->json, "Print the summary as JSON");
   command->add_flag("--aliasing", options->aliasing,
                     "Also compute the analytic aliasing error per setup (thesis eq. 8.1, 8.4; Lloyd's storage\n"

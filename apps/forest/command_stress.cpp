@@ -249,7 +249,7 @@ int runStress(const StressOptions& options) {
     queryPanel.series.push_back(q);
   }
   ordered_json report{{"scene", scenePath}, {"device", gl::describe(context->info())}, {"resolution", {options.size.width, options.size.height}},
-                      {"settings", options.frame.json(context->info())},
+                      {"settings", options.frame.json(context->info(), base)},
                       {"frames", options.length.frames}, {"warmup", options.length.warmup}, {"moving_share", options.moving},
                       {"check_every", options.checkEvery}, {"runs", runs}};
   writeFileAtomic(out / "stress.json", report.dump(2) + "\n");

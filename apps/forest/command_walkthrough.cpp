@@ -68,9 +68,20 @@ nlohmann::ordered_json frameRecord(int index, double time, bool warmup, const Ca
   r["n"] = s.shadow.n;
   r["gamma_deg"] = s.shadow.gammaDeg;
   r["sun_below_horizon"] = s.sunBelowHorizon;
+  if (s.cascades > 1) r["cascades"] = cascadesJson(s);
   r["gpu_memory_mib"] = static_cast<double>(gl::gpuMemory().bytes) / (1 << 20);
   r["rss_mib"] = residentMegabytes();
   return r;
+}
+
+nlohmann::ordered_json cascadesJson(const render::FrameStats& s) {
+  nlohmann::ordered_json slices = nlohmann::ordered_json::array();
+  for (int i = 0; i < s.cascades; ++i) {
+    const render::CascadeStats& c = s.cascade[static_cast<size_t>(i)];
+    slices.push_back({{"from_m", c.fromM}, {"to_m", c.toM}, {"n", c.n}, {"gamma_deg", c.gammaDeg},
+                      {"casters", c.casters}, {"triangles", c.triangles}, {"shadow_ms", c.shadowMs}});
+  }
+  return slices;
 }
 
 void recordPassTimes(const std::vector<gl::FrameTiming>& timings, nlohmann::ordered_json& records) {
@@ -191,7 +202,7 @@ int runWalkthrough(const WalkthroughOptions& options) {
   report["path"] = pathPath;
   report["device"] = device;
   report["resolution"] = {width, height};
-  report["settings"] = options.frame.json(context->info());
+  report["settings"] = options.frame.json(context->info(), scene);
   report["settings"]["fps"] = options.fps;
   report["warmup_frames"] = warmup;
   report["frames_requested"] = total;

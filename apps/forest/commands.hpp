@@ -74,6 +74,13 @@ struct FrameOptions {
   int pcf = 0;
   double blur = 3.0;         // eye-space blur radius, pixels (0: off)
   double blurDepth = 10.0;   // metres up to which the full radius applies
+  // Z-partitioning; each left unset (the scene's [shadows]) unless its flag is given.
+  int cascades = 1;
+  double splitLambda = 0.8;
+  double cascadeBlend = 0.1;
+  CLI::Option* cascadesOption = nullptr;
+  CLI::Option* splitLambdaOption = nullptr;
+  CLI::Option* cascadeBlendOption = nullptr;
   ModeOptions modes;
   void add(CLI::App& command, bool withCulling = true);
   // The settings; timing and query modes resolved for the context (auto: render::defaultTimingMode,
@@ -83,8 +90,9 @@ struct FrameOptions {
   render::FrameSettings settings() const { return settings(gl::ContextInfo{}); }  // before a context exists: checks only
   // Sets the timing and query modes of `s` for the context (what settings(context) does for them).
   void resolveModes(render::FrameSettings& s, const gl::ContextInfo& context) const { modes.resolve(s, context); }
-  // The settings as report.json writes them (timing as resolved for the context).
-  nlohmann::ordered_json json(const gl::ContextInfo& context) const;
+  // The settings as report.json writes them (timing as resolved for the context; cascades as
+  // resolved for the scene, with the total texels K · size²).
+  nlohmann::ordered_json json(const gl::ContextInfo& context, const Scene& scene) const;
 };
 
 // --soft-rays for truth and bench speed-error (0 to 1024).
@@ -123,6 +131,8 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window);
 inline constexpr const char* kPassNames[] = {"geometry", "shadow_setup", "shadow", "shadow_term", "blur", "lighting"};
 nlohmann::ordered_json frameRecord(int index, double time, bool warmup, const Camera& camera, double yawDeg, double frameMs,
                                    const render::FrameStats& stats);
+// Each slice of a z-partitioned frame: from_m, to_m, n, gamma_deg, casters, triangles, shadow_ms.
+nlohmann::ordered_json cascadesJson(const render::FrameStats& stats);
 // GpuQueries timing: writes the pass times of frames whose timer queries finished into their
 // report records (records[k] is frame k). Profiling: nothing to do.
 void recordPassTimes(const std::vector<gl::FrameTiming>& timings, nlohmann::ordered_json& records);

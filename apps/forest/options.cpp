@@ -82,6 +82,18 @@ void FrameOptions::add(CLI::App& command, bool withCulling) {
         ->check(CLI::IsMember(culling::cullingStrategyNames()))
         ->capture_default_str();
   }
+  cascadesOption = command.add_option("--cascades", cascades,
+                                      "Z-partitioned shadows: slices of the visible depth range, each with its own\n"
+                                      "map layer of --shadow-size² (1 to 4; 1: one map; default: the scene's [shadows])")
+                       ->check(CLI::Range(1, shadows::kMaxCascades));
+  splitLambdaOption = command.add_option("--split-lambda", splitLambda,
+                                         "Split scheme (Zhang et al. 2006 eq. 4): 1 logarithmic, 0 uniform (0 to 1;\n"
+                                         "default: the scene's [shadows], else 0.8)")
+                          ->check(CLI::Range(0.0, 1.0));
+  cascadeBlendOption = command.add_option("--cascade-blend", cascadeBlend,
+                                          "Band beyond each split where the nearer slice fades into the farther, as a\n"
+                                          "share of the split's distance (0 to 0.5; 0: hard; default: the scene's, else 0.1)")
+                           ->check(CLI::Range(0.0, 0.5));
   command.add_option("--pcf", pcf, "Wider PCF: (2r+1)² hardware 2×2 lookups (0 to 4; 0: one)")->check(CLI::Range(0, 4))->capture_default_str();
   command.add_option("--blur", blur,
                      "Eye-space blur of the shadow term (thesis §9.4.2): radius in pixels (0 to 16) up to\n"
@@ -118,6 +130,9 @@ render::FrameSettings FrameOptions::settings(const gl::ContextInfo& context) con
   s.pcfRadius = pcf;
   s.blurRadius = blur;
   s.blurReferenceDepth = blurDepth;
+  if (cascadesOption && cascadesOption->count() > 0) s.cascades = cascades;
+  if (splitLambdaOption && splitLambdaOption->count() > 0) s.splitLambda = splitLambda;
+  if (cascadeBlendOption && cascadeBlendOption->count() > 0) s.cascadeBlend = cascadeBlend;
   return s;
 }
 
@@ -142,9 +157,18 @@ render::FrameStats renderWithPassTimes(render::Frame& frame, const Camera& camer
   return stats;
 }
 
-nlohmann::ordered_json FrameOptions::json(const gl::ContextInfo& context) const {
-  nlohmann::ordered_json j = {{"method", method}, {"shadow_size", shadowSize}, {"culling", culling},
-                              {"pcf_radius", pcf}, {"blur_px", blur},         {"blur_depth_m", blurDepth}};
+nlohmann::ordered_json FrameOptions::json(const gl::ContextInfo& context, const Scene& scene) const {
+  const ShadowSettings c = render::resolveCascades(settings(), scene);
+  nlohmann::ordered_json j = {{"method", method},
+                              {"shadow_size", shadowSize},
+                              {"cascades", c.cascades},
+                              {"split_lambda", c.split_lambda},
+                              {"cascade_blend", c.cascade_blend},
+                              {"shadow_texels", static_cast<long long>(c.cascades) * shadowSize * shadowSize},
+                              {"culling", culling},
+                              {"pcf_radius", pcf},
+                              {"blur_px", blur},
+                              {"blur_depth_m", blurDepth}};
   j.update(modes.json(context));
   return j;
 }

@@ -46,7 +46,7 @@ const std::map<std::string, int>& keyBindings() {
       {"c", GLFW_KEY_C},       {"m", GLFW_KEY_M},          {"[", GLFW_KEY_LEFT_BRACKET}, {"]", GLFW_KEY_RIGHT_BRACKET},
       {"b", GLFW_KEY_B},       {"f", GLFW_KEY_F},          {"h", GLFW_KEY_H},         {"f1", GLFW_KEY_F1},
       {"left", GLFW_KEY_LEFT}, {"right", GLFW_KEY_RIGHT},  {"up", GLFW_KEY_UP},       {"down", GLFW_KEY_DOWN},
-      {"tab", GLFW_KEY_TAB},   {"escape", GLFW_KEY_ESCAPE}};
+      {"tab", GLFW_KEY_TAB},   {"k", GLFW_KEY_K},          {"escape", GLFW_KEY_ESCAPE}};
   return keys;
 }
 
@@ -63,6 +63,7 @@ const std::vector<std::string> kHelp = {
     "C  culling strategy    M  shadow method",
     "[ / ]  shadow map size halved / doubled",
     "B  blur radius (0, 1.5, 3, 6 px)",
+    "K  shadow cascades (1, 2, 3, 4 slices)",
     "Left / Right  sun azimuth -/+ 10 deg",
     "Up / Down  sun elevation +/- 5 deg",
     "F  freeze culling (keep the visible set)",
@@ -98,6 +99,7 @@ std::string nextOf(const std::vector<std::string>& names, const std::string& cur
 struct Controls {
   CameraPose pose;
   FrameOptions frame;  // culling, method, map size, blur (named as the command line names them)
+  int cascades = 1;    // slices of the shadow map (set from the flags or the scene's [shadows])
   SunAngles sun;
   bool frozen = false;
   bool help = true;
@@ -118,6 +120,8 @@ struct Controls {
     } else if (key == "b") {
       auto next = std::find_if(std::begin(kBlurSteps), std::end(kBlurSteps), [&](double r) { return r > frame.blur; });
       frame.blur = next == std::end(kBlurSteps) ? 0.0 : *next;
+    } else if (key == "k") {
+      cascades = cascades % shadows::kMaxCascades + 1;
     } else if (key == "left" || key == "right") {
       sun.azimuthDeg = std::remainder(sun.azimuthDeg + (key == "left" ? -10.0 : 10.0), 360.0);
     } else if (key == "up" || key == "down") {
@@ -231,7 +235,7 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
   if (!window.script.empty()) script = InputScript::load(window.script, keyNames());
   Controls controls;
   controls.frame = options.frame;
-  (void)controls.frame.settings();  // names checked before the window opens
+  controls.cascades = render::resolveCascades(controls.frame.settings(), scene).cascades;  // names checked before the window opens
   controls.sun = SunAngles::of(scene.sun.direction);
   scene.render.width = options.size.width;
   scene.render.height = options.size.height;
@@ -320,6 +324,7 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
     // Render with this frame's settings and sun.
     render::FrameSettings settings = controls.frame.settings(context->info());
     settings.freezeCulling = controls.frozen;
+    settings.cascades = controls.cascades;
     scene.sun.direction = controls.sun.travel();
     camera.position = controls.pose.position;
     camera.yaw = glm::radians(controls.pose.yaw_deg);
@@ -332,8 +337,9 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
     int width = 0, height = 0;
     glfwGetFramebufferSize(handle, &width, &height);
     const std::string statsLine = fmt::format(
-        "{:.1f} ms | {} | {} {} | blur {} | visible {} | casters {} | tris {:.2f}M + {:.2f}M | n {:.3g} | z_f {:.0f} m | sun {:.0f}/{:.0f} deg{}",
-        frameMs, controls.frame.culling, controls.frame.method, controls.frame.shadowSize, controls.frame.blur, s.visibleObjects,
+        "{:.1f} ms | {} | {} {}{} | blur {} | visible {} | casters {} | tris {:.2f}M + {:.2f}M | n {:.3g} | z_f {:.0f} m | sun {:.0f}/{:.0f} deg{}",
+        frameMs, controls.frame.culling, controls.frame.method, controls.cascades > 1 ? fmt::format("{}x", controls.cascades) : "",
+        controls.frame.shadowSize, controls.frame.blur, s.visibleObjects,
         s.casterObjects, static_cast<double>(s.geometryTriangles) * 1e-6, static_cast<double>(s.shadowTriangles) * 1e-6, s.shadow.n, s.farDepth, controls.sun.azimuthDeg,
         controls.sun.elevationDeg, controls.frozen ? " | CULLING FROZEN" : "");
     if (width > 0 && height > 0) {
@@ -376,7 +382,7 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
   report["device"] = device;
   report["resolution"] = {options.size.width, options.size.height};
   report["fps"] = options.fps;
-  report["settings"] = options.frame.json(context->info());
+  report["settings"] = options.frame.json(context->info(), scene);
   report["warmup_frames"] = warmup;
   report["frames_done"] = done;
   report["summary"] = summary;

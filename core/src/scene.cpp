@@ -51,6 +51,13 @@ void readRender(TomlSection& s, RenderSettings& r) {
   s.finish();
 }
 
+void readShadows(TomlSection& s, ShadowSettings& sh) {
+  sh.cascades = static_cast<int>(s.integer("cascades", sh.cascades, 1, 4));
+  sh.split_lambda = s.number("split_lambda", sh.split_lambda, detail::closed(0.0, 1.0));
+  sh.cascade_blend = s.number("cascade_blend", sh.cascade_blend, detail::closed(0.0, 0.5));
+  s.finish();
+}
+
 void readCulling(TomlSection& s, CullingSettings& c) {
   c.leaf_size = static_cast<int>(s.integer("leaf_size", c.leaf_size, 1, 64));
   c.batch_size = static_cast<int>(s.integer("batch_size", c.batch_size, 1, 1000));
@@ -191,6 +198,7 @@ Scene parseScene(const std::string& text, const std::string& name) {
   if (auto s = root.table("camera")) readCamera(*s, scene.camera);
   if (auto s = root.table("sun")) readSun(*s, scene.sun);
   if (auto s = root.table("render")) readRender(*s, scene.render);
+  if (auto s = root.table("shadows")) readShadows(*s, scene.shadows);
   if (auto s = root.table("culling")) readCulling(*s, scene.culling);
   for (auto& s : root.tables("props")) scene.props.push_back(readProp(s));
   if (auto s = root.table("terrain")) readTerrain(*s, scene.terrain.emplace());
@@ -238,7 +246,10 @@ std::string sceneToToml(const Scene& scene) {
                       {"multiqueries", c.multiqueries},
                       {"tight_box_depth", c.tight_box_depth},
                       {"tight_box_area_ratio", c.tight_box_area_ratio}};
-  toml::table document{{"camera", camera}, {"sun", sun}, {"render", render}, {"culling", culling}};
+  toml::table shadows{{"cascades", scene.shadows.cascades},
+                      {"split_lambda", scene.shadows.split_lambda},
+                      {"cascade_blend", scene.shadows.cascade_blend}};
+  toml::table document{{"camera", camera}, {"sun", sun}, {"render", render}, {"shadows", shadows}, {"culling", culling}};
   if (!props.empty()) document.insert("props", props);
   if (scene.terrain) {
     const TerrainSettings& t = *scene.terrain;

@@ -78,23 +78,31 @@ std::size_t bytesPerTexel(GLenum internalFormat) {
   }
 }
 
-Texture::Texture(GLenum internalFormat, int width, int height, int levels) {
-  GLint maxSize = 0;
+Texture::Texture(GLenum internalFormat, int width, int height, int levels, int layers) {
+  GLint maxSize = 0, maxLayers = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
-  if (width <= 0 || height <= 0 || width > maxSize || height > maxSize || levels <= 0) {
-    throw Error(fmt::format("gl::Texture: size {}x{} ({} levels) outside 1..{}", width, height, levels, maxSize));
+  glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
+  if (width <= 0 || height <= 0 || width > maxSize || height > maxSize || levels <= 0 || layers < 0 || layers > maxLayers) {
+    throw Error(fmt::format("gl::Texture: size {}x{} ({} levels, {} layers) outside 1..{} ({} layers)", width, height, levels,
+                            layers, maxSize, maxLayers));
   }
   const std::size_t texel = bytesPerTexel(internalFormat);
   GLuint id = 0;
-  glCreateTextures(GL_TEXTURE_2D, 1, &id);
+  glCreateTextures(layers > 0 ? GL_TEXTURE_2D_ARRAY : GL_TEXTURE_2D, 1, &id);
   name_ = UniqueName<TextureDeleter>(id);
-  glTextureStorage2D(id, levels, internalFormat, width, height);
-  checkError("glTextureStorage2D");
+  if (layers > 0) {
+    glTextureStorage3D(id, levels, internalFormat, width, height, layers);
+    checkError("glTextureStorage3D");
+  } else {
+    glTextureStorage2D(id, levels, internalFormat, width, height);
+    checkError("glTextureStorage2D");
+  }
   width_ = width;
   height_ = height;
+  layers_ = layers;
   format_ = internalFormat;
   for (int level = 0, w = width, h = height; level < levels; ++level, w = std::max(1, w / 2), h = std::max(1, h / 2)) {
-    bytes_ += texel * static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+    bytes_ += texel * static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * static_cast<std::size_t>(std::max(layers, 1));
   }
   account(static_cast<std::int64_t>(bytes_));
 }
@@ -113,6 +121,7 @@ Texture& Texture::operator=(Texture&& other) noexcept {
     name_ = std::move(other.name_);
     width_ = other.width_;
     height_ = other.height_;
+    layers_ = other.layers_;
     format_ = other.format_;
     bytes_ = std::exchange(other.bytes_, 0);
   }
@@ -127,6 +136,10 @@ Framebuffer::Framebuffer() {
 
 void Framebuffer::attach(GLenum attachment, const Texture& texture) {
   glNamedFramebufferTexture(id(), attachment, texture.id(), 0);
+}
+
+void Framebuffer::attachLayer(GLenum attachment, const Texture& texture, int layer) {
+  glNamedFramebufferTextureLayer(id(), attachment, texture.id(), 0, layer);
 }
 
 void Framebuffer::checkComplete(const std::string& what) const {

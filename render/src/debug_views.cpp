@@ -21,6 +21,9 @@ const glm::vec3 kBackground{0.97f, 0.97f, 0.95f}, kView{0.0f, 0.0f, 0.0f}, kBody
     kLight{0.85f, 0.1f, 0.1f}, kReceiver{0.2f, 0.7f, 0.25f}, kCaster{0.95f, 0.55f, 0.05f};
 
 const glm::vec3 kText{0.1f, 0.1f, 0.1f};
+// Slices 0–3 of a z-partitioned frame: B and light frustum in the top-down diagram, the tint of
+// their pixels in the slices picture.
+const glm::vec3 kSlice[shadows::kMaxCascades] = {{0.15f, 0.35f, 0.9f}, {0.1f, 0.65f, 0.65f}, {0.6f, 0.25f, 0.8f}, {0.85f, 0.1f, 0.1f}};
 
 Image8 filled(int width, int height, glm::vec3 colour) {
   Image8 image(width, height, 3);
@@ -58,23 +61,33 @@ std::array<dvec3, 8> lightFrustumCorners(const shadows::ShadowSetup& setup) {
 
 Image8 topDownDiagram(const Frame& frame, const dvec3& sunDirection, int size) {
   Image8 image = filled(size, size, kBackground);  // the diagram; the legend band goes on top at the end
-  const shadows::ShadowSetup& setup = frame.shadowSetup();
-  const std::vector<dvec2> view = footprint(shadows::viewFrustumBody(frame.shadowCamera()).vertices());
-  const std::vector<dvec2> body = footprint(setup.body.vertices());
-  std::vector<dvec3> lightCorners;
-  if (!setup.empty)
-    for (const dvec3& c : lightFrustumCorners(setup)) lightCorners.push_back(c);
-  const std::vector<dvec2> light = footprint(lightCorners);
+  const int slices = frame.cascadeCount();
+  Camera whole = frame.shadowCamera(0);  // the view from the first slice's near to the last one's far
+  whole.far = frame.shadowCamera(slices - 1).far;
+  const std::vector<dvec2> view = footprint(shadows::viewFrustumBody(whole).vertices());
+  std::vector<std::vector<dvec2>> bodies, lights;
+  for (int i = 0; i < slices; ++i) {
+    const shadows::ShadowSetup& setup = frame.shadowSetup(i);
+    bodies.push_back(footprint(setup.body.vertices()));
+    std::vector<dvec3> lightCorners;
+    if (!setup.empty)
+      for (const dvec3& c : lightFrustumCorners(setup)) lightCorners.push_back(c);
+    lights.push_back(footprint(lightCorners));
+  }
 
-  // The drawn region: V and B (the light frustum may reach far beyond; it is clipped).
+  // The drawn region: V and the bodies (a light frustum may reach far beyond; it is clipped).
   dvec2 low(1e300), high(-1e300);
-  for (const auto* polygon : {&view, &body})
-    for (const dvec2& p : *polygon) {
+  for (const dvec2& p : view) {
+    low = glm::min(low, p);
+    high = glm::max(high, p);
+  }
+  for (const auto& body : bodies)
+    for (const dvec2& p : body) {
       low = glm::min(low, p);
       high = glm::max(high, p);
     }
   if (!(high.x > low.x) || !(high.y > low.y)) {
-    low = dvec2(frame.shadowCamera().position.x, frame.shadowCamera().position.z) - 1.0;
+    low = dvec2(whole.position.x, whole.position.z) - 1.0;
     high = low + 2.0;
   }
   const double margin = 0.06 * size, scale = (size - 2.0 * margin) / std::max(high.x - low.x, high.y - low.y);
@@ -88,35 +101,54 @@ Image8 topDownDiagram(const Frame& frame, const dvec3& sunDirection, int size) {
     return std::vector<dvec2>{toPixel({box.min.x, box.min.z}), toPixel({box.max.x, box.min.z}), toPixel({box.max.x, box.max.z}),
                               toPixel({box.min.x, box.max.z})};
   };
+  // One map: B blue and the light frustum red; slices: each its own colour for both.
+  auto bodyColour = [&](int i) { return slices == 1 ? kBody : kSlice[i]; };
+  auto lightColour = [&](int i) { return slices == 1 ? kLight : kSlice[i]; };
 
   const auto& boxes = frame.objects().boxes();
   for (std::uint32_t o : frame.visibleObjects()) fillConvexPolygon(image, boxOutline(boxes[o]), kReceiver, 0.35f);
-  fillConvexPolygon(image, mapped(body), kBody, 0.18f);
-  for (std::uint32_t o : frame.casters()) drawPolygon(image, boxOutline(boxes[o]), kCaster);
-  drawPolygon(image, mapped(body), kBody);
-  drawPolygon(image, mapped(light), kLight);
+  for (int i = 0; i < slices; ++i) fillConvexPolygon(image, mapped(bodies[static_cast<size_t>(i)]), bodyColour(i), 0.18f);
+  size_t casters = 0;
+  for (int i = 0; i < slices; ++i) {
+    for (std::uint32_t o : frame.casters(i)) drawPolygon(image, boxOutline(boxes[o]), kCaster);
+    casters += frame.casters(i).size();
+  }
+  for (int i = 0; i < slices; ++i) {
+    drawPolygon(image, mapped(bodies[static_cast<size_t>(i)]), bodyColour(i));
+    drawPolygon(image, mapped(lights[static_cast<size_t>(i)]), lightColour(i));
+  }
   drawPolygon(image, mapped(view), kView);
-  const dvec3 eye = frame.shadowCamera().position;
+  const dvec3 eye = whole.position;
   const dvec2 eyePixel = toPixel({eye.x, eye.z});
   fillConvexPolygon(image, std::vector<dvec2>{eyePixel + dvec2(-4, -4), eyePixel + dvec2(4, -4), eyePixel + dvec2(4, 4), eyePixel + dvec2(-4, 4)},
                     kView, 1.0f);
   drawPolygon(image, std::vector<dvec2>{{0, 0}, {size - 1, 0}, {size - 1, size - 1}, {0, size - 1}}, kView);
 
   // The legend band: what each colour is, the scale, and the way the light travels.
-  const bool lightClipped = std::any_of(light.begin(), light.end(), [&](const dvec2& p) {
-    const dvec2 q = toPixel(p);
-    return q.x < 0.0 || q.y < 0.0 || q.x > size || q.y > size;
+  const bool lightClipped = std::any_of(lights.begin(), lights.end(), [&](const std::vector<dvec2>& light) {
+    return std::any_of(light.begin(), light.end(), [&](const dvec2& p) {
+      const dvec2 q = toPixel(p);
+      return q.x < 0.0 || q.y < 0.0 || q.x > size || q.y > size;
+    });
   });
   Image8 legend = filled(size, kTopDownLegendHeight, kBackground);
   int y = 18;
-  for (const auto& [text, colour] : {std::pair{std::string("view frustum to z_f"), kView}, std::pair{std::string("focus body B"), kBody},
-                                     std::pair{std::string(lightClipped ? "light frustum (map; clipped at the frame)" : "light frustum (map)"), kLight},
-                                     std::pair{std::string("visible receivers"), kReceiver}, std::pair{std::string("selected casters"), kCaster}}) {
+  const std::string clipped = lightClipped ? "; clipped at the frame" : "";
+  std::vector<std::pair<std::string, glm::vec3>> entries{{"view frustum to z_f", kView}};
+  if (slices == 1) {
+    entries.emplace_back("focus body B", kBody);
+    entries.emplace_back("light frustum (map" + clipped + ")", kLight);
+  }
+  entries.emplace_back("visible receivers", kReceiver);
+  entries.emplace_back("selected casters", kCaster);
+  for (const auto& [text, colour] : entries) {
     drawText(legend, {10, y}, text, colour, 14);
     y += 18;
   }
-  drawText(legend, {size / 2 - 60, 18},
-           fmt::format("{} visible, {} casters", frame.visibleObjects().size(), frame.casters().size()), kView, 14);
+  for (int i = 0; i < slices && slices > 1; ++i)  // one line per slice in the middle column
+    drawText(legend, {size / 2 - 60, 54 + 18 * i},
+             fmt::format("slice {}: B and light frustum{}", i, i == 0 && lightClipped ? " (frusta clipped at the frame)" : ""), kSlice[i], 14);
+  drawText(legend, {size / 2 - 60, 18}, fmt::format("{} visible, {} casters", frame.visibleObjects().size(), casters), kView, 14);
   drawText(legend, {size / 2 - 60, 36}, fmt::format("{:.0f} m across; x right, z down", (size - 2.0 * margin) / scale), kView, 14);
   // The sun: an arrow along the way the light travels (its horizontal part).
   const dvec2 across(sunDirection.x, sunDirection.z);
@@ -132,6 +164,21 @@ Image8 topDownDiagram(const Frame& frame, const dvec3& sunDirection, int size) {
   paste(result, legend, {0, 0});
   paste(result, image, {0, kTopDownLegendHeight});
   return result;
+}
+
+Image8 cascadesPicture(const Frame& frame, const Camera& camera) {
+  Image8 image = frame.readColor();
+  const std::vector<float> depth = frame.readDepth();  // bottom row first, reversed-Z
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const float d = depth[static_cast<size_t>(image.height - 1 - y) * image.width + x];
+      if (!(d > 0.0f)) continue;  // sky
+      const double z = camera.near * camera.far / (camera.near + d * (camera.far - camera.near));
+      const glm::vec3 tint = kSlice[frame.cascadeOf(z)];
+      for (int c = 0; c < 3; ++c)
+        image.at(x, y, c) = static_cast<std::uint8_t>(std::lround(0.5f * image.at(x, y, c) + 0.5f * 255.0f * tint[c]));
+    }
+  return image;
 }
 
 Image8 shadowMapPicture(const std::vector<float>& depth, int size) {

@@ -10,6 +10,7 @@
 #include "frame_uniforms.hpp"
 #include "geometry_pass.hpp"
 #include "lighting_pass.hpp"
+#include "nearest_depth_pass.hpp"
 #include "shadow_pass.hpp"
 #include "shadow_setup_pass.hpp"
 #include "shadow_term_pass.hpp"
@@ -32,9 +33,23 @@ void validate(const FrameSettings& settings) {
     throw InputError("lookup shift: expected finite texels");
   if (!(settings.blurReferenceDepth > 0.0) || !std::isfinite(settings.blurReferenceDepth))
     throw InputError(fmt::format("blur reference depth {}: expected > 0 m", settings.blurReferenceDepth));
+  if (settings.cascades && (*settings.cascades < 1 || *settings.cascades > shadows::kMaxCascades))
+    throw InputError(fmt::format("cascades {}: expected 1 to {}", *settings.cascades, shadows::kMaxCascades));
+  if (settings.splitLambda && !(*settings.splitLambda >= 0.0 && *settings.splitLambda <= 1.0))
+    throw InputError(fmt::format("split lambda {}: expected 0 to 1", *settings.splitLambda));
+  if (settings.cascadeBlend && !(*settings.cascadeBlend >= 0.0 && *settings.cascadeBlend <= 0.5))
+    throw InputError(fmt::format("cascade blend {}: expected 0 to 0.5", *settings.cascadeBlend));
 }
 
 }  // namespace
+
+ShadowSettings resolveCascades(const FrameSettings& settings, const Scene& scene) {
+  ShadowSettings s = scene.shadows;
+  s.cascades = settings.cascades.value_or(s.cascades);
+  s.split_lambda = settings.splitLambda.value_or(s.split_lambda);
+  s.cascade_blend = settings.cascadeBlend.value_or(s.cascade_blend);
+  return s;
+}
 
 gl::TimingMode defaultTimingMode(const gl::ContextInfo& info) {
   return info.softwareRenderer ? gl::TimingMode::Profiling : gl::TimingMode::GpuQueries;
@@ -86,6 +101,7 @@ std::string_view casterSelectionName(CasterSelection selection) {
 // The passes in the order they run (DESIGN §1), with their GPU resources.
 struct Frame::Passes {
   GeometryPass geometry;
+  NearestDepthPass nearestDepth;  // for the cascades' splits
   ShadowSetupPass shadowSetup;
   ShadowPlan plan;  // the shadow setup pass's output, kept from the last frame with sun and receivers
   ShadowPass shadow;
@@ -144,6 +160,7 @@ void Frame::objectsMoved() {
 void Frame::resetHistory() {
   culler_.reset();
   passes_->shadowSetup.reset();
+  passes_->nearestDepth.reset();
   haveVisibleSet_ = false;
 }
 
@@ -176,9 +193,17 @@ Camera Frame::cameraAt(const CameraPose& pose, bool aboveGround) const {
   return camera;
 }
 
-const shadows::ShadowSetup& Frame::shadowSetup() const { return passes_->plan.setup; }
-const std::vector<std::uint32_t>& Frame::casters() const { return passes_->plan.casters; }
-const Camera& Frame::shadowCamera() const { return passes_->plan.camera; }
+int Frame::cascadeCount() const { return passes_->plan.cascades; }
+int Frame::cascadeOf(double eyeDepth) const { return passes_->plan.sliceOf(eyeDepth); }
+
+const ShadowSlice& Frame::slice(int index) const {
+  if (index < 0 || index >= passes_->plan.cascades)
+    throw InputError(fmt::format("shadow slice {}: the last frame had {}", index, passes_->plan.cascades));
+  return passes_->plan.slices[static_cast<size_t>(index)];
+}
+const shadows::ShadowSetup& Frame::shadowSetup(int index) const { return slice(index).setup; }
+const std::vector<std::uint32_t>& Frame::casters(int index) const { return slice(index).casters; }
+const Camera& Frame::shadowCamera(int index) const { return slice(index).camera; }
 
 FrameStats Frame::render(const Camera& camera, double time, const FrameSettings& settings) {
   validate(settings);
@@ -210,18 +235,24 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   stats.geometryTriangles = visible.stats.trianglesDrawn;
   stats.farDepth = visible.farDepth;
 
-  // 2. Shadow setup from the visible set: B, the method's matrices, the casters.
+  // 2. Shadow setup from the visible set, per slice: B, the method's matrices, the casters. With
+  // cascades, the splits start from the nearest visible depth (NearestDepthPass).
+  const ShadowSettings cascades = resolveCascades(settings, scene_);
   {
     auto timed = timer.scope(kFramePassNames[1]);
-    p.shadowSetup.run(camera, visible, settings, l, stats.sunBelowHorizon, *objects_, sceneBounds_, p.plan, stats);
+    std::optional<double> nearest;
+    if (cascades.cascades > 1) nearest = p.nearestDepth.run(p.geometry.gbuffer().depth, camera);
+    p.shadowSetup.run(camera, visible, settings, cascades, nearest, l, stats.sunBelowHorizon, *objects_, sceneBounds_, p.plan,
+                      stats);
   }
-  stats.casterObjects = static_cast<int>(p.plan.casters.size());
+  stats.casterObjects = 0;
+  for (int i = 0; i < p.plan.cascades; ++i) stats.casterObjects += static_cast<int>(p.plan.slices[static_cast<size_t>(i)].casters.size());
   visibleObjects_ = visible.visibleObjects;
 
-  // 3. Shadow pass.
+  // 3. Shadow pass, a layer per slice.
   {
     auto timed = timer.scope(kFramePassNames[2]);
-    stats.shadowTriangles = p.shadow.run(p.plan, eye, eyeLod, settings, l);
+    stats.shadowTriangles = p.shadow.run(p.plan, eye, eyeLod, settings, l, stats);
   }
 
   // 4. The frame block holds what the full-screen passes read. With the blur on: the shadow term
@@ -303,12 +334,15 @@ std::vector<std::uint32_t> Frame::readObjectIds() const {
 
 int Frame::shadowMapSize() const { return passes_->shadow.size(); }
 
-std::vector<float> Frame::readShadowMap() const {
+std::vector<float> Frame::readShadowMap(int layer) const {
   const int size = passes_->shadow.size();
   std::vector<float> v(static_cast<size_t>(size) * size);
   if (size == 0) return v;
+  if (layer < 0 || layer >= passes_->shadow.layers())
+    throw InputError(fmt::format("shadow map layer {}: the map has {}", layer, passes_->shadow.layers()));
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glGetTextureImage(passes_->shadow.map().id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, static_cast<GLsizei>(v.size() * 4), v.data());
+  glGetTextureSubImage(passes_->shadow.map().id(), 0, 0, 0, layer, size, size, 1, GL_DEPTH_COMPONENT, GL_FLOAT,
+                       static_cast<GLsizei>(v.size() * 4), v.data());
   return v;
 }
 

@@ -8,15 +8,16 @@ namespace forest::render {
 FrameBlock frameBlock(const Camera& camera, const ShadowPlan& plan, const FrameSettings& settings, const Scene& scene,
                       const glm::dvec3& l, bool sunUp) {
   FrameBlock b;
-  glm::dmat4 lookup = eyeRelativeToShadowClip(plan.setup, camera.position);
-  if (settings.lookupShiftTexels != glm::dvec2(0.0)) {
-    glm::dmat4 shift(1.0);  // clip x, y += 2·shift/size · w
-    shift[3][0] = 2.0 * settings.lookupShiftTexels.x / settings.shadowMapSize;
-    shift[3][1] = 2.0 * settings.lookupShiftTexels.y / settings.shadowMapSize;
-    lookup = shift * lookup;
+  glm::dmat4 shift(1.0);  // clip x, y += 2·shift/size · w
+  shift[3][0] = 2.0 * settings.lookupShiftTexels.x / settings.shadowMapSize;
+  shift[3][1] = 2.0 * settings.lookupShiftTexels.y / settings.shadowMapSize;
+  for (int i = 0; i < plan.cascades; ++i) {
+    const ShadowSlice& slice = plan.slices[static_cast<size_t>(i)];
+    b.eyeRelativeToShadow[i] = glm::mat4(shift * eyeRelativeToShadowClip(slice.setup, camera.position));
+    b.eyeRelativeLightDepth[i] = slice.setup.eyeRelativeToLightDepthF;
+    b.cascadeEnds[i] = static_cast<float>(slice.to);
   }
-  b.eyeRelativeToShadow = glm::mat4(lookup);
-  b.eyeRelativeLightDepth = plan.setup.eyeRelativeToLightDepthF;
+  b.cascadeBlend = glm::vec4(static_cast<float>(plan.blend), 0.0f, 0.0f, 0.0f);
   const glm::mat3 rays = pixelRays(camera);
   for (int c = 0; c < 3; ++c) b.rays[c] = glm::vec4(rays[c], 0.0f);
   b.toSunUp = glm::vec4(glm::vec3(-l), sunUp ? 1.0f : 0.0f);
@@ -25,7 +26,7 @@ FrameBlock frameBlock(const Camera& camera, const ShadowPlan& plan, const FrameS
   b.nearFar = glm::vec4(static_cast<float>(camera.near), static_cast<float>(camera.far), 0.0f, 0.0f);
   b.blur = glm::vec4(static_cast<float>(settings.blurRadius), static_cast<float>(settings.blurReferenceDepth),
                      static_cast<float>(kBlurDepthTolerance), 0.0f);
-  b.modes = glm::ivec4(settings.pcfRadius, plan.setup.linearDepth ? 1 : 0, 0, plan.shadowed ? 1 : 0);
+  b.modes = glm::ivec4(settings.pcfRadius, plan.slices[0].setup.linearDepth ? 1 : 0, plan.cascades, plan.shadowed ? 1 : 0);
   return b;
 }
 

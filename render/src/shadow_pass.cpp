@@ -3,6 +3,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <chrono>
 
 #include "forest/shadows/casters.hpp"
 #include "forest/shadows/focus_body.hpp"
@@ -65,9 +66,9 @@ void ShadowPass::ensureLightDepthRenderers() {
                                                     propsLightDepth_.get(), DrawView{}, nullptr);
 }
 
-void ShadowPass::ensureMap(int size) {
-  if (size == size_) return;
-  map_ = gl::Texture(GL_DEPTH_COMPONENT32F, size, size);
+void ShadowPass::ensureMap(int size, int layers) {
+  if (size == size_ && layers == layers_) return;
+  map_ = gl::Texture(GL_DEPTH_COMPONENT32F, size, size, 1, layers);
   // Hardware 2×2 PCF: linear filtering of depth comparisons.
   glTextureParameteri(map_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
   glTextureParameteri(map_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -75,22 +76,44 @@ void ShadowPass::ensureMap(int size) {
   glTextureParameteri(map_.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
   glTextureParameteri(map_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   glTextureParameteri(map_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  framebuffer_ = gl::Framebuffer();
-  framebuffer_.attach(GL_DEPTH_ATTACHMENT, map_);
-  glNamedFramebufferDrawBuffer(framebuffer_.id(), GL_NONE);
-  framebuffer_.checkComplete("shadow map");
+  framebuffers_.clear();
+  for (int layer = 0; layer < layers; ++layer) {
+    gl::Framebuffer& framebuffer = framebuffers_.emplace_back();
+    framebuffer.attachLayer(GL_DEPTH_ATTACHMENT, map_, layer);
+    glNamedFramebufferDrawBuffer(framebuffer.id(), GL_NONE);
+    framebuffer.checkComplete("shadow map layer");
+  }
   size_ = size;
+  layers_ = layers;
 }
 
 long long ShadowPass::run(const ShadowPlan& plan, const DrawView& eye, const terrain::TerrainLod* lod,
-                          const FrameSettings& settings, const dvec3& l) {
-  ensureMap(settings.shadowMapSize);
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
-  glViewport(0, 0, size_, size_);
-  const float nearLight = 1.0f;
-  glClearBufferfv(GL_DEPTH, 0, &nearLight);
-  const shadows::ShadowSetup& setup = plan.setup;
-  if (!plan.shadowed || setup.empty) return 0;
+                          const FrameSettings& settings, const dvec3& l, FrameStats& stats) {
+  ensureMap(settings.shadowMapSize, plan.cascades);
+  long long triangles = 0;
+  const bool profiling = settings.timing == gl::TimingMode::Profiling;
+  for (int i = 0; i < plan.cascades; ++i) {
+    const auto start = std::chrono::steady_clock::now();
+    glBindFramebuffer(GL_FRAMEBUFFER, framebuffers_[static_cast<size_t>(i)].id());
+    glViewport(0, 0, size_, size_);
+    const float nearLight = 1.0f;
+    glClearBufferfv(GL_DEPTH, 0, &nearLight);
+    const ShadowSlice& slice = plan.slices[static_cast<size_t>(i)];
+    const long long drawn = plan.shadowed && !slice.setup.empty ? drawSlice(slice, eye, lod, settings, l) : 0;
+    CascadeStats& out = stats.cascade[static_cast<size_t>(i)];
+    out.triangles = drawn;
+    triangles += drawn;
+    if (profiling) {  // serialised like the pass timer's own brackets (gl::TimingMode::Profiling)
+      glFinish();
+      out.shadowMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    }
+  }
+  return triangles;
+}
+
+long long ShadowPass::drawSlice(const ShadowSlice& slice, const DrawView& eye, const terrain::TerrainLod* lod,
+                                const FrameSettings& settings, const dvec3& l) {
+  const shadows::ShadowSetup& setup = slice.setup;
   glDepthFunc(GL_LESS);
   // Which faces are "front" for the light: a face turned toward the sun must wind
   // counter-clockwise in the shadow map, unless the light matrix mirrors its image plane.
@@ -111,10 +134,10 @@ long long ShadowPass::run(const ShadowPlan& plan, const DrawView& eye, const ter
     light.depthSlopeBias = settings.slopeScaleBias;
     glDisable(GL_POLYGON_OFFSET_FILL);
     lightDepthDrawer_->setView(light, lod);
-    triangles = lightDepthDrawer_->draw(plan.casters);
+    triangles = lightDepthDrawer_->draw(slice.casters);
   } else {
     drawer_->setView(light, lod);
-    triangles = drawer_->draw(plan.casters);
+    triangles = drawer_->draw(slice.casters);
   }
   glDisable(GL_POLYGON_OFFSET_FILL);
   glFrontFace(GL_CCW);

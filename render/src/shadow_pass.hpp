@@ -1,7 +1,7 @@
 #pragma once
 // Pass 3 of the frame (thesis §5.1, §9.3): the selected casters only, front faces culled
-// (backside rendering), into a float depth map, drawn at the eye's LOD; tsm writes the linear
-// light depth (TSM §4).
+// (backside rendering), into a float depth map — one layer of an array texture per slice of the
+// plan (cascades) — drawn at the eye's LOD; tsm writes the linear light depth (TSM §4).
 #include <memory>
 #include <vector>
 
@@ -20,17 +20,21 @@ class ShadowPass {
   ShadowPass(const SceneObjects& objects, const terrain::Terrain* terrain, const vegetation::Forest* forest,
              const std::vector<PropBox>& props);
 
-  // Clears the map (to the far depth) and draws the plan's casters when it is shadowed. Returns
-  // the triangles drawn.
+  // Clears each slice's layer (to the far depth) and draws its casters when the plan is shadowed.
+  // Returns the triangles drawn; each slice's triangles (and, with Profiling timing, its time) go
+  // into stats.cascade.
   long long run(const ShadowPlan& plan, const DrawView& eye, const terrain::TerrainLod* lod, const FrameSettings& settings,
-                const glm::dvec3& l);
+                const glm::dvec3& l, FrameStats& stats);
   void propsMoved(const std::vector<PropBox>& props);
 
-  const gl::Texture& map() const { return map_; }
+  const gl::Texture& map() const { return map_; }  // a 2D array texture, one layer per slice
   int size() const { return size_; }
+  int layers() const { return layers_; }
 
  private:
-  void ensureMap(int size);
+  void ensureMap(int size, int layers);
+  long long drawSlice(const ShadowSlice& slice, const DrawView& eye, const terrain::TerrainLod* lod,
+                      const FrameSettings& settings, const glm::dvec3& l);
   void ensureLightDepthRenderers();  // the TSM renderers, built on first use
 
   const SceneObjects& objects_;
@@ -42,8 +46,8 @@ class ShadowPass {
   std::unique_ptr<PropRenderer> props_, propsLightDepth_;
   std::unique_ptr<SceneDrawer> drawer_, lightDepthDrawer_;  // kept: their lists are reused
   gl::Texture map_;
-  gl::Framebuffer framebuffer_;
-  int size_ = 0;
+  std::vector<gl::Framebuffer> framebuffers_;  // one per layer
+  int size_ = 0, layers_ = 0;
 };
 
 }  // namespace forest::render

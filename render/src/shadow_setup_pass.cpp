@@ -65,86 +65,168 @@ Aabb grownByFilter(Aabb box, const shadows::ShadowSetup& setup, int mapSize, dou
 
 }  // namespace
 
+int ShadowPlan::sliceOf(double eyeDepth) const {
+  int slice = 0;
+  while (slice + 1 < cascades && eyeDepth >= slices[static_cast<size_t>(slice)].to) ++slice;
+  return slice;
+}
+
 // Casters of the visible receivers (DESIGN §4, Bittner et al. 2011): only the part of a receiver
-// inside the view (up to z_f) receives visible shadows, so each box is clipped to V first (a
-// 125 m terrain tile at the edge of the view does not pull in the casters of its unseen part),
-// then grown by the filter's footprint.
-void ShadowSetupPass::selectCastersOfReceivers(const Camera& shadowCamera, const shadows::ShadowSetup& setup,
-                                               const FrameSettings& settings, const dvec3& l, const SceneObjects& objects,
-                                               const Aabb& sceneBounds, std::vector<std::uint32_t>& casters) {
-  const ConvexBody view = shadows::viewFrustumBody(shadowCamera);
-  const Frustum viewPlanes(shadowCamera);
+// inside the slice's view receives shadows from its layer, so each box is clipped to that view
+// first (a 125 m terrain tile at the edge of the view does not pull in the casters of its unseen
+// part), then grown by the filter's footprint in the slice's map.
+void ShadowSetupPass::selectCastersOfReceivers(const ShadowSlice& slice, const FrameSettings& settings, const dvec3& l,
+                                               const SceneObjects& objects, const Aabb& sceneBounds,
+                                               std::vector<std::uint32_t>& casters) {
+  const ConvexBody view = shadows::viewFrustumBody(slice.camera);
+  const Frustum viewPlanes(slice.camera);
   const double reach = filterReachTexels(settings.pcfRadius) + kFilterMarginTexels;
   footprints_.clear();
-  for (const Aabb& receiver : receivers_) {
+  for (const Aabb& receiver : sliceReceivers_) {
     // Most receivers (trees) lie wholly inside V: clipping would return the box itself.
     if (viewPlanes.contains(receiver)) {
-      footprints_.push_back(grownByFilter(receiver, setup, settings.shadowMapSize, reach, l, sceneBounds));
+      footprints_.push_back(grownByFilter(receiver, slice.setup, settings.shadowMapSize, reach, l, sceneBounds));
       continue;
     }
     ConvexBody part = ConvexBody::fromBox(receiver);
     part.clip(view);
-    if (!part.empty()) footprints_.push_back(grownByFilter(part.bounds(), setup, settings.shadowMapSize, reach, l, sceneBounds));
+    if (!part.empty()) footprints_.push_back(grownByFilter(part.bounds(), slice.setup, settings.shadowMapSize, reach, l, sceneBounds));
   }
   selector_.rebuild(l, footprints_);
   selector_.select(objects.boxes(), casters);
 }
 
-void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& visible, const FrameSettings& settings,
-                          const dvec3& l, bool sunBelowHorizon, const SceneObjects& objects, const Aabb& sceneBounds,
-                          ShadowPlan& plan, FrameStats& stats) {
-  std::vector<Aabb>& receivers = receivers_;
-  receivers.clear();
-  // Room for every object as receiver and caster (a frame then never grows these lists).
-  receivers_.reserve(objects.boxes().size());
-  footprints_.reserve(objects.boxes().size());
-  plan.casters.reserve(objects.boxes().size());
-  selector_.reserve(objects.boxes().size());
-  Aabb receiverBounds;
-  for (std::uint32_t o : visible.visibleObjects) {
-    receivers.push_back(objects.boxes()[o]);
-    receiverBounds.extend(objects.boxes()[o]);
-  }
-  plan.shadowed = !sunBelowHorizon && !receivers.empty() && sceneBounds.valid();
-  plan.casters.clear();
-  if (!plan.shadowed) return;
-  shadows::ShadowInput input;
-  input.camera = camera;
-  const bool onReceivers = settings.focus == FocusBound::Receivers;
-  if (onReceivers) input.camera.far = std::max(visible.farDepth, camera.near * 1.001);
-  input.sunDirection = l;
-  input.scene = sceneBounds;
-  if (onReceivers) input.receivers = receiverBounds;
-  // n over time (§9.2.5, shadows::kNearDistanceSmoothing): from the last frame's n, both ways.
-  if (settings.method == shadows::ShadowMethod::Lispsm && previousN_ > 0.0) input.previousN = previousN_;
-  input.mapSize = settings.shadowMapSize;
-  input.borderTexels = mapBorderTexels(settings.pcfRadius);
-  if (settings.method == shadows::ShadowMethod::UniformStable && stableRadius_ > 0.0) input.previousStableRadius = stableRadius_;
-  if (const std::optional<std::string> outside = shadows::outsideShadowDomain(input)) {
-    // A view too shallow for float32 this far from the origin: no shadows this frame, and why.
-    plan.shadowed = false;
-    stats.shadow.fallback = *outside;
-    return;
-  }
-  plan.camera = input.camera;
-  plan.setup = shadows::computeShadowSetup(input, settings.method);
-  stats.shadow = plan.setup.diagnostics;
-  if (settings.method == shadows::ShadowMethod::UniformStable) stableRadius_ = plan.setup.diagnostics.stableRadius;
-  previousN_ = settings.method == shadows::ShadowMethod::Lispsm && !plan.setup.empty ? plan.setup.diagnostics.n : 0.0;
-  switch (settings.casters) {
-    case CasterSelection::Receivers:
-      selectCastersOfReceivers(input.camera, plan.setup, settings, l, objects, sceneBounds, plan.casters);
-      break;
-    case CasterSelection::FrustumBody: {
-      const ConvexBody body = shadows::computeFocusBody(camera, l, sceneBounds);
-      for (std::uint32_t o = 0; o < objects.boxes().size(); ++o)
-        if (shadows::mayIntersect(body, objects.boxes()[o])) plan.casters.push_back(o);
-      break;
+// Zhang et al. 2006 eq. (4) on [z_near, z_f], z_near the nearest visible depth (SDSM, Lauritzen et
+// al. 2011: the first slice then starts where the view's content does, not at the near plane, 0.2 m
+// against ~3 m to the ground in a standing view). The first slice still serves everything from the
+// camera's near plane on. The inner splits move over time like n (kNearDistanceSmoothing of the way
+// in log depth per frame, both ways), so a jump of z_f or z_near does not move every slice's texels
+// at once; a smoothed split that would leave the range or the order takes the new value.
+shadows::SplitDepths ShadowSetupPass::splitsFor(const Camera& camera, double farDepth, std::optional<double> nearestDepth,
+                                                const ShadowSettings& cascades) {
+  double zNear = std::clamp(nearestDepth.value_or(camera.near), camera.near, farDepth);
+  if (!(zNear * (1.0 + 1e-6) < farDepth)) zNear = camera.near;
+  shadows::SplitDepths splits = shadows::cascadeSplits(zNear, farDepth, cascades.cascades, cascades.split_lambda);
+  splits[0] = camera.near;
+  const int k = cascades.cascades;
+  if (previousSplits_.cascades == k)
+    for (int i = 1; i < k; ++i) {
+      const size_t s = static_cast<size_t>(i);
+      const double target = splits[s];
+      const double smoothed = std::exp(std::log(previousSplits_[s]) + shadows::kNearDistanceSmoothing * (std::log(target) - std::log(previousSplits_[s])));
+      if (smoothed > splits[s - 1] && smoothed < farDepth) splits[s] = smoothed;
     }
-    case CasterSelection::All:
-      for (std::uint32_t o = 0; o < objects.boxes().size(); ++o) plan.casters.push_back(o);
-      break;
+  for (int i = 1; i < k; ++i)  // the order, whatever the smoothing kept
+    if (!(splits[static_cast<size_t>(i)] > splits[static_cast<size_t>(i) - 1])) splits[static_cast<size_t>(i)] = 0.5 * (splits[static_cast<size_t>(i) - 1] + farDepth);
+  previousSplits_ = splits;
+  return splits;
+}
+
+void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& visible, const FrameSettings& settings,
+                          const ShadowSettings& cascades, std::optional<double> nearestDepth, const dvec3& l,
+                          bool sunBelowHorizon, const SceneObjects& objects, const Aabb& sceneBounds, ShadowPlan& plan,
+                          FrameStats& stats) {
+  // Room for every object as receiver and caster (a frame then never grows these lists).
+  const size_t objectCount = objects.boxes().size();
+  receivers_.reserve(objectCount);
+  sliceReceivers_.reserve(objectCount);
+  receiverDepths_.reserve(objectCount);
+  footprints_.reserve(objectCount);
+  selector_.reserve(objectCount);
+  receivers_.clear();
+  for (std::uint32_t o : visible.visibleObjects) receivers_.push_back(objects.boxes()[o]);
+  const int k = cascades.cascades;
+  plan.cascades = k;
+  plan.blend = cascades.cascade_blend;
+  stats.cascades = k;
+  stats.splitLambda = cascades.split_lambda;
+  stats.cascadeBlend = cascades.cascade_blend;
+  for (ShadowSlice& slice : plan.slices) {
+    slice.casters.reserve(objectCount);
+    slice.casters.clear();
   }
+  plan.shadowed = !sunBelowHorizon && !receivers_.empty() && sceneBounds.valid();
+  if (!plan.shadowed) return;
+
+  const bool onReceivers = settings.focus == FocusBound::Receivers;
+  const double farDepth = onReceivers ? std::max(visible.farDepth, camera.near * 1.001) : camera.far;
+  const shadows::SplitDepths splits = splitsFor(camera, farDepth, nearestDepth, cascades);
+  stats.nearestDepth = nearestDepth.value_or(camera.near);
+  // Each receiver's eye-depth range, for the slices it reaches.
+  const dvec3 forward = camera.forward();
+  receiverDepths_.clear();
+  for (const Aabb& box : receivers_) {
+    dvec2 range(std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity());
+    for (int c = 0; c < 8; ++c) {
+      const double depth = glm::dot(box.corner(c) - camera.position, forward);
+      range = dvec2(std::min(range.x, depth), std::max(range.y, depth));
+    }
+    receiverDepths_.push_back(range);
+  }
+
+  for (int i = 0; i < k; ++i) {
+    ShadowSlice& slice = plan.slices[static_cast<size_t>(i)];
+    const size_t s = static_cast<size_t>(i);
+    slice.from = splits[s];
+    slice.to = splits[s + 1];
+    // B reaches past the split into the next slice's blend band (its pixels mix both layers).
+    slice.camera = shadows::sliceCamera(camera, splits, i, plan.blend);
+    sliceReceivers_.clear();
+    Aabb sliceBounds;
+    for (size_t r = 0; r < receivers_.size(); ++r)
+      if (receiverDepths_[r].y >= slice.camera.near && receiverDepths_[r].x <= slice.camera.far) {
+        sliceReceivers_.push_back(receivers_[r]);
+        sliceBounds.extend(receivers_[r]);
+      }
+
+    shadows::ShadowInput input;
+    input.camera = slice.camera;
+    input.sunDirection = l;
+    input.scene = sceneBounds;
+    if (onReceivers) input.receivers = sliceBounds;
+    // n over time (§9.2.5, shadows::kNearDistanceSmoothing): from the last frame's n, both ways.
+    if (settings.method == shadows::ShadowMethod::Lispsm && previousN_[s] > 0.0) input.previousN = previousN_[s];
+    input.mapSize = settings.shadowMapSize;
+    input.borderTexels = mapBorderTexels(settings.pcfRadius);
+    if (settings.method == shadows::ShadowMethod::UniformStable && stableRadius_[s] > 0.0) input.previousStableRadius = stableRadius_[s];
+    if (const std::optional<std::string> outside = shadows::outsideShadowDomain(input)) {
+      // A view too shallow for float32 this far from the origin: no shadows this frame, and why.
+      plan.shadowed = false;
+      stats.shadow.fallback = *outside;
+      return;
+    }
+    if (onReceivers && sliceReceivers_.empty()) {
+      slice.setup = shadows::ShadowSetup{};  // nothing visible at these depths: the layer stays clear
+      slice.setup.diagnostics.fallback = "no receivers in the slice";
+    } else {
+      slice.setup = shadows::computeShadowSetup(input, settings.method);
+    }
+    if (settings.method == shadows::ShadowMethod::UniformStable) stableRadius_[s] = slice.setup.diagnostics.stableRadius;
+    previousN_[s] = settings.method == shadows::ShadowMethod::Lispsm && !slice.setup.empty ? slice.setup.diagnostics.n : 0.0;
+    if (!slice.setup.empty) {
+      switch (settings.casters) {
+        case CasterSelection::Receivers:
+          selectCastersOfReceivers(slice, settings, l, objects, sceneBounds, slice.casters);
+          break;
+        case CasterSelection::FrustumBody: {
+          const ConvexBody body = shadows::computeFocusBody(slice.camera, l, sceneBounds);
+          for (std::uint32_t o = 0; o < objectCount; ++o)
+            if (shadows::mayIntersect(body, objects.boxes()[o])) slice.casters.push_back(o);
+          break;
+        }
+        case CasterSelection::All:
+          for (std::uint32_t o = 0; o < objectCount; ++o) slice.casters.push_back(o);
+          break;
+      }
+    }
+    CascadeStats& out = stats.cascade[s];
+    out.fromM = slice.from;
+    out.toM = slice.to;
+    out.n = slice.setup.diagnostics.n;
+    out.gammaDeg = slice.setup.diagnostics.gammaDeg;
+    out.casters = static_cast<int>(slice.casters.size());
+  }
+  stats.shadow = plan.slices[0].setup.diagnostics;
 }
 
 }  // namespace forest::render

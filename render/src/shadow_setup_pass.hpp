@@ -1,51 +1,72 @@
 #pragma once
-// Pass 2 of the frame (DESIGN §1, thesis §9.2): from the visible set to the light — the focus body
-// B of the visible receivers up to z_f, the shadow setup of the chosen method (n smoothed over
-// time, §9.2.5), and the casters the shadow pass draws. CPU only.
+// Pass 2 of the frame (DESIGN §1, §4, thesis §9.2): from the visible set to the light. The visible
+// depth range is split into slices (one without cascades; Zhang et al. 2006 eq. 4 between the
+// nearest visible depth and z_f); per slice the focus body B of its visible receivers, the shadow
+// setup of the chosen method (n smoothed over time, §9.2.5) and the casters its layer draws. CPU only.
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "forest/culling/occlusion_culler.hpp"
 #include "forest/render/frame.hpp"
 #include "forest/render/scene_objects.hpp"
+#include "forest/shadows/cascades.hpp"
 #include "forest/shadows/casters.hpp"
 #include "forest/shadows/shadow_setup.hpp"
 
 namespace forest::render {
 
+// One slice's part of the plan.
+struct ShadowSlice {
+  double from = 0.0, to = 0.0;          // eye depths it serves: [from, to)
+  Camera camera;                        // the eye camera with near, far = the ends of its focus body (shadows::sliceCamera)
+  shadows::ShadowSetup setup;
+  std::vector<std::uint32_t> casters;   // object indices
+};
+
 // What the shadow pass and the shadow term work from. Kept from the last frame that had a sun and
 // receivers.
 struct ShadowPlan {
-  bool shadowed = false;               // sun up, something visible: the map is drawn
-  shadows::ShadowSetup setup;
-  std::vector<std::uint32_t> casters;  // object indices
-  Camera camera;                       // the eye camera with far = z_f (what B was built from)
+  bool shadowed = false;  // sun up, something visible: the map is drawn
+  int cascades = 1;
+  double blend = 0.0;     // the blend band's share of a split's distance
+  std::array<ShadowSlice, shadows::kMaxCascades> slices;
+  // The slice a pixel at eye depth z reads (the shader's choice, shadow_lookup.frag).
+  int sliceOf(double eyeDepth) const;
 };
 
 class ShadowSetupPass {
  public:
   // Fills `plan` (and the shadow statistics) for this frame's visible set. `l`: the unit light
-  // direction; `sceneBounds`: S.
+  // direction; `sceneBounds`: S; `nearestDepth`: the nearest visible eye depth when known (the
+  // first slice's split scheme starts there).
   void run(const Camera& camera, const culling::CullingResult& visible, const FrameSettings& settings,
-           const glm::dvec3& l, bool sunBelowHorizon, const SceneObjects& objects, const Aabb& sceneBounds,
-           ShadowPlan& plan, FrameStats& stats);
-  // Forgets the smoothed n and the stable map's radius (a camera cut).
+           const ShadowSettings& cascades, std::optional<double> nearestDepth, const glm::dvec3& l, bool sunBelowHorizon,
+           const SceneObjects& objects, const Aabb& sceneBounds, ShadowPlan& plan, FrameStats& stats);
+  // Forgets the smoothed n and splits and the stable maps' radii (a camera cut).
   void reset() {
-    previousN_ = 0.0;
-    stableRadius_ = 0.0;
+    previousN_.fill(0.0);
+    stableRadius_.fill(0.0);
+    previousSplits_ = {};
   }
 
  private:
-  // Casters of the visible receivers (DESIGN §4): each receiver's part inside the view, grown by
-  // the filter's footprint, swept along the light (shadows::CasterSelector).
-  void selectCastersOfReceivers(const Camera& shadowCamera, const shadows::ShadowSetup& setup, const FrameSettings& settings,
-                                const glm::dvec3& l, const SceneObjects& objects, const Aabb& sceneBounds,
-                                std::vector<std::uint32_t>& casters);
+  // The split depths of [camera near, z_f]: Zhang's scheme from z_near, the inner splits smoothed.
+  shadows::SplitDepths splitsFor(const Camera& camera, double farDepth, std::optional<double> nearestDepth,
+                                 const ShadowSettings& cascades);
+  // Casters of the slice's receivers (DESIGN §4): each receiver's part inside the slice's view,
+  // grown by the filter's footprint, swept along the light (shadows::CasterSelector).
+  void selectCastersOfReceivers(const ShadowSlice& slice, const FrameSettings& settings, const glm::dvec3& l,
+                                const SceneObjects& objects, const Aabb& sceneBounds, std::vector<std::uint32_t>& casters);
 
-  double previousN_ = 0.0;     // lispsm: the last frame's n (ShadowInput::previousN); 0: none
-  double stableRadius_ = 0.0;  // uniform-stable: the last map radius (ShadowInput::previousStableRadius)
+  // Per slice, the last frame's lispsm n (ShadowInput::previousN) and uniform-stable radius
+  // (ShadowInput::previousStableRadius); 0: none.
+  std::array<double, shadows::kMaxCascades> previousN_{}, stableRadius_{};
+  shadows::SplitDepths previousSplits_;  // cascades 0: none
   // Kept from frame to frame, so a steady-state frame allocates nothing (DESIGN §9).
-  std::vector<Aabb> receivers_, footprints_;
+  std::vector<Aabb> receivers_, sliceReceivers_, footprints_;
+  std::vector<glm::dvec2> receiverDepths_;  // each receiver's eye-depth range
   shadows::CasterSelector selector_;
 };
 

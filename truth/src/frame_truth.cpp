@@ -121,8 +121,8 @@ FrameError evaluateFrame(const render::Frame& frame, const render::FrameStats& s
   int wrong = 0, wrongNear = 0, falseShadow = 0, falseLight = 0;
   double softError = 0.0, softErrorUnblurred = 0.0;
   std::vector<double> aliasingPixels, aliasingRelative;
-  const shadows::ShadowSetup& setup = frame.shadowSetup();
   const int mapSize = frame.shadowMapSize();
+  const dvec3 forward = camera.forward();
   e.errorImage = Image8(width, height, 3);
   e.truthState.assign(truth.size(), -1);
   for (size_t k = 0; k <= options.bandEdges.size(); ++k) {
@@ -175,6 +175,8 @@ FrameError evaluateFrame(const render::Frame& frame, const render::FrameStats& s
       }
       softError += std::abs(static_cast<double>(blurred[i]) - t.soft);
       softErrorUnblurred += std::abs(static_cast<double>(term[i]) - t.soft);
+      // The slice whose layer the pixel reads, by its eye depth (in a blend band, the farther one).
+      const shadows::ShadowSetup& setup = frame.shadowSetup(frame.cascadeOf(glm::dot(t.position - camera.position, forward)));
       if (!setup.empty) {
         const auto a = shadows::surfaceAliasing(setup, camera, t.position, t.normal, l, mapSize, width, height);
         if (a && std::isfinite(a->footprint)) aliasingPixels.push_back(a->footprint);
@@ -206,7 +208,8 @@ FrameError evaluateFrame(const render::Frame& frame, const render::FrameStats& s
     e.casters.neededTriangles += static_cast<long long>(rays.triangles(id));
     needed.insert(frame.objects().objectOfId(id));
   }
-  const std::set<std::uint32_t> selected(frame.casters().begin(), frame.casters().end());
+  std::set<std::uint32_t> selected;  // in any slice's layer
+  for (int slice = 0; slice < frame.cascadeCount(); ++slice) selected.insert(frame.casters(slice).begin(), frame.casters(slice).end());
   e.casters.selected = static_cast<int>(selected.size());
   e.casters.selectedTriangles = stats.shadowTriangles;
   for (std::int64_t object : needed) {
@@ -246,20 +249,20 @@ FlickerResult measureFlicker(render::Frame& frame, const Scene& scene, std::span
   std::vector<int> previous(probes.size(), -1);
   for (size_t c = 0; c < cameras.size(); ++c) {
     if (c > 0) frame.render(cameras[c], time, settings);
-    const shadows::ShadowSetup& setup = frame.shadowSetup();
-    if (setup.empty) {
-      std::fill(previous.begin(), previous.end(), -1);
-      continue;
-    }
     const int size = frame.shadowMapSize();
-    const std::vector<float> map = frame.readShadowMap();
-    auto stored = [&](int tx, int ty) {
-      tx = std::clamp(tx, 0, size - 1);
-      ty = std::clamp(ty, 0, size - 1);
-      return map[static_cast<size_t>(ty) * size + tx];
-    };
+    std::vector<std::vector<float>> maps;  // per slice
+    for (int slice = 0; slice < frame.cascadeCount(); ++slice) maps.push_back(frame.readShadowMap(slice));
     for (size_t p = 0; p < probes.size(); ++p) {
-      const dvec3 m = shadows::shadowMapCoordinates(setup, probes[p]);
+      // The probe's slice in this frame, by its eye depth.
+      const int slice = frame.cascadeOf(glm::dot(probes[p] - cameras[c].position, cameras[c].forward()));
+      const shadows::ShadowSetup& setup = frame.shadowSetup(slice);
+      const std::vector<float>& map = maps[static_cast<size_t>(slice)];
+      auto stored = [&](int tx, int ty) {
+        tx = std::clamp(tx, 0, size - 1);
+        ty = std::clamp(ty, 0, size - 1);
+        return map[static_cast<size_t>(ty) * size + tx];
+      };
+      const dvec3 m = setup.empty ? dvec3(2.0) : shadows::shadowMapCoordinates(setup, probes[p]);
       int state = -1;
       if (std::abs(m.x) <= 1.0 && std::abs(m.y) <= 1.0) {
         // GL_LINEAR with GL_COMPARE_REF_TO_TEXTURE: the 2×2 comparisons (ref ≤ stored: lit), weighted bilinearly.

@@ -43,6 +43,16 @@ struct RenderSettings {
   double haze = 0.0;                     // distance haze: exponential extinction per metre, [0, 1]; 0: none
 };
 
+// [shadows]: z-partitioning of the sun's shadow map (DESIGN §4; Zhang et al. 2006). The command
+// line's --cascades / --split-lambda / --cascade-blend override these.
+struct ShadowSettings {
+  int cascades = 1;            // slices of the visible depth range, each with its own map layer, [1, 4]
+  double split_lambda = 0.8;   // Zhang eq. (4): 1 logarithmic splits, 0 uniform, [0, 1]
+  // Share of a split's distance beyond it over which the nearer slice fades into the farther one
+  // (no visible seam), [0, 0.5]; 0: a hard switch.
+  double cascade_blend = 0.1;
+};
+
 // [[props]]: simple solid objects (boxes) — test scenes, obstacles and moving objects.
 struct PropBox {
   glm::dvec3 min{0.0};
@@ -158,6 +168,7 @@ struct Scene {
   CameraSettings camera;
   SunSettings sun;
   RenderSettings render;
+  ShadowSettings shadows;
   std::vector<PropBox> props;
   std::optional<TerrainSettings> terrain;
   std::optional<VegetationSettings> vegetation;

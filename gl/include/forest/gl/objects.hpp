@@ -73,11 +73,12 @@ class Buffer {
   std::size_t bytes_ = 0;
 };
 
-// Immutable-storage 2D texture (glTextureStorage2D).
+// Immutable-storage 2D texture (glTextureStorage2D), or a 2D array texture of `layers` layers
+// (glTextureStorage3D; layers = 0: a plain 2D texture).
 class Texture {
  public:
   Texture() = default;
-  Texture(GLenum internalFormat, int width, int height, int levels = 1);
+  Texture(GLenum internalFormat, int width, int height, int levels = 1, int layers = 0);
   ~Texture();
   Texture(Texture&&) noexcept = default;
   Texture& operator=(Texture&& other) noexcept;
@@ -86,12 +87,13 @@ class Texture {
   int width() const { return width_; }
   int height() const { return height_; }
   GLenum format() const { return format_; }
+  int layers() const { return layers_; }  // 0: a 2D texture
   std::size_t bytes() const { return bytes_; }
 
  private:
   void release();
   UniqueName<TextureDeleter> name_;
-  int width_ = 0, height_ = 0;
+  int width_ = 0, height_ = 0, layers_ = 0;
   GLenum format_ = 0;
   std::size_t bytes_ = 0;
 };
@@ -105,6 +107,8 @@ class Framebuffer {
   GLuint id() const { return name_.id(); }
   // Attaches level 0 of `texture` at `attachment` (GL_COLOR_ATTACHMENTi, GL_DEPTH_ATTACHMENT).
   void attach(GLenum attachment, const Texture& texture);
+  // Attaches one layer of level 0 of an array texture.
+  void attachLayer(GLenum attachment, const Texture& texture, int layer);
   // Throws forest::Error naming `what` unless complete.
   void checkComplete(const std::string& what) const;
 

@@ -3,15 +3,17 @@
 // statistics out.
 //   1. geometry pass — the culling traversal draws the G-buffer: depth, albedo, shading and
 //      geometric normals, object ID; the visible set gives z_f and the shadow receivers;
-//   2. shadow setup from the visible set (uniform, uniform-stable, lispsm, tsm, tsm-iterative);
+//   2. shadow setup from the visible set (uniform, uniform-stable, lispsm, tsm, tsm-iterative),
+//      per slice of the visible depth range when z-partitioned (cascades, DESIGN §4);
 //   3. shadow pass — only the selected casters, front faces culled (backside rendering), into a
-//      float depth map; casters drawn at the eye's LOD;
+//      float depth map (one layer of an array per slice); casters drawn at the eye's LOD;
 //   4. shadow term — full screen from the G-buffer, hardware 2×2 PCF (sampler2DShadow), 0 where the
 //      geometric N·L ≤ 0; then an optional depth-aware eye-space blur (separable, shrinking with
 //      depth): its horizontal pass; both only with the blur on;
 //   5. lighting — the blur's vertical pass (the blur off: the shadow term looked up here), Phong
 //      with a weak global ambient, sky colour.
 // Eye → light matrices are composed in double, camera-relative.
+#include <array>
 #include <memory>
 #include <optional>
 #include <span>
@@ -28,6 +30,7 @@
 #include "forest/gl/shader.hpp"
 #include "forest/gl/timing.hpp"
 #include "forest/render/scene_objects.hpp"
+#include "forest/shadows/cascades.hpp"
 #include "forest/shadows/shadow_setup.hpp"
 
 namespace forest::render {
@@ -69,6 +72,13 @@ struct FrameSettings {
   // Error injection for validating the error figures (ground truth tests): the shadow-term lookup
   // reads the map this many texels off in x and y. 0 in normal use.
   glm::dvec2 lookupShiftTexels{0.0};
+  // Z-partitioning (DESIGN §4, Zhang et al. 2006): the visible depth range [z_near, z_f] split into
+  // this many slices, each with its own focus body, setup, casters and map layer of shadowMapSize²
+  // (1: one map); unset: the scene's [shadows]. λ of the split scheme, [0, 1]; the blend band at a
+  // split, as a share of its distance, [0, 0.5].
+  std::optional<int> cascades;
+  std::optional<double> splitLambda;
+  std::optional<double> cascadeBlend;
   // How the passes are timed (DESIGN §9): Profiling brackets each pass with glFinish and a steady
   // clock (llvmpipe, where timer queries lie; the pipeline is serialised); GpuQueries puts
   // GL_TIMESTAMP queries around each pass and reads them frames later, so nothing in a frame waits
@@ -87,6 +97,19 @@ gl::TimingMode defaultTimingMode(const gl::ContextInfo& info);
 gl::TimingMode parseTimingMode(std::string_view name);  // "profile", "queries"; throws InputError
 std::string_view timingModeName(gl::TimingMode mode);
 
+// The cascades a frame uses: the settings' where given, else the scene's [shadows].
+ShadowSettings resolveCascades(const FrameSettings& settings, const Scene& scene);
+
+// One slice of a z-partitioned frame: the eye depths it serves, its shadow setup's n and γ, what
+// its layer drew.
+struct CascadeStats {
+  double fromM = 0.0, toM = 0.0;  // eye depths: pixels in [from, to) read this slice's layer
+  double n = 0.0, gammaDeg = 0.0; // the setup's (0 for uniform methods' n)
+  int casters = 0;
+  long long triangles = 0;
+  double shadowMs = 0.0;          // its share of the shadow pass (Profiling timing; 0 with GpuQueries)
+};
+
 struct FrameStats {
   // blurMs: the blur's horizontal pass; its vertical pass is part of lightingMs.
   double geometryMs = 0.0, shadowSetupMs = 0.0, shadowMs = 0.0, shadowTermMs = 0.0, blurMs = 0.0, lightingMs = 0.0;
@@ -96,7 +119,11 @@ struct FrameStats {
   long long shadowTriangles = 0;
   double farDepth = 0.0;        // z_f of the visible set
   bool sunBelowHorizon = false;
-  shadows::ShadowDiagnostics shadow;
+  shadows::ShadowDiagnostics shadow;  // slice 0's
+  int cascades = 1;                   // slices used (1: one map)
+  double splitLambda = 0.0, cascadeBlend = 0.0;
+  double nearestDepth = 0.0;          // z_near the splits started from (m; the camera's near until the depth buffer's is known)
+  std::array<CascadeStats, shadows::kMaxCascades> cascade{};
   culling::CullingStats culling;
   // This frame's number (0, 1, … since the Frame was made). The pass times above are this frame's in
   // Profiling mode; with GpuQueries they are 0 and passTimesPending is set: they come later from
@@ -147,8 +174,9 @@ class Frame {
   std::vector<float> readBlurredShadowTerm() const;  // what lighting used (= the term when the blur is off)
   std::vector<std::uint32_t> readObjectIds() const;  // bottom row first, 0 = sky
   std::vector<float> readDepth() const;           // bottom row first, reversed-Z
-  // The last shadow map: depth in [0, 1] (0 nearest the light), size × size, bottom row first.
-  std::vector<float> readShadowMap() const;
+  // The last shadow map (of slice `slice`): depth in [0, 1] (0 nearest the light), size × size,
+  // bottom row first.
+  std::vector<float> readShadowMap(int slice = 0) const;
   int shadowMapSize() const;
 
   int width() const { return width_; }
@@ -156,13 +184,17 @@ class Frame {
   const SceneObjects& objects() const { return *objects_; }
   const terrain::Terrain* terrain() const { return terrain_.get(); }
   const vegetation::Forest* forest() const { return forest_.get(); }
-  // The last frame's shadow setup (tests compare against it).
-  const shadows::ShadowSetup& shadowSetup() const;
-  // The last frame's visible set, selected casters (object indices) and the camera whose far plane
-  // is the visible set's z_f (what B was built from) — for debug views.
+  // The last frame's slices (1 without cascades) and the slice whose layer a pixel at eye depth z
+  // reads (in the blend band the nearer slice is mixed in too).
+  int cascadeCount() const;
+  int cascadeOf(double eyeDepth) const;
+  // The last frame's shadow setup of a slice (tests compare against it).
+  const shadows::ShadowSetup& shadowSetup(int slice = 0) const;
+  // The last frame's visible set, a slice's selected casters (object indices) and the camera it was
+  // built from (near and far: the slice's ends; one map: far = the visible set's z_f) — for debug views.
   const std::vector<std::uint32_t>& visibleObjects() const { return visibleObjects_; }
-  const std::vector<std::uint32_t>& casters() const;
-  const Camera& shadowCamera() const;
+  const std::vector<std::uint32_t>& casters(int slice = 0) const;
+  const Camera& shadowCamera(int slice = 0) const;
   // The scene's start camera for this image (camera.above_ground applied).
   Camera startCamera() const;
   // The start camera moved to a camera path's pose; `aboveGround`: the pose's height is over the
@@ -173,6 +205,7 @@ class Frame {
   void objectsMoved();  // after object boxes changed: refit the BVH, recompute the scene bounds
   std::optional<terrain::TerrainLod> terrainLodFor(const Camera& camera) const;  // none without terrain
   struct Passes;  // the passes in order (src/*_pass.hpp)
+  const struct ShadowSlice& slice(int index) const;  // throws InputError past the last frame's slices
   const Scene& scene_;
   int width_, height_;
   std::unique_ptr<terrain::Terrain> terrain_;

@@ -31,15 +31,18 @@ constexpr GLuint kTerrainViewBlockBinding = 1;
 
 // shaders/frame_block.glsl, binding 2: the full-screen passes' values, once per frame.
 struct FrameBlock {
-  glm::mat4 eyeRelativeToShadow{1.0f};    // (p − eye) → shadow clip, z in [0, 1], lookup shift applied
-  glm::vec4 eyeRelativeLightDepth{0.0f};  // tsm: (p − eye, 1) → z_L
+  // Per slice (cascade): (p − eye) → shadow clip, z in [0, 1], lookup shift applied; tsm's (p − eye, 1) → z_L.
+  glm::mat4 eyeRelativeToShadow[4]{glm::mat4(1.0f), glm::mat4(1.0f), glm::mat4(1.0f), glm::mat4(1.0f)};
+  glm::vec4 eyeRelativeLightDepth[4]{};
   glm::vec4 rays[3]{};                    // pixel rays at eye depth 1, column by column
   glm::vec4 toSunUp{0.0f};                // xyz: toward the sun; w: 1 when above the horizon
   glm::vec4 sunColorAmbient{0.0f};
   glm::vec4 skyFog{0.0f};                 // rgb: sky; w: fog density per metre
   glm::vec4 nearFar{0.0f};
   glm::vec4 blur{0.0f};                   // radius px, reference depth m, relative depth tolerance
-  glm::ivec4 modes{0};                    // PCF radius, tsm linear depth, unused (0), shadowed
+  glm::vec4 cascadeEnds{0.0f};            // eye depth (m) where slice 0, 1, 2, 3 ends
+  glm::vec4 cascadeBlend{0.0f};           // x: the blend band's share of a split's distance
+  glm::ivec4 modes{0};                    // PCF radius, tsm linear depth, slices, shadowed
 };
 constexpr GLuint kFrameBlockBinding = 2;
 

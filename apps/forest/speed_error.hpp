@@ -1,0 +1,78 @@
+#pragma once
+// forest bench speed-error (command_speed_error.cpp runs the sweep, speed_error_report.cpp writes
+// what it found): the sweep's options, scenarios and rows.
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "forest/core/scene.hpp"
+#include "forest/truth/frame_truth.hpp"
+
+namespace forest::app {
+
+struct SpeedErrorOptions {
+  GlOptions gl;
+  std::string scene;
+  std::string out = "out/speed-error";
+  bool quick = false;
+  ImageSizeOptions size{1280, 720};
+  std::vector<int> sizes{512, 1024, 2048, 4096};
+  // Slices per layout. K > 1 is swept at equal total texels: K layers of (size / √K)² for each size
+  // (4 × 1024² against 1 × 2048²), focus on the receivers only; layers under 512² are left out.
+  std::vector<int> cascades{1, 4};
+  double target = 0.02;  // misclassification for the equal-error map sizes
+  int softRays = 8;      // fewer than truth's 16: the sweep scores 130 frames
+  ModeOptions modes;
+  bool quiet = false;
+};
+
+inline const std::vector<std::string> kSpeedErrorMethods{"uniform", "uniform-stable", "lispsm", "tsm"};
+inline const std::vector<std::string> kSpeedErrorFocus{"receivers", "frustum"};
+
+struct Scenario {
+  std::string name;
+  Camera camera;
+  glm::dvec3 sun;  // the way light travels
+};
+
+// A map layout: K slices of layerSize², as many texels as one totalSide² map.
+struct MapLayout {
+  int cascades = 1;
+  int layerSize = 0;
+  int totalSide = 0;
+  std::string label() const;  // "2048²" or "4×1024²"
+};
+// The sweep's layouts: each K of `cascades` at each total size of `sizes`.
+std::vector<MapLayout> mapLayouts(const std::vector<int>& sizes, const std::vector<int>& cascades);
+
+struct Row {
+  std::string scenario, method, focus;
+  MapLayout layout;
+  bool blur = false;
+  double frameMs = 0.0, shadowMs = 0.0;
+  long long shadowTriangles = 0;
+  truth::FrameError error;
+  double softError = 0.0;  // of the term lighting used (blurred or not)
+};
+
+struct FlickerRow {
+  std::string method, focus;
+  MapLayout layout;
+  truth::FlickerResult result;
+  double frameMs = 0.0;  // the first scenario's frame with this method and layout
+};
+
+// "uniform" or "uniform ×4": a series of the plots and tables.
+std::string seriesName(const std::string& method, int cascades);
+
+// Writes report.json, results.csv, table.md, the plots and worst-case images into `out`; returns
+// table.md's text.
+std::string writeSpeedErrorReport(const std::filesystem::path& out, const SpeedErrorOptions& options, const std::string& scenePath,
+                                  const std::string& device, const nlohmann::ordered_json& modes, int width, int height,
+                                  const std::vector<Scenario>& scenarios, const std::vector<MapLayout>& layouts,
+                                  const std::vector<Row>& rows, const std::vector<FlickerRow>& flicker);
+
+}  // namespace forest::app

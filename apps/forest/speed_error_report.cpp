@@ -1,0 +1,268 @@
+// forest bench speed-error's outputs (docs/speed-error.md): report.json, results.csv, table.md (the
+// error and time per layout, the error by distance, flicker), plots of time against each error
+// figure with the Pareto front.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "forest/core/files.hpp"
+#include "forest/core/image.hpp"
+#include "forest/core/plot.hpp"
+#include "speed_error.hpp"
+
+namespace forest::app {
+namespace {
+
+using nlohmann::ordered_json;
+
+const glm::vec3 kMethodColour[] = {{0.85f, 0.2f, 0.15f}, {0.95f, 0.6f, 0.1f}, {0.15f, 0.45f, 0.85f}, {0.2f, 0.65f, 0.3f}};
+
+// A method's colour; its cascaded layouts darker.
+glm::vec3 seriesColour(const std::string& method, int cascades) {
+  const auto it = std::find(kSpeedErrorMethods.begin(), kSpeedErrorMethods.end(), method);
+  const glm::vec3 c = kMethodColour[it - kSpeedErrorMethods.begin()];
+  return cascades == 1 ? c : 0.55f * c;
+}
+
+// The series the sweep has: each method, one map and each K swept.
+std::vector<std::pair<std::string, int>> allSeries(const std::vector<MapLayout>& layouts) {
+  std::vector<int> ks;
+  for (const MapLayout& l : layouts)
+    if (std::find(ks.begin(), ks.end(), l.cascades) == ks.end()) ks.push_back(l.cascades);
+  std::vector<std::pair<std::string, int>> series;
+  for (int k : ks)
+    for (const std::string& method : kSpeedErrorMethods) series.emplace_back(method, k);
+  return series;
+}
+
+const Row* findRow(const std::vector<Row>& rows, const std::string& scenario, const std::string& method, int cascades, int totalSide) {
+  for (const Row& r : rows)
+    if (r.scenario == scenario && r.method == method && r.focus == "receivers" && r.layout.cascades == cascades &&
+        r.layout.totalSide == totalSide && r.blur)
+      return &r;
+  return nullptr;
+}
+
+// One image: a panel per scenario, frame (or shadow-pass) ms against an error figure, a series per
+// method and layout kind, the Pareto front in black.
+void writePlot(const std::filesystem::path& file, const std::vector<Scenario>& scenarios, const std::vector<MapLayout>& layouts,
+               const std::vector<Row>& rows, const std::string& xLabel, double (*x)(const Row&), bool shadowPass) {
+  std::vector<PlotPanel> panels;
+  for (const Scenario& s : scenarios) {
+    PlotPanel panel;
+    panel.title = s.name;
+    panel.xLabel = xLabel;
+    panel.yLabel = shadowPass ? "shadow pass ms" : "frame ms";
+    std::vector<glm::dvec2> all;
+    for (const auto& [method, k] : allSeries(layouts)) {
+      PlotSeries series{seriesName(method, k), seriesColour(method, k), {}, false};
+      for (const Row& r : rows)
+        if (r.scenario == s.name && r.method == method && r.layout.cascades == k)
+          series.points.emplace_back(x(r), shadowPass ? r.shadowMs : r.frameMs);
+      all.insert(all.end(), series.points.begin(), series.points.end());
+      panel.series.push_back(std::move(series));
+    }
+    panel.series.push_back({"Pareto front", glm::vec3(0.0f), paretoFront(all), true});
+    panels.push_back(std::move(panel));
+  }
+  writeImage(file, plotPanels(panels, std::min<int>(4, static_cast<int>(panels.size()))));
+}
+
+ordered_json bandsJson(const truth::FrameError& e) {
+  ordered_json bands = ordered_json::array();
+  for (const truth::DistanceBand& b : e.bands)
+    bands.push_back({{"from_m", b.fromM},
+                     {"to_m", std::isinf(b.toM) ? ordered_json() : ordered_json(b.toM)},
+                     {"lit_facing", b.litFacing},
+                     {"misclassification", b.misclassification}});
+  return bands;
+}
+
+std::string bandName(const truth::DistanceBand& b) {
+  return std::isinf(b.toM) ? fmt::format("{:.0f} m+", b.fromM) : fmt::format("{:.0f}–{:.0f} m", b.fromM, b.toM);
+}
+
+}  // namespace
+
+std::string writeSpeedErrorReport(const std::filesystem::path& out, const SpeedErrorOptions& options, const std::string& scenePath,
+                                  const std::string& device, const ordered_json& modes, int width, int height,
+                                  const std::vector<Scenario>& scenarios, const std::vector<MapLayout>& layouts,
+                                  const std::vector<Row>& rows, const std::vector<FlickerRow>& flicker) {
+  std::vector<int> totals;  // total sides, in sweep order
+  for (const MapLayout& l : layouts)
+    if (std::find(totals.begin(), totals.end(), l.totalSide) == totals.end()) totals.push_back(l.totalSide);
+  const auto series = allSeries(layouts);
+
+  // Equal-error sizes: per scenario, method and K (B from the receivers), the smallest total side
+  // whose misclassification is at most the target.
+  ordered_json equalError;
+  for (const Scenario& s : scenarios)
+    for (const auto& [method, k] : series) {
+      ordered_json size = nullptr;
+      for (int total : totals)
+        if (const Row* r = findRow(rows, s.name, method, k, total); r && r->error.misclassification <= options.target) {
+          size = total;
+          break;
+        }
+      equalError[s.name][seriesName(method, k)] = size;
+    }
+
+  ordered_json report;
+  report["version"] = 2;
+  report["scene"] = scenePath;
+  report["device"] = device;
+  report.update(modes);
+  report["resolution"] = {width, height};
+  report["quick"] = options.quick;
+  report["map_sizes"] = totals;
+  report["cascades"] = options.cascades;
+  report["soft_rays"] = options.softRays;
+  report["target_misclassification"] = options.target;
+  report["scenarios"] = ordered_json::array();
+  for (const Scenario& s : scenarios)
+    report["scenarios"].push_back({{"name", s.name},
+                                   {"camera", {s.camera.position.x, s.camera.position.y, s.camera.position.z}},
+                                   {"yaw_deg", glm::degrees(s.camera.yaw)},
+                                   {"pitch_deg", glm::degrees(s.camera.pitch)},
+                                   {"sun_direction", {s.sun.x, s.sun.y, s.sun.z}}});
+  std::ostringstream csv;
+  csv << "scenario,method,focus,cascades,map_size,total_texels,blur,frame_ms,shadow_ms,shadow_triangles,misclassification,near_edge,"
+         "elsewhere,false_shadow,false_light,band_0_50,band_50_200,band_200_plus,soft_mae,aliasing_p95_px,aliasing_max_px,"
+         "casters_selected,casters_needed,casters_missing\n";
+  report["rows"] = ordered_json::array();
+  for (const Row& r : rows) {
+    const truth::FrameError& e = r.error;
+    const long long texels = static_cast<long long>(r.layout.cascades) * r.layout.layerSize * r.layout.layerSize;
+    report["rows"].push_back({{"scenario", r.scenario},
+                              {"method", r.method},
+                              {"focus", r.focus},
+                              {"cascades", r.layout.cascades},
+                              {"map_size", r.layout.layerSize},
+                              {"total_texels", texels},
+                              {"blur", r.blur},
+                              {"frame_ms", r.frameMs},
+                              {"shadow_ms", r.shadowMs},
+                              {"shadow_triangles", r.shadowTriangles},
+                              {"misclassification", e.misclassification},
+                              {"near_edge", e.misclassificationNearEdge},
+                              {"elsewhere", e.misclassificationElsewhere},
+                              {"false_shadow", e.falseShadow},
+                              {"false_light", e.falseLight},
+                              {"bands", bandsJson(e)},
+                              {"soft_mae", options.softRays > 0 ? ordered_json(r.softError) : ordered_json()},
+                              {"aliasing_p95_px", e.aliasingPixels.p95},
+                              {"aliasing_max_px", e.aliasingPixels.max},
+                              {"lit_facing_pixels", e.litFacing},
+                              {"casters_selected", e.casters.selected},
+                              {"casters_needed", e.casters.needed},
+                              {"casters_missing", e.casters.missing}});
+    auto band = [&](size_t i) { return i < e.bands.size() ? e.bands[i].misclassification : 0.0; };
+    csv << fmt::format("\"{}\",{},{},{},{},{},{},{:.3f},{:.3f},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.4f},{:.4f},{},{},{}\n",
+                       r.scenario, r.method, r.focus, r.layout.cascades, r.layout.layerSize, texels, r.blur ? 1 : 0, r.frameMs,
+                       r.shadowMs, r.shadowTriangles, e.misclassification, e.misclassificationNearEdge, e.misclassificationElsewhere,
+                       e.falseShadow, e.falseLight, band(0), band(1), band(2), r.softError, e.aliasingPixels.p95, e.aliasingPixels.max,
+                       e.casters.selected, e.casters.needed, e.casters.missing);
+  }
+  report["flicker"] = ordered_json::array();
+  for (const FlickerRow& f : flicker)
+    report["flicker"].push_back({{"method", f.method},
+                                 {"focus", f.focus},
+                                 {"cascades", f.layout.cascades},
+                                 {"map_size", f.layout.layerSize},
+                                 {"share", f.result.share()},
+                                 {"probes", f.result.probes},
+                                 {"comparisons", f.result.comparisons},
+                                 {"changes", f.result.changes}});
+  report["equal_error_map_size"] = equalError;
+
+  std::ostringstream md;
+  md << fmt::format("Speed against error: {} at {}x{}, B from the visible receivers, blur 3 px ({}). Layouts at equal total "
+                    "texels: one map of N², or K slices of (N/√K)² (\"×K\").\n\n"
+                    "Misclassified lit-facing pixels (%) / frame ms, per total texels N²:\n\n",
+                    std::filesystem::path(scenePath).filename().string(), width, height, device);
+  md << "| scenario | method |";
+  for (int total : totals) md << fmt::format(" {}² |", total);
+  md << " equal-error size (≤ " << 100 * options.target << "%) |\n|---|---|";
+  for (size_t i = 0; i <= totals.size(); ++i) md << "---|";
+  md << "\n";
+  for (const Scenario& s : scenarios)
+    for (const auto& [method, k] : series) {
+      md << "| " << s.name << " | " << seriesName(method, k) << " |";
+      for (int total : totals) {
+        const Row* r = findRow(rows, s.name, method, k, total);
+        md << (r ? fmt::format(" {:.2f} / {:.0f} |", 100 * r->error.misclassification, r->frameMs) : std::string(" – |"));
+      }
+      const ordered_json& e = equalError[s.name][seriesName(method, k)];
+      md << " " << (e.is_null() ? std::string("> ") + std::to_string(totals.back()) : std::to_string(e.get<int>())) << " |\n";
+    }
+
+  // By distance, at 2048² total texels when swept (else the largest total).
+  const int bandTotal = std::find(totals.begin(), totals.end(), 2048) != totals.end() ? 2048 : totals.back();
+  md << fmt::format("\nBy distance from the eye at {}² total texels: misclassified lit-facing pixels (%) per band, and the "
+                    "shadow pass's triangles:\n\n| scenario | method |",
+                    bandTotal);
+  const Row* any = findRow(rows, scenarios.front().name, series.front().first, series.front().second, bandTotal);
+  const size_t bandCount = any ? any->error.bands.size() : 0;
+  for (size_t b = 0; b < bandCount; ++b) md << " " << bandName(any->error.bands[b]) << " |";
+  md << " shadow triangles |\n|---|---|";
+  for (size_t b = 0; b <= bandCount; ++b) md << "---|";
+  md << "\n";
+  for (const Scenario& s : scenarios)
+    for (const auto& [method, k] : series) {
+      const Row* r = findRow(rows, s.name, method, k, bandTotal);
+      if (!r) continue;
+      md << "| " << s.name << " | " << seriesName(method, k) << " |";
+      for (const truth::DistanceBand& b : r->error.bands) md << fmt::format(" {:.2f} |", 100 * b.misclassification);
+      md << fmt::format(" {} |\n", r->shadowTriangles);
+    }
+
+  md << "\nFlicker (share of probe states that change between consecutive frames, " << scenarios.front().name
+     << ", walking 0.4 m and turning 0.3 deg per frame), B from the receivers, per total texels:\n\n| method |";
+  for (int total : totals) md << fmt::format(" {}² |", total);
+  md << "\n|---|";
+  for (size_t i = 0; i < totals.size(); ++i) md << "---|";
+  md << "\n";
+  for (const auto& [method, k] : series) {
+    md << "| " << seriesName(method, k) << " |";
+    for (int total : totals) {
+      std::string cell = " – |";
+      for (const FlickerRow& f : flicker)
+        if (f.method == method && f.focus == "receivers" && f.layout.cascades == k && f.layout.totalSide == total)
+          cell = fmt::format(" {:.4f} |", f.result.share());
+      md << cell;
+    }
+    md << "\n";
+  }
+
+  writeFileAtomic(out / "report.json", report.dump(2) + "\n");
+  writeFileAtomic(out / "results.csv", csv.str());
+  writeFileAtomic(out / "table.md", md.str());
+  writePlot(out / "frame-ms-vs-misclassification.png", scenarios, layouts, rows, "misclassified pixels (share)",
+            [](const Row& r) { return r.error.misclassification; }, false);
+  writePlot(out / "shadow-ms-vs-misclassification.png", scenarios, layouts, rows, "misclassified pixels (share)",
+            [](const Row& r) { return r.error.misclassification; }, true);
+  if (options.softRays > 0)  // --soft-rays 0: no soft truth, no plot of it
+    writePlot(out / "frame-ms-vs-soft-error.png", scenarios, layouts, rows, "mean |term - soft truth|",
+              [](const Row& r) { return r.softError; }, false);
+  writePlot(out / "frame-ms-vs-aliasing.png", scenarios, layouts, rows, "aliasing p95 (px per texel)",
+            [](const Row& r) { return r.error.aliasingPixels.p95; }, false);
+  PlotPanel panel;
+  panel.title = "flicker, " + scenarios.front().name + " (moving camera)";
+  panel.xLabel = "share of probes changing state per frame";
+  panel.yLabel = "frame ms";
+  std::vector<glm::dvec2> all;
+  for (const auto& [method, k] : series) {
+    PlotSeries s{seriesName(method, k), seriesColour(method, k), {}, false};
+    for (const FlickerRow& f : flicker)
+      if (f.method == method && f.layout.cascades == k) s.points.emplace_back(f.result.share(), f.frameMs);
+    all.insert(all.end(), s.points.begin(), s.points.end());
+    panel.series.push_back(std::move(s));
+  }
+  panel.series.push_back({"Pareto front", glm::vec3(0.0f), paretoFront(all), true});
+  writeImage(out / "frame-ms-vs-flicker.png", plotPanels({panel}, 1));
+  return md.str();
+}
+
+}  // namespace forest::app

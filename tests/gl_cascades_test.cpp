@@ -1,0 +1,229 @@
+// Z-partitioned shadows (issue "Z-partitioned shadows", DESIGN §4): per-slice caster selection is
+// exact, a box's shadow is right on both sides of every split, each slice's LiSPSM n is eq. 8.13 on
+// that slice's z0 and z1 worked out from the scene, the splits start at the depth buffer's nearest
+// depth and move over time by the smoothing recurrence.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "forest/core/scene.hpp"
+#include "forest/render/frame.hpp"
+#include "forest/shadows/cascades.hpp"
+#include "gl_test_support.hpp"
+
+namespace forest::test {
+namespace {
+
+using glm::dvec3;
+
+constexpr int kWidth = 320, kHeight = 240;
+
+class CascadesGl : public GlTest {};
+
+// The eye depth of the nearest drawn pixel, from the depth buffer on the CPU (reversed-Z).
+double nearestDepthOf(const render::Frame& frame, const Camera& camera) {
+  double nearest = std::numeric_limits<double>::infinity();
+  for (float d : frame.readDepth())
+    if (d > 0.0f) nearest = std::min(nearest, camera.near * camera.far / (camera.near + d * (camera.far - camera.near)));
+  return nearest;
+}
+
+// Per slice, the term with the selected casters equals the term with all casters, pixel for pixel,
+// along 30 views of the default forest (ground level and 40 m up), K = 2, 3, 4 (K = 1:
+// FrameGl.CasterSelectionChangesNoShadowForAnyFilterAlongThirtyViews), PCF radius 0 and 2, four
+// methods, with and without a blend band.
+TEST_F(CascadesGl, SelectedCastersOfEachSliceGiveTheTermOfAllCasters) {
+  if (backendUnderTest() != "egl") GTEST_SKIP() << "checked on the egl backend";
+  const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
+  render::Frame frame(scene, kWidth, kHeight);
+  Camera camera = frame.startCamera();
+  camera.aspect = static_cast<double>(kWidth) / kHeight;
+  const terrain::Terrain& t = *frame.terrain();
+  const shadows::ShadowMethod methods[] = {shadows::ShadowMethod::Uniform, shadows::ShadowMethod::UniformStable,
+                                           shadows::ShadowMethod::Lispsm, shadows::ShadowMethod::Tsm};
+  int views = 0, fewer = 0;
+  for (int v = 0; v < 30; ++v) {
+    camera.position.x += 3.0;
+    camera.position.z -= 4.0;
+    camera.position.y = t.heightAt(camera.position.x, camera.position.z) + (v % 10 == 9 ? 40.0 : 1.7);
+    camera.yaw += glm::radians(7.0);
+    for (int k = 2; k <= shadows::kMaxCascades; ++k) {
+      render::FrameSettings settings;
+      settings.method = methods[(v + k) % 4];
+      settings.shadowMapSize = 512;
+      settings.cascades = k;
+      settings.cascadeBlend = v % 2 == 0 ? 0.1 : 0.0;
+      settings.pcfRadius = v % 3 == 0 ? 2 : 0;
+      // The same frame twice but for the casters: no history (smoothed n and splits, CHC) in between.
+      settings.culling = culling::CullingStrategy::Frustum;
+      settings.casters = render::CasterSelection::Receivers;
+      frame.resetHistory();
+      const render::FrameStats selected = frame.render(camera, 0.5 * v, settings);
+      const std::vector<float> withSelected = frame.readShadowTerm();
+      ASSERT_EQ(frame.cascadeCount(), k);
+      settings.casters = render::CasterSelection::All;
+      frame.resetHistory();
+      const render::FrameStats all = frame.render(camera, 0.5 * v, settings);
+      const std::vector<float> withAll = frame.readShadowTerm();
+      int differ = 0;
+      for (size_t i = 0; i < withAll.size(); ++i) differ += withSelected[i] != withAll[i] ? 1 : 0;
+      EXPECT_EQ(differ, 0) << "view " << v << ", K " << k << ": " << differ << " pixels";
+      fewer += selected.casterObjects < all.casterObjects ? 1 : 0;
+      ++views;
+    }
+  }
+  EXPECT_EQ(views, 90);
+  EXPECT_GT(fewer, 80);  // the selection does leave casters out
+}
+
+// A beam over a plane along the view, widening with distance (contiguous boxes, each 15% longer
+// than the one before), so its shadow and the lit plane beside it lie at every depth: on both sides
+// of every split (hard, and with a blend band) the term agrees with the CPU's ray past the boxes on
+// every pixel away from the shadow edges, for each method and K = 2, 3, 4.
+TEST_F(CascadesGl, BoxShadowsAreRightOnBothSidesOfEverySplit) {
+  Scene scene;
+  scene.sun.direction = glm::normalize(dvec3(1.0, -1.0, 0.2));  // the shadow falls 6 m beside the beam
+  scene.props.push_back({dvec3(-60, -1, -170), dvec3(60, 0, 5), dvec3(0.6)});  // the plane (top at y = 0)
+  std::vector<Aabb> boxes;
+  for (double z = 2.0; z < 165.0; z *= 1.15) {
+    const double half = 0.035 * z + 0.3;  // the shadow stays ≥ 10 pixels wide
+    scene.props.push_back({dvec3(-half - 8.0, 6.0, -z * 1.15), dvec3(half - 8.0, 6.5, -z), dvec3(0.8)});
+    boxes.push_back({scene.props.back().min, scene.props.back().max});
+  }
+  render::Frame frame(scene, kWidth, kHeight);
+  const Camera camera = test::cameraAt({0, 15, 4}, 0.0, -14.0, 400.0, static_cast<double>(kWidth) / kHeight);
+  for (shadows::ShadowMethod method : {shadows::ShadowMethod::Uniform, shadows::ShadowMethod::UniformStable,
+                                       shadows::ShadowMethod::Lispsm, shadows::ShadowMethod::Tsm})
+    for (int k = 2; k <= shadows::kMaxCascades; ++k)
+      for (double blend : {0.0, 0.1}) {
+        render::FrameSettings settings;
+        settings.method = method;
+        settings.shadowMapSize = 1024;
+        settings.cascades = k;
+        settings.cascadeBlend = blend;
+        frame.resetHistory();
+        const render::FrameStats stats = frame.render(camera, 0.0, settings);
+        const CpuAgreement a = agreementWithCpuShadow(frame, camera, frame.readShadowTerm(), frame.objects().propIdBase(), boxes,
+                                                      -scene.sun.direction);
+        const std::string what = fmt::format("{} K {} blend {}", shadows::shadowMethodName(method), k, blend);
+        EXPECT_EQ(a.wrong, 0) << what << ": " << a.wrong << " of " << a.checked << " plane pixels disagree";
+        EXPECT_GT(a.checked, 30000) << what;
+        // Each split has checked shadowed and lit pixels within 10% of it on both sides.
+        for (int i = 1; i < k; ++i) {
+          const double split = stats.cascade[static_cast<size_t>(i)].fromM;
+          int counts[2][2] = {};  // [side][state]
+          for (size_t p = 0; p < a.checkedDepths.size(); ++p) {
+            const double d = a.checkedDepths[p];
+            if (d > split / 1.1 && d < split * 1.1) ++counts[d >= split ? 1 : 0][a.checkedStates[p]];
+          }
+          for (int side = 0; side < 2; ++side)
+            for (int state = 0; state < 2; ++state)
+              EXPECT_GT(counts[side][state], 5) << what << ", split " << i << " at " << split << " m, side " << side << ", state " << state;
+        }
+      }
+}
+
+// A camera level over a plane, the sun straight down (the warp axis is the view): slice i's focus body is the slice
+// of the frustum over the plane, so its z0 and z1 are the slice's ends, the first no nearer than
+// where the frustum's lower edge meets the plane (h / tan(fovy/2)). d = z1 − z0 along the view.
+// Each slice's n must be eq. 8.13, d / (√(z1/z0) − 1), on these; the splits are Zhang's eq. (4)
+// from the nearest visible depth (the bottom pixel row's ground) to z_f (the plane's far end).
+TEST_F(CascadesGl, EachSlicesLispsmNIsEq813OnItsOwnDepthRange) {
+  Scene scene;
+  scene.sun.direction = dvec3(0.0, -1.0, 0.0);
+  const double far = 300.0, h = 3.0;
+  scene.props.push_back({dvec3(-400, -1, -far), dvec3(400, 0, 1), dvec3(0.6)});
+  render::Frame frame(scene, kWidth, kHeight);
+  const Camera camera = test::cameraAt({0, h, 0}, 0.0, 0.0, 1000.0, static_cast<double>(kWidth) / kHeight);
+  const double tanHalf = std::tan(0.5 * camera.fovy);
+  // The nearest pixel centre on the ground: the bottom row, half a pixel above the frustum's edge.
+  const double nearest = h / (tanHalf * (1.0 - 1.0 / kHeight));
+  const double lambda = 0.7, blend = 0.1;
+  for (int k = 1; k <= shadows::kMaxCascades; ++k) {
+    render::FrameSettings settings;
+    settings.method = shadows::ShadowMethod::Lispsm;
+    settings.culling = culling::CullingStrategy::Frustum;
+    settings.cascades = k;
+    settings.splitLambda = lambda;
+    settings.cascadeBlend = blend;
+    frame.resetHistory();
+    const render::FrameStats stats = frame.render(camera, 0.0, settings);
+    ASSERT_NEAR(stats.farDepth, far, 1e-9);
+    if (k > 1) {
+      ASSERT_NEAR(stats.nearestDepth, nearest, 1e-4 * nearest);
+    }
+    for (int i = 0; i < k; ++i) {
+      const double t = static_cast<double>(i) / k, t1 = static_cast<double>(i + 1) / k;
+      auto split = [&](double s) { return lambda * nearest * std::pow(far / nearest, s) + (1 - lambda) * (nearest + (far - nearest) * s); };
+      const double from = i == 0 ? camera.near : split(t), to = i + 1 == k ? far : split(t1);
+      const render::CascadeStats& c = stats.cascade[static_cast<size_t>(i)];
+      EXPECT_NEAR(c.fromM, from, 1e-3 * from) << "K " << k << " slice " << i;
+      EXPECT_NEAR(c.toM, to, 1e-3 * to) << "K " << k << " slice " << i;
+      // B's ends: the slice's, reaching past the split by the blend band (render::kSliceOverlap below).
+      const double z0 = std::max(i == 0 ? camera.near : from * (1 - 1e-3), h / tanHalf);
+      const double z1 = i + 1 == k ? far : std::min(far, to * (1 + blend));
+      const double expected = (z1 - z0) / (std::sqrt(z1 / z0) - 1.0);
+      EXPECT_NEAR(c.n, expected, 2e-3 * expected) << "K " << k << " slice " << i << ": z0 " << z0 << ", z1 " << z1;
+    }
+  }
+}
+
+// The splits start where the view's content does: z_near is the depth buffer's nearest depth (the
+// compute reduction against the CPU's minimum over the read-back depth), taken from the frame
+// before; along a walk the inner splits move by the smoothing recurrence — 20% of the way in log
+// depth toward eq. (4) on this frame's z_f and the previous frame's nearest depth, both ways — and
+// after a cut they are eq. (4) itself.
+TEST_F(CascadesGl, SplitsStartAtTheNearestDepthAndMoveAFifthOfTheWayPerFrame) {
+  const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
+  render::Frame frame(scene, kWidth, kHeight);
+  Camera camera = frame.startCamera();
+  camera.aspect = static_cast<double>(kWidth) / kHeight;
+  const terrain::Terrain& t = *frame.terrain();
+  render::FrameSettings settings;
+  settings.cascades = 4;
+  settings.splitLambda = 0.8;
+  frame.resetHistory();
+  double previousNearest = 0.0;
+  shadows::SplitDepths previous;
+  int moved = 0;
+  for (int f = 0; f < 40; ++f) {
+    if (f == 20) frame.resetHistory();  // a cut
+    camera.position.x -= 2.0;
+    camera.position.z -= 1.5;
+    camera.position.y = t.heightAt(camera.position.x, camera.position.z) + 1.7 + (f % 7 == 3 ? 25.0 : 0.0);  // z_f jumps
+    camera.yaw += glm::radians(f % 5 == 0 ? 25.0 : 2.0);
+    const render::FrameStats stats = frame.render(camera, 0.0, settings);
+    const double nearest = nearestDepthOf(frame, camera);
+    const bool cut = f == 0 || f == 20;
+    // This frame's z_near: its own depth after a cut, else the frame before's.
+    const double zNear = cut ? nearest : previousNearest;
+    EXPECT_NEAR(stats.nearestDepth, zNear, 1e-4 * zNear) << "frame " << f;
+    const shadows::SplitDepths target = shadows::cascadeSplits(std::max(zNear, camera.near), stats.farDepth, 4, 0.8);
+    double before = camera.near;  // the split below, as expected
+    for (int i = 1; i < 4; ++i) {
+      const size_t s = static_cast<size_t>(i);
+      double expected = target[s];
+      if (!cut) {
+        const double smoothed = std::exp(std::log(previous[s]) + 0.2 * (std::log(target[s]) - std::log(previous[s])));
+        // A smoothed split that would leave the range or pass the one below takes eq. (4)'s value.
+        if (smoothed > before && smoothed < stats.farDepth) expected = smoothed;
+      }
+      before = expected;
+      if (i > 1 && !(expected > stats.cascade[s - 1].fromM)) continue;  // reordered: not the recurrence's case
+      const double split = stats.cascade[s].fromM;
+      EXPECT_NEAR(split, expected, 1e-6 * expected) << "frame " << f << " split " << i;
+      moved += !cut && std::abs(target[s] / previous[s] - 1.0) > 0.05 ? 1 : 0;
+    }
+    EXPECT_NEAR(stats.cascade[3].toM, stats.farDepth, 1e-9);
+    previousNearest = nearest;
+    previous.cascades = 4;
+    for (int i = 0; i < 4; ++i) previous[static_cast<size_t>(i)] = stats.cascade[static_cast<size_t>(i)].fromM;
+    previous[4] = stats.farDepth;
+  }
+  EXPECT_GT(moved, 10);  // the targets did jump: the recurrence was exercised
+}
+
+}  // namespace
+}  // namespace forest::test
