@@ -127,7 +127,8 @@ TEST_F(CascadesGl, BoxShadowsAreRightOnBothSidesOfEverySplit) {
 
 // A camera level over a plane, the sun straight down (the warp axis is the view): slice i's focus body is the slice
 // of the frustum over the plane, so its z0 and z1 are the slice's ends, the first no nearer than
-// where the frustum's lower edge meets the plane (h / tan(fovy/2)). d = z1 − z0 along the view.
+// where the frustum's lower edge meets the plane (h / tan(fovy/2)) and, with slices, than the
+// nearest visible depth (ShadowInput::nNear). d = z1 − z0 along the view.
 // Each slice's n must be eq. 8.13, d / (√(z1/z0) − 1), on these; the splits are Zhang's eq. (4)
 // from the nearest visible depth (the bottom pixel row's ground) to z_f (the plane's far end).
 TEST_F(CascadesGl, EachSlicesLispsmNIsEq813OnItsOwnDepthRange) {
@@ -161,8 +162,9 @@ TEST_F(CascadesGl, EachSlicesLispsmNIsEq813OnItsOwnDepthRange) {
       const render::CascadeStats& c = stats.cascade[static_cast<size_t>(i)];
       EXPECT_NEAR(c.fromM, from, 1e-3 * from) << "K " << k << " slice " << i;
       EXPECT_NEAR(c.toM, to, 1e-3 * to) << "K " << k << " slice " << i;
-      // B's ends: the slice's, reaching past the split by the blend band (render::kSliceOverlap below).
-      const double z0 = std::max(i == 0 ? camera.near : from * (1 - 1e-3), h / tanHalf);
+      // B's ends: the slice's, reaching past the split by the blend band (shadows::kSliceOverlap
+      // below); with slices, the first one's n is taken from the nearest visible depth on.
+      const double z0 = std::max(i == 0 ? (k > 1 ? nearest : camera.near) : from * (1 - shadows::kSliceOverlap), h / tanHalf);
       const double z1 = i + 1 == k ? far : std::min(far, to * (1 + blend));
       const double expected = (z1 - z0) / (std::sqrt(z1 / z0) - 1.0);
       EXPECT_NEAR(c.n, expected, 2e-3 * expected) << "K " << k << " slice " << i << ": z0 " << z0 << ", z1 " << z1;

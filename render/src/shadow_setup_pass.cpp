@@ -186,6 +186,9 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
     if (onReceivers) input.receivers = sliceBounds;
     // n over time (§9.2.5, shadows::kNearDistanceSmoothing): from the last frame's n, both ways.
     if (settings.method == shadows::ShadowMethod::Lispsm && previousN_[s] > 0.0) input.previousN = previousN_[s];
+    // The first slice serves everything from the near plane, but nothing visible lies nearer than
+    // z_near: its n is eq. 8.13 from there (ShadowInput::nNear); B still starts at the near plane.
+    if (k > 1 && i == 0 && nearestDepth) input.nNear = *nearestDepth;
     input.mapSize = settings.shadowMapSize;
     input.borderTexels = mapBorderTexels(settings.pcfRadius);
     if (settings.method == shadows::ShadowMethod::UniformStable && stableRadius_[s] > 0.0) input.previousStableRadius = stableRadius_[s];

@@ -348,6 +348,7 @@ void validateShadowInput(const ShadowInput& in) {
   if (!(c.aspect > 0.0)) throw InputError("camera: expected aspect > 0");
   if (!in.scene.valid() || !std::isfinite(in.scene.diagonal())) throw InputError("scene box: expected finite min <= max");
   if (in.nFar && !(*in.nFar > c.near)) throw InputError("n_far: expected a distance greater than near");
+  if (in.nNear && !std::isfinite(*in.nNear)) throw InputError("n_near: expected a finite distance");
   if (const std::optional<std::string> outside = outsideShadowDomain(in)) throw InputError(*outside);
   if (in.mapSize < 16 || in.mapSize > kMaxMapSize)
     throw InputError(fmt::format("map size {}: expected 16 to {} texels", in.mapSize, kMaxMapSize));
@@ -429,11 +430,12 @@ std::optional<ShadowSetup> computeMethodSetup(const ShadowInput& in, ShadowMetho
   const dvec3 eWorld = computeNearPoint(visible.empty() ? setup.body : visible, camera);
   const dvec3 eLs = transformPoint(lightFrame, eWorld);
 
-  // §9.2.5: n from eq. 8.13, on B or on the body of the virtual frustum (far = n_far).
+  // §9.2.5: n from eq. 8.13, on B or on the body of the virtual frustum (far = n_far, near = n_near).
   Aabb nBox = bLs;
-  if (in.nFar && *in.nFar != camera.far) {
-    Camera virtualCamera = camera;
-    virtualCamera.far = *in.nFar;
+  Camera virtualCamera = camera;
+  if (in.nFar && *in.nFar != camera.far) virtualCamera.far = *in.nFar;
+  if (in.nNear && *in.nNear > camera.near && *in.nNear < 0.999 * virtualCamera.far) virtualCamera.near = *in.nNear;
+  if (virtualCamera.near != camera.near || virtualCamera.far != camera.far) {
     const ConvexBody virtualBody = computeFocusBody(virtualCamera, l, in.scene, in.receivers);
     if (!virtualBody.empty()) nBox = boundsIn(lightFrame, virtualBody.vertices());
   }

@@ -43,6 +43,11 @@ struct ShadowInput {
   // A far distance for n only (§9.2.5): n is computed on the body of the camera with this far
   // instead (stability case files; the frame smooths n itself, see previousN).
   std::optional<double> nFar;
+  // A near distance for n only (cascades; Lauritzen et al. 2011): the nearest depth anything
+  // visible lies at. n is computed on the body of the camera with this near instead (with nFar
+  // when given), so the warp is not spent between the near plane and the first visible surface;
+  // B and the map still start at the camera's near. Ignored unless near < nNear < far (and nFar).
+  std::optional<double> nNear;
   // uniform-stable: the map radius the previous frame used (diagnostics.stableRadius), kept while
   // it still fits the view (stableMapRadius).
   std::optional<double> previousStableRadius;
