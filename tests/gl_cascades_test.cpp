@@ -45,10 +45,7 @@ TEST_F(CascadesGl, SelectedCastersOfEachSliceGiveTheTermOfAllCasters) {
                                            shadows::ShadowMethod::Lispsm, shadows::ShadowMethod::Tsm};
   int views = 0, fewer = 0;
   for (int v = 0; v < 30; ++v) {
-    camera.position.x += 3.0;
-    camera.position.z -= 4.0;
-    camera.position.y = t.heightAt(camera.position.x, camera.position.z) + (v % 10 == 9 ? 40.0 : 1.7);
-    camera.yaw += glm::radians(7.0);
+    stepForestView(camera, t, v);
     for (int k = 2; k <= shadows::kMaxCascades; ++k) {
       render::FrameSettings settings;
       settings.method = methods[(v + k) % 4];
@@ -56,21 +53,10 @@ TEST_F(CascadesGl, SelectedCastersOfEachSliceGiveTheTermOfAllCasters) {
       settings.cascades = k;
       settings.cascadeBlend = v % 2 == 0 ? 0.1 : 0.0;
       settings.pcfRadius = v % 3 == 0 ? 2 : 0;
-      // The same frame twice but for the casters: no history (smoothed n and splits, CHC) in between.
-      settings.culling = culling::CullingStrategy::Frustum;
-      settings.casters = render::CasterSelection::Receivers;
-      frame.resetHistory();
-      const render::FrameStats selected = frame.render(camera, 0.5 * v, settings);
-      const std::vector<float> withSelected = frame.readShadowTerm();
+      const CasterComparison c = compareSelectedWithAllCasters(frame, camera, 0.5 * v, settings);
       ASSERT_EQ(frame.cascadeCount(), k);
-      settings.casters = render::CasterSelection::All;
-      frame.resetHistory();
-      const render::FrameStats all = frame.render(camera, 0.5 * v, settings);
-      const std::vector<float> withAll = frame.readShadowTerm();
-      int differ = 0;
-      for (size_t i = 0; i < withAll.size(); ++i) differ += withSelected[i] != withAll[i] ? 1 : 0;
-      EXPECT_EQ(differ, 0) << "view " << v << ", K " << k << ": " << differ << " pixels";
-      fewer += selected.casterObjects < all.casterObjects ? 1 : 0;
+      EXPECT_EQ(c.differ, 0) << "view " << v << ", K " << k << ": " << c.differ << " pixels";
+      fewer += c.selectedCasters < c.allCasters ? 1 : 0;
       ++views;
     }
   }

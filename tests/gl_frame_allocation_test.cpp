@@ -107,13 +107,22 @@ TEST_F(GlTest, SteadyStateFramesOfTheDefaultWalkAllocateNothing) {
   const CameraPath path = CameraPath::load(std::string(FOREST_REPO_DATA) + "/paths/walk.toml");
   render::Frame frame(scene, 320, 180);
   const int frames = static_cast<int>(std::floor((path.endTime() - path.startTime()) * kFramesPerSecond)) + 1;
-  for (const auto& [timing, queries] : {std::pair{gl::TimingMode::Profiling, culling::QueryMode::Deterministic},
-                                        std::pair{gl::TimingMode::GpuQueries, culling::QueryMode::Async}}) {
+  // Both timing modes with one map, and the GPU's modes with four cascades (per-slice lists, the
+  // nearest-depth ring).
+  struct Mode {
+    gl::TimingMode timing;
+    culling::QueryMode queries;
+    int cascades;
+  };
+  for (const Mode& mode : {Mode{gl::TimingMode::Profiling, culling::QueryMode::Deterministic, 1},
+                           Mode{gl::TimingMode::GpuQueries, culling::QueryMode::Async, 1},
+                           Mode{gl::TimingMode::GpuQueries, culling::QueryMode::Async, 4}}) {
     render::FrameSettings settings;
     settings.blurRadius = 3.0;
-    settings.timing = timing;
-    settings.queries = queries;
-    SCOPED_TRACE(std::string(render::timingModeName(timing)) + " timing");
+    settings.timing = mode.timing;
+    settings.queries = mode.queries;
+    settings.cascades = mode.cascades;
+    SCOPED_TRACE(std::string(render::timingModeName(mode.timing)) + " timing, " + std::to_string(mode.cascades) + " cascade(s)");
     allocationsAlongWalk(frame, path, settings, frames, false);
     EXPECT_EQ(allocationsAlongWalk(frame, path, settings, frames, true), 0) << "heap allocations in " << frames << " frames";
   }

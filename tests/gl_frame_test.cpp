@@ -122,29 +122,15 @@ TEST_F(FrameGl, CasterSelectionChangesNoShadowForAnyFilterAlongThirtyViews) {
   const terrain::Terrain& t = *frame.terrain();
   int views = 0, fewer = 0;
   for (int v = 0; v < 30; ++v) {
-    camera.position.x += 3.0;
-    camera.position.z -= 4.0;
-    camera.position.y = t.heightAt(camera.position.x, camera.position.z) + (v % 10 == 9 ? 40.0 : 1.7);
-    camera.yaw += glm::radians(7.0);
+    stepForestView(camera, t, v);
     for (int pcf = 0; pcf <= 4; ++pcf) {
       render::FrameSettings settings;
       settings.method = v % 3 == 0 ? shadows::ShadowMethod::Uniform : v % 3 == 1 ? shadows::ShadowMethod::Lispsm : shadows::ShadowMethod::Tsm;
       settings.shadowMapSize = 1024;
       settings.pcfRadius = pcf;
-      // The same frame twice but for the casters: no history (smoothed n, CHC) in between.
-      settings.culling = culling::CullingStrategy::Frustum;
-      settings.casters = render::CasterSelection::Receivers;
-      frame.resetHistory();
-      const render::FrameStats selected = frame.render(camera, 0.5 * v, settings);
-      const std::vector<float> withSelected = frame.readShadowTerm();
-      settings.casters = render::CasterSelection::All;
-      frame.resetHistory();
-      const render::FrameStats all = frame.render(camera, 0.5 * v, settings);
-      const std::vector<float> withAll = frame.readShadowTerm();
-      int differ = 0;
-      for (size_t i = 0; i < withAll.size(); ++i) differ += withSelected[i] != withAll[i] ? 1 : 0;
-      EXPECT_EQ(differ, 0) << "view " << v << ", pcf " << pcf << ": " << differ << " pixels";
-      fewer += selected.casterObjects < all.casterObjects ? 1 : 0;
+      const CasterComparison c = compareSelectedWithAllCasters(frame, camera, 0.5 * v, settings);
+      EXPECT_EQ(c.differ, 0) << "view " << v << ", pcf " << pcf << ": " << c.differ << " pixels";
+      fewer += c.selectedCasters < c.allCasters ? 1 : 0;
       ++views;
     }
   }

@@ -162,6 +162,37 @@ inline CpuAgreement agreementWithCpuShadow(const render::Frame& frame, const Cam
   return a;
 }
 
+// The same frame rendered with the selected casters and with all casters, no history (smoothed n
+// and splits, CHC) in between: how many pixels of the shadow term differ, and the caster counts.
+struct CasterComparison {
+  int differ = 0;
+  int selectedCasters = 0, allCasters = 0;
+};
+inline CasterComparison compareSelectedWithAllCasters(render::Frame& frame, const Camera& camera, double time,
+                                                      render::FrameSettings settings) {
+  settings.culling = culling::CullingStrategy::Frustum;
+  settings.casters = render::CasterSelection::Receivers;
+  frame.resetHistory();
+  CasterComparison c;
+  c.selectedCasters = frame.render(camera, time, settings).casterObjects;
+  const std::vector<float> withSelected = frame.readShadowTerm();
+  settings.casters = render::CasterSelection::All;
+  frame.resetHistory();
+  c.allCasters = frame.render(camera, time, settings).casterObjects;
+  const std::vector<float> withAll = frame.readShadowTerm();
+  for (size_t i = 0; i < withAll.size(); ++i) c.differ += withSelected[i] != withAll[i] ? 1 : 0;
+  return c;
+}
+
+// View v of a walk over the default forest's terrain: 3 m east and 4 m north of the one before,
+// 7° further left, 1.7 m over the ground — 40 m over it every tenth view.
+inline void stepForestView(Camera& camera, const terrain::Terrain& terrain, int v) {
+  camera.position.x += 3.0;
+  camera.position.z -= 4.0;
+  camera.position.y = terrain.heightAt(camera.position.x, camera.position.z) + (v % 10 == 9 ? 40.0 : 1.7);
+  camera.yaw += glm::radians(7.0);
+}
+
 struct IdDepthTarget {
   gl::Texture ids, depth;
   gl::Framebuffer framebuffer;

@@ -113,8 +113,8 @@ void writeTruth(const render::Frame& frame, const render::FrameStats& stats, con
   j["shadow_size"] = options.frame.shadowSize;
   j["shadow_texels"] = static_cast<long long>(stats.cascades) * options.frame.shadowSize * options.frame.shadowSize;
   j["cascades"] = {{"count", stats.cascades}, {"splits_m", nlohmann::ordered_json::array()}, {"slices", cascadesJson(stats)}};
-  for (int i = 0; i <= stats.cascades; ++i)
-    j["cascades"]["splits_m"].push_back(stats.cascade[static_cast<size_t>(std::min(i, stats.cascades - 1))].*(i < stats.cascades ? &render::CascadeStats::fromM : &render::CascadeStats::toM));
+  for (int i = 0; i < stats.cascades; ++i) j["cascades"]["splits_m"].push_back(stats.cascade[static_cast<size_t>(i)].fromM);
+  j["cascades"]["splits_m"].push_back(stats.cascade[static_cast<size_t>(stats.cascades - 1)].toM);  // z_f
   j["pixels"] = {{"total", e.pixels}, {"scored", e.scored}, {"lit_facing", e.litFacing}, {"near_edge", e.nearEdge}};
   j["misclassification"] = {{"all", e.misclassification},
                             {"near_edge", e.misclassificationNearEdge},

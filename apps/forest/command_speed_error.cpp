@@ -30,7 +30,7 @@ std::string MapLayout::label() const {
 }
 
 std::string seriesName(const std::string& method, int cascades) {
-  return cascades == 1 ? method : fmt::format("{} ×{}", method, cascades);
+  return cascades == 1 ? method : fmt::format("{} x{}", method, cascades);  // ASCII: the plots' font has no ×
 }
 
 std::vector<MapLayout> mapLayouts(const std::vector<int>& sizes, const std::vector<int>& cascades) {

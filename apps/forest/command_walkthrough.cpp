@@ -232,9 +232,10 @@ int runWalkthrough(const WalkthroughOptions& options) {
   }
 
   // Paths as the user would type them from here (the report keeps them absolute).
-  std::cout << fmt::format("walkthrough: {} of {} frames of {} along {} at {}x{} ({}, {}², {})\n", done, total,
-                           fs::proximate(scenePath).string(), fs::proximate(pathPath).string(), width, height, options.frame.method, options.frame.shadowSize,
-                           options.frame.culling);
+  const int slices = render::resolveCascades(options.frame.settings(), scene).cascades;
+  std::cout << fmt::format("walkthrough: {} of {} frames of {} along {} at {}x{} ({}, {}{}², {})\n", done, total,
+                           fs::proximate(scenePath).string(), fs::proximate(pathPath).string(), width, height, options.frame.method,
+                           slices > 1 ? fmt::format("{}×", slices) : "", options.frame.shadowSize, options.frame.culling);
   if (warmup > 0) std::cout << fmt::format("  (the first {} frames are warm-up, not in the summary)\n", warmup);
   printSummary(summary);
   const std::string shownOut = fs::proximate(out).string();

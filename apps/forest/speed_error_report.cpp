@@ -179,7 +179,7 @@ std::string writeSpeedErrorReport(const std::filesystem::path& out, const SpeedE
 
   std::ostringstream md;
   md << fmt::format("Speed against error: {} at {}x{}, B from the visible receivers, blur 3 px ({}). Layouts at equal total "
-                    "texels: one map of N², or K slices of (N/√K)² (\"×K\").\n\n"
+                    "texels: one map of N², or K slices of (N/√K)² (\"xK\").\n\n"
                     "Misclassified lit-facing pixels (%) / frame ms, per total texels N²:\n\n",
                     std::filesystem::path(scenePath).filename().string(), width, height, device);
   md << "| scenario | method |";

@@ -97,11 +97,12 @@ void ShadowSetupPass::selectCastersOfReceivers(const ShadowSlice& slice, const F
 }
 
 // Zhang et al. 2006 eq. (4) on [z_near, z_f], z_near the nearest visible depth (SDSM, Lauritzen et
-// al. 2011: the first slice then starts where the view's content does, not at the near plane, 0.2 m
-// against ~3 m to the ground in a standing view). The first slice still serves everything from the
-// camera's near plane on. The inner splits move over time like n (kNearDistanceSmoothing of the way
-// in log depth per frame, both ways), so a jump of z_f or z_near does not move every slice's texels
-// at once; a smoothed split that would leave the range or the order takes the new value.
+// al. 2011: the splits then follow where the view's content lies — the near plane is at 0.2 m, the
+// ground in a standing view ~3 m away or more). The first slice still serves everything from the
+// camera's near plane on, since z_near is a frame old. The inner splits move over time like n
+// (kNearDistanceSmoothing of the way in log depth per frame, both ways), so a jump of z_f or z_near
+// does not move every slice's texels at once; a smoothed split that would leave the range or pass
+// the split below takes the new value.
 shadows::SplitDepths ShadowSetupPass::splitsFor(const Camera& camera, double farDepth, std::optional<double> nearestDepth,
                                                 const ShadowSettings& cascades) {
   double zNear = std::clamp(nearestDepth.value_or(camera.near), camera.near, farDepth);
@@ -113,11 +114,12 @@ shadows::SplitDepths ShadowSetupPass::splitsFor(const Camera& camera, double far
     for (int i = 1; i < k; ++i) {
       const size_t s = static_cast<size_t>(i);
       const double target = splits[s];
-      const double smoothed = std::exp(std::log(previousSplits_[s]) + shadows::kNearDistanceSmoothing * (std::log(target) - std::log(previousSplits_[s])));
+      const double previous = std::log(previousSplits_[s]);
+      const double smoothed = std::exp(previous + shadows::kNearDistanceSmoothing * (std::log(target) - previous));
       if (smoothed > splits[s - 1] && smoothed < farDepth) splits[s] = smoothed;
     }
-  for (int i = 1; i < k; ++i)  // the order, whatever the smoothing kept
-    if (!(splits[static_cast<size_t>(i)] > splits[static_cast<size_t>(i) - 1])) splits[static_cast<size_t>(i)] = 0.5 * (splits[static_cast<size_t>(i) - 1] + farDepth);
+  for (size_t s = 1; s < static_cast<size_t>(k); ++s)  // the order, whatever the smoothing kept
+    if (!(splits[s] > splits[s - 1])) splits[s] = 0.5 * (splits[s - 1] + farDepth);
   previousSplits_ = splits;
   return splits;
 }
