@@ -85,6 +85,20 @@ void writeDebugImages(const render::Frame& frame, const Camera& camera, const gl
   writeImage(folder / "top-down.png", render::topDownDiagram(frame, sunDirection));
 }
 
+}  // namespace
+
+nlohmann::ordered_json bandsJson(const std::vector<truth::DistanceBand>& bands) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (const truth::DistanceBand& b : bands)
+    out.push_back({{"from_m", b.fromM},
+                   {"to_m", std::isinf(b.toM) ? nlohmann::ordered_json() : nlohmann::ordered_json(b.toM)},
+                   {"lit_facing", b.litFacing},
+                   {"misclassification", b.misclassification}});
+  return out;
+}
+
+namespace {
+
 // forest truth: the frame against the ray-traced truth; truth.json, error.png and a summary.
 // "0–50 m 0.120% of 48211, 50–200 m …, 200 m+ …": each band's misclassification and lit-facing pixels.
 std::string bandsLine(const std::vector<truth::DistanceBand>& bands) {
@@ -121,12 +135,7 @@ void writeTruth(const render::Frame& frame, const render::FrameStats& stats, con
                             {"elsewhere", e.misclassificationElsewhere},
                             {"false_shadow", e.falseShadow},
                             {"false_light", e.falseLight}};
-  j["bands"] = nlohmann::ordered_json::array();
-  for (const truth::DistanceBand& b : e.bands)
-    j["bands"].push_back({{"from_m", b.fromM},
-                          {"to_m", std::isinf(b.toM) ? nlohmann::ordered_json() : nlohmann::ordered_json(b.toM)},
-                          {"lit_facing", b.litFacing},
-                          {"misclassification", b.misclassification}});
+  j["bands"] = bandsJson(e.bands);
   const bool soft = options.softRays > 0;
   j["soft"] = {{"rays", options.softRays},
                {"sun_disc_deg", truthOptions.sunDiscDeg},

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "forest/render/frame.hpp"
+#include "forest/truth/frame_truth.hpp"
 
 namespace forest::app {
 
@@ -131,6 +132,8 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window);
 inline constexpr const char* kPassNames[] = {"geometry", "shadow_setup", "shadow", "shadow_term", "blur", "lighting"};
 nlohmann::ordered_json frameRecord(int index, double time, bool warmup, const Camera& camera, double yawDeg, double frameMs,
                                    const render::FrameStats& stats);
+// truth.json's `bands`: per distance band from_m, to_m (null: no end), lit_facing, misclassification.
+nlohmann::ordered_json bandsJson(const std::vector<truth::DistanceBand>& bands);
 // Each slice of a z-partitioned frame: from_m, to_m, n, gamma_deg, casters, triangles, shadow_ms.
 nlohmann::ordered_json cascadesJson(const render::FrameStats& stats);
 // GpuQueries timing: writes the pass times of frames whose timer queries finished into their

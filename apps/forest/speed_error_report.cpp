@@ -70,16 +70,6 @@ void writePlot(const std::filesystem::path& file, const std::vector<Scenario>& s
   writeImage(file, plotPanels(panels, std::min<int>(4, static_cast<int>(panels.size()))));
 }
 
-ordered_json bandsJson(const truth::FrameError& e) {
-  ordered_json bands = ordered_json::array();
-  for (const truth::DistanceBand& b : e.bands)
-    bands.push_back({{"from_m", b.fromM},
-                     {"to_m", std::isinf(b.toM) ? ordered_json() : ordered_json(b.toM)},
-                     {"lit_facing", b.litFacing},
-                     {"misclassification", b.misclassification}});
-  return bands;
-}
-
 std::string bandName(const truth::DistanceBand& b) {
   return std::isinf(b.toM) ? fmt::format("{:.0f} m+", b.fromM) : fmt::format("{:.0f}–{:.0f} m", b.fromM, b.toM);
 }
@@ -150,7 +140,7 @@ std::string writeSpeedErrorReport(const std::filesystem::path& out, const SpeedE
                               {"elsewhere", e.misclassificationElsewhere},
                               {"false_shadow", e.falseShadow},
                               {"false_light", e.falseLight},
-                              {"bands", bandsJson(e)},
+                              {"bands", bandsJson(e.bands)},
                               {"soft_mae", options.softRays > 0 ? ordered_json(r.softError) : ordered_json()},
                               {"aliasing_p95_px", e.aliasingPixels.p95},
                               {"aliasing_max_px", e.aliasingPixels.max},

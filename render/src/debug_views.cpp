@@ -173,7 +173,7 @@ Image8 cascadesPicture(const Frame& frame, const Camera& camera) {
     for (int x = 0; x < image.width; ++x) {
       const float d = depth[static_cast<size_t>(image.height - 1 - y) * image.width + x];
       if (!(d > 0.0f)) continue;  // sky
-      const double z = camera.near * camera.far / (camera.near + d * (camera.far - camera.near));
+      const double z = camera.eyeDepthOfReversedZ(d);
       const glm::vec3 tint = kSlice[frame.cascadeOf(z)];
       for (int c = 0; c < 3; ++c)
         image.at(x, y, c) = static_cast<std::uint8_t>(std::lround(0.5f * image.at(x, y, c) + 0.5f * 255.0f * tint[c]));

@@ -14,8 +14,7 @@ double NearestDepthPass::read(int buffer, const Camera& camera) const {
   glGetNamedBufferSubData(buffers_[static_cast<size_t>(buffer)].id(), 0, sizeof bits, &bits);
   const double d = std::bit_cast<float>(bits);
   if (!(d > 0.0)) return 0.0;
-  // Reversed-Z (shadow_lookup.frag's eyeDepth): z = n f / (n + d (f − n)).
-  return camera.near * camera.far / (camera.near + d * (camera.far - camera.near));
+  return camera.eyeDepthOfReversedZ(d);  // shadow_lookup.frag's eyeDepth
 }
 
 std::optional<double> NearestDepthPass::run(const gl::Texture& depth, const Camera& camera) {

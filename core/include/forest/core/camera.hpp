@@ -32,6 +32,8 @@ struct Camera {
   glm::dmat4 view() const;
   // Eye → clip, reversed-Z, zero-to-one depth.
   glm::dmat4 projection() const;
+  // The eye depth (metres) of a reversed-Z depth-buffer value d in (0, 1] of this camera: n f / (n + d (f − n)).
+  double eyeDepthOfReversedZ(double d) const { return near * far / (near + d * (far - near)); }
 };
 
 // Unit direction for a yaw/pitch pair (radians), with the conventions above.
