@@ -3,7 +3,9 @@
 // level L (the tile's) slides toward its lower-index even neighbour by the morph factor k of its
 // distance to the eye (CDLOD-style), so at k = 1 the tile is exactly level L + 1.
 layout(location = 0) in ivec2 aLocal;   // (i, j) in the tile, 0…kTileQuads
-layout(location = 1) in ivec4 iTile;    // (tx, tz, level L, 0)
+layout(location = 1) in ivec4 iTile;    // (tx, tz, level L, block origin): the origin's (i, j) in
+                                        // the tile as i + 256 j (0 for a whole tile; a block is
+                                        // drawn with blockGridIndices, TerrainRenderer::drawBlocks)
 
 // Per view and level of detail (TerrainRenderer, std140, binding 1), written once per pass;
 // uView (view_block.glsl) holds the view-projection.
@@ -46,16 +48,17 @@ vec3 sampleNormal(ivec2 s) {
 void main() {
   int level = iTile.z;
   int step = 1 << level;
-  ivec2 target = aLocal - step * ((aLocal / step) & 1);  // odd at this level → one step lower
+  ivec2 local = aLocal + ivec2(iTile.w & 255, iTile.w >> 8);
+  ivec2 target = local - step * ((local / step) & 1);  // odd at this level → one step lower
   ivec2 base = iTile.xy * uTileQuads;
-  vec3 fine = samplePosition(base + aLocal);
+  vec3 fine = samplePosition(base + local);
   vec3 coarse = samplePosition(base + target);
   vec2 morph = uTerrain.morph[level].xy;
   float t = (length(fine - uTerrain.lodEyeRelative.xyz) - morph.x) / (morph.y - morph.x);
   float k = clamp(t * (1.0 + 2.0 * uMorphSlack) - uMorphSlack, 0.0, 1.0);
   // a·(1 − k) + b·k: exactly b at k = 1 (with or without FMA), so edge vertices meet.
   vec3 p = fine * (1.0 - k) + coarse * k;
-  vNormal = normalize(sampleNormal(base + aLocal) * (1.0 - k) + sampleNormal(base + target) * k);
+  vNormal = normalize(sampleNormal(base + local) * (1.0 - k) + sampleNormal(base + target) * k);
   vWorldPosition = p + uTerrain.eye.xyz;
   vRelativePosition = p;
   vObjectId = uObjectIdBase + uint(iTile.y * uTilesPerSide + iTile.x);

@@ -1,11 +1,14 @@
 // Terrain on the GPU: the drawn surface equals its CPU twin (Terrain::drawnHeightAt) pixel by
-// pixel, morph states included; neighbouring tiles at different levels leave no crack.
+// pixel, morph states included; neighbouring tiles at different levels leave no crack; a tile drawn
+// block by block (the shadow pass's terrain casters) is the tile drawn whole.
 #include <algorithm>
 #include <cmath>
 #include <set>
 #include <vector>
 
 #include "forest/core/camera.hpp"
+#include "forest/core/error.hpp"
+#include "forest/core/scene.hpp"
 #include "forest/gl/objects.hpp"
 #include "forest/render/terrain_renderer.hpp"
 #include "forest/terrain/terrain.hpp"
@@ -56,6 +59,11 @@ struct FloatTarget {
   std::vector<glm::vec4> read() const {
     std::vector<glm::vec4> pixels(static_cast<size_t>(width) * height);
     glGetTextureImage(color.id(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(pixels.size() * sizeof(glm::vec4)), pixels.data());
+    return pixels;
+  }
+  std::vector<float> readDepth() const {
+    std::vector<float> pixels(static_cast<size_t>(width) * height);
+    glGetTextureImage(depth.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, static_cast<GLsizei>(pixels.size() * sizeof(float)), pixels.data());
     return pixels;
   }
 };
@@ -134,6 +142,69 @@ TEST_F(TerrainGl, NoCracksWhereNeighbouringTilesDifferInLevel) {
     EXPECT_EQ(background, 0) << "view " << view << ": " << background << " background pixels show through ("
                              << stats.tiles << " tiles, levels " << *levels.begin() << "…" << *levels.rbegin() << ")";
   }
+}
+
+// Every block of the tiles in view, each at its tile's level (TerrainRenderer::drawBlocks), draws
+// exactly what the tiles drawn whole draw: the same world positions and depths, bit for bit, and
+// the same triangle count — with morphs and several levels in view.
+TEST_F(TerrainGl, TilesDrawnBlockByBlockEqualTheTilesDrawnWhole) {
+  // The default forest's 12 × 12 tiles, seen across from a corner: room for levels 0–5.
+  const terrain::Terrain t(*loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml").terrain);
+  const render::TerrainRenderer renderer(t, render::TerrainRenderer::Output::WorldPosition);
+  Camera camera = lookingDown(t, -12.0, 30.0, 60.0);
+  camera.position = dvec3(t.bounds().min.x + 20.0, camera.position.y, t.bounds().min.z + 20.0);
+  camera.yaw = glm::radians(-135.0);  // toward +x, +z
+  const terrain::TerrainLod lod = t.lodFor(camera, 40);
+  const std::vector<int> tiles = renderer.tilesInFrustum(camera);
+  const std::set<int> levels = levelsOf(t, lod, tiles);
+  // Blocks of 16 quads (levels ≤ 3), 32 (level 4) and 64 (levels 5, 6) all in view.
+  ASSERT_LE(*levels.begin(), 3);
+  ASSERT_TRUE(levels.contains(4));
+  ASSERT_GE(*levels.rbegin(), 5);
+  const render::DrawView view = render::DrawView::fromCamera(camera, 0.0, SunSettings{});
+  const FloatTarget target(320, 240);
+  target.bindAndClear(glm::vec4(0.0f));
+  const long long wholeTriangles = renderer.draw(view, lod, tiles).triangles;
+  const std::vector<glm::vec4> whole = target.read();
+  const std::vector<float> wholeDepth = target.readDepth();
+  std::vector<terrain::TileBlock> blocks;
+  for (int tile : tiles) {
+    const int level = t.tileLevel(tile, lod);
+    for (int b = 0; b < terrain::blocksPerTile(level); ++b) blocks.push_back({tile, level, b});
+  }
+  target.bindAndClear(glm::vec4(0.0f));
+  const long long blockTriangles = renderer.drawBlocks(view, lod, blocks).triangles;
+  const std::vector<glm::vec4> byBlock = target.read();
+  const std::vector<float> byBlockDepth = target.readDepth();
+  EXPECT_EQ(blockTriangles, wholeTriangles);
+  int covered = 0, differ = 0;
+  for (size_t p = 0; p < whole.size(); ++p) {
+    covered += whole[p].a != 0.0f ? 1 : 0;
+    differ += whole[p] != byBlock[p] || wholeDepth[p] != byBlockDepth[p] ? 1 : 0;
+  }
+  EXPECT_GT(covered, 320 * 240 / 2);
+  EXPECT_EQ(differ, 0) << differ << " of " << whole.size() << " pixels differ";
+  // Every other block: each drawn point lies over one of the blocks asked for (its box's x, z).
+  std::vector<Aabb> footprints;
+  std::vector<terrain::TileBlock> some;
+  for (size_t i = 0; i < blocks.size(); i += 2) {
+    some.push_back(blocks[i]);
+    footprints.push_back(t.blockBoxes(blocks[i].tile, blocks[i].level)[static_cast<size_t>(blocks[i].block)]);
+  }
+  target.bindAndClear(glm::vec4(0.0f));
+  renderer.drawBlocks(view, lod, some);
+  int someCovered = 0, outside = 0;
+  for (const glm::vec4& p : target.read()) {
+    if (p.a == 0.0f) continue;
+    ++someCovered;
+    const bool over = std::any_of(footprints.begin(), footprints.end(), [&](const Aabb& b) {
+      return p.x >= b.min.x - 1e-3 && p.x <= b.max.x + 1e-3 && p.z >= b.min.z - 1e-3 && p.z <= b.max.z + 1e-3;
+    });
+    outside += over ? 0 : 1;
+  }
+  EXPECT_GT(someCovered, covered / 5);
+  EXPECT_EQ(outside, 0) << outside << " of " << someCovered << " pixels lie outside the blocks drawn";
+  EXPECT_THROW(renderer.drawBlocks(view, lod, std::vector<terrain::TileBlock>{{tiles.front(), 6, 1}}), Error);
 }
 
 }  // namespace

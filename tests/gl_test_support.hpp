@@ -167,6 +167,8 @@ inline CpuAgreement agreementWithCpuShadow(const render::Frame& frame, const Cam
 struct CasterComparison {
   int differ = 0;
   int selectedCasters = 0, allCasters = 0;
+  long long selectedTerrainTriangles = 0, allTerrainTriangles = 0;  // of the shadow pass
+  std::vector<std::uint32_t> selected;                               // the selected casters, every slice's
 };
 inline CasterComparison compareSelectedWithAllCasters(render::Frame& frame, const Camera& camera, double time,
                                                       render::FrameSettings settings) {
@@ -174,11 +176,17 @@ inline CasterComparison compareSelectedWithAllCasters(render::Frame& frame, cons
   settings.casters = render::CasterSelection::Receivers;
   frame.resetHistory();
   CasterComparison c;
-  c.selectedCasters = frame.render(camera, time, settings).casterObjects;
+  const render::FrameStats selected = frame.render(camera, time, settings);
+  c.selectedCasters = selected.casterObjects;
+  c.selectedTerrainTriangles = selected.shadowTerrainTriangles;
+  for (int slice = 0; slice < frame.cascadeCount(); ++slice)
+    c.selected.insert(c.selected.end(), frame.casters(slice).begin(), frame.casters(slice).end());
   const std::vector<float> withSelected = frame.readShadowTerm();
   settings.casters = render::CasterSelection::All;
   frame.resetHistory();
-  c.allCasters = frame.render(camera, time, settings).casterObjects;
+  const render::FrameStats all = frame.render(camera, time, settings);
+  c.allCasters = all.casterObjects;
+  c.allTerrainTriangles = all.shadowTerrainTriangles;
   const std::vector<float> withAll = frame.readShadowTerm();
   for (size_t i = 0; i < withAll.size(); ++i) c.differ += withSelected[i] != withAll[i] ? 1 : 0;
   return c;

@@ -243,6 +243,7 @@ int runRender(const RenderOptions& options) {
                    {"objects_drawn", stats.culling.objectsDrawn}};
   j["shadow"] = {{"casters", stats.casterObjects},
                  {"triangles", stats.shadowTriangles},
+                 {"terrain_triangles", stats.shadowTerrainTriangles},
                  {"n", stats.shadow.n},
                  {"gamma_deg", stats.shadow.gammaDeg},
                  {"fallback", stats.shadow.fallback},

@@ -242,8 +242,8 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
     auto timed = timer.scope(kFramePassNames[1]);
     std::optional<double> nearest;
     if (cascades.cascades > 1) nearest = p.nearestDepth.run(p.geometry.gbuffer().depth, camera);
-    p.shadowSetup.run(camera, visible, settings, cascades, nearest, l, stats.sunBelowHorizon, *objects_, sceneBounds_, p.plan,
-                      stats);
+    p.shadowSetup.run(camera, visible, settings, cascades, nearest, l, stats.sunBelowHorizon, *objects_, eyeLod, sceneBounds_,
+                      p.plan, stats);
   }
   stats.casterObjects = 0;
   for (int i = 0; i < p.plan.cascades; ++i) stats.casterObjects += static_cast<int>(p.plan.slices[static_cast<size_t>(i)].casters.size());

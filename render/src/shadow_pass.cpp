@@ -48,7 +48,8 @@ ShadowPass::ShadowPass(const SceneObjects& objects, const terrain::Terrain* terr
   if (terrain) terrain_ = std::make_unique<TerrainRenderer>(*terrain, TerrainRenderer::Output::ObjectId, objects.terrainIdBase());
   if (forest) trees_ = std::make_unique<TreeRenderer>(*forest, SurfaceOutput::ObjectId, objects.treeIdBase());
   props_ = std::make_unique<PropRenderer>(props, SurfaceOutput::ObjectId, objects.propIdBase());
-  drawer_ = std::make_unique<SceneDrawer>(objects, terrain_.get(), trees_.get(), props_.get(), DrawView{}, nullptr);
+  drawer_ = std::make_unique<SceneDrawer>(objects, nullptr, trees_.get(), props_.get(), DrawView{}, nullptr);
+  tiles_.reserve(objects.tileCount());
 }
 
 void ShadowPass::propsMoved(const std::vector<PropBox>& props) {
@@ -62,8 +63,8 @@ void ShadowPass::ensureLightDepthRenderers() {
     terrainLightDepth_ = std::make_unique<TerrainRenderer>(*terrainSource_, TerrainRenderer::Output::LightDepth, objects_.terrainIdBase());
   if (forestSource_) treesLightDepth_ = std::make_unique<TreeRenderer>(*forestSource_, SurfaceOutput::LightDepth, objects_.treeIdBase());
   propsLightDepth_ = std::make_unique<PropRenderer>(propsSource_, SurfaceOutput::LightDepth, objects_.propIdBase());
-  lightDepthDrawer_ = std::make_unique<SceneDrawer>(objects_, terrainLightDepth_.get(), treesLightDepth_.get(),
-                                                    propsLightDepth_.get(), DrawView{}, nullptr);
+  lightDepthDrawer_ = std::make_unique<SceneDrawer>(objects_, nullptr, treesLightDepth_.get(), propsLightDepth_.get(),
+                                                    DrawView{}, nullptr);
 }
 
 void ShadowPass::ensureMap(int size, int layers) {
@@ -99,7 +100,8 @@ long long ShadowPass::run(const ShadowPlan& plan, const DrawView& eye, const ter
     const float nearLight = 1.0f;
     glClearBufferfv(GL_DEPTH, 0, &nearLight);
     const ShadowSlice& slice = plan.slices[static_cast<size_t>(i)];
-    const long long drawn = plan.shadowed && !slice.setup.empty ? drawSlice(slice, eye, lod, settings, l) : 0;
+    const long long drawn =
+        plan.shadowed && !slice.setup.empty ? drawSlice(slice, eye, lod, settings, l, stats.shadowTerrainTriangles) : 0;
     CascadeStats& out = stats.cascade[static_cast<size_t>(i)];
     out.triangles = drawn;
     triangles += drawn;
@@ -112,7 +114,7 @@ long long ShadowPass::run(const ShadowPlan& plan, const DrawView& eye, const ter
 }
 
 long long ShadowPass::drawSlice(const ShadowSlice& slice, const DrawView& eye, const terrain::TerrainLod* lod,
-                                const FrameSettings& settings, const dvec3& l) {
+                                const FrameSettings& settings, const dvec3& l, long long& terrainTriangles) {
   const shadows::ShadowSetup& setup = slice.setup;
   glDepthFunc(GL_LESS);
   // Which faces are "front" for the light: a face turned toward the sun must wind
@@ -125,7 +127,7 @@ long long ShadowPass::drawSlice(const ShadowSlice& slice, const DrawView& eye, c
   }
   DrawView light = eye;  // the eye's origin and LOD, seen from the light
   light.viewProjectionRelative = eyeRelativeToShadowClip(setup, eye.origin);
-  long long triangles = 0;
+  long long triangles = 0, terrain = 0;
   if (setup.linearDepth) {
     // TSM §4: the shaders write the linear light depth (and add the slope bias themselves).
     ensureLightDepthRenderers();
@@ -135,15 +137,29 @@ long long ShadowPass::drawSlice(const ShadowSlice& slice, const DrawView& eye, c
     glDisable(GL_POLYGON_OFFSET_FILL);
     lightDepthDrawer_->setView(light, lod);
     triangles = lightDepthDrawer_->draw(slice.casters);
+    if (terrainLightDepth_ && lod) terrain = drawTerrain(*terrainLightDepth_, slice, light, *lod);
   } else {
     drawer_->setView(light, lod);
     triangles = drawer_->draw(slice.casters);
+    if (terrain_ && lod) terrain = drawTerrain(*terrain_, slice, light, *lod);
   }
+  terrainTriangles += terrain;
   glDisable(GL_POLYGON_OFFSET_FILL);
   glFrontFace(GL_CCW);
   glCullFace(GL_BACK);
   glDepthFunc(GL_GREATER);
-  return triangles;
+  return triangles + terrain;
+}
+
+long long ShadowPass::drawTerrain(const TerrainRenderer& renderer, const ShadowSlice& slice, const DrawView& light,
+                                  const terrain::TerrainLod& lod) {
+  if (slice.terrainByBlock) return renderer.drawBlocks(light, lod, slice.terrainBlocks).triangles;
+  tiles_.clear();
+  for (std::uint32_t o : slice.casters) {
+    const SceneObjects::Object& object = objects_.objects()[o];
+    if (object.kind == SceneObjects::Kind::Tile) tiles_.push_back(static_cast<int>(object.index));
+  }
+  return renderer.draw(light, lod, tiles_).triangles;
 }
 
 }  // namespace forest::render

@@ -33,8 +33,12 @@ class ShadowPass {
 
  private:
   void ensureMap(int size, int layers);
+  // Returns the triangles drawn; adds the terrain's to `terrainTriangles`.
   long long drawSlice(const ShadowSlice& slice, const DrawView& eye, const terrain::TerrainLod* lod,
-                      const FrameSettings& settings, const glm::dvec3& l);
+                      const FrameSettings& settings, const glm::dvec3& l, long long& terrainTriangles);
+  // The slice's terrain casters: its blocks, or its tiles whole.
+  long long drawTerrain(const TerrainRenderer& renderer, const ShadowSlice& slice, const DrawView& light,
+                        const terrain::TerrainLod& lod);
   void ensureLightDepthRenderers();  // the TSM renderers, built on first use
 
   const SceneObjects& objects_;
@@ -44,7 +48,9 @@ class ShadowPass {
   std::unique_ptr<TerrainRenderer> terrain_, terrainLightDepth_;
   std::unique_ptr<TreeRenderer> trees_, treesLightDepth_;
   std::unique_ptr<PropRenderer> props_, propsLightDepth_;
+  // Trees and props; the terrain is drawn apart, by tile or by block (ShadowSlice::terrainByBlock).
   std::unique_ptr<SceneDrawer> drawer_, lightDepthDrawer_;  // kept: their lists are reused
+  std::vector<int> tiles_;  // scratch: the caster tiles of a slice drawn whole
   gl::Texture map_;
   std::vector<gl::Framebuffer> framebuffers_;  // one per layer
   int size_ = 0, layers_ = 0;

@@ -75,9 +75,8 @@ int ShadowPlan::sliceOf(double eyeDepth) const {
 // inside the slice's view receives shadows from its layer, so each box is clipped to that view
 // first (a 125 m terrain tile at the edge of the view does not pull in the casters of its unseen
 // part), then grown by the filter's footprint in the slice's map.
-void ShadowSetupPass::selectCastersOfReceivers(const ShadowSlice& slice, const FrameSettings& settings, const dvec3& l,
-                                               const SceneObjects& objects, const Aabb& sceneBounds,
-                                               std::vector<std::uint32_t>& casters) {
+void ShadowSetupPass::selectCastersOfReceivers(ShadowSlice& slice, const FrameSettings& settings, const dvec3& l,
+                                               const SceneObjects& objects, const terrain::TerrainLod* lod, const Aabb& sceneBounds) {
   const ConvexBody view = shadows::viewFrustumBody(slice.camera);
   const Frustum viewPlanes(slice.camera);
   const double reach = filterReachTexels(settings.pcfRadius) + kFilterMarginTexels;
@@ -93,7 +92,37 @@ void ShadowSetupPass::selectCastersOfReceivers(const ShadowSlice& slice, const F
     if (!part.empty()) footprints_.push_back(grownByFilter(part.bounds(), slice.setup, settings.shadowMapSize, reach, l, sceneBounds));
   }
   selector_.rebuild(l, footprints_);
-  selector_.select(objects.boxes(), casters);
+  selector_.select(objects.boxes(), slice.casters);
+  if (lod && objects.terrain()) selectTerrainBlocks(slice, settings, l, objects, *lod);
+}
+
+// A caster tile is drawn by its blocks at the level the eye's LOD gives it (Terrain::blockBoxes):
+// only those that may write into a backside map for this sun (Terrain::blockMayFaceAway: a block
+// whose every triangle faces the sun is culled whole by the pass) and whose own box, swept along
+// the light, meets a receiver. A tile none of whose blocks remain is no caster.
+void ShadowSetupPass::selectTerrainBlocks(ShadowSlice& slice, const FrameSettings& settings, const dvec3& l,
+                                          const SceneObjects& objects, const terrain::TerrainLod& lod) {
+  const terrain::Terrain& terrain = *objects.terrain();
+  slice.terrainByBlock = true;
+  size_t kept = 0;
+  for (std::uint32_t o : slice.casters) {
+    const SceneObjects::Object& object = objects.objects()[o];
+    if (object.kind != SceneObjects::Kind::Tile) {
+      slice.casters[kept++] = o;
+      continue;
+    }
+    const int tile = static_cast<int>(object.index), level = terrain.tileLevel(tile, lod);
+    const std::span<const Aabb> blocks = terrain.blockBoxes(tile, level);
+    bool any = false;
+    for (int b = 0; b < static_cast<int>(blocks.size()); ++b) {
+      if (settings.backside && !terrain.blockMayFaceAway(tile, level, b, lod, -l)) continue;
+      if (!selector_.needed(blocks[static_cast<size_t>(b)])) continue;
+      slice.terrainBlocks.push_back({tile, level, b});
+      any = true;
+    }
+    if (any) slice.casters[kept++] = o;
+  }
+  slice.casters.resize(kept);
 }
 
 // Zhang et al. 2006 eq. (4) on [z_near, z_f], z_near the nearest visible depth (SDSM, Lauritzen et
@@ -126,10 +155,11 @@ shadows::SplitDepths ShadowSetupPass::splitsFor(const Camera& camera, double far
 
 void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& visible, const FrameSettings& settings,
                           const ShadowSettings& cascades, std::optional<double> nearestDepth, const dvec3& l,
-                          bool sunBelowHorizon, const SceneObjects& objects, const Aabb& sceneBounds, ShadowPlan& plan,
-                          FrameStats& stats) {
+                          bool sunBelowHorizon, const SceneObjects& objects, const terrain::TerrainLod* lod,
+                          const Aabb& sceneBounds, ShadowPlan& plan, FrameStats& stats) {
   // Room for every object as receiver and caster (a frame then never grows these lists).
   const size_t objectCount = objects.boxes().size();
+  const size_t mostBlocks = objects.tileCount() * terrain::Terrain::kMaxBlockBoxes;
   receivers_.reserve(objectCount);
   sliceReceivers_.reserve(objectCount);
   receiverDepths_.reserve(objectCount);
@@ -146,6 +176,9 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
   for (ShadowSlice& slice : plan.slices) {
     slice.casters.reserve(objectCount);
     slice.casters.clear();
+    slice.terrainBlocks.reserve(mostBlocks);
+    slice.terrainBlocks.clear();
+    slice.terrainByBlock = false;
   }
   plan.shadowed = !sunBelowHorizon && !receivers_.empty() && sceneBounds.valid();
   if (!plan.shadowed) return;
@@ -211,7 +244,7 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
     if (!slice.setup.empty) {
       switch (settings.casters) {
         case CasterSelection::Receivers:
-          selectCastersOfReceivers(slice, settings, l, objects, sceneBounds, slice.casters);
+          selectCastersOfReceivers(slice, settings, l, objects, lod, sceneBounds);
           break;
         case CasterSelection::FrustumBody: {
           const ConvexBody body = shadows::computeFocusBody(slice.camera, l, sceneBounds);

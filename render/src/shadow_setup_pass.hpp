@@ -22,7 +22,11 @@ struct ShadowSlice {
   double from = 0.0, to = 0.0;          // eye depths it serves: [from, to)
   Camera camera;                        // the eye camera with near, far = the ends of its focus body (shadows::sliceCamera)
   shadows::ShadowSetup setup;
-  std::vector<std::uint32_t> casters;   // object indices
+  std::vector<std::uint32_t> casters;   // object indices (a terrain tile when any of its blocks is drawn)
+  // The terrain casters by block (CasterSelection::Receivers): the blocks of the caster tiles that
+  // may write into the backside map and whose boxes meet a receiver. Otherwise the tiles whole.
+  bool terrainByBlock = false;
+  std::vector<terrain::TileBlock> terrainBlocks;
 };
 
 // What the shadow pass and the shadow term work from. Kept from the last frame that had a sun and
@@ -41,9 +45,11 @@ class ShadowSetupPass {
   // Fills `plan` (and the shadow statistics) for this frame's visible set. `l`: the unit light
   // direction; `sceneBounds`: S; `nearestDepth`: the nearest visible eye depth when known (the
   // first slice's split scheme starts there).
+  // `lod`: the eye's terrain LOD (the shadow pass draws it; null without terrain).
   void run(const Camera& camera, const culling::CullingResult& visible, const FrameSettings& settings,
            const ShadowSettings& cascades, std::optional<double> nearestDepth, const glm::dvec3& l, bool sunBelowHorizon,
-           const SceneObjects& objects, const Aabb& sceneBounds, ShadowPlan& plan, FrameStats& stats);
+           const SceneObjects& objects, const terrain::TerrainLod* lod, const Aabb& sceneBounds, ShadowPlan& plan,
+           FrameStats& stats);
   // Forgets the smoothed n and splits and the stable maps' radii (a camera cut).
   void reset() {
     previousN_.fill(0.0);
@@ -57,8 +63,12 @@ class ShadowSetupPass {
                                  const ShadowSettings& cascades);
   // Casters of the slice's receivers (DESIGN §4): each receiver's part inside the slice's view,
   // grown by the filter's footprint, swept along the light (shadows::CasterSelector).
-  void selectCastersOfReceivers(const ShadowSlice& slice, const FrameSettings& settings, const glm::dvec3& l,
-                                const SceneObjects& objects, const Aabb& sceneBounds, std::vector<std::uint32_t>& casters);
+  void selectCastersOfReceivers(ShadowSlice& slice, const FrameSettings& settings, const glm::dvec3& l,
+                                const SceneObjects& objects, const terrain::TerrainLod* lod, const Aabb& sceneBounds);
+  // Replaces the caster tiles of `slice` by their blocks that may write into the map and meet a
+  // receiver (selector_ must hold the slice's receivers).
+  void selectTerrainBlocks(ShadowSlice& slice, const FrameSettings& settings, const glm::dvec3& l,
+                           const SceneObjects& objects, const terrain::TerrainLod& lod);
 
   // Per slice, the last frame's lispsm n (ShadowInput::previousN) and uniform-stable radius
   // (ShadowInput::previousStableRadius); 0: none.

@@ -84,13 +84,19 @@ TerrainRenderer::TerrainRenderer(const terrain::Terrain& terrain, Output output,
     indexOffset_[level] = static_cast<int>(indices.size());
     indexCount_[level] = static_cast<int>(levelIndices.size());
     indices.insert(indices.end(), levelIndices.begin(), levelIndices.end());
+    const std::vector<std::uint32_t> blockIndices = terrain::blockGridIndices(level);
+    blockIndexOffset_[level] = static_cast<int>(indices.size());
+    blockIndexCount_[level] = static_cast<int>(blockIndices.size());
+    indices.insert(indices.end(), blockIndices.begin(), blockIndices.end());
   }
   indices_ = gl::Buffer(indices.size() * sizeof(std::uint32_t), indices.data(), 0);
-  // A segment holds every tile (the largest draw), so the ring never grows.
-  instances_ = std::make_unique<gl::StreamRing>(static_cast<size_t>(terrain.tileCount()) * sizeof(glm::ivec4), sizeof(glm::ivec4));
-  // Room for every tile in every list: a draw never grows them (no allocation per frame).
-  for (auto& level : byLevel_) level.reserve(static_cast<size_t>(terrain.tileCount()));
-  packed_.reserve(static_cast<size_t>(terrain.tileCount()));
+  // A segment holds every block of every tile (the largest draw), so the ring never grows.
+  const size_t mostInstances = static_cast<size_t>(terrain.tileCount()) * terrain::Terrain::kMaxBlockBoxes;
+  instances_ = std::make_unique<gl::StreamRing>(mostInstances * sizeof(glm::ivec4), sizeof(glm::ivec4));
+  // Room for every block of every tile in every list: a draw never grows them (no allocation per frame).
+  for (int level = 0; level < kLevels; ++level)
+    byLevel_[static_cast<size_t>(level)].reserve(static_cast<size_t>(terrain.tileCount() * terrain::blocksPerTile(level)));
+  packed_.reserve(mostInstances);
 
   const GLuint vao = vertexArray_.id();
   glVertexArrayVertexBuffer(vao, 0, grid_.id(), 0, sizeof(glm::ivec2));
@@ -134,16 +140,36 @@ TerrainRenderer::Stats TerrainRenderer::draw(const Camera& camera, const terrain
 
 TerrainRenderer::Stats TerrainRenderer::draw(const DrawView& view, const terrain::TerrainLod& lod,
                                              std::span<const int> tiles) const {
-  const glm::dvec3 eye = view.origin;
-  Stats stats;
-  if (tiles.empty()) return stats;
+  if (tiles.empty()) return {};
   // Tiles grouped by level, written at once as (tx, tz, level); one instanced draw per level.
-  auto& byLevel = byLevel_;
-  for (auto& level : byLevel) level.clear();
+  for (auto& level : byLevel_) level.clear();
   for (int t : tiles) {
     const int level = terrain_.tileLevel(t, lod);
-    byLevel[level].emplace_back(t % terrain_.tilesPerSide(), t / terrain_.tilesPerSide(), level, 0);
+    byLevel_[static_cast<size_t>(level)].emplace_back(t % terrain_.tilesPerSide(), t / terrain_.tilesPerSide(), level, 0);
   }
+  return drawByLevel(view, lod, false);
+}
+
+TerrainRenderer::Stats TerrainRenderer::drawBlocks(const DrawView& view, const terrain::TerrainLod& lod,
+                                                   std::span<const terrain::TileBlock> blocks) const {
+  if (blocks.empty()) return {};
+  for (auto& level : byLevel_) level.clear();
+  for (const terrain::TileBlock& b : blocks) {
+    if (b.level < 0 || b.level >= kLevels || b.block < 0 || b.block >= terrain::blocksPerTile(b.level) || b.tile < 0 ||
+        b.tile >= terrain_.tileCount())
+      throw Error(fmt::format("TerrainRenderer::drawBlocks: no block {} of tile {} at level {}", b.block, b.tile, b.level));
+    const int quads = terrain::blockQuads(b.level), perSide = kTileQuads / quads;
+    const int origin = (b.block % perSide) * quads + 256 * ((b.block / perSide) * quads);  // terrain.vert's iTile.w
+    byLevel_[static_cast<size_t>(b.level)].emplace_back(b.tile % terrain_.tilesPerSide(), b.tile / terrain_.tilesPerSide(), b.level,
+                                                         origin);
+  }
+  return drawByLevel(view, lod, true);
+}
+
+TerrainRenderer::Stats TerrainRenderer::drawByLevel(const DrawView& view, const terrain::TerrainLod& lod, bool blocks) const {
+  const glm::dvec3 eye = view.origin;
+  Stats stats;
+  auto& byLevel = byLevel_;
   auto& packed = packed_;
   packed.clear();
   std::array<int, kLevels> first{};
@@ -177,16 +203,18 @@ TerrainRenderer::Stats TerrainRenderer::draw(const DrawView& view, const terrain
   glBindTextureUnit(1, normals_.id() != 0 ? normals_.id() : heights_.id());
   glBindTextureUnit(2, cover_.id() != 0 ? cover_.id() : heights_.id());
   glBindVertexArray(vertexArray_.id());
+  const auto& offsets = blocks ? blockIndexOffset_ : indexOffset_;
+  const auto& counts = blocks ? blockIndexCount_ : indexCount_;
   for (int level = 0; level < kLevels; ++level) {
     const int count = static_cast<int>(byLevel[level].size());
     if (count == 0) continue;
     glDrawElementsInstancedBaseInstance(
-        GL_TRIANGLES, indexCount_[level], GL_UNSIGNED_INT,
-        reinterpret_cast<const void*>(static_cast<std::uintptr_t>(indexOffset_[level]) * sizeof(std::uint32_t)), count,
+        GL_TRIANGLES, counts[level], GL_UNSIGNED_INT,
+        reinterpret_cast<const void*>(static_cast<std::uintptr_t>(offsets[level]) * sizeof(std::uint32_t)), count,
         baseInstance + static_cast<GLuint>(first[level]));
     stats.tiles += count;
     stats.tilesPerLevel[level] = count;
-    stats.triangles += static_cast<long long>(count) * indexCount_[level] / 3;
+    stats.triangles += static_cast<long long>(count) * counts[level] / 3;
   }
   glBindVertexArray(0);
   return stats;

@@ -1,5 +1,7 @@
 #include "forest/terrain/terrain.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -61,6 +63,7 @@ Terrain::Terrain(const TerrainSettings& settings) : settings_(settings), heightf
         }
     }
   }
+  blockFacing_ = BlockFacing(h, tilesPerSide_);
   // ε(L): the level-L mesh against every sample it skips. Morphed states lie between level L
   // and L+1 vertex by vertex; the bound is stated for the fully morphed (integer) levels.
   for (int level = 1; level < kLevels; ++level) {
@@ -125,6 +128,25 @@ std::span<const Aabb> Terrain::blockBoxes(int tile, int level) const {
   if (level <= 3) return {blocks16_.data() + 16 * t, 16};  // 2^(level+1) ≤ 16
   if (level == 4) return {blocks32_.data() + 4 * t, 4};
   return {&tileBoxes_[t], 1};
+}
+
+BlockMorph Terrain::blockMorph(int tile, int level, int block, const TerrainLod& lod) const {
+  if (level >= kLevels - 1) return BlockMorph::Unmorphed;  // the coarsest level never morphs
+  // The vertices' morph factors come from their samples' distances to the LOD's eye (terrain.vert);
+  // the block's box holds those samples. Past the ramp's ends (not inside its slack): k is exactly
+  // 0 or 1 on the GPU too.
+  const Aabb& box = blockBoxes(tile, level)[static_cast<size_t>(block)];
+  const double nearest = glm::length(glm::max(glm::max(box.min - lod.eye, lod.eye - box.max), dvec3(0.0)));
+  const double farthest = glm::length(glm::max(glm::abs(box.min - lod.eye), glm::abs(box.max - lod.eye)));
+  if (farthest <= lod.morphStart[static_cast<size_t>(level)]) return BlockMorph::Unmorphed;
+  if (nearest >= lod.morphEnd[static_cast<size_t>(level)]) return BlockMorph::Morphed;
+  return BlockMorph::Morphing;
+}
+
+bool Terrain::blockMayFaceAway(int tile, int level, int block, const TerrainLod& lod, const dvec3& toSun) const {
+  if (level < 0 || level >= kLevels || block < 0 || block >= blocksPerTile(level))
+    throw Error(fmt::format("terrain: no block {} at level {}", block, level));
+  return blockFacing_.mayFaceAway(tile, level, block, blockMorph(tile, level, block, lod), toSun);
 }
 
 int Terrain::tileLevel(int tile, const TerrainLod& lod) const {
@@ -203,13 +225,16 @@ double Terrain::gpuBytesPerSquareKilometre() const {
   return static_cast<double>(gpuBytes()) / (heightfield_.size() * heightfield_.size() / 1e6);
 }
 
-std::vector<std::uint32_t> tileGridIndices(int level) {
+namespace {
+
+// Triangles of the level-L cells in [0, quads)² of a tile's local grid.
+std::vector<std::uint32_t> gridIndices(int level, int quads) {
   if (level < 0 || level >= kLevels) throw Error("terrain: no grid for level " + std::to_string(level));
   const int step = 1 << level, row = kTileQuads + 1;
   std::vector<std::uint32_t> indices;
   auto index = [&](int i, int j) { return static_cast<std::uint32_t>(j * row + i); };
-  for (int j = 0; j < kTileQuads; j += step) {
-    for (int i = 0; i < kTileQuads; i += step) {
+  for (int j = 0; j < quads; j += step) {
+    for (int i = 0; i < quads; i += step) {
       // (00, 01, 11) and (00, 11, 10): counter-clockwise seen from above (+y).
       indices.insert(indices.end(), {index(i, j), index(i, j + step), index(i + step, j + step)});
       indices.insert(indices.end(), {index(i, j), index(i + step, j + step), index(i + step, j)});
@@ -217,5 +242,10 @@ std::vector<std::uint32_t> tileGridIndices(int level) {
   }
   return indices;
 }
+
+}  // namespace
+
+std::vector<std::uint32_t> tileGridIndices(int level) { return gridIndices(level, kTileQuads); }
+std::vector<std::uint32_t> blockGridIndices(int level) { return gridIndices(level, blockQuads(level)); }
 
 }  // namespace forest::terrain

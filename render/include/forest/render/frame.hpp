@@ -117,6 +117,7 @@ struct FrameStats {
   int casterObjects = 0;
   long long geometryTriangles = 0;
   long long shadowTriangles = 0;
+  long long shadowTerrainTriangles = 0;  // of shadowTriangles: terrain (by block, Terrain::blockMayFaceAway)
   double farDepth = 0.0;        // z_f of the visible set
   bool sunBelowHorizon = false;
   shadows::ShadowDiagnostics shadow;  // slice 0's

@@ -35,6 +35,7 @@ class SceneObjects {
   culling::QueryShapes queryShapes(const terrain::TerrainLod* lod) const;
   const std::vector<Object>& objects() const { return objects_; }
   std::size_t tileCount() const { return tiles_; }
+  const terrain::Terrain* terrain() const { return terrain_; }  // null without terrain
   std::size_t treeCount() const { return trees_; }
   std::size_t propCount() const { return objects_.size() - tiles_ - trees_; }
   // Boxes again after trees or props moved.

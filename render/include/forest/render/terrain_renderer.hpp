@@ -41,6 +41,10 @@ class TerrainRenderer {
              std::span<const int> tiles) const;
   // The same from any view — e.g. the light's in the shadow pass, which draws the eye's LOD.
   Stats draw(const DrawView& view, const terrain::TerrainLod& lod, std::span<const int> tiles) const;
+  // Blocks of tiles, each at its `level` (the one the LOD gives its tile), one instanced draw per
+  // level (terrain::blockGridIndices, offset by the block's origin in terrain.vert): the shadow
+  // pass's terrain casters. Stats count blocks as tiles.
+  Stats drawBlocks(const DrawView& view, const terrain::TerrainLod& lod, std::span<const terrain::TileBlock> blocks) const;
   // The ground cover the lit and G-buffer materials read (terrain.frag): a side × side grid of the
   // forest's stand density D in [0, 1] over the terrain (StandField::densityGrid), row by row,
   // filtered linearly. Forest floor where D is high, meadow where it is low; without a call the
@@ -66,10 +70,14 @@ class TerrainRenderer {
   // Tile instances, written once per draw into a persistently mapped ring (DESIGN §9): each draw
   // addresses its part by base instance; nothing the GPU may still read is rewritten.
   std::unique_ptr<gl::StreamRing> instances_;
+  // The instances in byLevel_, one instanced draw per level of the tile or the block grid.
+  Stats drawByLevel(const DrawView& view, const terrain::TerrainLod& lod, bool blocks) const;
+
   // Per-draw scratch, kept so the per-leaf draws of the culling traversal do not allocate.
-  mutable std::array<std::vector<glm::ivec4>, terrain::kLevels> byLevel_;  // (tx, tz, level, 0)
+  mutable std::array<std::vector<glm::ivec4>, terrain::kLevels> byLevel_;  // (tx, tz, level, block origin)
   mutable std::vector<glm::ivec4> packed_;
-  std::array<int, terrain::kLevels> indexOffset_{}, indexCount_{};
+  // Index ranges per level: the whole tile's grid, and block 0's.
+  std::array<int, terrain::kLevels> indexOffset_{}, indexCount_{}, blockIndexOffset_{}, blockIndexCount_{};
 };
 
 }  // namespace forest::render

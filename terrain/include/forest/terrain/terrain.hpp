@@ -18,6 +18,7 @@
 
 #include "forest/core/bounds.hpp"
 #include "forest/core/camera.hpp"
+#include "forest/terrain/block_facing.hpp"
 #include "forest/terrain/heightfield.hpp"
 
 namespace forest::terrain {
@@ -49,6 +50,11 @@ struct TerrainLod {
   double morphFactor(int level, double distance) const;
 };
 
+// Block `block` (row-major, blocksPerTile(level) of them) of a tile drawn at `level`.
+struct TileBlock {
+  int tile = 0, level = 0, block = 0;
+};
+
 struct TerrainTriangle {
   std::array<glm::dvec3, 3> vertices;  // counter-clockwise seen from above
 };
@@ -70,6 +76,12 @@ class Terrain {
   // drawn vertex over a block is a mix of that block's samples.
   std::span<const Aabb> blockBoxes(int tile, int level) const;
   static constexpr int kMaxBlockBoxes = (kTileQuads / 16) * (kTileQuads / 16);
+  // Whether block `block` of a tile drawn at `level` may write into a backside shadow map for a
+  // sun (BlockFacing), in the morph state `lod` gives it (blockMorph).
+  bool blockMayFaceAway(int tile, int level, int block, const TerrainLod& lod, const glm::dvec3& toSun) const;
+  // Every vertex of the block at k = 0 (its box ends before the level's morph ramp), at k = 1 (it
+  // starts past the ramp) or either.
+  BlockMorph blockMorph(int tile, int level, int block, const TerrainLod& lod) const;
   Aabb bounds() const { return bounds_; }
   // Largest vertical distance between the level-L mesh and the samples it skips, over all tiles
   // (0 for level 0).
@@ -104,6 +116,7 @@ class Terrain {
   int tilesPerSide_ = 0;
   std::vector<Aabb> tileBoxes_;
   std::vector<Aabb> blocks16_, blocks32_;  // per tile: 16 and 4 block boxes, row-major
+  BlockFacing blockFacing_;
   Aabb bounds_;
   std::array<double, kLevels> levelError_{};
   double tileDiagonal_ = 0.0;
@@ -112,5 +125,9 @@ class Terrain {
 // Index list (triangles) of the level-L grid of one tile over the (kTileQuads + 1)² local
 // vertices, row-major in (i, j) with i along x: what the GPU draws for every tile at that level.
 std::vector<std::uint32_t> tileGridIndices(int level);
+// The same for block 0 of a tile at that level (blockQuads(level) quads per side, same vertex
+// numbering): a block elsewhere in the tile is this list with its block's origin added to every
+// vertex's (i, j) (terrain.vert).
+std::vector<std::uint32_t> blockGridIndices(int level);
 
 }  // namespace forest::terrain
