@@ -70,6 +70,7 @@ TEST_F(TerrainCastersGl, BlocksLeftOutChangeNoShadowAndASteepSunDrawsOnlyRampBlo
   long long terrainAtLowSun = 0, terrainAllAtLowSun = 0, terrainAtSteepSun = 0, terrainAllAtSteepSun = 0;
   for (int v = 0; v < 8; ++v) {
     stepForestView(camera, t, v == 7 ? 9 : v);  // the last view 40 m up
+    if (v % kSweepStride != 0) continue;
     for (const double elevation : {5.0, 20.0, 40.0, 60.0, 85.0}) {
       const double e = glm::radians(elevation), a = glm::radians(40.0 + 70.0 * v);
       scene.sun.direction = -dvec3(std::cos(e) * std::cos(a), std::sin(e), std::cos(e) * std::sin(a));
