@@ -1,7 +1,8 @@
 // Culling on the GPU. Exactness on the geometry pass (DESIGN §4): along 80 views of the default
 // forest — a ground-level walk, 20 under the canopy of the densest stand, above the canopy, facing a hill, facing the sky, the eye inside a
 // cluster's box, trees and props moving between frames — frustum, stop-and-wait, CHC and CHC++
-// draw the same depth and object-ID images as drawing everything. The CHC and CHC++ visible sets
+// (terrain drawn by the blocks that meet the frustum, as the frame does) draw the same depth and
+// object-ID images as drawing everything. The CHC and CHC++ visible sets
 // hold every object with a visible pixel, and z_f reaches the farthest depth drawn. A synthetic box scene (a wall
 // hiding rows of boxes) gives the expected visible sets and query counts.
 #include <algorithm>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "forest/core/error.hpp"
+#include "forest/core/frustum.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/culling/bvh.hpp"
 #include "forest/culling/occlusion_culler.hpp"
@@ -149,6 +151,10 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongEightyViews) {
       const CullingStrategy s = runs[k].strategy;
       target.bindAndClear();
       render::SceneDrawer drawer(objects, &terrainIds, &treeIds, &propIds, view.camera, &lod, time, scene.sun);
+      // As the frame's geometry pass: terrain by the blocks that meet the frustum; brute force
+      // (None) draws every tile whole.
+      const Frustum frustum(view.camera);
+      if (s != CullingStrategy::None) drawer.cullTerrainBlocks(&frustum);
       const culling::CullingResult r = cullers[k].cull(bvh, objects.boxes(), view.camera, s, drawer, objects.queryShapes(&lod));
       asyncPolls += r.stats.availabilityPolls;
       if (runs[k].mode == culling::QueryMode::Deterministic) {

@@ -61,6 +61,8 @@ const culling::CullingResult& GeometryPass::run(const Camera& camera, const Draw
   glClearBufferfv(GL_DEPTH, 0, &farDepth);
   SceneDrawer& drawer = *drawer_;
   drawer.setView(eye, lod);
+  frustum_.emplace(camera);
+  drawer.cullTerrainBlocks(&*frustum_);
   if (!frozen) return culler.cull(bvh, objects_.boxes(), camera, strategy, drawer, objects_.queryShapes(lod));
   culling::CullingResult& visible = frozenResult_;
   visible.stats = culling::CullingStats{};

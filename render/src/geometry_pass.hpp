@@ -2,6 +2,7 @@
 // Pass 1 of the frame (DESIGN §1): the culling traversal draws the G-buffer — albedo, shading and
 // geometric normals, object ID, reversed-Z depth — and returns the visible set with its z_f.
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "forest/culling/bvh.hpp"
@@ -41,6 +42,7 @@ class GeometryPass {
   std::unique_ptr<PropRenderer> props_;
   std::unique_ptr<SceneDrawer> drawer_;
   culling::CullingResult frozenResult_;
+  std::optional<Frustum> frustum_;  // this frame's eye frustum: terrain blocks outside it are not drawn
 };
 
 }  // namespace forest::render

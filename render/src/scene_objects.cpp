@@ -84,6 +84,7 @@ SceneDrawer::SceneDrawer(const SceneObjects& objects, const TerrainRenderer* ter
     : objects_(objects), terrain_(terrain), trees_(trees), props_(props), view_(view), lod_(lod) {
   // Room for every object: a draw never grows the lists (no allocation per frame).
   tiles_.reserve(objects.tileCount());
+  blocks_.reserve(objects.tileCount() * terrain::Terrain::kMaxBlockBoxes);
   treeList_.reserve(objects.treeCount());
   propList_.reserve(objects.propCount());
 }
@@ -101,7 +102,21 @@ long long SceneDrawer::draw(std::span<const std::uint32_t> objects) {
     }
   }
   long long triangles = 0;
-  if (terrain_ && lod_ && !tiles_.empty()) triangles += terrain_->draw(view_, *lod_, tiles_).triangles;
+  if (terrain_ && lod_ && !tiles_.empty()) {
+    if (blockFrustum_ && objects_.terrain()) {
+      const terrain::Terrain& terrain = *objects_.terrain();
+      blocks_.clear();
+      for (int tile : tiles_) {
+        const int level = terrain.tileLevel(tile, *lod_);
+        const std::span<const Aabb> boxes = terrain.blockBoxes(tile, level);
+        for (int b = 0; b < static_cast<int>(boxes.size()); ++b)
+          if (blockFrustum_->mayIntersect(boxes[static_cast<size_t>(b)])) blocks_.push_back({tile, level, b});
+      }
+      triangles += terrain_->drawBlocks(view_, *lod_, blocks_).triangles;
+    } else {
+      triangles += terrain_->draw(view_, *lod_, tiles_).triangles;
+    }
+  }
   if (trees_ && !treeList_.empty()) triangles += trees_->draw(view_, treeList_).triangles;
   if (props_ && !propList_.empty()) triangles += props_->draw(view_, propList_);
   return triangles;

@@ -11,6 +11,7 @@
 
 #include "forest/core/bounds.hpp"
 #include "forest/core/camera.hpp"
+#include "forest/core/frustum.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/culling/occlusion_culler.hpp"
 #include "forest/render/prop_renderer.hpp"
@@ -85,6 +86,10 @@ class SceneDrawer : public culling::ObjectDrawer {
     view_ = view;
     lod_ = lod;
   }
+  // With a frustum (the eye's, kept by the caller), a terrain tile is drawn by its blocks at its
+  // level (terrain::Terrain::blockBoxes) whose boxes meet the frustum: a block outside it gives no
+  // fragment, so the image is the same. Null: tiles whole (the default).
+  void cullTerrainBlocks(const Frustum* frustum) { blockFrustum_ = frustum; }
 
  private:
   const SceneObjects& objects_;
@@ -93,7 +98,9 @@ class SceneDrawer : public culling::ObjectDrawer {
   const PropRenderer* props_;
   DrawView view_;
   const terrain::TerrainLod* lod_;
+  const Frustum* blockFrustum_ = nullptr;
   std::vector<int> tiles_;
+  std::vector<terrain::TileBlock> blocks_;
   std::vector<std::uint32_t> treeList_, propList_;
 };
 
