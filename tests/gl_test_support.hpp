@@ -181,9 +181,10 @@ struct CasterComparison {
   std::vector<std::uint32_t> selected;                               // the selected casters, every slice's
 };
 inline CasterComparison compareSelectedWithAllCasters(render::Frame& frame, const Camera& camera, double time,
-                                                      render::FrameSettings settings) {
+                                                      render::FrameSettings settings,
+                                                      render::CasterSelection selection = render::CasterSelection::Receivers) {
   settings.culling = culling::CullingStrategy::Frustum;
-  settings.casters = render::CasterSelection::Receivers;
+  settings.casters = selection;
   frame.resetHistory();
   CasterComparison c;
   const render::FrameStats selected = frame.render(camera, time, settings);

@@ -34,7 +34,6 @@ struct RenderOptions {
   ImageSizeOptions size{0, 0};  // 0: the scene's render.width / height
   double time = 0.0;
   FrameOptions frame;
-  std::string casters = "receivers";
   double bias = 0.0;
   bool frontFaces = false;
   std::optional<double> fog;
@@ -182,7 +181,6 @@ int runRender(const RenderOptions& options) {
     scene.sun.direction = glm::normalize(d);
   }
   render::FrameSettings settings = options.frame.settings();
-  settings.casters = render::parseCasterSelection(options.casters);
   settings.slopeScaleBias = options.bias;
   settings.backside = !options.frontFaces;
   settings.fogDensity = options.fog;
@@ -226,7 +224,7 @@ int runRender(const RenderOptions& options) {
                    {"cascades", cascades.cascades}, {"split_lambda", cascades.split_lambda},
                    {"cascade_blend", cascades.cascade_blend},
                    {"shadow_texels", static_cast<long long>(cascades.cascades) * options.frame.shadowSize * options.frame.shadowSize},
-                   {"culling", options.frame.culling}, {"casters", options.casters},
+                   {"culling", options.frame.culling}, {"casters", options.frame.casters},
                    {"slope_bias", options.bias},       {"backside", settings.backside},
                    {"pcf_radius", options.frame.pcf},  {"blur_px", options.frame.blur},
                    {"fog", options.fog.value_or(scene.render.haze)},               {"timing", render::timingModeName(settings.timing)},
@@ -277,9 +275,6 @@ void addFrameInputs(CLI::App* command, RenderOptions* options) {
   command->add_option("--sun", options->sun, "Sun direction x y z, the way light travels (default: the scene's)")
       ->expected(3);
   options->frame.add(*command);
-  command->add_option("--casters", options->casters, "Shadow casters: from the visible receivers, the frustum's focus body, or all")
-      ->check(CLI::IsMember({"receivers", "frustum-body", "all"}))
-      ->capture_default_str();
   command->add_option("--bias", options->bias, "Slope-scale depth bias in the shadow pass (0 to 100; 0: none)")
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();

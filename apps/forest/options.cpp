@@ -95,6 +95,12 @@ void FrameOptions::add(CLI::App& command, bool withCulling) {
                                           "share of the split's distance (0 to 0.5; 0: hard; default: the scene's, else 0.1)")
                            ->check(CLI::Range(0.0, 0.5));
   command.add_option("--pcf", pcf, "Wider PCF: (2r+1)² hardware 2×2 lookups (0 to 4; 0: one)")->check(CLI::Range(0, 4))->capture_default_str();
+  command.add_option("--casters", casters,
+                     "Shadow casters: of the visible receivers' boxes (receivers), of the visible sun-facing\n"
+                     "pixels (receiver-pixels: the G-buffer read back, a CPU wait on a GPU), of the frustum's\n"
+                     "focus body (frustum-body), or all")
+      ->check(CLI::IsMember({"receivers", "receiver-pixels", "frustum-body", "all"}))
+      ->capture_default_str();
   command.add_option("--blur", blur,
                      "Eye-space blur of the shadow term (thesis §9.4.2): radius in pixels (0 to 16) up to\n"
                      "--blur-depth, then shrinking as 1/depth (0: off)")
@@ -130,6 +136,7 @@ render::FrameSettings FrameOptions::settings(const gl::ContextInfo& context) con
   s.pcfRadius = pcf;
   s.blurRadius = blur;
   s.blurReferenceDepth = blurDepth;
+  s.casters = render::parseCasterSelection(casters);
   if (cascadesOption && cascadesOption->count() > 0) s.cascades = cascades;
   if (splitLambdaOption && splitLambdaOption->count() > 0) s.splitLambda = splitLambda;
   if (cascadeBlendOption && cascadeBlendOption->count() > 0) s.cascadeBlend = cascadeBlend;
@@ -166,6 +173,7 @@ nlohmann::ordered_json FrameOptions::json(const gl::ContextInfo& context, const 
                               {"cascade_blend", c.cascade_blend},
                               {"shadow_texels", static_cast<long long>(c.cascades) * shadowSize * shadowSize},
                               {"culling", culling},
+                              {"casters", casters},
                               {"pcf_radius", pcf},
                               {"blur_px", blur},
                               {"blur_depth_m", blurDepth}};

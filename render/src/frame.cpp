@@ -11,6 +11,7 @@
 #include "geometry_pass.hpp"
 #include "lighting_pass.hpp"
 #include "nearest_depth_pass.hpp"
+#include "receiver_pixels.hpp"
 #include "shadow_pass.hpp"
 #include "shadow_setup_pass.hpp"
 #include "shadow_term_pass.hpp"
@@ -86,7 +87,8 @@ CasterSelection parseCasterSelection(std::string_view name) {
   if (name == "receivers") return CasterSelection::Receivers;
   if (name == "frustum-body") return CasterSelection::FrustumBody;
   if (name == "all") return CasterSelection::All;
-  throw InputError(fmt::format("caster selection '{}': expected receivers, frustum-body or all", name));
+  if (name == "receiver-pixels") return CasterSelection::ReceiverPixels;
+  throw InputError(fmt::format("caster selection '{}': expected receivers, receiver-pixels, frustum-body or all", name));
 }
 
 std::string_view casterSelectionName(CasterSelection selection) {
@@ -94,6 +96,7 @@ std::string_view casterSelectionName(CasterSelection selection) {
     case CasterSelection::Receivers: return "receivers";
     case CasterSelection::FrustumBody: return "frustum-body";
     case CasterSelection::All: return "all";
+    case CasterSelection::ReceiverPixels: return "receiver-pixels";
   }
   return "?";
 }
@@ -102,6 +105,7 @@ std::string_view casterSelectionName(CasterSelection selection) {
 struct Frame::Passes {
   GeometryPass geometry;
   NearestDepthPass nearestDepth;  // for the cascades' splits
+  ReceiverPixels receiverPixels;  // for CasterSelection::ReceiverPixels
   ShadowSetupPass shadowSetup;
   ShadowPlan plan;  // the shadow setup pass's output, kept from the last frame with sun and receivers
   ShadowPass shadow;
@@ -242,8 +246,13 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
     auto timed = timer.scope(kFramePassNames[1]);
     std::optional<double> nearest;
     if (cascades.cascades > 1) nearest = p.nearestDepth.run(p.geometry.gbuffer().depth, camera);
+    std::span<const glm::dvec4> receiverPixels;
+    if (settings.casters == CasterSelection::ReceiverPixels && !stats.sunBelowHorizon) {
+      p.receiverPixels.read(p.geometry.gbuffer(), width_, height_, camera, -l);
+      receiverPixels = p.receiverPixels.points();
+    }
     p.shadowSetup.run(camera, visible, settings, cascades, nearest, l, stats.sunBelowHorizon, *objects_, eyeLod, sceneBounds_,
-                      p.plan, stats);
+                      receiverPixels, p.plan, stats);
   }
   stats.casterObjects = 0;
   for (int i = 0; i < p.plan.cascades; ++i) stats.casterObjects += static_cast<int>(p.plan.slices[static_cast<size_t>(i)].casters.size());

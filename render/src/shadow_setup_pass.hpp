@@ -13,6 +13,7 @@
 #include "forest/render/scene_objects.hpp"
 #include "forest/shadows/cascades.hpp"
 #include "forest/shadows/casters.hpp"
+#include "forest/shadows/receiver_mask.hpp"
 #include "forest/shadows/shadow_setup.hpp"
 
 namespace forest::render {
@@ -46,10 +47,12 @@ class ShadowSetupPass {
   // direction; `sceneBounds`: S; `nearestDepth`: the nearest visible eye depth when known (the
   // first slice's split scheme starts there).
   // `lod`: the eye's terrain LOD (the shadow pass draws it; null without terrain).
+  // `receiverPixels`: the visible sun-facing pixels (xyz world, w eye depth) for
+  // CasterSelection::ReceiverPixels; empty otherwise.
   void run(const Camera& camera, const culling::CullingResult& visible, const FrameSettings& settings,
            const ShadowSettings& cascades, std::optional<double> nearestDepth, const glm::dvec3& l, bool sunBelowHorizon,
-           const SceneObjects& objects, const terrain::TerrainLod* lod, const Aabb& sceneBounds, ShadowPlan& plan,
-           FrameStats& stats);
+           const SceneObjects& objects, const terrain::TerrainLod* lod, const Aabb& sceneBounds,
+           std::span<const glm::dvec4> receiverPixels, ShadowPlan& plan, FrameStats& stats);
   // Forgets the smoothed n and splits and the stable maps' radii (a camera cut).
   void reset() {
     previousN_.fill(0.0);
@@ -69,6 +72,10 @@ class ShadowSetupPass {
   // receiver (selector_ must hold the slice's receivers).
   void selectTerrainBlocks(ShadowSlice& slice, const FrameSettings& settings, const glm::dvec3& l,
                            const SceneObjects& objects, const terrain::TerrainLod& lod);
+  // Keeps the slice's casters (and terrain blocks) that may darken one of its receiver pixels
+  // (shadows::ReceiverMask over the pixels whose eye depth the slice's focus body spans).
+  void keepCastersOfReceiverPixels(ShadowSlice& slice, const FrameSettings& settings, const SceneObjects& objects,
+                                   std::span<const glm::dvec4> receiverPixels);
 
   // Per slice, the last frame's lispsm n (ShadowInput::previousN) and uniform-stable radius
   // (ShadowInput::previousStableRadius); 0: none.
@@ -78,6 +85,7 @@ class ShadowSetupPass {
   std::vector<Aabb> receivers_, sliceReceivers_, footprints_;
   std::vector<glm::dvec2> receiverDepths_;  // each receiver's eye-depth range
   shadows::CasterSelector selector_;
+  shadows::ReceiverMask mask_;
 };
 
 }  // namespace forest::render

@@ -40,6 +40,11 @@ enum class CasterSelection {
   Receivers,    // box swept along the light meets a visible receiver's box (shadows/casters.hpp)
   FrustumBody,  // box meets the focus body B of the whole view frustum
   All,          // every object
+  // As Receivers, then kept only when the box, projected into the map and grown by the filter's
+  // reach, covers a visible sun-facing pixel farther from the light (shadows::ReceiverMask, Bittner
+  // et al. 2011 §4). The pixels are read back from the G-buffer: the CPU waits for the geometry
+  // pass (a sync point a GPU frame otherwise avoids, DESIGN §9).
+  ReceiverPixels,
 };
 CasterSelection parseCasterSelection(std::string_view name);  // throws InputError
 std::string_view casterSelectionName(CasterSelection selection);

@@ -1,0 +1,41 @@
+#pragma once
+// A receiver mask in light space (Bittner et al. 2011, "Shadow Caster Culling for Efficient Shadow
+// Mapping", §4): the visible receiver points of a frame — one per pixel facing the sun —
+// projected into one shadow map; each cell of a coarse grid over the map keeps the largest map
+// depth of its points (the one farthest from the light). A caster can darken one of them only if
+// its box, projected into the map and grown by what the filter reads, covers a cell whose farthest
+// receiver lies beyond the box's nearest point. Box casters, pixel receivers: exact, and much
+// tighter than receiver boxes where a receiver box spans a tree or a terrain tile.
+#include <glm/glm.hpp>
+
+#include <vector>
+
+#include "forest/core/bounds.hpp"
+#include "forest/shadows/shadow_setup.hpp"
+
+namespace forest::shadows {
+
+class ReceiverMask {
+ public:
+  // Empties the mask for one map (its setup, texels per side) with `cells` × `cells` cells. Keeps
+  // its storage (no allocation once it has held that many cells).
+  void reset(const ShadowSetup& setup, int mapSize, int cells);
+  // A receiver point (world). Points outside the map read its border texels (clamped) and count
+  // there.
+  void add(const glm::dvec3& world);
+  // False only when no receiver the filter can reach from the caster's texels lies farther from
+  // the light than the box: `reachTexels` is how far (in texels, per axis) a lookup reads from its
+  // point. True when the box reaches behind the light's projection (w ≤ 0 at a corner).
+  bool mayShadow(const Aabb& caster, double reachTexels) const;
+  int receivers() const { return receivers_; }
+
+ private:
+  int cellOf(double ndc) const;  // [−1, 1] → [0, cells), clamped
+
+  ShadowSetup setup_;
+  int mapSize_ = 1, cells_ = 0, receivers_ = 0;
+  bool everywhere_ = false;  // a receiver with w ≤ 0 was added
+  std::vector<float> farthest_;  // per cell: the largest receiver depth, −∞ when none
+};
+
+}  // namespace forest::shadows

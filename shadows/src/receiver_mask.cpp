@@ -1,0 +1,74 @@
+#include "forest/shadows/receiver_mask.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "forest/core/error.hpp"
+
+namespace forest::shadows {
+
+using glm::dvec3;
+using glm::dvec4;
+
+namespace {
+// The GPU places a pixel's point from float32 depth and rays; this much map depth covers that.
+constexpr double kDepthTolerance = 1e-5;
+}  // namespace
+
+void ReceiverMask::reset(const ShadowSetup& setup, int mapSize, int cells) {
+  if (cells < 1 || mapSize < 1) throw Error("ReceiverMask: cells and map size must be positive");
+  setup_ = setup;
+  mapSize_ = mapSize;
+  cells_ = cells;
+  receivers_ = 0;
+  everywhere_ = false;
+  farthest_.assign(static_cast<size_t>(cells) * cells, -std::numeric_limits<float>::infinity());
+}
+
+int ReceiverMask::cellOf(double ndc) const {
+  const double c = std::floor((ndc + 1.0) * 0.5 * cells_);
+  return static_cast<int>(std::clamp(c, 0.0, cells_ - 1.0));
+}
+
+void ReceiverMask::add(const dvec3& world) {
+  const dvec4 h = setup_.worldToShadowClip * dvec4(world, 1.0);
+  const dvec3 m = shadowMapCoordinates(setup_, world);
+  if (!(h.w > 0.0) || !std::isfinite(m.x) || !std::isfinite(m.y) || !std::isfinite(m.z)) {
+    everywhere_ = true;  // a receiver the map cannot place: every caster may shadow it
+    return;
+  }
+  float& cell = farthest_[static_cast<size_t>(cellOf(m.y)) * cells_ + cellOf(m.x)];
+  // Rounded up: the float never lies nearer the light than the point.
+  cell = std::max(cell, std::nextafter(static_cast<float>(m.z), std::numeric_limits<float>::infinity()));
+  ++receivers_;
+}
+
+bool ReceiverMask::mayShadow(const Aabb& caster, double reachTexels) const {
+  if (everywhere_) return true;
+  if (cells_ == 0) return false;
+  // The box's footprint in the map (x, y) and its nearest depth: over a box, a projective map's
+  // x/w, y/w and depth are extreme at corners when w > 0 at all of them (w is affine).
+  double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0, nearest = x0;
+  for (int c = 0; c < 8; ++c) {
+    const dvec3 p = caster.corner(c);
+    const dvec4 h = setup_.worldToShadowClip * dvec4(p, 1.0);
+    if (!(h.w > 0.0)) return true;
+    const double x = h.x / h.w, y = h.y / h.w;
+    const double z = setup_.linearDepth ? glm::dot(setup_.worldToLightDepth, dvec4(p, 1.0)) : h.z / h.w;
+    x0 = std::min(x0, x);
+    x1 = std::max(x1, x);
+    y0 = std::min(y0, y);
+    y1 = std::max(y1, y);
+    nearest = std::min(nearest, z);
+  }
+  // Grown by the reach, in map units (2 / mapSize per texel).
+  const double grow = reachTexels * 2.0 / mapSize_;
+  const int cx0 = cellOf(x0 - grow), cx1 = cellOf(x1 + grow), cy0 = cellOf(y0 - grow), cy1 = cellOf(y1 + grow);
+  for (int cy = cy0; cy <= cy1; ++cy)
+    for (int cx = cx0; cx <= cx1; ++cx)
+      if (static_cast<double>(farthest_[static_cast<size_t>(cy) * cells_ + cx]) >= nearest - kDepthTolerance) return true;
+  return false;
+}
+
+}  // namespace forest::shadows

@@ -1,0 +1,60 @@
+// Casters of the visible sun-facing pixels (CasterSelection::ReceiverPixels: the receiver-box
+// selection, then the light-space receiver mask of the read-back G-buffer, shadows::ReceiverMask):
+// along 30 views of the default forest, suns from 10° to 80°, one map or three slices, every method
+// and PCF radius, the shadow term equals the term with all casters pixel for pixel, and the mask
+// keeps fewer casters than the receiver boxes.
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "forest/core/scene.hpp"
+#include "forest/render/frame.hpp"
+#include "gl_test_support.hpp"
+
+namespace forest::test {
+namespace {
+
+using glm::dvec3;
+
+constexpr int kWidth = 320, kHeight = 240;
+
+class ReceiverPixelsGl : public GlTest {};
+
+TEST_F(ReceiverPixelsGl, CastersOfTheSunFacingPixelsGiveTheTermOfAllCasters) {
+  if (backendUnderTest() != "egl") GTEST_SKIP() << "the engine's own logic: checked on the egl backend";
+  Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
+  render::Frame frame(scene, kWidth, kHeight);  // reads scene.sun at every frame
+  Camera camera = frame.startCamera();
+  camera.aspect = static_cast<double>(kWidth) / kHeight;
+  const terrain::Terrain& t = *frame.terrain();
+  const shadows::ShadowMethod methods[] = {shadows::ShadowMethod::Uniform, shadows::ShadowMethod::UniformStable,
+                                           shadows::ShadowMethod::Lispsm, shadows::ShadowMethod::Tsm};
+  int views = 0, fewer = 0;
+  long long maskCasters = 0, boxCasters = 0;
+  for (int v = 0; v < 30; ++v) {
+    stepForestView(camera, t, v);
+    if (v % kSweepStride != 0) continue;
+    const double e = glm::radians(10.0 + 70.0 * (v % 5) / 4.0), a = glm::radians(25.0 + 47.0 * v);
+    scene.sun.direction = -dvec3(std::cos(e) * std::cos(a), std::sin(e), std::cos(e) * std::sin(a));
+    render::FrameSettings settings;
+    settings.method = methods[v % 4];
+    settings.shadowMapSize = 1024;
+    settings.pcfRadius = v % 3;
+    settings.cascades = v % 2 == 0 ? 1 : 3;
+    const CasterComparison c = compareSelectedWithAllCasters(frame, camera, 0.5 * v, settings, render::CasterSelection::ReceiverPixels);
+    EXPECT_EQ(c.differ, 0) << "view " << v << ": " << c.differ << " pixels";
+    const CasterComparison boxes = compareSelectedWithAllCasters(frame, camera, 0.5 * v, settings);
+    EXPECT_LE(c.selectedCasters, boxes.selectedCasters) << "view " << v;  // the mask only removes
+    fewer += c.selectedCasters < boxes.selectedCasters ? 1 : 0;
+    maskCasters += c.selectedCasters;
+    boxCasters += boxes.selectedCasters;
+    ++views;
+  }
+  std::printf("[receiver pixels] %d views: %lld casters from the pixels, %lld from the receiver boxes\n", views, maskCasters,
+              boxCasters);
+  EXPECT_EQ(views, 30 / kSweepStride);
+  EXPECT_GT(fewer, 25 / kSweepStride);
+}
+
+}  // namespace
+}  // namespace forest::test
