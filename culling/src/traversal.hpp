@@ -33,10 +33,6 @@ inline std::pair<double, double> depthRange(const Aabb& box, const glm::dmat4& v
   return {nearest, farthest};
 }
 
-inline double distanceToBox(const Aabb& box, const glm::dvec3& p) {
-  return glm::length(glm::max(glm::max(box.min - p, p - box.max), glm::dvec3(0.0)));
-}
-
 // Traversal queue entry: nearest first.
 struct Entry {
   double distance;
@@ -161,7 +157,7 @@ struct OcclusionCuller::Traversal {
       out.insert(out.end(), first, first + shapes.ranges[o].count);
     }
   }
-  Entry entry(std::int32_t n) const { return {distanceToBox(bvh.nodes()[n].bounds, camera.position), n}; }
+  Entry entry(std::int32_t n) const { return {bvh.nodes()[n].bounds.distanceTo(camera.position), n}; }
   // Visible without a query: the box holds the eye (grown by z_n) or reaches in front of the near
   // plane, where its rasterised faces would be clipped away.
   bool visibleWithoutQuery(std::int32_t n) const {

@@ -74,9 +74,11 @@ int ShadowPlan::sliceOf(double eyeDepth) const {
 // Casters of the visible receivers (DESIGN §4, Bittner et al. 2011): only the part of a receiver
 // inside the slice's view receives shadows from its layer, so each box is clipped to that view
 // first (a 125 m terrain tile at the edge of the view does not pull in the casters of its unseen
-// part), then grown by the filter's footprint in the slice's map.
+// part), then grown by the filter's footprint in the slice's map. With a receiver mask, a caster
+// also has to cover one of its pixels (refineCasters).
 void ShadowSetupPass::selectCastersOfReceivers(ShadowSlice& slice, const FrameSettings& settings, const dvec3& l,
-                                               const SceneObjects& objects, const terrain::TerrainLod* lod, const Aabb& sceneBounds) {
+                                               const SceneObjects& objects, const terrain::TerrainLod* lod, const Aabb& sceneBounds,
+                                               const shadows::ReceiverMask* mask) {
   const ConvexBody view = shadows::viewFrustumBody(slice.camera);
   const Frustum viewPlanes(slice.camera);
   const double reach = filterReachTexels(settings.pcfRadius) + kFilterMarginTexels;
@@ -93,30 +95,37 @@ void ShadowSetupPass::selectCastersOfReceivers(ShadowSlice& slice, const FrameSe
   }
   selector_.rebuild(l, footprints_);
   selector_.select(objects.boxes(), slice.casters);
-  if (lod && objects.terrain()) selectTerrainBlocks(slice, settings, l, objects, *lod);
+  refineCasters(slice, settings, l, objects, lod, mask);
 }
 
 // A caster tile is drawn by its blocks at the level the eye's LOD gives it (Terrain::blockBoxes):
 // only those that may write into a backside map for this sun (Terrain::blockMayFaceAway: a block
 // whose every triangle faces the sun is culled whole by the pass) and whose own box, swept along
 // the light, meets a receiver. A tile none of whose blocks remain is no caster.
-void ShadowSetupPass::selectTerrainBlocks(ShadowSlice& slice, const FrameSettings& settings, const dvec3& l,
-                                          const SceneObjects& objects, const terrain::TerrainLod& lod) {
-  const terrain::Terrain& terrain = *objects.terrain();
-  slice.terrainByBlock = true;
+// With a receiver mask (Bittner et al. 2011 §4, box casters), a caster or block stays only when its
+// box, in the slice's map and grown by the filter's reach, covers a receiver pixel farther from the
+// light.
+void ShadowSetupPass::refineCasters(ShadowSlice& slice, const FrameSettings& settings, const dvec3& l, const SceneObjects& objects,
+                                    const terrain::TerrainLod* lod, const shadows::ReceiverMask* mask) {
+  const terrain::Terrain* terrain = lod ? objects.terrain() : nullptr;
+  if (!terrain && !mask) return;
+  slice.terrainByBlock = terrain != nullptr;
+  const double reach = filterReachTexels(settings.pcfRadius) + kFilterMarginTexels;
+  auto covers = [&](const Aabb& box) { return !mask || mask->mayShadow(box, reach); };
   size_t kept = 0;
   for (std::uint32_t o : slice.casters) {
     const SceneObjects::Object& object = objects.objects()[o];
-    if (object.kind != SceneObjects::Kind::Tile) {
-      slice.casters[kept++] = o;
+    if (object.kind != SceneObjects::Kind::Tile || !terrain) {
+      if (covers(objects.boxes()[o])) slice.casters[kept++] = o;
       continue;
     }
-    const int tile = static_cast<int>(object.index), level = terrain.tileLevel(tile, lod);
-    const std::span<const Aabb> blocks = terrain.blockBoxes(tile, level);
+    const int tile = static_cast<int>(object.index), level = terrain->tileLevel(tile, *lod);
+    const std::span<const Aabb> blocks = terrain->blockBoxes(tile, level);
     bool any = false;
     for (int b = 0; b < static_cast<int>(blocks.size()); ++b) {
-      if (settings.backside && !terrain.blockMayFaceAway(tile, level, b, lod, -l)) continue;
-      if (!selector_.needed(blocks[static_cast<size_t>(b)])) continue;
+      const Aabb& box = blocks[static_cast<size_t>(b)];
+      if (settings.backside && !terrain->blockMayFaceAway(tile, level, b, *lod, -l)) continue;
+      if (!selector_.needed(box) || !covers(box)) continue;
       slice.terrainBlocks.push_back({tile, level, b});
       any = true;
     }
@@ -125,10 +134,9 @@ void ShadowSetupPass::selectTerrainBlocks(ShadowSlice& slice, const FrameSetting
   slice.casters.resize(kept);
 }
 
-// Bittner et al. 2011 §4 with box casters: a caster (or terrain block) stays when its box, in the
-// slice's map and grown by the filter's reach, covers a receiver pixel farther from the light.
-void ShadowSetupPass::keepCastersOfReceiverPixels(ShadowSlice& slice, const FrameSettings& settings, const SceneObjects& objects,
-                                                  std::span<const glm::dvec4> receiverPixels) {
+// The receiver mask of the slice: the pixels whose eye depth its focus body spans, in its map.
+void ShadowSetupPass::fillReceiverMask(const ShadowSlice& slice, const FrameSettings& settings,
+                                       std::span<const glm::dvec4> receiverPixels) {
   // Cells of 4 texels: finer cells keep fewer casters (LiSPSM 2048², ground view, 75° sun: 4.16×
   // the triangles the truth needs with 8-texel cells, 4.03× with 4, 3.96× with 2), coarser ones
   // are cheaper to clear and scan.
@@ -136,27 +144,6 @@ void ShadowSetupPass::keepCastersOfReceiverPixels(ShadowSlice& slice, const Fram
   mask_.reset(slice.setup, settings.shadowMapSize, cells);
   for (const glm::dvec4& p : receiverPixels)
     if (p.w >= slice.camera.near && p.w <= slice.camera.far) mask_.add(dvec3(p));
-  const double reach = filterReachTexels(settings.pcfRadius) + kFilterMarginTexels;
-  if (const terrain::Terrain* terrain = objects.terrain()) {
-    size_t keptBlocks = 0;
-    for (const terrain::TileBlock& b : slice.terrainBlocks)
-      if (mask_.mayShadow(terrain->blockBoxes(b.tile, b.level)[static_cast<size_t>(b.block)], reach))
-        slice.terrainBlocks[keptBlocks++] = b;
-    slice.terrainBlocks.resize(keptBlocks);
-  }
-  size_t kept = 0;
-  for (std::uint32_t o : slice.casters) {
-    const SceneObjects::Object& object = objects.objects()[o];
-    bool keep = false;
-    if (object.kind == SceneObjects::Kind::Tile && slice.terrainByBlock) {
-      keep = std::any_of(slice.terrainBlocks.begin(), slice.terrainBlocks.end(),
-                         [&](const terrain::TileBlock& b) { return b.tile == static_cast<int>(object.index); });
-    } else {
-      keep = mask_.mayShadow(objects.boxes()[o], reach);
-    }
-    if (keep) slice.casters[kept++] = o;
-  }
-  slice.casters.resize(kept);
 }
 
 // Zhang et al. 2006 eq. (4) on [z_near, z_f], z_near the nearest visible depth (SDSM, Lauritzen et
@@ -279,11 +266,11 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
     if (!slice.setup.empty) {
       switch (settings.casters) {
         case CasterSelection::Receivers:
-          selectCastersOfReceivers(slice, settings, l, objects, lod, sceneBounds);
+          selectCastersOfReceivers(slice, settings, l, objects, lod, sceneBounds, nullptr);
           break;
         case CasterSelection::ReceiverPixels:
-          selectCastersOfReceivers(slice, settings, l, objects, lod, sceneBounds);
-          keepCastersOfReceiverPixels(slice, settings, objects, receiverPixels);
+          fillReceiverMask(slice, settings, receiverPixels);
+          selectCastersOfReceivers(slice, settings, l, objects, lod, sceneBounds, &mask_);
           break;
         case CasterSelection::FrustumBody: {
           const ConvexBody body = shadows::computeFocusBody(slice.camera, l, sceneBounds);

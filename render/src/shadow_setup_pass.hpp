@@ -65,17 +65,18 @@ class ShadowSetupPass {
   shadows::SplitDepths splitsFor(const Camera& camera, double farDepth, std::optional<double> nearestDepth,
                                  const ShadowSettings& cascades);
   // Casters of the slice's receivers (DESIGN §4): each receiver's part inside the slice's view,
-  // grown by the filter's footprint, swept along the light (shadows::CasterSelector).
+  // grown by the filter's footprint, swept along the light (shadows::CasterSelector); then
+  // refineCasters.
   void selectCastersOfReceivers(ShadowSlice& slice, const FrameSettings& settings, const glm::dvec3& l,
-                                const SceneObjects& objects, const terrain::TerrainLod* lod, const Aabb& sceneBounds);
-  // Replaces the caster tiles of `slice` by their blocks that may write into the map and meet a
-  // receiver (selector_ must hold the slice's receivers).
-  void selectTerrainBlocks(ShadowSlice& slice, const FrameSettings& settings, const glm::dvec3& l,
-                           const SceneObjects& objects, const terrain::TerrainLod& lod);
-  // Keeps the slice's casters (and terrain blocks) that may darken one of its receiver pixels
-  // (shadows::ReceiverMask over the pixels whose eye depth the slice's focus body spans).
-  void keepCastersOfReceiverPixels(ShadowSlice& slice, const FrameSettings& settings, const SceneObjects& objects,
-                                   std::span<const glm::dvec4> receiverPixels);
+                                const SceneObjects& objects, const terrain::TerrainLod* lod, const Aabb& sceneBounds,
+                                const shadows::ReceiverMask* mask);
+  // Replaces the caster tiles by their blocks that may write into the map and meet a receiver
+  // (selector_ must hold the slice's receivers), and with a mask keeps only the casters and blocks
+  // that may darken one of its pixels.
+  void refineCasters(ShadowSlice& slice, const FrameSettings& settings, const glm::dvec3& l, const SceneObjects& objects,
+                     const terrain::TerrainLod* lod, const shadows::ReceiverMask* mask);
+  // mask_ over the visible sun-facing pixels whose eye depth the slice's focus body spans.
+  void fillReceiverMask(const ShadowSlice& slice, const FrameSettings& settings, std::span<const glm::dvec4> receiverPixels);
 
   // Per slice, the last frame's lispsm n (ShadowInput::previousN) and uniform-stable radius
   // (ShadowInput::previousStableRadius); 0: none.

@@ -18,12 +18,18 @@ constexpr double kDepthTolerance = 1e-5;
 
 void ReceiverMask::reset(const ShadowSetup& setup, int mapSize, int cells) {
   if (cells < 1 || mapSize < 1) throw Error("ReceiverMask: cells and map size must be positive");
-  setup_ = setup;
+  worldToShadowClip_ = setup.worldToShadowClip;
+  linearDepth_ = setup.linearDepth;
+  worldToLightDepth_ = setup.worldToLightDepth;
   mapSize_ = mapSize;
   cells_ = cells;
   receivers_ = 0;
   everywhere_ = false;
   farthest_.assign(static_cast<size_t>(cells) * cells, -std::numeric_limits<float>::infinity());
+}
+
+double ReceiverMask::depthOf(const dvec3& world, const dvec4& clip) const {
+  return linearDepth_ ? glm::dot(worldToLightDepth_, dvec4(world, 1.0)) : clip.z / clip.w;
 }
 
 int ReceiverMask::cellOf(double ndc) const {
@@ -32,8 +38,8 @@ int ReceiverMask::cellOf(double ndc) const {
 }
 
 void ReceiverMask::add(const dvec3& world) {
-  const dvec4 h = setup_.worldToShadowClip * dvec4(world, 1.0);
-  const dvec3 m = shadowMapCoordinates(setup_, world);
+  const dvec4 h = worldToShadowClip_ * dvec4(world, 1.0);
+  const dvec3 m(h.x / h.w, h.y / h.w, depthOf(world, h));
   if (!(h.w > 0.0) || !std::isfinite(m.x) || !std::isfinite(m.y) || !std::isfinite(m.z)) {
     everywhere_ = true;  // a receiver the map cannot place: every caster may shadow it
     return;
@@ -52,10 +58,9 @@ bool ReceiverMask::mayShadow(const Aabb& caster, double reachTexels) const {
   double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0, nearest = x0;
   for (int c = 0; c < 8; ++c) {
     const dvec3 p = caster.corner(c);
-    const dvec4 h = setup_.worldToShadowClip * dvec4(p, 1.0);
+    const dvec4 h = worldToShadowClip_ * dvec4(p, 1.0);
     if (!(h.w > 0.0)) return true;
-    const double x = h.x / h.w, y = h.y / h.w;
-    const double z = setup_.linearDepth ? glm::dot(setup_.worldToLightDepth, dvec4(p, 1.0)) : h.z / h.w;
+    const double x = h.x / h.w, y = h.y / h.w, z = depthOf(p, h);
     x0 = std::min(x0, x);
     x1 = std::max(x1, x);
     y0 = std::min(y0, y);

@@ -125,9 +125,11 @@ TerrainLod Terrain::lodFor(const Camera& camera, int viewportHeight) const {
 
 std::span<const Aabb> Terrain::blockBoxes(int tile, int level) const {
   const size_t t = static_cast<size_t>(tile);
-  if (level <= 3) return {blocks16_.data() + 16 * t, 16};  // 2^(level+1) ≤ 16
-  if (level == 4) return {blocks32_.data() + 4 * t, 4};
-  return {&tileBoxes_[t], 1};
+  switch (blockQuads(level)) {
+    case 16: return {blocks16_.data() + 16 * t, 16};
+    case 32: return {blocks32_.data() + 4 * t, 4};
+    default: return {&tileBoxes_[t], 1};
+  }
 }
 
 BlockMorph Terrain::blockMorph(int tile, int level, int block, const TerrainLod& lod) const {
@@ -136,7 +138,7 @@ BlockMorph Terrain::blockMorph(int tile, int level, int block, const TerrainLod&
   // the block's box holds those samples. Past the ramp's ends (not inside its slack): k is exactly
   // 0 or 1 on the GPU too.
   const Aabb& box = blockBoxes(tile, level)[static_cast<size_t>(block)];
-  const double nearest = glm::length(glm::max(glm::max(box.min - lod.eye, lod.eye - box.max), dvec3(0.0)));
+  const double nearest = box.distanceTo(lod.eye);
   const double farthest = glm::length(glm::max(glm::abs(box.min - lod.eye), glm::abs(box.max - lod.eye)));
   if (farthest <= lod.morphStart[static_cast<size_t>(level)]) return BlockMorph::Unmorphed;
   if (nearest >= lod.morphEnd[static_cast<size_t>(level)]) return BlockMorph::Morphed;
@@ -150,8 +152,7 @@ bool Terrain::blockMayFaceAway(int tile, int level, int block, const TerrainLod&
 }
 
 int Terrain::tileLevel(int tile, const TerrainLod& lod) const {
-  const Aabb& box = tileBoxes_[tile];
-  const double distance = glm::length(glm::max(glm::max(box.min - lod.eye, lod.eye - box.max), dvec3(0.0)));
+  const double distance = tileBoxes_[tile].distanceTo(lod.eye);
   return std::min(static_cast<int>(std::floor(lod.levelAt(distance))), kLevels - 1);
 }
 

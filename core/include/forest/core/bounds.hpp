@@ -24,6 +24,8 @@ struct Aabb {
   glm::dvec3 centre() const { return 0.5 * (min + max); }
   glm::dvec3 extent() const { return max - min; }
   double diagonal() const { return glm::length(max - min); }
+  // Distance from p to the nearest point of the box (0 inside).
+  double distanceTo(const glm::dvec3& p) const { return glm::length(glm::max(glm::max(min - p, p - max), glm::dvec3(0.0))); }
   bool contains(const glm::dvec3& p, double tolerance = 0.0) const {
     return glm::all(glm::greaterThanEqual(p, min - tolerance)) && glm::all(glm::lessThanEqual(p, max + tolerance));
   }

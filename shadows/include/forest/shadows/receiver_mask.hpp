@@ -31,8 +31,13 @@ class ReceiverMask {
 
  private:
   int cellOf(double ndc) const;  // [−1, 1] → [0, cells), clamped
+  // The map depth of a world point (clip z / w, or tsm's linear light depth), given its clip h.
+  double depthOf(const glm::dvec3& world, const glm::dvec4& clip) const;
 
-  ShadowSetup setup_;
+  // What the mask needs of the map's setup (ShadowSetup: the matrices, not the focus body).
+  glm::dmat4 worldToShadowClip_{1.0};
+  bool linearDepth_ = false;
+  glm::dvec4 worldToLightDepth_{0.0};
   int mapSize_ = 1, cells_ = 0, receivers_ = 0;
   bool everywhere_ = false;  // a receiver with w ≤ 0 was added
   std::vector<float> farthest_;  // per cell: the largest receiver depth, −∞ when none
