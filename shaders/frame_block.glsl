@@ -11,6 +11,7 @@ layout(std140, binding = 2) uniform FrameBlock {
   vec4 blur;                   // x: radius (pixels), y: reference depth (m), z: relative depth tolerance
   vec4 cascadeEnds;            // the eye depth (m) where slice 0, 1, 2, 3 ends (pixels beyond read the next)
   vec4 cascadeBlend;           // x: the blend band beyond a split, as a share of its distance (0: none)
-  ivec4 modes;                 // x: PCF radius; y: tsm linear depth (1/0); z: slices (1 to 4);
+  ivec4 modes;                 // x: PCF radius; y: tsm linear depth (1/0); z: slices (1 to 4) — x and z
+                               // are also the lookup program's PCF_RADIUS and SHADOW_SLICES;
                                // w: the map holds the sun's shadows (1/0; 0: the term is 0 everywhere)
 } uFrame;

@@ -7,7 +7,7 @@
 // looked up here (shadow_lookup.frag) and no pass before writes it. The term used is written out.
 in vec3 vRay;                 // eye depth z → camera-relative position z · vRay
 
-layout(binding = 0) uniform sampler2D uAlbedo;
+layout(binding = 0) uniform sampler2D uAlbedo;        // rgb; a: the sun-facing flag (shadow_lookup.frag)
 layout(binding = 1) uniform sampler2D uShadingNormal;
 layout(binding = 4) uniform sampler2D uShadowTerm;  // r: term, g: eye depth (0: sky); read with the blur on
 // The sun, sky, haze density (exponential extinction per metre; 0: none) and whether to blur
@@ -25,6 +25,10 @@ vec2 blurTaps(sampler2D term, ivec2 pixel, ivec2 direction);
 vec2 shadowTermAt(ivec2 pixel, vec3 ray);
 #endif
 
+// x^8 by squaring: llvmpipe runs both sides of a branch, so the sky's terms are paid at every pixel,
+// and pow is exp2(log2) there.
+float pow8(float x) { x *= x; x *= x; return x * x; }
+
 // The horizon's colour (linear): the zenith's, paled toward a hazy white.
 vec3 horizonRadiance(vec3 zenith) { return mix(zenith, vec3(0.75, 0.8, 0.85), 0.55); }
 
@@ -35,16 +39,17 @@ vec3 skyRadiance(vec3 d, vec3 zenith, vec3 toSun, vec3 sunColor, bool sunUp) {
   vec3 horizon = horizonRadiance(zenith);
   vec3 sky = d.y >= 0.0 ? mix(horizon, zenith, smoothstep(0.0, 0.6, d.y)) : horizon * (1.0 + 0.3 * d.y);
   if (!sunUp) return sky;
-  float c = dot(d, toSun);
+  float c = max(dot(d, toSun), 0.0);
   float disc = smoothstep(0.99985, 0.99990, c);  // cos 1.0° to cos 0.8°
-  float glow = 0.6 * pow(max(c, 0.0), 400.0) + 0.08 * pow(max(c, 0.0), 8.0);
+  float c8 = pow8(c), c16 = c8 * c8, c128 = pow8(c16), c256 = c128 * c128;
+  float glow = 0.6 * (c256 * c128 * c16) + 0.08 * c8;  // 0.6 c^400 + 0.08 c^8
   return sky + sunColor * (12.0 * disc + glow);
 }
 
 // The colour that distance haze fades toward along d: the horizon's, brighter toward the sun
 // (light scattered forward).
 vec3 hazeRadiance(vec3 d, vec3 zenith, vec3 toSun, vec3 sunColor, bool sunUp) {
-  return horizonRadiance(zenith) + (sunUp ? 0.25 * sunColor * pow(max(dot(d, toSun), 0.0), 8.0) : vec3(0.0));
+  return horizonRadiance(zenith) + (sunUp ? 0.25 * sunColor * pow8(max(dot(d, toSun), 0.0)) : vec3(0.0));
 }
 
 void main() {
@@ -65,7 +70,7 @@ void main() {
     return;
   }
   vec3 albedo = texelFetch(uAlbedo, pixel, 0).rgb;
-  vec3 n = normalize(texelFetch(uShadingNormal, pixel, 0).xyz);
+  vec3 n = normalize(2.0 * texelFetch(uShadingNormal, pixel, 0).xyz - 1.0);  // stored as n / 2 + 1/2
   float shadow = term.r;
   // Hemispheric ambient: the sky's light from above (its colour at unit luminance), the ground's
   // bounce from below, blended by the normal's elevation.

@@ -6,11 +6,12 @@
 // light matrix, hardware 2×2 PCF (sampler2DShadow with linear filtering). Forced to 0 where the
 // geometric normal faces away from the sun: backside rendering leaves noise on lee faces, and the
 // eye-space blur must not spread it.
-// The rest comes from the frame block (frame_block.glsl): the lookup matrix, tsm's linear light
-// depth row, the sun, near and far, the PCF radius (0: one hardware 2×2 lookup; r: (2r+1)²
-// lookups a texel apart).
+// The rest comes from the frame block (frame_block.glsl): the lookup matrices, tsm's linear light
+// depth row, the sun, near and far, the slices' ends. The PCF radius (0: one hardware 2×2 lookup;
+// r: (2r+1)² lookups a texel apart) and the slice count are compile-time constants, PCF_RADIUS and
+// SHADOW_SLICES (render/src/shadow_term_pass.hpp: ShadowLookupPrograms).
 layout(binding = 5) uniform sampler2D uDepth;              // reversed-Z: 0 where nothing was drawn (sky)
-layout(binding = 6) uniform sampler2D uGeometricNormal;
+layout(binding = 6) uniform sampler2D uAlbedoSunFacing;  // a: 1 where the geometric normal faces the sun (gbuffer.frag)
 layout(binding = 3) uniform sampler2DArrayShadow uShadowMap;  // a layer per slice; depth in [0, 1], near the light = 0
 
 float eyeDepth(float d) {  // reversed-Z → metres
@@ -26,7 +27,7 @@ float termInSlice(int slice, vec3 relative) {
   if (uFrame.modes.y != 0) ndc.z = 0.5 * dot(uFrame.eyeRelativeLightDepth[slice], vec4(relative, 1.0)) + 0.5;
   vec2 uv = 0.5 * ndc.xy + 0.5;
   vec2 texel = 1.0 / vec2(textureSize(uShadowMap, 0).xy);
-  int radius = uFrame.modes.x;
+  const int radius = PCF_RADIUS;  // compile-time constants (ShadowLookupPrograms): the loops unroll
   float sum = 0.0;
   for (int y = -radius; y <= radius; ++y)
     for (int x = -radius; x <= radius; ++x) sum += texture(uShadowMap, vec4(uv + vec2(x, y) * texel, float(slice), ndc.z));
@@ -42,15 +43,18 @@ vec2 shadowTermAt(ivec2 pixel, vec3 ray) {
   float depth = texelFetch(uDepth, pixel, 0).r;
   if (depth == 0.0) return vec2(1.0, 0.0);  // sky: the cleared far depth
   float z = eyeDepth(depth);
-  vec3 n = texelFetch(uGeometricNormal, pixel, 0).xyz;
-  if (uFrame.modes.w == 0 || dot(n, uFrame.toSunUp.xyz) <= 0.0) return vec2(0.0, z);
+  if (uFrame.modes.w == 0 || texelFetch(uAlbedoSunFacing, pixel, 0).a < 0.5) return vec2(0.0, z);
   vec3 relative = z * ray;
   int slice = 0;
-  while (slice + 1 < uFrame.modes.z && z >= uFrame.cascadeEnds[slice]) ++slice;
+#if SHADOW_SLICES > 1
+  for (int i = 0; i + 1 < SHADOW_SLICES; ++i) slice += z >= uFrame.cascadeEnds[i] ? 1 : 0;  // the ends increase
   float term = termInSlice(slice, relative);
   if (slice > 0) {
     float split = uFrame.cascadeEnds[slice - 1], band = uFrame.cascadeBlend.x * split;
     if (z < split + band) term = mix(termInSlice(slice - 1, relative), term, (z - split) / band);
   }
+#else
+  float term = termInSlice(0, relative);
+#endif
   return vec2(term, z);
 }

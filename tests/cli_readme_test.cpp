@@ -18,6 +18,7 @@
 
 #include "cli_test_support.hpp"
 #include "forest/core/files.hpp"
+#include "test_paths.hpp"
 
 namespace forest {
 namespace {

@@ -19,6 +19,7 @@
 #include "forest/core/budget.hpp"
 #include "forest/core/files.hpp"
 #include "forest/core/image.hpp"
+#include "test_paths.hpp"
 
 namespace forest {
 namespace {

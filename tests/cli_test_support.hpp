@@ -18,6 +18,7 @@
 
 #include "forest/core/files.hpp"
 #include "forest/core/image.hpp"
+#include "test_paths.hpp"
 
 namespace forest::test {
 

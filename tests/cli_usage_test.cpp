@@ -17,6 +17,7 @@
 
 #include "cli.hpp"
 #include "cli_test_support.hpp"
+#include "test_paths.hpp"
 
 namespace forest {
 namespace {

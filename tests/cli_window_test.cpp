@@ -13,6 +13,7 @@
 #include "cli_test_support.hpp"
 #include "forest/core/files.hpp"
 #include "forest/core/image.hpp"
+#include "test_paths.hpp"
 
 namespace forest {
 namespace {

@@ -7,6 +7,7 @@
 #include "forest/core/error.hpp"
 #include "forest/core/files.hpp"
 #include "forest/core/image.hpp"
+#include "test_paths.hpp"
 
 namespace forest {
 namespace {

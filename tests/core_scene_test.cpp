@@ -5,6 +5,7 @@
 
 #include "forest/core/error.hpp"
 #include "forest/core/scene.hpp"
+#include "test_paths.hpp"
 
 namespace forest {
 namespace {

@@ -12,6 +12,7 @@
 #include "forest/render/frame.hpp"
 #include "forest/shadows/cascades.hpp"
 #include "gl_test_support.hpp"
+#include "test_paths.hpp"
 
 namespace forest::test {
 namespace {

@@ -12,6 +12,7 @@
 #include "forest/gl/shader.hpp"
 #include "forest/render/offscreen_target.hpp"
 #include "gl_test_support.hpp"
+#include "test_paths.hpp"
 
 namespace forest::test {
 namespace {

@@ -11,6 +11,7 @@
 #include "forest/render/terrain_renderer.hpp"
 #include "forest/render/tree_renderer.hpp"
 #include "gl_test_support.hpp"
+#include "test_paths.hpp"
 
 namespace forest::test {
 namespace {

@@ -16,6 +16,7 @@
 #include "forest/core/scene.hpp"
 #include "forest/render/frame.hpp"
 #include "gl_test_support.hpp"
+#include "test_paths.hpp"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// The frame: shadows where the CPU says they are, no acne with backside rendering (and acne
+// The frame: shadows where the CPU says they are, a term of 0 on faces turned from the sun, no acne with backside rendering (and acne
 // without it), caster selection that changes nothing, every method clean, a sun below the horizon,
 // hard cases, camera-relative props, n smoothed over time. The blur: gl_blur_test.cpp.
 #include <algorithm>
@@ -11,6 +11,7 @@
 #include "forest/render/frame.hpp"
 #include "forest/shadows/focus_body.hpp"
 #include "gl_test_support.hpp"
+#include "test_paths.hpp"
 
 namespace forest::test {
 namespace {
@@ -48,6 +49,49 @@ TEST_F(FrameGl, BoxShadowOnAPlaneMatchesTheCpuProjection) {
     EXPECT_EQ(wrong, 0) << shadowMethodName(method) << ": " << wrong << " of " << checked << " plane pixels disagree";
     EXPECT_GT(shadowedPixels, 200) << shadowMethodName(method);  // the shadow is in view
     EXPECT_GT(checked, 20000) << shadowMethodName(method);
+  }
+}
+
+// The term is forced to 0 where the drawn surface faces away from the sun, before any blur
+// (DESIGN §4; the G-buffer's sun-facing flag), and a lit face keeps its light: a box on a plane,
+// lit from +x, +y, +z, seen so that its averted −x face and its lit +z face both fill many pixels.
+// Which face a pixel shows is decided on the CPU from its position on the box, not by the renderer.
+TEST_F(FrameGl, TermIsZeroOnFacesTurnedFromTheSunAndOneOnLitFaces) {
+  Scene scene;
+  scene.sun.direction = glm::normalize(dvec3(-1.0, -0.6, -0.4));  // toward the sun: (1, 0.6, 0.4)
+  scene.props.push_back({dvec3(-40, -1, -40), dvec3(40, 0, 40), dvec3(0.6)});  // the plane (top at y = 0)
+  scene.props.push_back({dvec3(-2, 0, -2), dvec3(2, 4, 2), dvec3(0.8)});       // the box on it
+  render::Frame frame(scene, kWidth, kHeight);
+  // From (−7, 3, 9) toward (0, 2, 0): the −x and +z faces in view.
+  const Camera camera = cameraAt({-7, 3, 9}, glm::degrees(std::atan2(-7.0, 9.0)), glm::degrees(std::atan2(-1.0, std::hypot(7.0, 9.0))), 200.0);
+  const std::uint32_t boxId = frame.objects().propIdBase() + 1;
+  for (shadows::ShadowMethod method : {shadows::ShadowMethod::Uniform, shadows::ShadowMethod::Lispsm}) {
+    render::FrameSettings settings;
+    settings.method = method;
+    frame.render(camera, 0.0, settings);
+    const std::vector<float> term = frame.readShadowTerm(), depth = frame.readDepth();
+    const std::vector<std::uint32_t> ids = frame.readObjectIds();
+    int averted = 0, avertedNonZero = 0, lit = 0, litDark = 0;
+    for (int y = 0; y < kHeight; ++y)
+      for (int x = 0; x < kWidth; ++x) {
+        const size_t i = static_cast<size_t>(y) * kWidth + x;
+        if (ids[i] != boxId) continue;
+        const dvec3 p = pixelPosition(camera, x, y, depth[i]);
+        const bool inside = p.y > 0.2 && p.y < 3.8;  // away from the face's top and bottom edges
+        if (std::abs(p.x + 2.0) < 0.01 && inside && std::abs(p.z) < 1.8) {  // the −x face: N·l < 0
+          ++averted;
+          avertedNonZero += term[i] != 0.0f ? 1 : 0;
+        } else if (std::abs(p.z - 2.0) < 0.01 && inside && std::abs(p.x) < 1.8) {  // the +z face, lit
+          ++lit;
+          litDark += term[i] < 0.5f ? 1 : 0;
+        }
+      }
+    std::printf("[facing] %s: %d averted pixels, %d with a term; %d lit pixels, %d dark\n", shadowMethodName(method).data(),
+                averted, avertedNonZero, lit, litDark);
+    EXPECT_GT(averted, 300) << shadowMethodName(method);
+    EXPECT_GT(lit, 300) << shadowMethodName(method);
+    EXPECT_EQ(avertedNonZero, 0) << shadowMethodName(method);
+    EXPECT_EQ(litDark, 0) << shadowMethodName(method);
   }
 }
 

@@ -10,6 +10,7 @@
 #include "forest/render/frame.hpp"
 #include "forest/vegetation/forest.hpp"
 #include "gl_test_support.hpp"
+#include "test_paths.hpp"
 
 namespace forest::test {
 namespace {

@@ -11,6 +11,7 @@
 #include "forest/render/draw_view.hpp"
 #include "forest/render/uniform_blocks.hpp"
 #include "gl_test_support.hpp"
+#include "test_paths.hpp"
 
 namespace forest::test {
 namespace {
@@ -118,10 +119,11 @@ TEST_F(GlTest, UniformBlocksMatchTheShaders) {
     programs.emplace_back("props/" + tag, render::loadSurfaceProgram("props.vert", "props.frag", output));
     programs.emplace_back("terrain/" + tag, render::loadSurfaceProgram("terrain.vert", "terrain.frag", output, levels));
   }
-  programs.emplace_back("shadow term", gl::loadProgram({"fullscreen.vert", "shadow_term.frag", "shadow_lookup.frag"}, frameBlock));
+  const std::string lookup = "#define PCF_RADIUS 1\n#define SHADOW_SLICES 4\n";  // the lookup's constants (ShadowLookupPrograms)
+  programs.emplace_back("shadow term", gl::loadProgram({"fullscreen.vert", "shadow_term.frag", "shadow_lookup.frag"}, lookup + frameBlock));
   programs.emplace_back("blur", gl::loadProgram({"fullscreen.vert", "shadow_blur.frag", "blur_taps.frag"}, frameBlock));
   programs.emplace_back("lighting, blurred term", gl::loadProgram({"fullscreen.vert", "lighting.frag", "blur_taps.frag"}, "#define BLURRED_TERM\n" + frameBlock));
-  programs.emplace_back("lighting, term looked up", gl::loadProgram({"fullscreen.vert", "lighting.frag", "shadow_lookup.frag"}, frameBlock));
+  programs.emplace_back("lighting, term looked up", gl::loadProgram({"fullscreen.vert", "lighting.frag", "shadow_lookup.frag"}, lookup + frameBlock));
   programs.emplace_back("query box", gl::loadProgram({"query_box.vert", "query_box.frag"}));
 
   std::map<std::string, int> programsWith;

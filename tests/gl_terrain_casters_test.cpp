@@ -12,6 +12,7 @@
 #include "forest/render/frame.hpp"
 #include "forest/terrain/terrain.hpp"
 #include "gl_test_support.hpp"
+#include "test_paths.hpp"
 
 namespace forest::test {
 namespace {

@@ -13,6 +13,7 @@
 #include "forest/render/terrain_renderer.hpp"
 #include "forest/terrain/terrain.hpp"
 #include "gl_test_support.hpp"
+#include "test_paths.hpp"
 
 namespace forest::test {
 namespace {

@@ -12,6 +12,7 @@
 #include "forest/gl/objects.hpp"
 #include "forest/render/scene_objects.hpp"
 #include "gl_test_support.hpp"
+#include "test_paths.hpp"
 
 namespace forest::test {
 namespace {

@@ -11,6 +11,7 @@
 #include "forest/render/frame.hpp"
 #include "forest/truth/frame_truth.hpp"
 #include "gl_test_support.hpp"
+#include "test_paths.hpp"
 
 namespace forest::test {
 namespace {

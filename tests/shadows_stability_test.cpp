@@ -10,6 +10,7 @@
 #include "forest/shadows/cascades.hpp"
 #include "forest/shadows/focus_body.hpp"
 #include "forest/shadows/stability.hpp"
+#include "test_paths.hpp"
 
 namespace forest::shadows {
 namespace {
@@ -27,7 +28,7 @@ std::string failures(const StabilityCase& c, ShadowMethod method, const Stabilit
 }
 
 TEST(StabilitySuite, HardCasesKeepEveryInvariant) {
-  const std::vector<StabilityCase> cases = loadStabilityCases(FOREST_REPO_DATA "/stability/hard-cases.json");
+  const std::vector<StabilityCase> cases = loadStabilityCases(std::string(FOREST_REPO_DATA) + "/stability/hard-cases.json");
   ASSERT_GE(cases.size(), 25u);
   int empty = 0;
   for (const StabilityCase& c : cases) {
@@ -88,7 +89,7 @@ TEST(StabilitySuite, TenThousandRandomConfigurationsKeepEveryInvariant) {
 // range — on the hard cases and 10 000 random configurations, K = 2, 3, 4 in turn. The slices
 // cover the view without gaps: each starts at or before the previous one's far end.
 TEST(StabilitySuite, EverySliceOfHardAndRandomViewsKeepsEveryInvariant) {
-  std::vector<StabilityCase> cases = loadStabilityCases(FOREST_REPO_DATA "/stability/hard-cases.json");
+  std::vector<StabilityCase> cases = loadStabilityCases(std::string(FOREST_REPO_DATA) + "/stability/hard-cases.json");
   for (std::uint64_t i = 0; i < 10000; ++i) cases.push_back(randomStabilityCase(20061125, i));
   int failed = 0, setups = 0, refused = 0, warped = 0;
   for (size_t i = 0; i < cases.size(); ++i) {
@@ -147,7 +148,7 @@ TEST(StabilitySuite, CasesOnceFoundInAMillionStayFixed) {
 // and lispsm left a visible vertex 0.27% outside the map. "tsm-throws": a view 6 mm deep 1.17e6 m
 // from the origin; tsm threw out of the setup (and would have out of a frame).
 TEST(StabilitySuite, HeldBackSeedCasesKeepTheInvariantsOrAreRefusedWithTheLimit) {
-  const std::vector<StabilityCase> cases = loadStabilityCases(FOREST_REPO_DATA "/stability/hard-cases.json");
+  const std::vector<StabilityCase> cases = loadStabilityCases(std::string(FOREST_REPO_DATA) + "/stability/hard-cases.json");
   const auto found = std::find_if(cases.begin(), cases.end(), [](const StabilityCase& c) {
     return c.name.find("held-back seed: visible outside") != std::string::npos;
   });

@@ -15,6 +15,7 @@
 #include "forest/core/camera_path.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/vegetation/forest.hpp"
+#include "test_paths.hpp"
 
 namespace forest::vegetation {
 namespace {
@@ -329,7 +330,7 @@ namespace forest::vegetation {
 namespace {
 
 TEST(ThesisDemo, PresetPlacesTheGridOfClosedConeAndRingTrees) {
-  const Scene scene = loadScene(FOREST_REPO_DATA "/scenes/thesis-demo.toml");
+  const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/thesis-demo.toml");
   ASSERT_TRUE(scene.vegetation && scene.terrain);
   EXPECT_EQ(scene.terrain->size, 200.0);
   EXPECT_EQ(scene.terrain->height_max - scene.terrain->height_min, 15.0);

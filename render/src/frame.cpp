@@ -248,7 +248,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
     if (cascades.cascades > 1) nearest = p.nearestDepth.run(p.geometry.gbuffer().depth, camera);
     std::span<const glm::dvec4> receiverPixels;
     if (settings.casters == CasterSelection::ReceiverPixels && !stats.sunBelowHorizon) {
-      p.receiverPixels.read(p.geometry.gbuffer(), width_, height_, camera, -l);
+      p.receiverPixels.read(p.geometry.gbuffer(), width_, height_, camera);
       receiverPixels = p.receiverPixels.points();
     }
     p.shadowSetup.run(camera, visible, settings, cascades, nearest, l, stats.sunBelowHorizon, *objects_, eyeLod, sceneBounds_,
@@ -269,10 +269,11 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   // itself (no full-screen pass writes it).
   const bool blurred = settings.blurRadius > 0.0;
   const gl::Texture* blurredTerm = nullptr;
+  const ShadowLookupShape lookupShape{settings.pcfRadius, p.plan.cascades};
   {
     auto timed = timer.scope(kFramePassNames[3]);
     p.frameUniforms.bind(frameBlock(camera, p.plan, settings, scene_, l, !stats.sunBelowHorizon));
-    if (blurred) p.shadowTerm.run(p.geometry.gbuffer(), p.shadow.map());
+    if (blurred) p.shadowTerm.run(p.geometry.gbuffer(), p.shadow.map(), lookupShape);
   }
   {
     auto timed = timer.scope(kFramePassNames[4]);
@@ -283,7 +284,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   // 5. Lighting.
   {
     auto timed = timer.scope(kFramePassNames[5]);
-    p.lighting.run(p.geometry.gbuffer(), blurredTerm, p.shadow.map());
+    p.lighting.run(p.geometry.gbuffer(), blurredTerm, p.shadow.map(), lookupShape);
   }
   timer.endFrame();
   if (settings.timing == gl::TimingMode::Profiling) {

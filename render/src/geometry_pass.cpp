@@ -4,19 +4,17 @@ namespace forest::render {
 
 GBuffer::GBuffer(int width, int height)
     : albedo(GL_RGBA8, width, height),
-      shadingNormal(GL_RGBA16F, width, height),
-      geometricNormal(GL_RGBA16F, width, height),
+      shadingNormal(GL_RGB10_A2, width, height),
       objectId(GL_R32UI, width, height),
       depth(GL_DEPTH_COMPONENT32F, width, height) {
   framebuffer.attach(GL_COLOR_ATTACHMENT0, albedo);
   framebuffer.attach(GL_COLOR_ATTACHMENT1, shadingNormal);
-  framebuffer.attach(GL_COLOR_ATTACHMENT2, geometricNormal);
-  framebuffer.attach(GL_COLOR_ATTACHMENT3, objectId);
+  framebuffer.attach(GL_COLOR_ATTACHMENT2, objectId);
   framebuffer.attach(GL_DEPTH_ATTACHMENT, depth);
-  const GLenum buffers[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2, GL_COLOR_ATTACHMENT3};
-  glNamedFramebufferDrawBuffers(framebuffer.id(), 4, buffers);
+  const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+  glNamedFramebufferDrawBuffers(framebuffer.id(), 3, buffers);
   framebuffer.checkComplete("G-buffer");
-  for (const gl::Texture* t : {&albedo, &shadingNormal, &geometricNormal, &objectId, &depth}) {
+  for (const gl::Texture* t : {&albedo, &shadingNormal, &objectId, &depth}) {
     glTextureParameteri(t->id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(t->id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   }
@@ -53,10 +51,10 @@ const culling::CullingResult& GeometryPass::run(const Camera& camera, const Draw
   glEnable(GL_CULL_FACE);
   glCullFace(GL_BACK);
   glDisable(GL_POLYGON_OFFSET_FILL);
-  const float zero[4] = {0, 0, 0, 0};
+  // Albedo and normal are read only where something was drawn (depth > 0): only the ID (0: none)
+  // and the depth are cleared.
   const GLuint zeroId[4] = {0, 0, 0, 0};
-  for (int i = 0; i < 3; ++i) glClearBufferfv(GL_COLOR, i, zero);
-  glClearBufferuiv(GL_COLOR, 3, zeroId);
+  glClearBufferuiv(GL_COLOR, 2, zeroId);
   const float farDepth = 0.0f;
   glClearBufferfv(GL_DEPTH, 0, &farDepth);
   SceneDrawer& drawer = *drawer_;

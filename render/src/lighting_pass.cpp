@@ -7,7 +7,7 @@ namespace forest::render {
 LightingPass::LightingPass(int width, int height)
     : width_(width), height_(height), usedTerm_(GL_RG16F, width, height), color_(GL_RGBA8, width, height),
       blurred_(loadFullScreenProgram({"lighting.frag", "blur_taps.frag"}, "#define BLURRED_TERM\n")),
-      lookup_(loadFullScreenProgram({"lighting.frag", "shadow_lookup.frag"})) {
+      lookup_({"lighting.frag"}) {
   framebuffer_.attach(GL_COLOR_ATTACHMENT0, color_);
   framebuffer_.attach(GL_COLOR_ATTACHMENT1, usedTerm_);
   const GLenum buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
@@ -17,7 +17,7 @@ LightingPass::LightingPass(int width, int height)
   glTextureParameteri(usedTerm_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
 }
 
-void LightingPass::run(const GBuffer& gbuffer, const gl::Texture* term, const gl::Texture& shadowMap) {
+void LightingPass::run(const GBuffer& gbuffer, const gl::Texture* term, const gl::Texture& shadowMap, const ShadowLookupShape& shape) {
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   glViewport(0, 0, width_, height_);
   glDisable(GL_DEPTH_TEST);
@@ -26,7 +26,7 @@ void LightingPass::run(const GBuffer& gbuffer, const gl::Texture* term, const gl
   glBindTextureUnit(1, gbuffer.shadingNormal.id());
   if (term) glBindTextureUnit(4, term->id());
   else bindShadowLookupInputs(gbuffer, shadowMap);
-  triangle_.draw(term ? blurred_ : lookup_);
+  triangle_.draw(term ? blurred_ : lookup_.get(shape));
   for (GLuint unit = 0; unit < 7; ++unit) glBindTextureUnit(unit, 0);
   glEnable(GL_DEPTH_TEST);
   glEnable(GL_CULL_FACE);

@@ -10,6 +10,7 @@
 #include "forest/render/frame.hpp"
 #include "fullscreen_triangle.hpp"
 #include "geometry_pass.hpp"
+#include "shadow_term_pass.hpp"
 
 namespace forest::render {
 
@@ -19,7 +20,7 @@ class LightingPass {
   // With the blur on, `term` is the horizontally blurred shadow term; with it off (null), the
   // term is looked up in `shadowMap`. The sun, sky, fog and blur come from the frame block
   // (frame_uniforms.hpp), bound.
-  void run(const GBuffer& gbuffer, const gl::Texture* term, const gl::Texture& shadowMap);
+  void run(const GBuffer& gbuffer, const gl::Texture* term, const gl::Texture& shadowMap, const ShadowLookupShape& shape);
 
   const gl::Texture& color() const { return color_; }
   const gl::Texture& usedTerm() const { return usedTerm_; }
@@ -29,7 +30,8 @@ class LightingPass {
   int width_, height_;
   gl::Texture usedTerm_, color_;
   gl::Framebuffer framebuffer_;
-  gl::Program blurred_, lookup_;  // the term from the blur's horizontal pass, or looked up here
+  gl::Program blurred_;           // the term from the blur's horizontal pass
+  ShadowLookupPrograms lookup_;   // or looked up here
   FullScreenTriangle triangle_;
 };
 

@@ -6,6 +6,10 @@
 // one full-screen pass fewer.
 #include <glm/glm.hpp>
 
+#include <map>
+#include <string>
+#include <vector>
+
 #include "forest/gl/objects.hpp"
 #include "forest/gl/shader.hpp"
 #include "forest/render/frame.hpp"
@@ -14,21 +18,47 @@
 
 namespace forest::render {
 
-// Binds what shaders/shadow_lookup.frag reads: the G-buffer's depth and geometric normal, the map.
+// Binds what shaders/shadow_lookup.frag reads: the G-buffer's depth and sun-facing flag, the map.
 void bindShadowLookupInputs(const GBuffer& gbuffer, const gl::Texture& shadowMap);
+
+// The lookup's filter and slices (FrameSettings::pcfRadius, the plan's slice count).
+struct ShadowLookupShape {
+  int pcfRadius = 0;
+  int slices = 1;
+  auto operator<=>(const ShadowLookupShape&) const = default;
+};
+
+// The lines that make `shape` compile-time constants of shaders/shadow_lookup.frag.
+std::string shadowLookupDefines(const ShadowLookupShape& shape);
+
+// A full-screen program that links shaders/shadow_lookup.frag, one per lookup shape, compiled when
+// the shape is first used. With the filter radius and the slice count constant the lookup's loops
+// unroll: read from the frame block as loop bounds, they cost the lighting pass ~7 of its ~40 ms
+// (800×600, llvmpipe).
+class ShadowLookupPrograms {
+ public:
+  // fullscreen.vert with `fragments` and shadow_lookup.frag, after `defines`.
+  ShadowLookupPrograms(std::vector<std::string> fragments, std::string defines = "");
+  const gl::Program& get(const ShadowLookupShape& shape);
+
+ private:
+  std::vector<std::string> fragments_;
+  std::string defines_;
+  std::map<ShadowLookupShape, gl::Program> programs_;
+};
 
 class ShadowTermPass {
  public:
   ShadowTermPass(int width, int height);
   // Reads the lookup, the sun and the filter from the frame block (frame_uniforms.hpp), bound.
-  void run(const GBuffer& gbuffer, const gl::Texture& shadowMap);
+  void run(const GBuffer& gbuffer, const gl::Texture& shadowMap, const ShadowLookupShape& shape);
   const gl::Texture& term() const { return term_; }
 
  private:
   int width_, height_;
   gl::Texture term_;
   gl::Framebuffer framebuffer_;
-  gl::Program program_;
+  ShadowLookupPrograms programs_;
   FullScreenTriangle triangle_;
 };
 
