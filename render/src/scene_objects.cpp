@@ -101,7 +101,11 @@ long long SceneDrawer::draw(std::span<const std::uint32_t> objects) {
       case SceneObjects::Kind::Prop: propList_.push_back(object.index); break;
     }
   }
+  // Trees and props before the terrain: the terrain's fragments (the costlier material) behind them
+  // then fail the depth test before shading. The depth test decides the image either way.
   long long triangles = 0;
+  if (trees_ && !treeList_.empty()) triangles += trees_->draw(view_, treeList_).triangles;
+  if (props_ && !propList_.empty()) triangles += props_->draw(view_, propList_);
   if (terrain_ && lod_ && !tiles_.empty()) {
     if (blockFrustum_ && objects_.terrain()) {
       const terrain::Terrain& terrain = *objects_.terrain();
@@ -117,8 +121,6 @@ long long SceneDrawer::draw(std::span<const std::uint32_t> objects) {
       triangles += terrain_->draw(view_, *lod_, tiles_).triangles;
     }
   }
-  if (trees_ && !treeList_.empty()) triangles += trees_->draw(view_, treeList_).triangles;
-  if (props_ && !propList_.empty()) triangles += props_->draw(view_, propList_);
   return triangles;
 }
 
