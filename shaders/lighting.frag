@@ -52,23 +52,11 @@ vec3 hazeRadiance(vec3 d, vec3 zenith, vec3 toSun, vec3 sunColor, bool sunUp) {
   return horizonRadiance(zenith) + (sunUp ? 0.25 * sunColor * pow8(max(dot(d, toSun), 0.0)) : vec3(0.0));
 }
 
-void main() {
-  ivec2 pixel = ivec2(gl_FragCoord.xy);
-  vec3 toSun = uFrame.toSunUp.xyz, zenith = pow(uFrame.skyFog.rgb, vec3(2.2));
-  vec3 sunColor = uFrame.sunColorAmbient.rgb;
-  bool sunUp = uFrame.toSunUp.w != 0.0;
-  float ambient = uFrame.sunColorAmbient.w, hazeDensity = uFrame.skyFog.w;
-#ifdef BLURRED_TERM
-  vec2 term = blurTaps(uShadowTerm, pixel, ivec2(0, 1));
-#else
-  vec2 term = shadowTermAt(pixel, vRay);
-#endif
-  usedTerm = term;
-  vec3 view = normalize(vRay);
-  if (term.g == 0.0) {
-    fragColor = vec4(pow(skyRadiance(view, zenith, toSun, sunColor, sunUp), vec3(1.0 / 2.2)), 1.0);
-    return;
-  }
+// The pixel's radiance (linear): the sky where nothing was drawn (term.g, its eye depth, is 0),
+// else the lit surface. One gamma for both in main: llvmpipe runs both sides of the branch.
+vec3 surfaceOrSky(ivec2 pixel, vec2 term, vec3 view, vec3 zenith, vec3 toSun, vec3 sunColor, bool sunUp, float ambient,
+                  float hazeDensity) {
+  if (term.g == 0.0) return skyRadiance(view, zenith, toSun, sunColor, sunUp);
   vec3 albedo = texelFetch(uAlbedo, pixel, 0).rgb;
   vec3 n = normalize(2.0 * texelFetch(uShadingNormal, pixel, 0).xyz - 1.0);  // stored as n / 2 + 1/2
   float shadow = term.r;
@@ -89,5 +77,21 @@ void main() {
   }
   if (hazeDensity > 0.0)  // exponential extinction with in-scattered haze (linear light)
     linear = mix(hazeRadiance(view, zenith, toSun, sunColor, sunUp), linear, exp(-hazeDensity * length(relative)));
-  fragColor = vec4(pow(linear, vec3(1.0 / 2.2)), 1.0);
+  return linear;
+}
+
+void main() {
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  vec3 toSun = uFrame.toSunUp.xyz, zenith = uFrame.skyFog.rgb;
+  vec3 sunColor = uFrame.sunColorAmbient.rgb;
+  bool sunUp = uFrame.toSunUp.w != 0.0;
+  float ambient = uFrame.sunColorAmbient.w, hazeDensity = uFrame.skyFog.w;
+#ifdef BLURRED_TERM
+  vec2 term = blurTaps(uShadowTerm, pixel, ivec2(0, 1));
+#else
+  vec2 term = shadowTermAt(pixel, vRay);
+#endif
+  usedTerm = term;
+  vec3 view = normalize(vRay);
+  fragColor = vec4(pow(surfaceOrSky(pixel, term, view, zenith, toSun, sunColor, sunUp, ambient, hazeDensity), vec3(1.0 / 2.2)), 1.0);
 }
