@@ -12,14 +12,13 @@ std::string shadowLookupDefines(const ShadowLookupShape& shape) {
   return "#define PCF_RADIUS " + std::to_string(shape.pcfRadius) + "\n#define SHADOW_SLICES " + std::to_string(shape.slices) + "\n";
 }
 
-ShadowLookupPrograms::ShadowLookupPrograms(std::vector<std::string> fragments, std::string defines)
-    : fragments_(std::move(fragments)), defines_(std::move(defines)) {
+ShadowLookupPrograms::ShadowLookupPrograms(std::vector<std::string> fragments) : fragments_(std::move(fragments)) {
   fragments_.push_back("shadow_lookup.frag");
 }
 
 const gl::Program& ShadowLookupPrograms::get(const ShadowLookupShape& shape) {
   auto it = programs_.find(shape);
-  if (it == programs_.end()) it = programs_.emplace(shape, loadFullScreenProgram(fragments_, defines_ + shadowLookupDefines(shape))).first;
+  if (it == programs_.end()) it = programs_.emplace(shape, loadFullScreenProgram(fragments_, shadowLookupDefines(shape))).first;
   return it->second;
 }
 

@@ -37,13 +37,12 @@ std::string shadowLookupDefines(const ShadowLookupShape& shape);
 // (800×600, llvmpipe).
 class ShadowLookupPrograms {
  public:
-  // fullscreen.vert with `fragments` and shadow_lookup.frag, after `defines`.
-  ShadowLookupPrograms(std::vector<std::string> fragments, std::string defines = "");
+  // fullscreen.vert with `fragments` and shadow_lookup.frag.
+  explicit ShadowLookupPrograms(std::vector<std::string> fragments);
   const gl::Program& get(const ShadowLookupShape& shape);
 
  private:
   std::vector<std::string> fragments_;
-  std::string defines_;
   std::map<ShadowLookupShape, gl::Program> programs_;
 };
 
