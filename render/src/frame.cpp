@@ -219,6 +219,13 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   const std::optional<terrain::TerrainLod> lod = terrainLodFor(camera);
   const terrain::TerrainLod* eyeLod = lod ? &*lod : nullptr;
 
+  // The shadow lookup's program for this filter and slice count (the plan's: the resolved
+  // cascades), compiled on first use, before any pass is timed.
+  const ShadowSettings cascades = resolveCascades(settings, scene_);
+  const ShadowLookupShape lookupShape{settings.pcfRadius, cascades.cascades};
+  if (settings.blurRadius > 0.0) p.shadowTerm.prepare(lookupShape);
+  else p.lighting.prepare(lookupShape);
+
   if (!timer_ || timer_->mode() != settings.timing) timer_ = std::make_unique<gl::PassTimer>(settings.timing, 3, framesRendered_);
   gl::PassTimer& timer = *timer_;
   stats.frameNumber = framesRendered_++;
@@ -241,7 +248,6 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
 
   // 2. Shadow setup from the visible set, per slice: B, the method's matrices, the casters. With
   // cascades, the splits start from the nearest visible depth (NearestDepthPass).
-  const ShadowSettings cascades = resolveCascades(settings, scene_);
   {
     auto timed = timer.scope(kFramePassNames[1]);
     std::optional<double> nearest;
@@ -269,7 +275,6 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   // itself (no full-screen pass writes it).
   const bool blurred = settings.blurRadius > 0.0;
   const gl::Texture* blurredTerm = nullptr;
-  const ShadowLookupShape lookupShape{settings.pcfRadius, p.plan.cascades};
   {
     auto timed = timer.scope(kFramePassNames[3]);
     p.frameUniforms.bind(frameBlock(camera, p.plan, settings, scene_, l, !stats.sunBelowHorizon));

@@ -21,6 +21,7 @@ class LightingPass {
   // term is looked up in `shadowMap`. The sun, sky, fog and blur come from the frame block
   // (frame_uniforms.hpp), bound.
   void run(const GBuffer& gbuffer, const gl::Texture* term, const gl::Texture& shadowMap, const ShadowLookupShape& shape);
+  void prepare(const ShadowLookupShape& shape) { lookup_.get(shape); }  // compiles the lookup's program now
 
   const gl::Texture& color() const { return color_; }
   const gl::Texture& usedTerm() const { return usedTerm_; }

@@ -39,6 +39,8 @@ class ShadowLookupPrograms {
  public:
   // fullscreen.vert with `fragments` and shadow_lookup.frag.
   explicit ShadowLookupPrograms(std::vector<std::string> fragments);
+  // The program for `shape`, compiled now if it was not yet (Frame::render asks before its timer
+  // starts, so no pass time holds a compile).
   const gl::Program& get(const ShadowLookupShape& shape);
 
  private:
@@ -51,6 +53,7 @@ class ShadowTermPass {
   ShadowTermPass(int width, int height);
   // Reads the lookup, the sun and the filter from the frame block (frame_uniforms.hpp), bound.
   void run(const GBuffer& gbuffer, const gl::Texture& shadowMap, const ShadowLookupShape& shape);
+  void prepare(const ShadowLookupShape& shape) { programs_.get(shape); }  // compiles its program now
   const gl::Texture& term() const { return term_; }
 
  private:
