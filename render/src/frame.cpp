@@ -223,7 +223,8 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   // cascades), compiled on first use, before any pass is timed.
   const ShadowSettings cascades = resolveCascades(settings, scene_);
   const ShadowLookupShape lookupShape{settings.pcfRadius, cascades.cascades};
-  if (settings.blurRadius > 0.0) p.shadowTerm.prepare(lookupShape);
+  const bool blurred = settings.blurRadius > 0.0;
+  if (blurred) p.shadowTerm.prepare(lookupShape);
   else p.lighting.prepare(lookupShape);
 
   if (!timer_ || timer_->mode() != settings.timing) timer_ = std::make_unique<gl::PassTimer>(settings.timing, 3, framesRendered_);
@@ -273,7 +274,6 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   // 4. The frame block holds what the full-screen passes read. With the blur on: the shadow term
   // into a texture, and the blur's horizontal half (4b); with it off, lighting looks the term up
   // itself (no full-screen pass writes it).
-  const bool blurred = settings.blurRadius > 0.0;
   const gl::Texture* blurredTerm = nullptr;
   {
     auto timed = timer.scope(kFramePassNames[3]);

@@ -8,9 +8,12 @@ void bindShadowLookupInputs(const GBuffer& gbuffer, const gl::Texture& shadowMap
   glBindTextureUnit(3, shadowMap.id());
 }
 
+namespace {
+// The lines that make `shape` compile-time constants of shaders/shadow_lookup.frag.
 std::string shadowLookupDefines(const ShadowLookupShape& shape) {
   return "#define PCF_RADIUS " + std::to_string(shape.pcfRadius) + "\n#define SHADOW_SLICES " + std::to_string(shape.slices) + "\n";
 }
+}  // namespace
 
 ShadowLookupPrograms::ShadowLookupPrograms(std::vector<std::string> fragments) : fragments_(std::move(fragments)) {
   fragments_.push_back("shadow_lookup.frag");

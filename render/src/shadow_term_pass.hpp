@@ -28,9 +28,6 @@ struct ShadowLookupShape {
   auto operator<=>(const ShadowLookupShape&) const = default;
 };
 
-// The lines that make `shape` compile-time constants of shaders/shadow_lookup.frag.
-std::string shadowLookupDefines(const ShadowLookupShape& shape);
-
 // A full-screen program that links shaders/shadow_lookup.frag, one per lookup shape, compiled when
 // the shape is first used. With the filter radius and the slice count constant the lookup's loops
 // unroll: read from the frame block as loop bounds, they cost the lighting pass ~7 of its ~40 ms
