@@ -4,6 +4,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -357,24 +358,33 @@ TEST(ForestCli, WalkthroughWritesConsistentOutputsAndRepeatsExactly) {
   for (const char* run : {"walk-a", "walk-b"}) {
     const fs::path out = base / run;
     fs::remove_all(out);
+    const auto started = std::chrono::steady_clock::now();
     const Result r = runForest("walkthrough --width 320 --height 180 --frames 20 --every 1 --quiet --out " + out.string());
+    const double wallMs = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_THAT(r.out, HasSubstr("20 of 20 frames"));
     ASSERT_TRUE(fs::exists(out / "contact-sheet.png"));
     const nlohmann::json report = nlohmann::json::parse(readTextFile(out / "report.json"));
     ASSERT_EQ(report["frames_done"].get<int>(), 20);
     ASSERT_EQ(report["frames"].size(), 20u);
+    // A frame's interval runs from its start to the next frame's start, less image writing done
+    // after the frame: it holds the frame, and the intervals, one after another, fit in the run.
+    double intervals = 0.0;
     for (const auto& f : report["frames"]) {
       double passes = 0.0;
       for (const auto& [name, ms] : f["passes_ms"].items()) passes += ms.get<double>();
       EXPECT_LE(passes, f["frame_ms"].get<double>()) << f["frame"];
+      EXPECT_GE(f["interval_ms"].get<double>(), f["frame_ms"].get<double>()) << f["frame"];
+      intervals += f["interval_ms"].get<double>();
       EXPECT_GT(f["triangles"]["geometry"].get<long long>(), 0);
       if (!f["sun_below_horizon"].get<bool>()) {
         EXPECT_GE(f["casters"].get<int>(), 1);
       }
       EXPECT_LE(f["z_f"].get<double>(), f["far"].get<double>());
     }
+    EXPECT_LT(intervals, wallMs);
     for (const char* q : {"p50", "p95", "p99"}) EXPECT_GT(report["summary"]["frame_ms"][q].get<double>(), 0.0);
+    EXPECT_GE(report["summary"]["interval_ms"]["p50"].get<double>(), report["summary"]["frame_ms"]["p50"].get<double>());
     for (int k = 0; k < 20; ++k) {
       const Image8 image = readImage8(out / "frames" / fmt::format("frame{:05d}.png", k));
       if (std::string(run) == "walk-a") {

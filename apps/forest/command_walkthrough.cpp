@@ -106,6 +106,8 @@ nlohmann::ordered_json summariseFrames(const nlohmann::ordered_json& records, in
                                   {"p99", percentile(v, 0.99)}};
   };
   summary["frame_ms"] = column([](const auto& r) { return r["frame_ms"].template get<double>(); });
+  if (!records.empty() && records.front().contains("interval_ms"))
+    summary["interval_ms"] = column([](const auto& r) { return r["interval_ms"].template get<double>(); });
   for (const char* pass : kPassNames)
     summary["passes_ms"][pass] = column([pass](const auto& r) { return r["passes_ms"][pass].template get<double>(); });
   summary["triangles_geometry"] = column([](const auto& r) { return r["triangles"]["geometry"].template get<double>(); });
@@ -121,6 +123,11 @@ void printSummary(const nlohmann::ordered_json& summary) {
   std::cout << fmt::format("  {:<13} {:>9} {:>9} {:>9} {:>9}\n", "ms", "mean", "p50", "p95", "p99");
   std::cout << fmt::format("  {:<13} {:>9.2f} {:>9.2f} {:>9.2f} {:>9.2f}\n", "frame", frameMs["mean"].get<double>(),
                            frameMs["p50"].get<double>(), frameMs["p95"].get<double>(), frameMs["p99"].get<double>());
+  if (summary.contains("interval_ms")) {
+    const auto& interval = summary["interval_ms"];
+    std::cout << fmt::format("  {:<13} {:>9.2f} {:>9.2f} {:>9.2f} {:>9.2f}\n", "interval", interval["mean"].get<double>(),
+                             interval["p50"].get<double>(), interval["p95"].get<double>(), interval["p99"].get<double>());
+  }
   for (const char* pass : kPassNames) {
     const auto& p = summary["passes_ms"][pass];
     std::cout << fmt::format("  {:<13} {:>9.2f} {:>9.2f} {:>9.2f} {:>9.2f}\n", pass, p["mean"].get<double>(), p["p50"].get<double>(),
@@ -168,24 +175,42 @@ int runWalkthrough(const WalkthroughOptions& options) {
   ContactSheet sheet;
   const auto start = Clock::now();
   int done = 0;
+  // A frame's interval: from its start to the next frame's (after the last, to the end of its GPU
+  // work), less the CPU's time on this run's own outputs (shrinking and writing images). It holds
+  // the frame's GPU work whatever the timing mode, without a wait inside any frame (DESIGN §9):
+  // the time between frames a viewer sees.
+  Clock::time_point previousStart;
+  double previousOutputSeconds = 0.0;
+  auto closeInterval = [&](Clock::time_point next) {
+    if (records.empty()) return;
+    records.back()["interval_ms"] = 1e3 * (std::chrono::duration<double>(next - previousStart).count() - previousOutputSeconds);
+  };
   for (int f = 0; f < total && !gInterrupted; ++f) {
     const double time = path.startTime() + f / options.fps;
     const CameraPose pose = path.at(time);
     const Camera camera = frame.cameraAt(pose, path.aboveGround());
     const auto frameStart = Clock::now();
+    closeInterval(frameStart);
     const render::FrameStats s = frame.render(camera, time, settings);
     const double frameMs = 1e3 * std::chrono::duration<double>(Clock::now() - frameStart).count();
     const bool writeFrame = f % options.every == 0 || f == total - 1;
+    double outputSeconds = 0.0;
     if (writeFrame || sheet.wants(f)) {
-      const Image8 image = frame.readColor();
+      const Image8 image = frame.readColor();  // waits for the frame: that wait stays in the interval
+      const auto outputStart = Clock::now();
       if (writeFrame) writeImage(out / "frames" / fmt::format("frame{:05d}.png", f), image);
       if (sheet.wants(f)) sheet.add(f, time, frameMs, image);
+      outputSeconds = std::chrono::duration<double>(Clock::now() - outputStart).count();
     }
     records.push_back(frameRecord(f, time, f < warmup, camera, pose.yaw_deg, frameMs, s));
     recordPassTimes(frame.takePassTimes(), records);  // timer queries: earlier frames' pass times
     ++done;
     showProgress("walkthrough", "frames", done, total, std::chrono::duration<double>(Clock::now() - start).count(), options.length.quiet);
+    previousStart = frameStart;
+    previousOutputSeconds = outputSeconds;
   }
+  glFinish();  // the last frame's GPU work, for its interval
+  closeInterval(Clock::now());
   std::signal(SIGINT, SIG_DFL);
   recordPassTimes(frame.drainPassTimes(), records);
   // The last frame done is always on the sheet (its image is still in the frame's target).
