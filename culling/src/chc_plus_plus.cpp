@@ -1,7 +1,11 @@
 // CHC++ (Mattausch, Bittner, Wimmer: "CHC++: Coherent Hierarchical Culling Revisited", EG 2008).
-// Deterministic mode takes results at fixed traversal steps (kBatchSteps), never by polling, so
-// that a run traverses — and so draws and queries — the same way every time; async mode takes each
-// result as soon as GL_QUERY_RESULT_AVAILABLE says so, as the paper does.
+// Async mode takes each result as soon as GL_QUERY_RESULT_AVAILABLE says so, and waits only when
+// the traversal queue is empty, as the paper does (§3, "while the distance queue is empty, wait").
+// Deterministic mode never polls: it takes results only when the traversal queue is empty, so a
+// run traverses — and so draws and queries — the same way every time. (Taking them at fixed
+// traversal steps as well, every kBatchSteps as CHC does, made llvmpipe rasterise the frame in many
+// small pieces — each result read flushes its command stream — and cost the open view above the
+// canopy a third of its frame.)
 #include <algorithm>
 #include <cmath>
 
@@ -75,7 +79,6 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
   std::vector<std::int32_t>& groupNodes = scratch.groupNodes;
   std::vector<std::uint32_t>& objects = scratch.drawList;
   std::vector<Aabb>& boxes = scratch.boxes;
-  int steps = 0;
 
   // §3.2: visible leaves wait in the render queue; it is drawn in one call before any query goes
   // out (the depth buffer must hold everything known visible) and at the end.
@@ -98,7 +101,7 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     const std::size_t slot = issueQuery(boxes);
     const std::size_t first = groupNodes.size();
     groupNodes.insert(groupNodes.end(), group.begin(), group.end());
-    pending.push({first, group.size(), slot, drawnAlready, steps});
+    pending.push({first, group.size(), slot, drawnAlready});
   };
   auto issueOne = [&](std::int32_t n, bool drawnAlready) { issue({&n, 1}, drawnAlready); };
   // §3.1, §3.4: the i-queue goes out as one batch; with multiqueries, nodes sorted by p_keep are
@@ -184,13 +187,10 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
 
   if (!nodes.empty()) traversal.push(t.entry(0));
   while (true) {
-    // Results: deterministic, at each batch boundary those issued a batch ago; async, those the GPU
-    // has finished.
-    if (queryMode_ == QueryMode::Async) {
+    // Results: async, those the GPU has finished; deterministic, none before the traversal queue
+    // runs dry (below).
+    if (queryMode_ == QueryMode::Async)
       while (!pending.empty() && resultAvailable(pending.front().slot, t.stats)) takeResult();
-    } else if (steps % kBatchSteps == 0) {
-      while (!pending.empty() && pending.front().step <= steps - kBatchSteps) takeResult();
-    }
     if (traversal.empty()) {
       if (!invisibleQueue.empty()) {
         issueInvisibleQueue();
@@ -207,7 +207,6 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
       }
       continue;
     }
-    ++steps;
     const std::int32_t n = traversal.top().node;
     traversal.pop();
     if (!t.frustum.mayIntersect(nodes[n].bounds)) continue;

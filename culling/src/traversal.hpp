@@ -79,7 +79,7 @@ struct PendingQuery {
   std::size_t first = 0, count = 0;
   std::size_t slot = 0;
   bool drawnAlready = false;  // a visible leaf's query: drawn this frame, asks about the next
-  int step = 0;               // traversal step at which it was issued
+  int step = 0;               // traversal step at which it was issued (CHC's batches)
 };
 
 // Every list the traversals use, kept by the culler so a steady-state frame allocates nothing.
