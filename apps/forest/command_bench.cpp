@@ -278,7 +278,7 @@ int runBenchCulling(const BenchOptions& options) {
       "(from the brute-force object-ID buffer) with no queries.\n\n",
       scenePath, options.size.width, options.size.height, options.length.frames, device,
       modes.timing == gl::TimingMode::Profiling ? "glFinish and a clock (--timing profile)" : "GL timestamp queries (--timing queries)",
-      modes.queries == culling::QueryMode::Deterministic ? "at fixed traversal steps (--queries deterministic)"
+      modes.queries == culling::QueryMode::Deterministic ? "at points the traversal fixes — chc every 64 steps, chc++ when its queue runs dry (--queries deterministic)"
                                                           : "when available (--queries async)");
   const int total = static_cast<int>(options.trees.size() * options.paths.size()) * options.length.frames * static_cast<int>(strategies.size() + 2);
   int done = 0;

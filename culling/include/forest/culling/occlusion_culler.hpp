@@ -19,9 +19,10 @@
 //                   multiquery, grouped greedily by p_keep(i) = 0.99 − 0.7·e^(−i) after i invisible
 //                   frames — a visible multiquery re-queries its nodes one by one (§3.4); queries
 //                   draw the boxes of a node's descendants when they are tighter (§3.5).
-// Query results are read in one of two ways (QueryMode): deterministic — at fixed traversal steps
-// (every kBatchSteps), so a run traverses, draws and queries the same way every time (tests,
-// llvmpipe, where polling flushes the command stream) — or async, as in the papers — polling
+// Query results are read in one of two ways (QueryMode): deterministic — never by polling, at
+// points fixed by the traversal alone (CHC: every kBatchSteps steps; CHC++: when its traversal
+// queue runs dry), so a run traverses, draws and queries the same way every time (tests,
+// llvmpipe, where polling and every read flush the command stream) — or async, as in the papers — polling
 // GL_QUERY_RESULT_AVAILABLE and taking a result as soon as the GPU has it while traversal goes on;
 // a result is read only after the GL reported it available, so the CPU never blocks in a read.
 // Both are exact.
