@@ -121,8 +121,9 @@ void ModeOptions::add(CLI::App& command) {
       ->capture_default_str();
   command.add_option("--queries", queries,
                      "How CHC/CHC++ read occlusion queries: deterministic (at points the traversal fixes: CHC\n"
-                     "every 64 steps, CHC++ when its queue runs dry; the same visible set every run), async (as soon as GL_QUERY_RESULT_AVAILABLE says so), auto\n"
-                     "(deterministic on a software renderer, async on a GPU); both are exact")
+                     "every 64 steps, CHC++ when its queue runs dry; the same visible set every run), async\n"
+                     "(as soon as GL_QUERY_RESULT_AVAILABLE says so), auto (deterministic on a software\n"
+                     "renderer, async on a GPU); both are exact")
       ->check(CLI::IsMember({"auto", "deterministic", "async"}))
       ->capture_default_str();
 }

@@ -22,10 +22,10 @@
 // Query results are read in one of two ways (QueryMode): deterministic — never by polling, at
 // points fixed by the traversal alone (CHC: every kBatchSteps steps; CHC++: when its traversal
 // queue runs dry), so a run traverses, draws and queries the same way every time (tests,
-// llvmpipe, where polling and every read flush the command stream) — or async, as in the papers — polling
-// GL_QUERY_RESULT_AVAILABLE and taking a result as soon as the GPU has it while traversal goes on;
-// a result is read only after the GL reported it available, so the CPU never blocks in a read.
-// Both are exact.
+// llvmpipe, where polling and every read flush the command stream) — or async, as in the
+// papers — polling GL_QUERY_RESULT_AVAILABLE and taking a result as soon as the GPU has it while
+// traversal goes on; a result is read only after the GL reported it available, so the CPU never
+// blocks in a read. Both are exact.
 // A query tests the node's box (or, for a leaf, its objects' query shapes; grown by a few ulps)
 // against the depth of what has been drawn so
 // far, which only gets nearer as more is drawn: a box found hidden holds nothing visible, so the
