@@ -107,14 +107,15 @@ for line in open(peer_log):
         fields = dict(kv.split("=", 1) for kv in line.split()[1:] if "=" in kv)
 if fields is None:
     sys.exit(f"peer-thesis-demo: no RESULT line in {peer_log}")
-summary = json.load(open(report))["summary"]
+forest = json.load(open(report))
+summary = forest["summary"]
 print(json.dumps({
     "trees": trees, "pair": pair,
     "classic": {"ms_mean": float(fields["ms_mean"]), "ms_p95": float(fields["p95"]), "shadow_ms_mean": float(fields["shadow_ms_mean"]),
                 "eye_triangles": float(fields["eye_tris"]), "shadow_triangles": float(fields["shadow_tris"]),
                 "queries": float(fields["queries"])},
     "forest": {"ms_mean": summary["interval_ms"]["mean"], "ms_p95": summary["interval_ms"]["p95"],
-               "issue_ms_mean": summary["frame_ms"]["mean"], "timing": json.load(open(report))["settings"]["timing"],
+               "issue_ms_mean": summary["frame_ms"]["mean"], "timing": forest["settings"]["timing"],
                "passes_ms": {k: v["mean"] for k, v in summary["passes_ms"].items()},
                "eye_triangles": summary["triangles_geometry"]["mean"], "shadow_triangles": summary["triangles_shadow"]["mean"],
                "queries": summary["queries"]["mean"]},
