@@ -3,6 +3,10 @@
 // (higher is nearer the light), 1024² texels over 100 m (0.098 m per texel), 256² cells.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <random>
+#include <vector>
+
 #include "forest/core/error.hpp"
 #include "forest/shadows/receiver_mask.hpp"
 
@@ -69,6 +73,51 @@ TEST(ReceiverMask, AReceiverTheMapCannotPlaceKeepsEveryCaster) {
   mask.reset(s, 1024, 256);
   mask.add(dvec3(0.0, -2.0, 0.0));
   EXPECT_TRUE(mask.mayShadow(Aabb{dvec3(30, 5, 30), dvec3(31, 6, 31)}, 0.5));
+}
+
+// Pixels handed over as eye rays (addEyePoints, a frame's path) fill the mask as the same points
+// given as world positions (add): every probe caster gets the same answer. A map with a
+// perspective (w varies with height, so the division matters), with map depth as clip z / w and as
+// tsm's linear light depth; an eye looking down and across the map, points at 0.5–60 m, and only
+// those inside [zMin, zMax] counted.
+TEST(ReceiverMask, EyePointsFillTheMaskAsTheirWorldPositionsDo) {
+  ShadowSetup perspective = overheadSetup();
+  perspective.worldToShadowClip[1][3] = 0.02;  // w = 1 + y / 50
+  ShadowSetup linear = perspective;
+  linear.linearDepth = true;
+  linear.worldToLightDepth = glm::dvec4(0.0, -1.0 / 80.0, 0.0, 0.1);
+  const double yaw = 0.7, pitch = -0.4;
+  EyeRays rays;
+  rays.eye = dvec3(-3.0, 12.0, 5.0);
+  rays.forward = dvec3(std::cos(pitch) * std::sin(yaw), std::sin(pitch), -std::cos(pitch) * std::cos(yaw));
+  rays.right = glm::normalize(glm::cross(rays.forward, dvec3(0.0, 1.0, 0.0)));
+  rays.up = glm::cross(rays.right, rays.forward);
+  std::mt19937_64 random(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), depth(0.5, 60.0);
+  std::vector<EyePoint> points;
+  for (int i = 0; i < 4000; ++i) points.push_back({0.8 * unit(random), 0.6 * unit(random), depth(random)});
+  const double zMin = 2.0, zMax = 40.0;
+  for (const ShadowSetup& setup : {perspective, linear}) {
+    ReceiverMask byWorld, byRays;
+    byWorld.reset(setup, 1024, 256);
+    byRays.reset(setup, 1024, 256);
+    for (const EyePoint& p : points)
+      if (p.z >= zMin && p.z <= zMax) byWorld.add(rays.eye + p.z * (rays.forward + p.x * rays.right + p.y * rays.up));
+    byRays.addEyePoints(rays, points, zMin, zMax);
+    ASSERT_EQ(byRays.receivers(), byWorld.receivers());
+    ASSERT_GT(byWorld.receivers(), 1000);
+    int shadowing = 0, differing = 0;
+    for (int i = 0; i < 3000; ++i) {
+      const dvec3 corner(30.0 * unit(random), 2.0 + 8.0 * unit(random), 30.0 * unit(random));
+      const Aabb caster{corner, corner + dvec3(0.6, 1.0, 0.6)};
+      const bool expected = byWorld.mayShadow(caster, 0.5);
+      shadowing += expected ? 1 : 0;
+      differing += expected != byRays.mayShadow(caster, 0.5) ? 1 : 0;
+    }
+    EXPECT_EQ(differing, 0);
+    EXPECT_GT(shadowing, 100);       // the probes meet receivers …
+    EXPECT_LT(shadowing, 3000 - 100);  // … and miss them
+  }
 }
 
 }  // namespace

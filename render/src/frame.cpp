@@ -253,10 +253,10 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
     auto timed = timer.scope(kFramePassNames[1]);
     std::optional<double> nearest;
     if (cascades.cascades > 1) nearest = p.nearestDepth.run(p.geometry.gbuffer().depth, camera);
-    std::span<const glm::dvec4> receiverPixels;
+    const ReceiverPixels* receiverPixels = nullptr;
     if (settings.casters == CasterSelection::ReceiverPixels && !stats.sunBelowHorizon) {
       p.receiverPixels.read(p.geometry.gbuffer(), width_, height_, camera);
-      receiverPixels = p.receiverPixels.points();
+      receiverPixels = &p.receiverPixels;
     }
     p.shadowSetup.run(camera, visible, settings, cascades, nearest, l, stats.sunBelowHorizon, *objects_, eyeLod, sceneBounds_,
                       receiverPixels, p.plan, stats);

@@ -2,8 +2,8 @@
 // The visible receiver pixels of a frame for CasterSelection::ReceiverPixels: the G-buffer's depth
 // and albedo (its alpha: whether the geometric normal faces the sun) read back (the CPU waits for
 // the geometry pass), and for every pixel that faces the sun — the pixels whose shadow term is
-// looked up (shaders/shadow_lookup.frag) — its world position and eye depth. Storage is kept from
-// frame to frame.
+// looked up (shaders/shadow_lookup.frag) — its ray's offsets and eye depth, which place it from the
+// eye (shadows::ReceiverMask::addEyePoints). Storage is kept from frame to frame.
 #include <glm/glm.hpp>
 
 #include <cstdint>
@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "forest/core/camera.hpp"
+#include "forest/shadows/receiver_mask.hpp"
 #include "geometry_pass.hpp"
 
 namespace forest::render {
@@ -18,13 +19,15 @@ namespace forest::render {
 class ReceiverPixels {
  public:
   void read(const GBuffer& gbuffer, int width, int height, const Camera& camera);
-  // xyz: world position at the pixel's centre; w: eye depth (m).
-  std::span<const glm::dvec4> points() const { return points_; }
+  // The sun-facing pixels' centres: eye + z · (forward + x · right + y · up) with rays().
+  std::span<const shadows::EyePoint> points() const { return points_; }
+  const shadows::EyeRays& rays() const { return rays_; }
 
  private:
   std::vector<float> depth_;
   std::vector<std::uint8_t> albedo_;  // RGBA
-  std::vector<glm::dvec4> points_;
+  std::vector<shadows::EyePoint> points_;
+  shadows::EyeRays rays_{};
 };
 
 }  // namespace forest::render

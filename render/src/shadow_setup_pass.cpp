@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "forest/core/error.hpp"
 #include "forest/core/frustum.hpp"
 #include "forest/shadows/casters.hpp"
 #include "forest/shadows/focus_body.hpp"
@@ -136,14 +137,13 @@ void ShadowSetupPass::refineCasters(ShadowSlice& slice, const FrameSettings& set
 
 // The receiver mask of the slice: the pixels whose eye depth its focus body spans, in its map.
 void ShadowSetupPass::fillReceiverMask(const ShadowSlice& slice, const FrameSettings& settings,
-                                       std::span<const glm::dvec4> receiverPixels) {
+                                       const ReceiverPixels& receiverPixels) {
   // Cells of 4 texels: finer cells keep fewer casters (LiSPSM 2048², ground view, 75° sun: 4.16×
   // the triangles the truth needs with 8-texel cells, 4.03× with 4, 3.96× with 2), coarser ones
   // are cheaper to clear and scan.
   const int cells = std::clamp(settings.shadowMapSize / 4, 64, 1024);
   mask_.reset(slice.setup, settings.shadowMapSize, cells);
-  for (const glm::dvec4& p : receiverPixels)
-    if (p.w >= slice.camera.near && p.w <= slice.camera.far) mask_.add(dvec3(p));
+  mask_.addEyePoints(receiverPixels.rays(), receiverPixels.points(), slice.camera.near, slice.camera.far);
 }
 
 // Zhang et al. 2006 eq. (4) on [z_near, z_f], z_near the nearest visible depth (SDSM, Lauritzen et
@@ -177,7 +177,7 @@ shadows::SplitDepths ShadowSetupPass::splitsFor(const Camera& camera, double far
 void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& visible, const FrameSettings& settings,
                           const ShadowSettings& cascades, std::optional<double> nearestDepth, const dvec3& l,
                           bool sunBelowHorizon, const SceneObjects& objects, const terrain::TerrainLod* lod,
-                          const Aabb& sceneBounds, std::span<const glm::dvec4> receiverPixels, ShadowPlan& plan,
+                          const Aabb& sceneBounds, const ReceiverPixels* receiverPixels, ShadowPlan& plan,
                           FrameStats& stats) {
   // Room for every object as receiver and caster (a frame then never grows these lists).
   const size_t objectCount = objects.boxes().size();
@@ -269,7 +269,8 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
           selectCastersOfReceivers(slice, settings, l, objects, lod, sceneBounds, nullptr);
           break;
         case CasterSelection::ReceiverPixels:
-          fillReceiverMask(slice, settings, receiverPixels);
+          if (!receiverPixels) throw Error("shadow setup: receiver-pixels casters without the receiver pixels");
+          fillReceiverMask(slice, settings, *receiverPixels);
           selectCastersOfReceivers(slice, settings, l, objects, lod, sceneBounds, &mask_);
           break;
         case CasterSelection::FrustumBody: {

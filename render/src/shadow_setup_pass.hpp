@@ -14,6 +14,7 @@
 #include "forest/shadows/cascades.hpp"
 #include "forest/shadows/casters.hpp"
 #include "forest/shadows/receiver_mask.hpp"
+#include "receiver_pixels.hpp"
 #include "forest/shadows/shadow_setup.hpp"
 
 namespace forest::render {
@@ -47,12 +48,12 @@ class ShadowSetupPass {
   // direction; `sceneBounds`: S; `nearestDepth`: the nearest visible eye depth when known (the
   // first slice's split scheme starts there).
   // `lod`: the eye's terrain LOD (the shadow pass draws it; null without terrain).
-  // `receiverPixels`: the visible sun-facing pixels (xyz world, w eye depth) for
-  // CasterSelection::ReceiverPixels; empty otherwise.
+  // `receiverPixels`: this frame's visible sun-facing pixels, read for
+  // CasterSelection::ReceiverPixels; null otherwise.
   void run(const Camera& camera, const culling::CullingResult& visible, const FrameSettings& settings,
            const ShadowSettings& cascades, std::optional<double> nearestDepth, const glm::dvec3& l, bool sunBelowHorizon,
            const SceneObjects& objects, const terrain::TerrainLod* lod, const Aabb& sceneBounds,
-           std::span<const glm::dvec4> receiverPixels, ShadowPlan& plan, FrameStats& stats);
+           const ReceiverPixels* receiverPixels, ShadowPlan& plan, FrameStats& stats);
   // Forgets the smoothed n and splits and the stable maps' radii (a camera cut).
   void reset() {
     previousN_.fill(0.0);
@@ -76,7 +77,7 @@ class ShadowSetupPass {
   void refineCasters(ShadowSlice& slice, const FrameSettings& settings, const glm::dvec3& l, const SceneObjects& objects,
                      const terrain::TerrainLod* lod, const shadows::ReceiverMask* mask);
   // mask_ over the visible sun-facing pixels whose eye depth the slice's focus body spans.
-  void fillReceiverMask(const ShadowSlice& slice, const FrameSettings& settings, std::span<const glm::dvec4> receiverPixels);
+  void fillReceiverMask(const ShadowSlice& slice, const FrameSettings& settings, const ReceiverPixels& receiverPixels);
 
   // Per slice, the last frame's lispsm n (ShadowInput::previousN) and uniform-stable radius
   // (ShadowInput::previousStableRadius); 0: none.

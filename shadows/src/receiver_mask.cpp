@@ -32,22 +32,52 @@ double ReceiverMask::depthOf(const dvec3& world, const dvec4& clip) const {
   return linearDepth_ ? glm::dot(worldToLightDepth_, dvec4(world, 1.0)) : clip.z / clip.w;
 }
 
-int ReceiverMask::cellOf(double ndc) const {
-  const double c = std::floor((ndc + 1.0) * 0.5 * cells_);
-  return static_cast<int>(std::clamp(c, 0.0, cells_ - 1.0));
+// Inlined: a frame calls these once per sun-facing pixel.
+[[gnu::always_inline]] inline int ReceiverMask::cellOf(double ndc) const {
+  // Clamped first, then truncated: the same as floor then clamp, without a call to floor (no
+  // SSE4.1 rounding instruction in the baseline x86-64 build).
+  return static_cast<int>(std::clamp((ndc + 1.0) * 0.5 * cells_, 0.0, cells_ - 1.0));
 }
 
 void ReceiverMask::add(const dvec3& world) {
   const dvec4 h = worldToShadowClip_ * dvec4(world, 1.0);
-  const dvec3 m(h.x / h.w, h.y / h.w, depthOf(world, h));
-  if (!(h.w > 0.0) || !std::isfinite(m.x) || !std::isfinite(m.y) || !std::isfinite(m.z)) {
+  addClip(h, depthOf(world, h));
+}
+
+[[gnu::always_inline]] inline void ReceiverMask::addClip(const dvec4& h, double depth) {
+  const double invW = 1.0 / h.w;
+  const double x = h.x * invW, y = h.y * invW;
+  if (!(h.w > 0.0) || !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(depth)) {
     everywhere_ = true;  // a receiver the map cannot place: every caster may shadow it
     return;
   }
-  float& cell = farthest_[static_cast<size_t>(cellOf(m.y)) * cells_ + cellOf(m.x)];
-  // Rounded up: the float never lies nearer the light than the point.
-  cell = std::max(cell, std::nextafter(static_cast<float>(m.z), std::numeric_limits<float>::infinity()));
   ++receivers_;
+  float& cell = farthest_[static_cast<size_t>(cellOf(y)) * cells_ + cellOf(x)];
+  // Rounded up, without a branch (a frame adds one point per pixel, and whether a point raises its
+  // cell is a coin toss to the branch predictor): |depth| grown by 2⁻²² of itself rounds to a
+  // float no nearer the light than the point (round to nearest moves it by at most 2⁻²⁴).
+  constexpr double kUp = 1.0 + 0x1p-22, kDown = 1.0 - 0x1p-22;
+  const float rounded = static_cast<float>(depth * (depth >= 0.0 ? kUp : kDown));
+  cell = std::max(cell, rounded);
+}
+
+void ReceiverMask::addEyePoints(const EyeRays& rays, std::span<const EyePoint> points, double zMin, double zMax) {
+  // M (eye + z (f + x r + y u)) = M eye + z (M f + x M r + y M u): the map's clip position, and
+  // likewise tsm's linear light depth, is affine in z·(1, x, y) for one eye.
+  const dvec4 origin = worldToShadowClip_ * dvec4(rays.eye, 1.0);
+  const dvec4 forward = worldToShadowClip_ * dvec4(rays.forward, 0.0);
+  const dvec4 right = worldToShadowClip_ * dvec4(rays.right, 0.0);
+  const dvec4 up = worldToShadowClip_ * dvec4(rays.up, 0.0);
+  const double depthOrigin = glm::dot(worldToLightDepth_, dvec4(rays.eye, 1.0));
+  const double depthForward = glm::dot(worldToLightDepth_, dvec4(rays.forward, 0.0));
+  const double depthRight = glm::dot(worldToLightDepth_, dvec4(rays.right, 0.0));
+  const double depthUp = glm::dot(worldToLightDepth_, dvec4(rays.up, 0.0));
+  for (const EyePoint& p : points) {
+    if (!(p.z >= zMin && p.z <= zMax)) continue;
+    const dvec4 h = origin + p.z * (forward + p.x * right + p.y * up);
+    const double depth = linearDepth_ ? depthOrigin + p.z * (depthForward + p.x * depthRight + p.y * depthUp) : h.z / h.w;
+    addClip(h, depth);
+  }
 }
 
 bool ReceiverMask::mayShadow(const Aabb& caster, double reachTexels) const {

@@ -8,12 +8,23 @@
 // tighter than receiver boxes where a receiver box spans a tree or a terrain tile.
 #include <glm/glm.hpp>
 
+#include <span>
 #include <vector>
 
 #include "forest/core/bounds.hpp"
 #include "forest/shadows/shadow_setup.hpp"
 
 namespace forest::shadows {
+
+// A receiver seen from an eye (EyeRays): the point eye + z · (forward + x · right + y · up).
+struct EyePoint {
+  double x, y;  // the pixel centre's offsets along right and up at eye depth 1 (ndc · tan(fov / 2))
+  double z;     // eye depth (m)
+};
+// The eye's position and orthonormal basis.
+struct EyeRays {
+  glm::dvec3 eye, forward, right, up;
+};
 
 class ReceiverMask {
  public:
@@ -23,6 +34,10 @@ class ReceiverMask {
   // A receiver point (world). Points outside the map read its border texels (clamped) and count
   // there.
   void add(const glm::dvec3& world);
+  // The points of `points` with zMin ≤ z ≤ zMax, as add() would take them: the map's transform is
+  // applied to the eye's basis once, so each point costs a few multiply-adds (a frame brings one
+  // per sun-facing pixel).
+  void addEyePoints(const EyeRays& rays, std::span<const EyePoint> points, double zMin, double zMax);
   // False only when no receiver the filter can reach from the caster's texels lies farther from
   // the light than the box: `reachTexels` is how far (in texels, per axis) a lookup reads from its
   // point. True when the box reaches behind the light's projection (w ≤ 0 at a corner).
@@ -31,6 +46,8 @@ class ReceiverMask {
 
  private:
   int cellOf(double ndc) const;  // [−1, 1] → [0, cells), clamped
+  // A receiver at clip position h with map depth `depth`.
+  void addClip(const glm::dvec4& h, double depth);
   // The map depth of a world point (clip z / w, or tsm's linear light depth), given its clip h.
   double depthOf(const glm::dvec3& world, const glm::dvec4& clip) const;
 
