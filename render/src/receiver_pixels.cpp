@@ -1,11 +1,9 @@
 #include "receiver_pixels.hpp"
 
-#include <algorithm>
 #include <cmath>
 
 namespace forest::render {
 
-using glm::dvec3;
 
 void ReceiverPixels::read(const GBuffer& gbuffer, int width, int height, const Camera& camera) {
   const size_t pixels = static_cast<size_t>(width) * height;
@@ -19,25 +17,19 @@ void ReceiverPixels::read(const GBuffer& gbuffer, int width, int height, const C
   // The pixel centre's ray: eye depth z → camera position + z · (forward + x tan(fovx/2) right + y tan(fovy/2) up).
   const double tanY = std::tan(0.5 * camera.fovy), tanX = tanY * camera.aspect;
   rays_ = {camera.position, camera.forward(), camera.right(), camera.up()};
-  // Tile by tile (kTile² pixels), so that consecutive points fall in nearby cells of a receiver
-  // mask: in scanline order they scatter over its megabyte of cells, and the mask's fill waited on
-  // memory (6.6 ms a frame at 800×600 on the thesis walk).
-  constexpr int kTile = 16;
-  for (int ty = 0; ty < height; ty += kTile)
-    for (int tx = 0; tx < width; tx += kTile)
-      for (int y = ty; y < std::min(ty + kTile, height); ++y) {
-        const double sy = (2.0 * (y + 0.5) / height - 1.0) * tanY;
-        for (int x = tx; x < std::min(tx + kTile, width); ++x) {
-          const size_t i = static_cast<size_t>(y) * width + x;
-          if (!(depth_[i] > 0.0f)) continue;  // sky: the cleared far depth
-          // The lookup forces the term to 0 where the geometric normal faces away from the sun: the
-          // albedo's alpha, 255 where it faces the sun, 0 where not (shaders/gbuffer.frag).
-          if (albedo_[4 * i + 3] < 128) continue;
-          const double z = camera.eyeDepthOfReversedZ(depth_[i]);
-          const double sx = (2.0 * (x + 0.5) / width - 1.0) * tanX;
-          points_.push_back({sx, sy, z});
-        }
-      }
+  for (int y = 0; y < height; ++y) {
+    const double sy = (2.0 * (y + 0.5) / height - 1.0) * tanY;
+    for (int x = 0; x < width; ++x) {
+      const size_t i = static_cast<size_t>(y) * width + x;
+      if (!(depth_[i] > 0.0f)) continue;  // sky: the cleared far depth
+      // The lookup forces the term to 0 where the geometric normal faces away from the sun: the
+      // albedo's alpha, 255 where it faces the sun, 0 where not (shaders/gbuffer.frag).
+      if (albedo_[4 * i + 3] < 128) continue;
+      const double z = camera.eyeDepthOfReversedZ(depth_[i]);
+      const double sx = (2.0 * (x + 0.5) / width - 1.0) * tanX;
+      points_.push_back({sx, sy, z});
+    }
+  }
 }
 
 }  // namespace forest::render

@@ -14,8 +14,8 @@
 #include "forest/shadows/cascades.hpp"
 #include "forest/shadows/casters.hpp"
 #include "forest/shadows/receiver_mask.hpp"
-#include "receiver_pixels.hpp"
 #include "forest/shadows/shadow_setup.hpp"
+#include "receiver_pixels.hpp"
 
 namespace forest::render {
 
