@@ -4,7 +4,6 @@
 
 namespace forest::render {
 
-
 void ReceiverPixels::read(const GBuffer& gbuffer, int width, int height, const Camera& camera) {
   const size_t pixels = static_cast<size_t>(width) * height;
   depth_.resize(pixels);
