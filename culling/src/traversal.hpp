@@ -15,10 +15,10 @@
 
 namespace forest::culling {
 
-// CHC's query results are collected at batch boundaries, every kBatchSteps traversal steps: the queries
-// issued before the previous boundary are taken (waiting if need be), the newer ones stay pending
-// while traversal and drawing go on. Taking results at fixed points, not whenever the driver
-// happens to have them, makes the traversal — and so the visible set, z_f and the shadows —
+// CHC's query results are collected at batch boundaries, every kBatchSteps traversal steps: the
+// queries issued before the previous boundary are taken (waiting if need be), the newer ones stay
+// pending while traversal and drawing go on. Taking results at fixed points, not whenever the
+// driver happens to have them, makes the traversal — and so the visible set, z_f and the shadows —
 // identical from run to run; polling for availability would also flush llvmpipe's command stream.
 constexpr int kBatchSteps = 64;
 

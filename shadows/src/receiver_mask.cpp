@@ -39,11 +39,6 @@ double ReceiverMask::depthOf(const dvec3& world, const dvec4& clip) const {
   return static_cast<int>(std::clamp((ndc + 1.0) * 0.5 * cells_, 0.0, cells_ - 1.0));
 }
 
-void ReceiverMask::add(const dvec3& world) {
-  const dvec4 h = worldToShadowClip_ * dvec4(world, 1.0);
-  addClip(h, depthOf(world, h));
-}
-
 [[gnu::always_inline]] inline void ReceiverMask::addClip(const dvec4& h, double depth) {
   const double invW = 1.0 / h.w;
   const double x = h.x * invW, y = h.y * invW;
@@ -59,6 +54,11 @@ void ReceiverMask::add(const dvec3& world) {
   constexpr double kUp = 1.0 + 0x1p-22, kDown = 1.0 - 0x1p-22;
   const float rounded = static_cast<float>(depth * (depth >= 0.0 ? kUp : kDown));
   cell = std::max(cell, rounded);
+}
+
+void ReceiverMask::add(const dvec3& world) {
+  const dvec4 h = worldToShadowClip_ * dvec4(world, 1.0);
+  addClip(h, depthOf(world, h));
 }
 
 void ReceiverMask::addEyePoints(const EyeRays& rays, std::span<const EyePoint> points, double zMin, double zMax) {
