@@ -70,7 +70,11 @@ OcclusionCuller::OcclusionCuller()
       viewUniforms_(kQueryViewBinding, sizeof(glm::mat4)),
       scratch_(std::make_unique<Scratch>()) {
   const float corners[8][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
-  // 12 triangles; both sides are rasterised (culling is off while querying).
+  // 12 triangles, counter-clockwise seen from outside. A query draws the front faces only: a
+  // queried box lies wholly beyond the near plane (visibleWithoutQuery), so its front faces cover
+  // its silhouette, and at every pixel the front face is nearer than the back face, so a back face
+  // passes the depth test only where the front face does. The result is zero exactly when both
+  // sides' would be, for half the fragments.
   const unsigned indices[36] = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
                                 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
   cube_ = gl::Buffer(sizeof(corners), corners, 0);
@@ -102,7 +106,9 @@ void OcclusionCuller::beginQueries() {
   ++switches_;
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   glDepthMask(GL_FALSE);
-  glDisable(GL_CULL_FACE);
+  glEnable(GL_CULL_FACE);  // the front faces (the cube's winding): see the constructor
+  glCullFace(GL_BACK);
+  glFrontFace(GL_CCW);
   viewUniforms_.bind(viewBlock_);
   program_.use();
   glBindVertexArray(vertexArray_.id());
