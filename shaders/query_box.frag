@@ -1,3 +1,13 @@
 #version 450 core
-// No colour output: a query box only tests depth (colour and depth writes are off).
-void main() {}
+// An occlusion query's result without a query object (OcclusionCuller): the depth test runs before
+// this shader (early fragment tests), so it runs only for the box's fragments that pass — the
+// samples GL_SAMPLES_PASSED would count — and each one marks the query's slot with the frame's
+// stamp. Zero passing fragments leave the slot as it was: hidden.
+layout(early_fragment_tests) in;
+layout(std140, binding = 3) uniform QueryViewBlock {
+  mat4 viewProjectionRelative;
+  uvec4 frameStamp;
+} uQuery;
+layout(std430, binding = 2) buffer QueryResults { uint stamps[]; };
+flat in uint vSlot;
+void main() { stamps[vSlot] = uQuery.frameStamp.x; }

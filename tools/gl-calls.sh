@@ -6,7 +6,10 @@
 # (gl[Program]Uniform*: per-frame values belong in uniform blocks), GL_QUERY_RESULT reads of
 # occlusion (samples-passed) and timestamp queries not preceded by a GL_QUERY_RESULT_AVAILABLE
 # answer ("blocking"), buffer uploads, GL object creations and deletions (sync objects apart: the
-# fences of the instance rings, gl/stream_ring.hpp, are counted as "fences"); with --json FILE also as
+# fences of the instance rings, gl/stream_ring.hpp, and of the occlusion-query batches,
+# culling/occlusion_culler.hpp, are counted as "fences"), waits on a fence with a timeout ("blocking
+# fence waits": the culler's async reads poll theirs, a ring waits only when the GPU is a whole ring
+# behind); with --json FILE also as
 # JSON. --max NAME=N (repeatable) exits 1 when that figure per frame exceeds N (the ctest
 # gl_calls_per_frame). The rest of the arguments go to `forest walkthrough` (e.g. --timing queries).
 #
@@ -81,6 +84,8 @@ def count(path):
             figures["GL object deletions"] += 1
         if name == "glFenceSync":
             figures["fences"] += 1
+        if name == "glClientWaitSync" and re.search(r"timeout = (\d+)", args).group(1) != "0":
+            figures["blocking fence waits"] += 1
         if re.match(r"gl(Program)?Uniform(Matrix)?\d", name):
             figures["uniform sets"] += 1
     figures["glFinish"] = calls["glFinish"]
@@ -92,12 +97,13 @@ limits = [arg.rsplit("=", 1) for arg in sys.argv[6:]]
 (ca, fa), (cb, fb) = count(a_path), count(b_path)
 frames = b - a
 per = lambda x, y: (y - x) / frames
-figures = {k: per(fa[k], fb[k]) for k in sorted(set(fa) | set(fb) | {"blocking occlusion result reads", "blocking timestamp result reads", "uniform sets"})}
+figures = {k: per(fa[k], fb[k]) for k in sorted(set(fa) | set(fb) | {"blocking occlusion result reads", "blocking timestamp result reads",
+                                                                      "blocking fence waits", "uniform sets"})}
 calls = {k: per(ca[k], cb[k]) for k in set(ca) | set(cb) if cb[k] != ca[k]}
 print(f"GL calls per steady-state frame ((calls in {b} frames - calls in {a}) / {frames}):")
 for k in ["glFinish", "glGetUniformLocation", "blocking occlusion result reads", "blocking timestamp result reads",
           "occlusion result reads", "timestamp result reads", "buffer uploads", "GL object creations", "GL object deletions",
-          "fences", "uniform sets"]:
+          "fences", "blocking fence waits", "uniform sets"]:
     print(f"  {k:<34} {figures.get(k, 0.0):10.2f}")
 print("every call:")
 for k, v in sorted(calls.items(), key=lambda kv: -kv[1]):

@@ -122,7 +122,7 @@ void ModeOptions::add(CLI::App& command) {
   command.add_option("--queries", queries,
                      "How CHC/CHC++ read occlusion queries: deterministic (at points the traversal fixes: CHC\n"
                      "every 64 steps, CHC++ when its queue runs dry; the same visible set every run), async\n"
-                     "(as soon as GL_QUERY_RESULT_AVAILABLE says so), auto (deterministic on a software\n"
+                     "(as soon as the fence of the query's draw has signalled), auto (deterministic on a software\n"
                      "renderer, async on a GPU); both are exact")
       ->check(CLI::IsMember({"auto", "deterministic", "async"}))
       ->capture_default_str();

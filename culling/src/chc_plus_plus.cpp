@@ -1,5 +1,5 @@
 // CHC++ (Mattausch, Bittner, Wimmer: "CHC++: Coherent Hierarchical Culling Revisited", EG 2008).
-// Async mode takes each result as soon as GL_QUERY_RESULT_AVAILABLE says so, and waits only when
+// Async mode takes each result as soon as its batch's fence has signalled, and waits only when
 // the traversal queue is empty, as the paper does (§3, "while the distance queue is empty, wait").
 // Deterministic mode never polls: it takes results only when the traversal queue is empty, so a
 // run traverses — and so draws and queries — the same way every time. (Taking them at fixed
@@ -155,17 +155,17 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     state_[n].visible = false;
     state_[n].invisibleFrames = std::min(state_[n].invisibleFrames + 1, 1000);
   };
-  auto handleResult = [&](const PendingQuery& q, std::uint32_t samples) {
+  auto handleResult = [&](const PendingQuery& q, bool visible) {
     if (q.count > 1) {  // a multiquery: all hidden, or ask each node on its own
       // By index: issuing appends to groupNodes, which may move its storage.
       for (std::size_t i = q.first; i < q.first + q.count; ++i) {
-        if (samples == 0) foundInvisible(groupNodes[i]);
+        if (!visible) foundInvisible(groupNodes[i]);
         else issueOne(groupNodes[i], false);
       }
       return;
     }
     const std::int32_t n = groupNodes[q.first];
-    if (samples == 0) {
+    if (!visible) {
       foundInvisible(n);
       return;
     }

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
+#include <cstring>
 #include <thread>
 
 #include "forest/core/error.hpp"
@@ -53,12 +55,8 @@ QueryMode parseQueryMode(std::string_view name) {
 std::string_view queryModeName(QueryMode mode) { return mode == QueryMode::Deterministic ? "deterministic" : "async"; }
 
 namespace {
-
-struct QueryBoxGpu {
-  glm::vec4 min, max;  // camera-relative
-};
-constexpr GLuint kQueryViewBinding = 3;
-
+constexpr GLuint kQueryViewBinding = 3;     // query_box.vert, query_box.frag
+constexpr GLuint kQueryResultsBinding = 2;  // query_box.frag
 }  // namespace
 
 OcclusionCuller::~OcclusionCuller() = default;
@@ -67,7 +65,7 @@ OcclusionCuller& OcclusionCuller::operator=(OcclusionCuller&&) noexcept = defaul
 
 OcclusionCuller::OcclusionCuller()
     : program_(gl::loadProgram({"query_box.vert", "query_box.frag"})),
-      viewUniforms_(kQueryViewBinding, sizeof(glm::mat4)),
+      viewUniforms_(kQueryViewBinding, sizeof(QueryView)),
       scratch_(std::make_unique<Scratch>()) {
   const float corners[8][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
   // 12 triangles, counter-clockwise seen from outside. A query draws the front faces only: a
@@ -85,14 +83,27 @@ OcclusionCuller::OcclusionCuller()
   glEnableVertexArrayAttrib(vao, 0);
   glVertexArrayAttribFormat(vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
   glVertexArrayAttribBinding(vao, 0, 0);
-  boxes_ = std::make_unique<gl::StreamRing>(4096 * sizeof(QueryBoxGpu), sizeof(QueryBoxGpu));
-  glVertexArrayVertexBuffer(vao, 1, boxes_->id(), 0, sizeof(QueryBoxGpu));
+  boxes_ = std::make_unique<gl::StreamRing>(4096 * sizeof(QueryBox), sizeof(QueryBox));
+  glVertexArrayVertexBuffer(vao, 1, boxes_->id(), 0, sizeof(QueryBox));
   glVertexArrayBindingDivisor(vao, 1, 1);
-  for (GLuint a = 1; a <= 2; ++a) {
+  for (GLuint a = 1; a <= 3; ++a) {
     glEnableVertexArrayAttrib(vao, a);
-    glVertexArrayAttribFormat(vao, a, 4, GL_FLOAT, GL_FALSE, (a - 1) * sizeof(glm::vec4));
     glVertexArrayAttribBinding(vao, a, 1);
   }
+  glVertexArrayAttribFormat(vao, 1, 3, GL_FLOAT, GL_FALSE, offsetof(QueryBox, min));
+  glVertexArrayAttribFormat(vao, 2, 3, GL_FLOAT, GL_FALSE, offsetof(QueryBox, max));
+  glVertexArrayAttribIFormat(vao, 3, 1, GL_UNSIGNED_INT, offsetof(QueryBox, slot));
+}
+
+void OcclusionCuller::allocateResultSlots(std::size_t slots) {
+  const GLbitfield access = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
+  results_ = gl::Buffer(slots * sizeof(std::uint32_t), nullptr, access | GL_DYNAMIC_STORAGE_BIT);
+  const GLuint zero = 0;  // no frame's stamp
+  glClearNamedBufferData(results_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  resultStamps_ = static_cast<const std::uint32_t*>(
+      glMapNamedBufferRange(results_.id(), 0, static_cast<GLsizeiptr>(slots * sizeof(std::uint32_t)), access));
+  if (!resultStamps_) throw Error("OcclusionCuller: cannot map the query results");
+  slots_ = slots;
 }
 
 void OcclusionCuller::reset() {
@@ -109,7 +120,8 @@ void OcclusionCuller::beginQueries() {
   glEnable(GL_CULL_FACE);  // the front faces (the cube's winding): see the constructor
   glCullFace(GL_BACK);
   glFrontFace(GL_CCW);
-  viewUniforms_.bind(viewBlock_);
+  viewUniforms_.bind(view_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kQueryResultsBinding, results_.id());
   program_.use();
   glBindVertexArray(vertexArray_.id());
 }
@@ -125,49 +137,83 @@ void OcclusionCuller::endQueries() {
 }
 
 std::size_t OcclusionCuller::issueQuery(std::span<const Aabb> boxes) {
-  if (used_ == pool_.size()) pool_.emplace_back(GL_SAMPLES_PASSED);
-  const std::size_t slot = used_++;
-  const GLuint ringBefore = boxes_->id();
-  const gl::StreamRing::Allocation part = boxes_->allocate(boxes.size() * sizeof(QueryBoxGpu));
-  if (boxes_->id() != ringBefore) glVertexArrayVertexBuffer(vertexArray_.id(), 1, boxes_->id(), 0, sizeof(QueryBoxGpu));
-  auto* out = static_cast<QueryBoxGpu*>(part.data);
+  // At most two per node and frame: a node enters the traversal once, and is queried once for
+  // itself and once more when a multiquery that held it found something.
+  if (used_ == slots_) throw Error(fmt::format("OcclusionCuller: more than {} queries in a frame", slots_));
+  const auto slot = static_cast<std::uint32_t>(used_++);
   for (const Aabb& box : boxes) {
     // Camera-relative in double, grown by 4 float ulps of its largest coordinate so that a face
     // never sits behind the geometry it bounds after rounding.
     const dvec3 lo = box.min - eye_, hi = box.max - eye_;
     const double magnitude = std::max(glm::length(glm::max(glm::abs(lo), glm::abs(hi))), 1.0);
     const double grow = 4.0 * 0x1p-23 * magnitude;
-    *out++ = {glm::vec4(glm::vec3(lo - grow), 1.0f), glm::vec4(glm::vec3(hi + grow), 1.0f)};
+    batch_.push_back({glm::vec3(lo - grow), slot, glm::vec3(hi + grow), 0u});
   }
-  beginQueries();
-  glBeginQuery(GL_SAMPLES_PASSED, pool_[slot].id());
-  glDrawElementsInstancedBaseInstance(GL_TRIANGLES, 36, GL_UNSIGNED_INT, nullptr, static_cast<GLsizei>(boxes.size()),
-                                      static_cast<GLuint>(part.offset / sizeof(QueryBoxGpu)));
-  glEndQuery(GL_SAMPLES_PASSED);
   return slot;
 }
 
-bool OcclusionCuller::resultAvailable(std::size_t slot, CullingStats& stats) const {
-  GLuint available = GL_FALSE;
-  glGetQueryObjectuiv(pool_[slot].id(), GL_QUERY_RESULT_AVAILABLE, &available);
-  ++stats.availabilityPolls;
-  return available != GL_FALSE;
+void OcclusionCuller::drawQueryBatch() {
+  if (batch_.empty()) return;
+  beginQueries();
+  const GLuint ringBefore = boxes_->id();
+  const gl::StreamRing::Allocation part = boxes_->allocate(batch_.size() * sizeof(QueryBox));
+  if (boxes_->id() != ringBefore) glVertexArrayVertexBuffer(vertexArray_.id(), 1, boxes_->id(), 0, sizeof(QueryBox));
+  std::memcpy(part.data, batch_.data(), batch_.size() * sizeof(QueryBox));
+  glDrawElementsInstancedBaseInstance(GL_TRIANGLES, 36, GL_UNSIGNED_INT, nullptr, static_cast<GLsizei>(batch_.size()),
+                                      static_cast<GLuint>(part.offset / sizeof(QueryBox)));
+  batch_.clear();
+  drawnSlots_ = used_;
+  if (queryMode_ == QueryMode::Async) {
+    // Shader writes reach a mapped buffer after this barrier and a fence (GL 4.5 §7.12.2); the
+    // flush lets the fence signal while the traversal goes on.
+    glMemoryBarrier(GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT);
+    fences_.push_back({drawnSlots_, glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0)});
+    glFlush();
+  }
 }
 
-std::uint32_t OcclusionCuller::waitResult(std::size_t slot, CullingStats& stats) const {
+void OcclusionCuller::waitForResults(std::size_t slot, CullingStats& stats) {
+  if (queryMode_ == QueryMode::Deterministic) {
+    // One barrier and wait for everything drawn so far: the next reads need none (llvmpipe's
+    // barrier is a glFinish already).
+    glMemoryBarrier(GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT);
+    const GLsync fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+    while (glClientWaitSync(fence, GL_SYNC_FLUSH_COMMANDS_BIT, 1'000'000'000) == GL_TIMEOUT_EXPIRED) {
+    }
+    glDeleteSync(fence);
+    readableSlots_ = drawnSlots_;
+    return;
+  }
+  // Async: nothing else to do until the fence signals; poll it and give the core to the driver's
+  // threads meanwhile (llvmpipe rasterises on the CPU), so no call blocks.
+  while (!resultAvailable(slot, stats)) std::this_thread::yield();
+}
+
+bool OcclusionCuller::resultAvailable(std::size_t slot, CullingStats& stats) {
+  if (slot >= drawnSlots_) drawQueryBatch();
+  ++stats.availabilityPolls;
+  while (slot >= readableSlots_) {
+    const BatchFence next = fences_.front();
+    const GLenum status = glClientWaitSync(next.fence, 0, 0);
+    if (status == GL_TIMEOUT_EXPIRED) return false;
+    glDeleteSync(next.fence);
+    fences_.erase(fences_.begin());
+    readableSlots_ = next.endSlot;
+  }
+  return true;
+}
+
+bool OcclusionCuller::waitResult(std::size_t slot, CullingStats& stats) {
+  if (slot >= drawnSlots_) drawQueryBatch();
   const auto start = std::chrono::steady_clock::now();
-  // Nothing else to do until it is available: give the core to the driver's threads meanwhile
-  // (llvmpipe rasterises on the CPU).
-  if (queryMode_ == QueryMode::Async)
-    while (!resultAvailable(slot, stats)) std::this_thread::yield();
-  GLuint samples = 0;
-  glGetQueryObjectuiv(pool_[slot].id(), GL_QUERY_RESULT, &samples);
+  if (slot >= readableSlots_) waitForResults(slot, stats);
   stats.waitMilliseconds += 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return samples;
+  return resultStamps_[slot] == view_.frameStamp.x;
 }
 
 void OcclusionCuller::drawObjects(Traversal& t, std::span<const std::uint32_t> objects) {
   if (objects.empty()) return;
+  drawQueryBatch();  // the queries issued before these objects test the depth without them
   endQueries();
   t.stats.trianglesDrawn += t.drawer.draw(objects);
   t.stats.objectsDrawn += static_cast<int>(objects.size());
@@ -194,17 +240,20 @@ const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb>
   Scratch& scratch = *scratch_;
   scratch.clear();
   ++frame_;
-  used_ = 0;
+  used_ = drawnSlots_ = readableSlots_ = 0;
   switches_ = 0;
   eye_ = camera.position;
   const glm::dmat4 view = camera.view();
   viewProjectionRelative_ = camera.projection() * view * glm::translate(glm::dmat4(1.0), eye_);
-  viewBlock_ = glm::mat4(viewProjectionRelative_);
+  view_.viewProjectionRelative = glm::mat4(viewProjectionRelative_);
+  // Nonzero (the cleared slots hold 0); after 2³² frames a stamp repeats, and a slot unwritten
+  // since then would read visible: a node drawn or opened needlessly, never a pixel lost.
+  view_.frameStamp.x = static_cast<std::uint32_t>(frame_ % 0xffffffffu) + 1u;
   if (stateOf_ != &bvh || state_.size() != bvh.nodes().size()) {
     state_.assign(bvh.nodes().size(), NodeState{});
     stateOf_ = &bvh;
     scratch_->reserve(bvh.nodes().size(), bvh.objectCount(), shapes.boxes.size(), result_.visibleObjects);
-    pool_.reserve(2 * bvh.nodes().size());
+    allocateResultSlots(2 * bvh.nodes().size() + 2);
   }
   Traversal t{bvh, camera, view, Frustum(camera), drawer, result.stats, result.visibleObjects, scratch, shapes,
               parameters_.tight_box_area_ratio};
@@ -245,7 +294,7 @@ const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb>
           t.appendQueryBoxes(n, scratch.boxes);
           const std::size_t slot = issueQuery(scratch.boxes);
           ++result.stats.queriesIssued;
-          isVisible = waitResult(slot, result.stats) > 0;
+          isVisible = waitResult(slot, result.stats);
         }
         if (!isVisible) continue;
         if (nodes[n].leaf()) {
@@ -261,7 +310,10 @@ const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb>
     case CullingStrategy::Chc: cullChc(t); break;
     case CullingStrategy::ChcPlusPlus: cullChcPlusPlus(t); break;
   }
+  drawQueryBatch();  // none left unread by the strategies; kept for a query issued last
   endQueries();
+  for (const BatchFence& f : fences_) glDeleteSync(f.fence);
+  fences_.clear();
   result.stats.stateSwitches = switches_;
 
   std::vector<std::uint32_t>& visible = t.visible;
@@ -286,8 +338,8 @@ void OcclusionCuller::cullChc(Traversal& t) {
       traversal.push(t.entry(nodes[n].right));
     }
   };
-  auto handleResult = [&](const PendingQuery& p, std::uint32_t samples) {
-    if (samples == 0) return;
+  auto handleResult = [&](const PendingQuery& p, bool visible) {
+    if (!visible) return;
     const std::int32_t node = static_cast<std::int32_t>(p.first);
     pullUpVisibility(node);
     if (nodes[node].leaf()) t.markVisible(node);

@@ -19,12 +19,17 @@
 //                   multiquery, grouped greedily by p_keep(i) = 0.99 − 0.7·e^(−i) after i invisible
 //                   frames — a visible multiquery re-queries its nodes one by one (§3.4); queries
 //                   draw the boxes of a node's descendants when they are tighter (§3.5).
+// A query is not a GL query object: its box's fragments that pass the depth test write the frame's
+// stamp into the query's slot of a persistently mapped buffer (query_box.frag, early fragment
+// tests), so a slot holds the stamp exactly when GL_SAMPLES_PASSED would be nonzero. The boxes of
+// queries issued one after the other go out in one instanced draw, and no query begins or ends
+// (llvmpipe puts each BeginQuery and EndQuery into every screen tile's bin).
 // Query results are read in one of two ways (QueryMode): deterministic — never by polling, at
 // points fixed by the traversal alone (CHC: every kBatchSteps steps; CHC++: when its traversal
 // queue runs dry), so a run traverses, draws and queries the same way every time (tests,
 // llvmpipe, where polling and every read flush the command stream) — or async, as in the
-// papers — polling GL_QUERY_RESULT_AVAILABLE and taking a result as soon as the GPU has it while
-// traversal goes on; a result is read only after the GL reported it available, so the CPU never
+// papers — polling the fence of the query's draw and taking a result as soon as the GPU has it
+// while traversal goes on; a result is read only after its fence signalled, so the CPU never
 // blocks in a read. Both are exact.
 // A query tests the node's box (or, for a leaf, its objects' query shapes; grown by a few ulps)
 // against the depth of what has been drawn so
@@ -87,7 +92,7 @@ struct CullingStats {
   int objectsDrawn = 0;
   long long trianglesDrawn = 0;
   double waitMilliseconds = 0.0;  // CPU time blocked on query results (async: polling until available)
-  int availabilityPolls = 0;      // async: GL_QUERY_RESULT_AVAILABLE asked
+  int availabilityPolls = 0;      // async: fences polled
 };
 
 struct CullingResult {
@@ -131,31 +136,63 @@ class OcclusionCuller {
   };
   struct Traversal;  // one frame's shared state (src/traversal.hpp)
   struct Scratch;    // the traversals' queues and lists, kept from frame to frame (src/traversal.hpp)
-  // Issues one query for the boxes; returns its slot in the pool.
+  // Issues one query for the boxes (drawn with the next batch); returns its result slot.
   std::size_t issueQuery(std::span<const Aabb> boxes);
+  // Draws the boxes of the queries issued since the last batch, in one instanced call; async:
+  // fences them.
+  void drawQueryBatch();
+  // Makes the results of every drawn query readable: waits for the GPU (deterministic) or for
+  // the fence covering `slot` (async).
+  void waitForResults(std::size_t slot, CullingStats& stats);
   void cullChc(Traversal& t);
   void drawObjects(Traversal& t, std::span<const std::uint32_t> objects);
   void pullUpVisibility(std::int32_t node);  // marks the node and its not yet visible ancestors visible
   void cullChcPlusPlus(Traversal& t);
-  // The query's result; async: polls availability first, so the read itself never blocks.
-  std::uint32_t waitResult(std::size_t slot, CullingStats& stats) const;
-  // Async: whether the query's result is available now (one poll). Deterministic: never asked.
-  bool resultAvailable(std::size_t slot, CullingStats& stats) const;
+  // The query's result (true: a sample passed); waits for it when needed.
+  bool waitResult(std::size_t slot, CullingStats& stats);
+  // Async: whether the query's result is available now (one poll of its fence). Deterministic:
+  // never asked.
+  bool resultAvailable(std::size_t slot, CullingStats& stats);
   void beginQueries();
   void endQueries();
+  void allocateResultSlots(std::size_t slots);  // a zeroed, mapped results buffer of that many slots
+
+  // query_box.vert's block (binding 3): the camera-relative view-projection and the frame's
+  // stamp, written once per cull.
+  struct QueryView {
+    glm::mat4 viewProjectionRelative{1.0f};
+    glm::uvec4 frameStamp{0u};
+  };
+  // A query's box as its instance (query_box.vert): camera-relative corners and the result slot.
+  struct QueryBox {
+    glm::vec3 min;
+    std::uint32_t slot;
+    glm::vec3 max;
+    std::uint32_t unused;
+  };
+  struct BatchFence {
+    std::size_t endSlot;  // the queries before it were drawn before the fence
+    GLsync fence;
+  };
 
   gl::Program program_;
-  // query_box.vert's block (binding 3): the camera-relative view-projection, written once per cull.
   gl::UniformStream viewUniforms_;
-  glm::mat4 viewBlock_{1.0f};
+  QueryView view_;
   gl::VertexArray vertexArray_;
   gl::Buffer cube_;
   gl::Buffer cubeIndices_;
-  // The boxes of each query, camera-relative, written once into a mapped ring and drawn with one
-  // instanced call per query (DESIGN §9).
+  // The boxes of a batch, camera-relative, written once into a mapped ring (DESIGN §9).
   std::unique_ptr<gl::StreamRing> boxes_;
-  std::vector<gl::Query> pool_;
-  std::size_t used_ = 0;
+  std::vector<QueryBox> batch_;  // the boxes of the queries issued since the last batch was drawn
+  // Per slot, the stamp of the last frame in which a sample of its query passed (query_box.frag):
+  // persistently and coherently mapped for reading.
+  gl::Buffer results_;
+  const std::uint32_t* resultStamps_ = nullptr;
+  std::size_t slots_ = 0;          // the buffer's capacity: two queries per BVH node
+  std::size_t used_ = 0;           // slots issued this frame
+  std::size_t drawnSlots_ = 0;     // slots whose boxes have been drawn
+  std::size_t readableSlots_ = 0;  // slots whose results the CPU may read
+  std::vector<BatchFence> fences_;  // async: the drawn batches not yet known complete
   glm::dvec3 eye_{0.0};
   glm::dmat4 viewProjectionRelative_{1.0};
   bool queryState_ = false;
