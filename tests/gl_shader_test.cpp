@@ -98,7 +98,8 @@ std::vector<BlockLayout> expectedBlocks() {
         {"nearFar", offsetof(FrameBlock, nearFar)},
         {"blur", offsetof(FrameBlock, blur)},
         {"modes", offsetof(FrameBlock, modes)}}},
-      {"QueryViewBlock", 3, sizeof(glm::mat4), {{"viewProjectionRelative", 0}}},
+      // OcclusionCuller::QueryView (private): a mat4, then the frame's stamp in a uvec4.
+      {"QueryViewBlock", 3, sizeof(glm::mat4) + sizeof(glm::uvec4), {{"viewProjectionRelative", 0}, {"frameStamp", sizeof(glm::mat4)}}},
   };
 }
 

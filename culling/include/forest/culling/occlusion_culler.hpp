@@ -115,7 +115,8 @@ class OcclusionCuller {
   // One frame. `objectBoxes[i]` is object i's box (the BVH was built over them). The framebuffer
   // the pass draws into must be bound and cleared; depth test GL_GREATER (reversed-Z). Objects are
   // drawn with back faces culled (GL_BACK, counter-clockwise front faces), the state the queries
-  // leave, since they draw the boxes' front faces only. The result is the culler's, valid until its next frame (its storage is reused: no allocation per frame).
+  // leave, since they draw the boxes' front faces only. The result is the culler's, valid until
+  // its next frame (its storage is reused: no allocation per frame).
   // `shapes`: what a leaf's query draws instead of the leaf's box (none: the box).
   const CullingResult& cull(const Bvh& bvh, std::span<const Aabb> objectBoxes, const Camera& camera, CullingStrategy strategy,
                             ObjectDrawer& drawer, const QueryShapes& shapes = {});
@@ -168,7 +169,7 @@ class OcclusionCuller {
     glm::vec3 min;
     std::uint32_t slot;
     glm::vec3 max;
-    std::uint32_t unused;
+    std::uint32_t padding;
   };
   struct BatchFence {
     std::size_t endSlot;  // the queries before it were drawn before the fence
