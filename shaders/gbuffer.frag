@@ -1,18 +1,22 @@
 #version 450 core
-// G-buffer outputs of the geometry pass (render/src/geometry_pass.hpp: GBuffer), shared by the
-// terrain, tree and prop shaders (linked in with them): albedo, whether the geometric normal faces
-// the sun (alpha 1 or 0), the shading normal (world space, as n / 2 + 1/2 in RGB10_A2), object ID.
+// G-buffer output of the geometry pass (render/src/geometry_pass.hpp: GBuffer), shared by the
+// terrain, tree and prop shaders (linked in with them). One RGBA32UI target, so that the full-screen
+// passes read a pixel's surface with one texel fetch (gbuffer_read.frag has the layout's readers):
+//   x: eye depth in metres, as float bits (cleared to 0: nothing drawn, the sky);
+//   y: albedo (rgb) and whether the geometric normal faces the sun (a: 1 or 0), unorm 8 bits each;
+//   z: the shading normal (world space) as n / 2 + 1/2, three unorm 10-bit fields (bits 0, 10, 20);
+//   w: the object ID.
 // The geometric normal is the plane of the drawn triangle, from the screen derivatives of the
 // camera-relative position; the shadow term is forced to 0 where it faces away from the sun
 // (DESIGN §4), and only that test is kept of it. The sun comes from the view block.
-layout(location = 0) out vec4 gAlbedoSunFacing;
-layout(location = 1) out vec4 gShadingNormal;
-layout(location = 2) out uint gObjectId;
+layout(location = 0) out uvec4 gSurface;
 
 void writeGBuffer(vec3 albedo, vec3 shadingNormal, vec3 relativePosition, uint objectId) {
   vec3 geometric = cross(dFdx(relativePosition), dFdy(relativePosition));
   if (dot(geometric, relativePosition) > 0.0) geometric = -geometric;  // toward the eye: a front face
-  gAlbedoSunFacing = vec4(albedo, dot(geometric, uView.toSunAmbient.xyz) > 0.0 ? 1.0 : 0.0);
-  gShadingNormal = vec4(0.5 * normalize(shadingNormal) + 0.5, 0.0);
-  gObjectId = objectId;
+  float facesSun = dot(geometric, uView.toSunAmbient.xyz) > 0.0 ? 1.0 : 0.0;
+  // Perspective projection: clip w is the eye depth, and gl_FragCoord.w holds 1 / w.
+  float eyeDepth = 1.0 / gl_FragCoord.w;
+  uvec3 n = uvec3(round(clamp(0.5 * normalize(shadingNormal) + 0.5, 0.0, 1.0) * 1023.0));
+  gSurface = uvec4(floatBitsToUint(eyeDepth), packUnorm4x8(vec4(albedo, facesSun)), n.x | (n.y << 10) | (n.z << 20), objectId);
 }

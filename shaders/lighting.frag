@@ -7,8 +7,10 @@
 // looked up here (shadow_lookup.frag) and no pass before writes it. The term used is written out.
 in vec3 vRay;                 // eye depth z → camera-relative position z · vRay
 
-layout(binding = 0) uniform sampler2D uAlbedo;        // rgb; a: the sun-facing flag (shadow_lookup.frag)
-layout(binding = 1) uniform sampler2D uShadingNormal;
+// The pixel's surface: gbuffer_read.frag (the G-buffer's one texel).
+uvec4 surfaceAt(ivec2 pixel);
+vec3 albedoOf(uvec4 surface);
+vec3 shadingNormalOf(uvec4 surface);
 layout(binding = 4) uniform sampler2D uShadowTerm;  // r: term, g: eye depth (0: sky); read with the blur on
 // The sun, sky, haze density (exponential extinction per metre; 0: none) and whether to blur
 // uShadowTerm vertically (it then holds the horizontal pass) come from the frame block.
@@ -22,7 +24,7 @@ layout(location = 1) out vec2 usedTerm;  // the (blurred) term lit with: Frame::
 #ifdef BLURRED_TERM
 vec2 blurTaps(sampler2D term, ivec2 pixel, ivec2 direction);
 #else
-vec2 shadowTermAt(ivec2 pixel, vec3 ray);
+vec2 shadowTermOf(uvec4 surface, vec3 ray);
 #endif
 
 // x^8 by squaring: llvmpipe runs both sides of a branch, so the sky's terms are paid at every pixel,
@@ -54,11 +56,11 @@ vec3 hazeRadiance(vec3 d, vec3 zenith, vec3 toSun, vec3 sunColor, bool sunUp) {
 
 // The pixel's radiance (linear): the sky where nothing was drawn (term.g, its eye depth, is 0),
 // else the lit surface. One gamma for both in main: llvmpipe runs both sides of the branch.
-vec3 surfaceOrSky(ivec2 pixel, vec2 term, vec3 view, vec3 zenith, vec3 toSun, vec3 sunColor, bool sunUp, float ambient,
+vec3 surfaceOrSky(uvec4 surface, vec2 term, vec3 view, vec3 zenith, vec3 toSun, vec3 sunColor, bool sunUp, float ambient,
                   float hazeDensity) {
   if (term.g == 0.0) return skyRadiance(view, zenith, toSun, sunColor, sunUp);
-  vec3 albedo = texelFetch(uAlbedo, pixel, 0).rgb;
-  vec3 n = normalize(2.0 * texelFetch(uShadingNormal, pixel, 0).xyz - 1.0);  // stored as n / 2 + 1/2
+  vec3 albedo = albedoOf(surface);
+  vec3 n = shadingNormalOf(surface);
   float shadow = term.r;
   // Hemispheric ambient: the sky's light from above (its colour at unit luminance), the ground's
   // bounce from below, blended by the normal's elevation.
@@ -82,6 +84,7 @@ vec3 surfaceOrSky(ivec2 pixel, vec2 term, vec3 view, vec3 zenith, vec3 toSun, ve
 
 void main() {
   ivec2 pixel = ivec2(gl_FragCoord.xy);
+  uvec4 surface = surfaceAt(pixel);
   vec3 toSun = uFrame.toSunUp.xyz, zenith = uFrame.skyFog.rgb;
   vec3 sunColor = uFrame.sunColorAmbient.rgb;
   bool sunUp = uFrame.toSunUp.w != 0.0;
@@ -89,9 +92,9 @@ void main() {
 #ifdef BLURRED_TERM
   vec2 term = blurTaps(uShadowTerm, pixel, ivec2(0, 1));
 #else
-  vec2 term = shadowTermAt(pixel, vRay);
+  vec2 term = shadowTermOf(surface, vRay);
 #endif
   usedTerm = term;
   vec3 view = normalize(vRay);
-  fragColor = vec4(pow(surfaceOrSky(pixel, term, view, zenith, toSun, sunColor, sunUp, ambient, hazeDensity), vec3(1.0 / 2.2)), 1.0);
+  fragColor = vec4(pow(surfaceOrSky(surface, term, view, zenith, toSun, sunColor, sunUp, ambient, hazeDensity), vec3(1.0 / 2.2)), 1.0);
 }

@@ -2,22 +2,19 @@
 // The shadow term at a pixel from the G-buffer (DESIGN §4, thesis §9.3) — linked into the shadow
 // term pass (shadow_term.frag, when the blur needs the term as a texture) and into lighting (the
 // blur off: the term is looked up where it is used, and no full-screen pass writes it).
-// The pixel's camera-relative position from its depth, into the shadow map with the eye-relative
+// The pixel's camera-relative position from its eye depth, into the shadow map with the eye-relative
 // light matrix, hardware 2×2 PCF (sampler2DShadow with linear filtering). Forced to 0 where the
 // geometric normal faces away from the sun: backside rendering leaves noise on lee faces, and the
-// eye-space blur must not spread it.
+// eye-space blur must not spread it. The caller fetches the pixel's surface (gbuffer_read.frag) and
+// hands it over, so that a pass reads each G-buffer texel once.
 // The rest comes from the frame block (frame_block.glsl): the lookup matrices, tsm's linear light
-// depth row, the sun, near and far, the slices' ends. The PCF radius (0: one hardware 2×2 lookup;
+// depth row, the sun, the slices' ends. The PCF radius (0: one hardware 2×2 lookup;
 // r: (2r+1)² lookups a texel apart) and the slice count are compile-time constants, PCF_RADIUS and
 // SHADOW_SLICES (render/src/shadow_term_pass.hpp: ShadowLookupPrograms).
-layout(binding = 5) uniform sampler2D uDepth;              // reversed-Z: 0 where nothing was drawn (sky)
-layout(binding = 6) uniform sampler2D uAlbedoSunFacing;  // a: 1 where the geometric normal faces the sun (gbuffer.frag)
 layout(binding = 3) uniform sampler2DArrayShadow uShadowMap;  // a layer per slice; depth in [0, 1], near the light = 0
 
-float eyeDepth(float d) {  // reversed-Z → metres
-  float n = uFrame.nearFar.x, f = uFrame.nearFar.y;
-  return n * f / (n + d * (f - n));
-}
+float eyeDepthOf(uvec4 surface);
+bool facesSunOf(uvec4 surface);
 
 // The PCF term of a camera-relative point in one slice's layer.
 float termInSlice(int slice, vec3 relative) {
@@ -35,15 +32,14 @@ float termInSlice(int slice, vec3 relative) {
 }
 
 // r: the shadow term (1 lit, 0 shadowed); g: the pixel's eye depth in metres (0 for the sky).
-// `ray`: eye depth z → camera-relative position z · ray.
+// `surface`: the pixel's G-buffer texel; `ray`: eye depth z → camera-relative position z · ray.
 // The slice is the first whose end lies beyond z (Zhang et al. 2006); in the blend band just past
 // a split the nearer slice's term fades into the farther one's (that slice's B reaches over the
 // band, render/src/shadow_setup_pass.cpp).
-vec2 shadowTermAt(ivec2 pixel, vec3 ray) {
-  float depth = texelFetch(uDepth, pixel, 0).r;
-  if (depth == 0.0) return vec2(1.0, 0.0);  // sky: the cleared far depth
-  float z = eyeDepth(depth);
-  if (uFrame.modes.w == 0 || texelFetch(uAlbedoSunFacing, pixel, 0).a < 0.5) return vec2(0.0, z);
+vec2 shadowTermOf(uvec4 surface, vec3 ray) {
+  float z = eyeDepthOf(surface);
+  if (z == 0.0) return vec2(1.0, 0.0);  // sky: the cleared surface
+  if (uFrame.modes.w == 0 || !facesSunOf(surface)) return vec2(0.0, z);
   vec3 relative = z * ray;
   int slice = 0;
 #if SHADOW_SLICES > 1

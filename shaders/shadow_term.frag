@@ -7,6 +7,7 @@ in vec3 vRay;  // eye depth z → camera-relative position z · vRay
 // one texture per tap.
 out vec2 shadowTerm;
 
-vec2 shadowTermAt(ivec2 pixel, vec3 ray);
+uvec4 surfaceAt(ivec2 pixel);  // gbuffer_read.frag
+vec2 shadowTermOf(uvec4 surface, vec3 ray);
 
-void main() { shadowTerm = shadowTermAt(ivec2(gl_FragCoord.xy), vRay); }
+void main() { shadowTerm = shadowTermOf(surfaceAt(ivec2(gl_FragCoord.xy)), vRay); }

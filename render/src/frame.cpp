@@ -341,9 +341,12 @@ std::vector<float> Frame::readBlurredShadowTerm() const {
 }
 
 std::vector<std::uint32_t> Frame::readObjectIds() const {
-  std::vector<std::uint32_t> v(static_cast<size_t>(width_) * height_);
+  std::vector<glm::uvec4> surface(static_cast<size_t>(width_) * height_);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glGetTextureImage(passes_->geometry.gbuffer().objectId.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(v.size() * 4), v.data());
+  glGetTextureImage(passes_->geometry.gbuffer().surface.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
+                    static_cast<GLsizei>(surface.size() * sizeof(glm::uvec4)), surface.data());
+  std::vector<std::uint32_t> v(surface.size());
+  for (size_t i = 0; i < surface.size(); ++i) v[i] = surface[i].w;  // the object ID (shaders/gbuffer.frag)
   return v;
 }
 

@@ -3,18 +3,11 @@
 namespace forest::render {
 
 GBuffer::GBuffer(int width, int height)
-    : albedo(GL_RGBA8, width, height),
-      shadingNormal(GL_RGB10_A2, width, height),
-      objectId(GL_R32UI, width, height),
-      depth(GL_DEPTH_COMPONENT32F, width, height) {
-  framebuffer.attach(GL_COLOR_ATTACHMENT0, albedo);
-  framebuffer.attach(GL_COLOR_ATTACHMENT1, shadingNormal);
-  framebuffer.attach(GL_COLOR_ATTACHMENT2, objectId);
+    : surface(GL_RGBA32UI, width, height), depth(GL_DEPTH_COMPONENT32F, width, height) {
+  framebuffer.attach(GL_COLOR_ATTACHMENT0, surface);
   framebuffer.attach(GL_DEPTH_ATTACHMENT, depth);
-  const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
-  glNamedFramebufferDrawBuffers(framebuffer.id(), 3, buffers);
   framebuffer.checkComplete("G-buffer");
-  for (const gl::Texture* t : {&albedo, &shadingNormal, &objectId, &depth}) {
+  for (const gl::Texture* t : {&surface, &depth}) {
     glTextureParameteri(t->id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(t->id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   }
@@ -51,10 +44,9 @@ const culling::CullingResult& GeometryPass::run(const Camera& camera, const Draw
   glEnable(GL_CULL_FACE);
   glCullFace(GL_BACK);
   glDisable(GL_POLYGON_OFFSET_FILL);
-  // Albedo and normal are read only where something was drawn (depth > 0): only the ID (0: none)
-  // and the depth are cleared.
-  const GLuint zeroId[4] = {0, 0, 0, 0};
-  glClearBufferuiv(GL_COLOR, 2, zeroId);
+  // Eye depth 0 marks the sky for the full-screen passes, ID 0 no object (shaders/gbuffer.frag).
+  const GLuint nothingDrawn[4] = {0, 0, 0, 0};
+  glClearBufferuiv(GL_COLOR, 0, nothingDrawn);
   const float farDepth = 0.0f;
   glClearBufferfv(GL_DEPTH, 0, &farDepth);
   SceneDrawer& drawer = *drawer_;

@@ -1,7 +1,7 @@
 #pragma once
-// Pass 1 of the frame (DESIGN §1): the culling traversal draws the G-buffer — albedo with whether
-// the drawn triangle faces the sun, shading normal, object ID, reversed-Z depth — and returns the
-// visible set with its z_f.
+// Pass 1 of the frame (DESIGN §1): the culling traversal draws the G-buffer — eye depth, albedo with
+// whether the drawn triangle faces the sun, shading normal, object ID; reversed-Z depth — and returns
+// the visible set with its z_f.
 #include <memory>
 #include <optional>
 #include <vector>
@@ -13,15 +13,16 @@
 
 namespace forest::render {
 
-// The geometry pass's targets, read by the shadow term and the lighting (shaders/gbuffer.frag):
-// albedo RGBA8 with alpha 1 where the drawn triangle's plane (the geometric normal) faces the sun,
-// else 0 — all that the shadow term and the receiver pixels need of that normal; the shading
-// normal as RGB10_A2 (n / 2 + 1/2); the object ID; the depth. Each colour target costs the pass on
-// a fill-bound renderer: a fourth one (the geometric normal as RGBA16F) made it ~17% slower on
-// llvmpipe.
+// The geometry pass's targets, read by the shadow term and the lighting: the surface, one RGBA32UI
+// texel per pixel (shaders/gbuffer.frag has its layout: eye depth, albedo with whether the drawn
+// triangle's plane faces the sun — all that the shadow term and the receiver pixels need of that
+// normal —, the shading normal, the object ID), and the reversed-Z depth. One texel, so that a
+// full-screen pass fetches each pixel once: on llvmpipe each texel fetch of a full-screen pass at
+// 800×600 costs ~1.3 ms, and each colour target costs the geometry pass (a fourth one, the
+// geometric normal as RGBA16F, made it ~17% slower).
 struct GBuffer {
   GBuffer(int width, int height);
-  gl::Texture albedo, shadingNormal, objectId, depth;
+  gl::Texture surface, depth;
   gl::Framebuffer framebuffer;
 };
 

@@ -6,7 +6,7 @@ namespace forest::render {
 
 LightingPass::LightingPass(int width, int height)
     : width_(width), height_(height), usedTerm_(GL_RG16F, width, height), color_(GL_RGBA8, width, height),
-      blurred_(loadFullScreenProgram({"lighting.frag", "blur_taps.frag"}, "#define BLURRED_TERM\n")),
+      blurred_(loadFullScreenProgram({"lighting.frag", "blur_taps.frag", "gbuffer_read.frag"}, "#define BLURRED_TERM\n")),
       lookup_({"lighting.frag"}) {
   framebuffer_.attach(GL_COLOR_ATTACHMENT0, color_);
   framebuffer_.attach(GL_COLOR_ATTACHMENT1, usedTerm_);
@@ -22,10 +22,12 @@ void LightingPass::run(const GBuffer& gbuffer, const gl::Texture* term, const gl
   glViewport(0, 0, width_, height_);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
-  glBindTextureUnit(0, gbuffer.albedo.id());
-  glBindTextureUnit(1, gbuffer.shadingNormal.id());
-  if (term) glBindTextureUnit(4, term->id());
-  else bindShadowLookupInputs(gbuffer, shadowMap);
+  if (term) {
+    glBindTextureUnit(5, gbuffer.surface.id());  // shaders/gbuffer_read.frag
+    glBindTextureUnit(4, term->id());
+  } else {
+    bindShadowLookupInputs(gbuffer, shadowMap);
+  }
   triangle_.draw(term ? blurred_ : lookup_.get(shape));
   for (GLuint unit = 0; unit < 7; ++unit) glBindTextureUnit(unit, 0);
   glEnable(GL_DEPTH_TEST);

@@ -1,7 +1,7 @@
 #pragma once
-// The visible receiver pixels of a frame for CasterSelection::ReceiverPixels: the G-buffer's depth
-// and albedo (its alpha: whether the geometric normal faces the sun) read back (the CPU waits for
-// the geometry pass), and for every pixel that faces the sun — the pixels whose shadow term is
+// The visible receiver pixels of a frame for CasterSelection::ReceiverPixels: the G-buffer surface's
+// eye depth and albedo (its alpha: whether the geometric normal faces the sun) read back (the CPU
+// waits for the geometry pass), and for every pixel that faces the sun — the pixels whose shadow term is
 // looked up (shaders/shadow_lookup.frag) — its ray's offsets and eye depth, which place it from the
 // eye (shadows::ReceiverMask::addEyePoints). Storage is kept from frame to frame.
 #include <glm/glm.hpp>
@@ -24,8 +24,7 @@ class ReceiverPixels {
   const shadows::EyeRays& rays() const { return rays_; }
 
  private:
-  std::vector<float> depth_;
-  std::vector<std::uint8_t> albedo_;  // RGBA
+  std::vector<glm::uvec2> surface_;  // the G-buffer surface's x and y (shaders/gbuffer.frag)
   std::vector<shadows::EyePoint> points_;
   shadows::EyeRays rays_{};
 };

@@ -3,8 +3,7 @@
 namespace forest::render {
 
 void bindShadowLookupInputs(const GBuffer& gbuffer, const gl::Texture& shadowMap) {
-  glBindTextureUnit(5, gbuffer.depth.id());  // the bindings of shaders/shadow_lookup.frag
-  glBindTextureUnit(6, gbuffer.albedo.id());  // alpha: the sun-facing flag
+  glBindTextureUnit(5, gbuffer.surface.id());  // the bindings of shaders/gbuffer_read.frag and shadow_lookup.frag
   glBindTextureUnit(3, shadowMap.id());
 }
 
@@ -17,6 +16,7 @@ std::string shadowLookupDefines(const ShadowLookupShape& shape) {
 
 ShadowLookupPrograms::ShadowLookupPrograms(std::vector<std::string> fragments) : fragments_(std::move(fragments)) {
   fragments_.push_back("shadow_lookup.frag");
+  fragments_.push_back("gbuffer_read.frag");
 }
 
 const gl::Program& ShadowLookupPrograms::get(const ShadowLookupShape& shape) {

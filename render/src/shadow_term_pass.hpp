@@ -34,7 +34,7 @@ struct ShadowLookupShape {
 // (800×600, llvmpipe).
 class ShadowLookupPrograms {
  public:
-  // fullscreen.vert with `fragments` and shadow_lookup.frag.
+  // fullscreen.vert with `fragments`, shadow_lookup.frag and gbuffer_read.frag.
   explicit ShadowLookupPrograms(std::vector<std::string> fragments);
   // The program for `shape`, compiled now if it was not yet (Frame::render asks before its timer
   // starts, so no pass time holds a compile).

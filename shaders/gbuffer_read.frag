@@ -1,0 +1,13 @@
+#version 450 core
+// Readers of the geometry pass's surface target (gbuffer.frag has its layout), linked into the
+// full-screen passes that read it: the shadow lookup's callers and lighting. One texel fetch per
+// pixel gives all of it.
+layout(binding = 5) uniform usampler2D uSurface;
+
+uvec4 surfaceAt(ivec2 pixel) { return texelFetch(uSurface, pixel, 0); }
+float eyeDepthOf(uvec4 surface) { return uintBitsToFloat(surface.x); }  // 0: the sky
+vec3 albedoOf(uvec4 surface) { return unpackUnorm4x8(surface.y).rgb; }
+bool facesSunOf(uvec4 surface) { return (surface.y >> 24) >= 128u; }
+vec3 shadingNormalOf(uvec4 surface) {
+  return normalize(vec3((uvec3(surface.z) >> uvec3(0, 10, 20)) & 1023u) * (2.0 / 1023.0) - 1.0);
+}
