@@ -4,7 +4,6 @@
 
 #include <cmath>
 #include <cstring>
-#include <numbers>
 
 #include "forest/core/frustum.hpp"
 
@@ -26,10 +25,6 @@ TreeRenderer::TreeRenderer(const vegetation::Forest& forest, Output output, std:
       objectIdBase_(objectIdBase),
       program_(loadSurfaceProgram("trees.vert", "trees.frag", output)),
       viewUniforms_(kViewBlockBinding, sizeof(ViewBlock)) {
-  const VegetationSettings& wind = forest.settings();
-  program_.set("uWindStrength", static_cast<float>(wind.wind_strength));
-  program_.set("uWindOmega", static_cast<float>(2.0 * std::numbers::pi / wind.wind_period));
-  program_.set("uWindDirection", glm::vec2(wind.wind_direction));
   std::vector<TreeVertex> vertices;
   std::vector<std::uint32_t> indices;
   for (int s = 0; s < kSpeciesCount; ++s) {
@@ -102,20 +97,22 @@ TreeRenderer::Stats TreeRenderer::draw(const DrawView& view, std::span<const std
   if (instances_->id() != ringBefore) glVertexArrayVertexBuffer(vertexArray_.id(), 1, instances_->id(), 0, sizeof(InstanceGpu));
   auto* out = static_cast<InstanceGpu*>(part.data);
   size_t k = 0;
+  const bool windy = forest_.settings().wind_strength != 0.0;
   for (std::uint32_t t : trees) {
     const vegetation::TreeInstance& tree = forest_.trees()[t];
     InstanceGpu& g = out[cursor[groupOf_[k++]]++];
-    g.baseYaw = glm::vec4(glm::vec3(tree.position - view.origin), static_cast<float>(tree.yaw));
-    g.scalePhase = glm::vec4(static_cast<float>(tree.scale), static_cast<float>(tree.swayPhase), 0.0f, 0.0f);
+    // Forest::treeTransform's factors: translate · windShear · rotateY(yaw) · scale.
+    const glm::dvec2 shear = windy ? vegetation::windShear(forest_.settings(), tree.swayPhase, time) : glm::dvec2(0.0);
+    g.baseScale = glm::vec4(glm::vec3(tree.position - view.origin), static_cast<float>(tree.scale));
+    g.rotationShear = glm::vec4(static_cast<float>(std::cos(tree.yaw)), static_cast<float>(std::sin(tree.yaw)),
+                                static_cast<float>(shear.x), static_cast<float>(shear.y));
     g.tint = glm::vec4(tree.tint, 1.0f);
     g.objectId = objectIdBase_ + t;
     g.padding[0] = g.padding[1] = g.padding[2] = 0;
   }
   const GLuint baseInstance = static_cast<GLuint>(part.offset / sizeof(InstanceGpu));
 
-  // The shader evaluates the sway in float: t is reduced modulo 10 periods first (in double), a
-  // common period of sin(ωt) and sin(2.7ωt), so long runs keep their precision.
-  viewUniforms_.bind(viewBlock(view, std::fmod(time, 10.0 * forest_.settings().wind_period)));
+  viewUniforms_.bind(viewBlock(view));
   program_.use();
   glBindVertexArray(vertexArray_.id());
   for (int s = 0; s < kSpeciesCount; ++s) {

@@ -45,9 +45,11 @@ class TreeRenderer {
   std::size_t instanceBytes() const { return instances_->size(); }
 
  private:
+  // What the vertex shader needs of a tree, worked out per draw in double on the CPU, so that no
+  // vertex evaluates a sine (llvmpipe shades vertices on the thread that issues the draws).
   struct InstanceGpu {
-    glm::vec4 baseYaw;     // base − view origin, yaw
-    glm::vec4 scalePhase;  // scale, sway phase
+    glm::vec4 baseScale;      // base − view origin; scale
+    glm::vec4 rotationShear;  // cos yaw, sin yaw; the wind's shear at the draw's time (x, z)
     glm::vec4 tint;
     std::uint32_t objectId;
     std::uint32_t padding[3];
