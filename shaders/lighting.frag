@@ -24,7 +24,7 @@ layout(location = 1) out vec2 usedTerm;  // the (blurred) term lit with: Frame::
 #ifdef BLURRED_TERM
 vec2 blurTaps(sampler2D term, ivec2 pixel, ivec2 direction);
 #else
-vec2 shadowTermOf(uvec4 surface, vec3 ray);
+vec2 shadowTermOf(uvec4 surface);
 #endif
 
 // x^8 by squaring: llvmpipe runs both sides of a branch, so the sky's terms are paid at every pixel,
@@ -92,7 +92,7 @@ void main() {
 #ifdef BLURRED_TERM
   vec2 term = blurTaps(uShadowTerm, pixel, ivec2(0, 1));
 #else
-  vec2 term = shadowTermOf(surface, vRay);
+  vec2 term = shadowTermOf(surface);
 #endif
   usedTerm = term;
   vec3 view = normalize(vRay);

@@ -2,8 +2,8 @@
 // The shadow term at a pixel from the G-buffer (DESIGN §4, thesis §9.3) — linked into the shadow
 // term pass (shadow_term.frag, when the blur needs the term as a texture) and into lighting (the
 // blur off: the term is looked up where it is used, and no full-screen pass writes it).
-// The pixel's camera-relative position from its eye depth, into the shadow map with the eye-relative
-// light matrix, hardware 2×2 PCF (sampler2DShadow with linear filtering). Forced to 0 where the
+// The pixel's position from its eye depth, into the shadow map with the eye-relative light matrix
+// (its ray in shadow clip space comes from fullscreen.vert), hardware 2×2 PCF (sampler2DShadow with linear filtering). Forced to 0 where the
 // geometric normal faces away from the sun: backside rendering leaves noise on lee faces, and the
 // eye-space blur must not spread it. The caller fetches the pixel's surface (gbuffer_read.frag) and
 // hands it over, so that a pass reads each G-buffer texel once.
@@ -16,12 +16,17 @@ layout(binding = 3) uniform sampler2DArrayShadow uShadowMap;  // a layer per sli
 float eyeDepthOf(uvec4 surface);
 bool facesSunOf(uvec4 surface);
 
-// The PCF term of a camera-relative point in one slice's layer.
-float termInSlice(int slice, vec3 relative) {
-  vec4 s = uFrame.eyeRelativeToShadow[slice] * vec4(relative, 1.0);
+// Per slice, the pixel's ray in shadow clip space and its tsm light depth (fullscreen.vert).
+in vec4 vShadowRay[SHADOW_SLICES];
+in float vLightDepthRay[SHADOW_SLICES];
+
+// The PCF term in one slice's layer of the pixel's point at eye depth z: its shadow clip position
+// M · (z · ray, 1) = z · vShadowRay + M[3].
+float termInSlice(int slice, float z) {
+  vec4 s = z * vShadowRay[slice] + uFrame.eyeRelativeToShadow[slice][3];
   vec3 ndc = s.xyz / s.w;
   // TSM: texture(s, vec3(xy_T / w_T, z_L / w_L)), w_L = 1 for the sun's orthographic L.
-  if (uFrame.modes.y != 0) ndc.z = 0.5 * dot(uFrame.eyeRelativeLightDepth[slice], vec4(relative, 1.0)) + 0.5;
+  if (uFrame.modes.y != 0) ndc.z = 0.5 * (z * vLightDepthRay[slice] + uFrame.eyeRelativeLightDepth[slice].w) + 0.5;
   vec2 uv = 0.5 * ndc.xy + 0.5;
   vec2 texel = 1.0 / vec2(textureSize(uShadowMap, 0).xy);
   const int radius = PCF_RADIUS;  // compile-time constants (ShadowLookupPrograms): the loops unroll
@@ -32,25 +37,24 @@ float termInSlice(int slice, vec3 relative) {
 }
 
 // r: the shadow term (1 lit, 0 shadowed); g: the pixel's eye depth in metres (0 for the sky).
-// `surface`: the pixel's G-buffer texel; `ray`: eye depth z → camera-relative position z · ray.
+// `surface`: the pixel's G-buffer texel.
 // The slice is the first whose end lies beyond z (Zhang et al. 2006); in the blend band just past
 // a split the nearer slice's term fades into the farther one's (that slice's B reaches over the
 // band, render/src/shadow_setup_pass.cpp).
-vec2 shadowTermOf(uvec4 surface, vec3 ray) {
+vec2 shadowTermOf(uvec4 surface) {
   float z = eyeDepthOf(surface);
   if (z == 0.0) return vec2(1.0, 0.0);  // sky: the cleared surface
   if (uFrame.modes.w == 0 || !facesSunOf(surface)) return vec2(0.0, z);
-  vec3 relative = z * ray;
   int slice = 0;
 #if SHADOW_SLICES > 1
   for (int i = 0; i + 1 < SHADOW_SLICES; ++i) slice += z >= uFrame.cascadeEnds[i] ? 1 : 0;  // the ends increase
-  float term = termInSlice(slice, relative);
+  float term = termInSlice(slice, z);
   if (slice > 0) {
     float split = uFrame.cascadeEnds[slice - 1], band = uFrame.cascadeBlend.x * split;
-    if (z < split + band) term = mix(termInSlice(slice - 1, relative), term, (z - split) / band);
+    if (z < split + band) term = mix(termInSlice(slice - 1, z), term, (z - split) / band);
   }
 #else
-  float term = termInSlice(0, relative);
+  float term = termInSlice(0, z);
 #endif
   return vec2(term, z);
 }
