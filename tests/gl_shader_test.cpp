@@ -121,10 +121,10 @@ TEST_F(GlTest, UniformBlocksMatchTheShaders) {
     programs.emplace_back("terrain/" + tag, render::loadSurfaceProgram("terrain.vert", "terrain.frag", output, levels));
   }
   const std::string lookup = "#define PCF_RADIUS 1\n#define SHADOW_SLICES 4\n";  // the lookup's constants (ShadowLookupPrograms)
-  programs.emplace_back("shadow term", gl::loadProgram({"fullscreen.vert", "shadow_term.frag", "shadow_lookup.frag"}, lookup + frameBlock));
+  programs.emplace_back("shadow term", gl::loadProgram({"fullscreen.vert", "shadow_term.frag", "shadow_lookup.frag", "gbuffer_read.frag"}, lookup + frameBlock));
   programs.emplace_back("blur", gl::loadProgram({"fullscreen.vert", "shadow_blur.frag", "blur_taps.frag"}, frameBlock));
-  programs.emplace_back("lighting, blurred term", gl::loadProgram({"fullscreen.vert", "lighting.frag", "blur_taps.frag"}, "#define BLURRED_TERM\n" + frameBlock));
-  programs.emplace_back("lighting, term looked up", gl::loadProgram({"fullscreen.vert", "lighting.frag", "shadow_lookup.frag"}, lookup + frameBlock));
+  programs.emplace_back("lighting, blurred term", gl::loadProgram({"fullscreen.vert", "lighting.frag", "blur_taps.frag", "gbuffer_read.frag"}, "#define BLURRED_TERM\n" + frameBlock));
+  programs.emplace_back("lighting, term looked up", gl::loadProgram({"fullscreen.vert", "lighting.frag", "shadow_lookup.frag", "gbuffer_read.frag"}, lookup + frameBlock));
   programs.emplace_back("query box", gl::loadProgram({"query_box.vert", "query_box.frag"}));
 
   std::map<std::string, int> programsWith;
