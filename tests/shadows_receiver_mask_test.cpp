@@ -95,14 +95,17 @@ TEST(ReceiverMask, EyePointsFillTheMaskAsTheirWorldPositionsDo) {
   std::mt19937_64 random(11);
   std::uniform_real_distribution<double> unit(-1.0, 1.0), depth(0.5, 60.0);
   std::vector<EyePoint> points;
-  for (int i = 0; i < 4000; ++i) points.push_back({0.8 * unit(random), 0.6 * unit(random), depth(random)});
+  for (int i = 0; i < 4000; ++i)
+    points.push_back({static_cast<float>(0.8 * unit(random)), static_cast<float>(0.6 * unit(random)), static_cast<float>(depth(random))});
   const double zMin = 2.0, zMax = 40.0;
   for (const ShadowSetup& setup : {perspective, linear}) {
     ReceiverMask byWorld, byRays;
     byWorld.reset(setup, 1024, 256);
     byRays.reset(setup, 1024, 256);
-    for (const EyePoint& p : points)
-      if (p.z >= zMin && p.z <= zMax) byWorld.add(rays.eye + p.z * (rays.forward + p.x * rays.right + p.y * rays.up));
+    for (const EyePoint& p : points) {
+      const double x = p.x, y = p.y, z = p.z;
+      if (z >= zMin && z <= zMax) byWorld.add(rays.eye + z * (rays.forward + x * rays.right + y * rays.up));
+    }
     byRays.addEyePoints(rays, points, zMin, zMax);
     ASSERT_EQ(byRays.receivers(), byWorld.receivers());
     ASSERT_GT(byWorld.receivers(), 1000);
@@ -118,6 +121,52 @@ TEST(ReceiverMask, EyePointsFillTheMaskAsTheirWorldPositionsDo) {
     EXPECT_GT(shadowing, 100);       // the probes meet receivers …
     EXPECT_LT(shadowing, 3000 - 100);  // … and miss them
   }
+}
+
+// A frame fills one mask per band of pixels, each on a thread of its own, and merges them
+// (ShadowSetupPass::fillReceiverMask). The reference is one mask of all the points, added one by
+// one: the merged mask must hold the same receivers and give every probe caster the same answer.
+// The parts are spatially interleaved (the frame's bands share rows in turn), so that many cells
+// take points from both; the point behind the projection in the second part must carry over too.
+TEST(ReceiverMask, MasksOfPartsMergeIntoTheMaskOfAllPoints) {
+  std::mt19937_64 random(5);
+  std::uniform_real_distribution<double> across(-40.0, 40.0), height(0.0, 12.0);
+  std::vector<dvec3> points;
+  for (int i = 0; i < 6000; ++i) points.push_back({across(random), height(random), across(random)});
+  ReceiverMask all, first, second;
+  for (ReceiverMask* m : {&all, &first, &second}) m->reset(overheadSetup(), 1024, 256);
+  for (size_t i = 0; i < points.size(); ++i) {
+    all.add(points[i]);
+    (i % 2 == 0 ? first : second).add(points[i]);
+  }
+  first.merge(second);
+  EXPECT_EQ(first.receivers(), all.receivers());
+  int shadowing = 0, differing = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const dvec3 corner(across(random), height(random), across(random));
+    const Aabb caster{corner, corner + dvec3(0.3, 0.5, 0.3)};
+    const bool expected = all.mayShadow(caster, 0.5);
+    shadowing += expected ? 1 : 0;
+    differing += expected != first.mayShadow(caster, 0.5) ? 1 : 0;
+  }
+  EXPECT_EQ(differing, 0);
+  EXPECT_GT(shadowing, 100);
+  EXPECT_LT(shadowing, 3000 - 100);
+
+  // A receiver the map cannot place, in one part only: the merged mask keeps every caster.
+  ShadowSetup behind = overheadSetup();
+  behind.worldToShadowClip[1][3] = 1.0;  // w = 1 + y
+  ReceiverMask placed, unplaced;
+  placed.reset(behind, 1024, 256);
+  unplaced.reset(behind, 1024, 256);
+  placed.add(dvec3(0.0, 0.0, 0.0));
+  unplaced.add(dvec3(0.0, -2.0, 0.0));
+  placed.merge(unplaced);
+  EXPECT_TRUE(placed.mayShadow(Aabb{dvec3(30, 5, 30), dvec3(31, 6, 31)}, 0.5));
+  // Masks of different maps or cells do not merge.
+  ReceiverMask coarse;
+  coarse.reset(overheadSetup(), 1024, 128);
+  EXPECT_THROW(all.merge(coarse), Error);
 }
 
 }  // namespace

@@ -88,6 +88,7 @@ class ShadowSetupPass {
   std::vector<glm::dvec2> receiverDepths_;  // each receiver's eye-depth range
   shadows::CasterSelector selector_;
   shadows::ReceiverMask mask_;
+  std::vector<shadows::ReceiverMask> bandMasks_;  // [1, bands): the other bands' masks (fillReceiverMask)
 };
 
 }  // namespace forest::render

@@ -39,8 +39,7 @@ double ReceiverMask::depthOf(const dvec3& world, const dvec4& clip) const {
   return static_cast<int>(std::clamp((ndc + 1.0) * 0.5 * cells_, 0.0, cells_ - 1.0));
 }
 
-[[gnu::always_inline]] inline void ReceiverMask::addClip(const dvec4& h, double depth) {
-  const double invW = 1.0 / h.w;
+[[gnu::always_inline]] inline void ReceiverMask::addClip(const dvec4& h, double invW, double depth) {
   const double x = h.x * invW, y = h.y * invW;
   if (!(h.w > 0.0) || !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(depth)) {
     everywhere_ = true;  // a receiver the map cannot place: every caster may shadow it
@@ -58,7 +57,7 @@ double ReceiverMask::depthOf(const dvec3& world, const dvec4& clip) const {
 
 void ReceiverMask::add(const dvec3& world) {
   const dvec4 h = worldToShadowClip_ * dvec4(world, 1.0);
-  addClip(h, depthOf(world, h));
+  addClip(h, 1.0 / h.w, depthOf(world, h));
 }
 
 void ReceiverMask::addEyePoints(const EyeRays& rays, std::span<const EyePoint> points, double zMin, double zMax) {
@@ -73,11 +72,21 @@ void ReceiverMask::addEyePoints(const EyeRays& rays, std::span<const EyePoint> p
   const double depthRight = glm::dot(worldToLightDepth_, dvec4(rays.right, 0.0));
   const double depthUp = glm::dot(worldToLightDepth_, dvec4(rays.up, 0.0));
   for (const EyePoint& p : points) {
-    if (!(p.z >= zMin && p.z <= zMax)) continue;
-    const dvec4 h = origin + p.z * (forward + p.x * right + p.y * up);
-    const double depth = linearDepth_ ? depthOrigin + p.z * (depthForward + p.x * depthRight + p.y * depthUp) : h.z / h.w;
-    addClip(h, depth);
+    const double x = p.x, y = p.y, z = p.z;
+    if (!(z >= zMin && z <= zMax)) continue;
+    const dvec4 h = origin + z * (forward + x * right + y * up);
+    const double invW = 1.0 / h.w;  // one division per point: clip z / w is h.z · invW
+    const double depth = linearDepth_ ? depthOrigin + z * (depthForward + x * depthRight + y * depthUp) : h.z * invW;
+    addClip(h, invW, depth);
   }
+}
+
+void ReceiverMask::merge(const ReceiverMask& other) {
+  if (other.cells_ != cells_ || other.mapSize_ != mapSize_ || other.worldToShadowClip_ != worldToShadowClip_)
+    throw Error("ReceiverMask::merge: the masks are of different maps or cells");
+  receivers_ += other.receivers_;
+  everywhere_ = everywhere_ || other.everywhere_;
+  for (size_t i = 0; i < farthest_.size(); ++i) farthest_[i] = std::max(farthest_[i], other.farthest_[i]);
 }
 
 bool ReceiverMask::mayShadow(const Aabb& caster, double reachTexels) const {

@@ -17,9 +17,11 @@
 namespace forest::shadows {
 
 // A receiver seen from an eye (EyeRays): the point eye + z · (forward + x · right + y · up).
+// Floats, as the GPU places the pixel (its eye depth is a float in the G-buffer): a frame hands
+// over one per sun-facing pixel, and 12 bytes a point keep that stream half the size of doubles.
 struct EyePoint {
-  double x, y;  // the pixel centre's offsets along right and up at eye depth 1 (ndc · tan(fov / 2))
-  double z;     // eye depth (m)
+  float x, y;  // the pixel centre's offsets along right and up at eye depth 1 (ndc · tan(fov / 2))
+  float z;     // eye depth (m)
 };
 // The eye's position and orthonormal basis.
 struct EyeRays {
@@ -38,6 +40,9 @@ class ReceiverMask {
   // applied to the eye's basis once, so each point costs a few multiply-adds (a frame brings one
   // per sun-facing pixel).
   void addEyePoints(const EyeRays& rays, std::span<const EyePoint> points, double zMin, double zMax);
+  // Takes the points of `other`, a mask reset for the same map and cells (filled from another part
+  // of the points, e.g. on another thread): per cell the farther depth, the receivers of both.
+  void merge(const ReceiverMask& other);
   // False only when no receiver the filter can reach from the caster's texels lies farther from
   // the light than the box: `reachTexels` is how far (in texels, per axis) a lookup reads from its
   // point. True when the box reaches behind the light's projection (w ≤ 0 at a corner).
@@ -46,8 +51,8 @@ class ReceiverMask {
 
  private:
   int cellOf(double ndc) const;  // [−1, 1] → [0, cells), clamped
-  // A receiver at clip position h with map depth `depth`.
-  void addClip(const glm::dvec4& h, double depth);
+  // A receiver at clip position h (invW: 1 / h.w) with map depth `depth`.
+  void addClip(const glm::dvec4& h, double invW, double depth);
   // The map depth of a world point (clip z / w, or tsm's linear light depth), given its clip h.
   double depthOf(const glm::dvec3& world, const glm::dvec4& clip) const;
 
