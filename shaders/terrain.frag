@@ -16,9 +16,11 @@ flat in uint vObjectId;
 
 // The sun: the view block (view_block.glsl). Set once (TerrainRenderer):
 uniform vec3 uAlbedo;               // meadow grass: the terrain's albedo setting
-uniform vec4 uCoverOriginInvSize;   // xy: world (x, z) of the cover grid's corner; z: 1 / its size (m)
 uniform vec2 uHeightRange;          // x: the terrain's lowest height; y: its height range (m)
-layout(binding = 2) uniform sampler2D uGroundCover;  // D in [0, 1], filtered linearly; 1 × 1 zero without stands
+#ifdef GROUND_COVER  // a forest with stands (TerrainRenderer::setGroundCover); without: meadow, no lookup
+uniform vec4 uCoverOriginInvSize;   // xy: world (x, z) of the cover grid's corner; z: 1 / its size (m)
+layout(binding = 2) uniform sampler2D uGroundCover;  // D in [0, 1], filtered linearly
+#endif
 
 #if defined(OUTPUT_GBUFFER)
 void writeGBuffer(vec3 albedo, vec3 shadingNormal, vec3 relativePosition, uint objectId);
@@ -50,7 +52,11 @@ float valueNoise(vec2 p) {
 }
 
 vec3 terrainAlbedo(vec3 n, vec3 world) {
+#ifdef GROUND_COVER
   float cover = texture(uGroundCover, (world.xz - uCoverOriginInvSize.xy) * uCoverOriginInvSize.z).r;
+#else
+  float cover = 0.0;
+#endif
   float patches = valueNoise(world.xz / 40.0) - 0.5;  // tens of metres
   float grain = valueNoise(world.xz / 3.0);           // metres
   float altitude = clamp((world.y - uHeightRange.x) / uHeightRange.y, 0.0, 1.0);

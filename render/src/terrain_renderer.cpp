@@ -16,8 +16,10 @@ namespace {
 using terrain::kLevels;
 using terrain::kTileQuads;
 
-gl::Program loadTerrainProgram(TerrainRenderer::Output output) {
-  const std::string levels = "#define TERRAIN_LEVELS " + std::to_string(kLevels) + "\n";
+// `groundCover`: the material reads the ground cover texture (GROUND_COVER; without it, meadow).
+gl::Program loadTerrainProgram(TerrainRenderer::Output output, bool groundCover = false) {
+  const std::string levels =
+      "#define TERRAIN_LEVELS " + std::to_string(kLevels) + "\n" + (groundCover ? "#define GROUND_COVER 1\n" : "");
   switch (output) {
     case TerrainRenderer::Output::WorldPosition:
       return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::Lit, levels + "#define OUTPUT_POSITION 1\n");
@@ -35,17 +37,12 @@ gl::Program loadTerrainProgram(TerrainRenderer::Output output) {
 TerrainRenderer::TerrainRenderer(const terrain::Terrain& terrain, Output output, std::uint32_t objectIdBase)
     : terrain_(terrain),
       objectIdBase_(objectIdBase),
+      output_(output),
       program_(loadTerrainProgram(output)),
       viewUniforms_(kViewBlockBinding, sizeof(ViewBlock)),
       terrainViewUniforms_(kTerrainViewBlockBinding, sizeof(TerrainViewBlock)) {
   const terrain::Heightfield& h = terrain.heightfield();
-  // What does not change with the view, set once.
-  program_.set("uSpacing", static_cast<float>(h.spacing()));
-  program_.set("uTileQuads", kTileQuads);
-  program_.set("uTilesPerSide", terrain.tilesPerSide());
-  program_.set("uObjectIdBase", objectIdBase_);
-  program_.set("uMorphSlack", static_cast<float>(terrain::TerrainLod::kMorphSlack));
-  program_.set("uAlbedo", glm::vec3(terrain.settings().albedo));
+  setProgramConstants();
   heights_ = gl::Texture(GL_R32F, h.samples(), h.samples());
   glTextureSubImage2D(heights_.id(), 0, 0, 0, h.samples(), h.samples(), GL_RED, GL_FLOAT, h.heights().data());
   glTextureParameteri(heights_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
@@ -66,12 +63,6 @@ TerrainRenderer::TerrainRenderer(const terrain::Terrain& terrain, Output output,
     glTextureSubImage2D(normals_.id(), 0, 0, 0, h.samples(), h.samples(), GL_RG, GL_SHORT, packed.data());
     glTextureParameteri(normals_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(normals_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    const float meadow = 0.0f;
-    setGroundCover(std::span<const float>(&meadow, 1), 1);
-    const Aabb box = terrain.bounds();
-    program_.set("uCoverOriginInvSize", glm::vec4(static_cast<float>(h.origin().x), static_cast<float>(h.origin().y),
-                                                  static_cast<float>(1.0 / h.size()), 0.0f));
-    program_.set("uHeightRange", glm::vec2(static_cast<float>(box.min.y), static_cast<float>(std::max(box.max.y - box.min.y, 1e-6))));
   }
 
   std::vector<glm::ivec2> local;
@@ -111,10 +102,30 @@ TerrainRenderer::TerrainRenderer(const terrain::Terrain& terrain, Output output,
   glVertexArrayAttribBinding(vao, 1, 1);
 }
 
+// What does not change with the view, set once per program.
+void TerrainRenderer::setProgramConstants() {
+  const terrain::Heightfield& h = terrain_.heightfield();
+  program_.set("uSpacing", static_cast<float>(h.spacing()));
+  program_.set("uTileQuads", kTileQuads);
+  program_.set("uTilesPerSide", terrain_.tilesPerSide());
+  program_.set("uObjectIdBase", objectIdBase_);
+  program_.set("uMorphSlack", static_cast<float>(terrain::TerrainLod::kMorphSlack));
+  if (output_ != Output::Lit && output_ != Output::GBuffer) return;
+  program_.set("uAlbedo", glm::vec3(terrain_.settings().albedo));
+  const Aabb box = terrain_.bounds();
+  program_.set("uHeightRange", glm::vec2(static_cast<float>(box.min.y), static_cast<float>(std::max(box.max.y - box.min.y, 1e-6))));
+  if (cover_.id() != 0)
+    program_.set("uCoverOriginInvSize", glm::vec4(static_cast<float>(h.origin().x), static_cast<float>(h.origin().y),
+                                                  static_cast<float>(1.0 / h.size()), 0.0f));
+}
+
 void TerrainRenderer::setGroundCover(std::span<const float> cover, int side) {
   if (side < 1 || cover.size() != static_cast<size_t>(side) * side)
     throw Error(fmt::format("TerrainRenderer::setGroundCover: {} values for a {}² grid", cover.size(), side));
   if (normals_.id() == 0) return;  // an output without a material
+  // The material reads the cover from now on: a program that samples it (terrain.frag's
+  // GROUND_COVER; without one, the ground is meadow and no fragment pays the lookup).
+  const bool first = cover_.id() == 0;
   std::vector<float> clamped(cover.begin(), cover.end());
   for (float& c : clamped) c = std::isfinite(c) ? std::clamp(c, 0.0f, 1.0f) : 0.0f;  // nothing else reaches the GPU
   cover_ = gl::Texture(GL_R16F, side, side);
@@ -123,6 +134,10 @@ void TerrainRenderer::setGroundCover(std::span<const float> cover, int side) {
   glTextureParameteri(cover_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glTextureParameteri(cover_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   glTextureParameteri(cover_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  if (first) {
+    program_ = loadTerrainProgram(output_, true);
+    setProgramConstants();
+  }
 }
 
 std::vector<int> TerrainRenderer::tilesInFrustum(const Camera& camera) const {

@@ -48,7 +48,7 @@ class TerrainRenderer {
   // The ground cover the lit and G-buffer materials read (terrain.frag): a side × side grid of the
   // forest's stand density D in [0, 1] over the terrain (StandField::densityGrid), row by row,
   // filtered linearly. Forest floor where D is high, meadow where it is low; without a call the
-  // ground is meadow everywhere.
+  // ground is meadow everywhere (and the material reads no cover).
   void setGroundCover(std::span<const float> cover, int side);
   // Tiles whose boxes meet the camera's frustum.
   std::vector<int> tilesInFrustum(const Camera& camera) const;
@@ -56,14 +56,16 @@ class TerrainRenderer {
   std::size_t gpuBytes() const;
 
  private:
+  void setProgramConstants();  // the uniforms that do not change with the view
   const terrain::Terrain& terrain_;
   std::uint32_t objectIdBase_;
+  Output output_;
   gl::Program program_;
   mutable gl::UniformStream viewUniforms_;         // ViewBlock at binding 0
   mutable gl::UniformStream terrainViewUniforms_;  // terrain.vert's TerrainViewBlock at binding 1
   gl::Texture heights_;
   gl::Texture normals_;  // vertex normals of the lit and G-buffer outputs (empty for the others)
-  gl::Texture cover_;    // the ground cover, R16F (1 × 1 meadow until setGroundCover)
+  gl::Texture cover_;    // the ground cover, R16F (none until setGroundCover: meadow)
   gl::VertexArray vertexArray_;
   gl::Buffer grid_;
   gl::Buffer indices_;
