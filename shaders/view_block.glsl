@@ -5,5 +5,4 @@ layout(std140, binding = 0) uniform ViewBlock {
   vec4 lightDepthRow;           // LightDepth output: (p − view origin, 1) → z_L in [−1, 1]
   vec4 toSunAmbient;            // xyz: unit vector toward the sun; w: ambient share
   vec4 sunColorSlopeBias;       // rgb: sun colour; w: LightDepth slope-scale bias (0: none)
-  vec4 windTime;                // x: time in s, reduced modulo 10 wind periods (trees)
 } uView;

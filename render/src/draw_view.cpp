@@ -14,13 +14,12 @@ DrawView DrawView::fromCamera(const Camera& camera, double time, const SunSettin
   return v;
 }
 
-ViewBlock viewBlock(const DrawView& view, double windTime) {
+ViewBlock viewBlock(const DrawView& view) {
   ViewBlock b;
   b.viewProjectionRelative = glm::mat4(view.viewProjectionRelative);
   b.lightDepthRow = glm::vec4(view.lightDepthRelative);
   b.toSunAmbient = glm::vec4(glm::vec3(-view.sun.direction), static_cast<float>(view.sun.ambient));
   b.sunColorSlopeBias = glm::vec4(glm::vec3(view.sun.color), static_cast<float>(view.depthSlopeBias));
-  b.windTime = glm::vec4(static_cast<float>(windTime), 0.0f, 0.0f, 0.0f);
   return b;
 }
 

@@ -29,8 +29,8 @@ struct DrawView {
 };
 
 // The view block the surface shaders read (uniform_blocks.hpp), composed in double and
-// converted once (DESIGN §4); `windTime` for trees.
-ViewBlock viewBlock(const DrawView& view, double windTime = 0.0);
+// converted once (DESIGN §4). The wind's sway is per tree instance (TreeRenderer).
+ViewBlock viewBlock(const DrawView& view);
 
 // Framebuffer outputs every renderer offers: lit colour, object ID (GL_R32UI), the G-buffer of
 // the geometry pass (albedo, shading normal, geometric normal, object ID; see gbuffer.frag), or

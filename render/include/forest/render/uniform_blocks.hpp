@@ -16,7 +16,6 @@ struct ViewBlock {
   glm::vec4 lightDepthRow{0.0f};           // LightDepth output: (p − view origin, 1) → z_L
   glm::vec4 toSunAmbient{0.0f};            // xyz: toward the sun; w: ambient share
   glm::vec4 sunColorSlopeBias{0.0f};       // rgb: sun colour; w: LightDepth slope-scale bias
-  glm::vec4 windTime{0.0f};                // x: the trees' time, reduced modulo 10 wind periods
 };
 constexpr GLuint kViewBlockBinding = 0;
 
