@@ -94,7 +94,6 @@ std::vector<BlockLayout> expectedBlocks() {
         {"toSunUp", offsetof(FrameBlock, toSunUp)},
         {"sunColorAmbient", offsetof(FrameBlock, sunColorAmbient)},
         {"skyFog", offsetof(FrameBlock, skyFog)},
-        {"nearFar", offsetof(FrameBlock, nearFar)},
         {"blur", offsetof(FrameBlock, blur)},
         {"modes", offsetof(FrameBlock, modes)}}},
       // OcclusionCuller::QueryView (private): a mat4, then the frame's stamp in a uvec4.
