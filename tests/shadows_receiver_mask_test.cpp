@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <random>
+#include <span>
 #include <vector>
 
 #include "forest/core/error.hpp"
@@ -75,12 +76,12 @@ TEST(ReceiverMask, AReceiverTheMapCannotPlaceKeepsEveryCaster) {
   EXPECT_TRUE(mask.mayShadow(Aabb{dvec3(30, 5, 30), dvec3(31, 6, 31)}, 0.5));
 }
 
-// Pixels handed over as eye rays (addEyePoints, a frame's path) fill the mask as the same points
-// given as world positions (add): every probe caster gets the same answer. A map with a
+// Pixels handed over row by row as eye rays (addEyeRow, a frame's path) fill the mask as the same
+// points given as world positions (add): every probe caster gets the same answer. A map with a
 // perspective (w varies with height, so the division matters), with map depth as clip z / w and as
-// tsm's linear light depth; an eye looking down and across the map, points at 0.5–60 m, and only
-// those inside [zMin, zMax] counted.
-TEST(ReceiverMask, EyePointsFillTheMaskAsTheirWorldPositionsDo) {
+// tsm's linear light depth; an eye looking down and across the map, an image of 80 × 50 pixels at
+// 0.5–60 m, some without a receiver (depth 0), and only the depths inside [zMin, zMax] counted.
+TEST(ReceiverMask, EyeRowsFillTheMaskAsTheirWorldPositionsDo) {
   ShadowSetup perspective = overheadSetup();
   perspective.worldToShadowClip[1][3] = 0.02;  // w = 1 + y / 50
   ShadowSetup linear = perspective;
@@ -94,19 +95,24 @@ TEST(ReceiverMask, EyePointsFillTheMaskAsTheirWorldPositionsDo) {
   rays.up = glm::cross(rays.right, rays.forward);
   std::mt19937_64 random(11);
   std::uniform_real_distribution<double> unit(-1.0, 1.0), depth(0.5, 60.0);
-  std::vector<EyePoint> points;
-  for (int i = 0; i < 4000; ++i)
-    points.push_back({static_cast<float>(0.8 * unit(random)), static_cast<float>(0.6 * unit(random)), static_cast<float>(depth(random))});
+  const int width = 80, height = 50;
+  std::vector<float> columns(width), rows(height), depths(static_cast<size_t>(width) * height);
+  for (int x = 0; x < width; ++x) columns[static_cast<size_t>(x)] = static_cast<float>(0.8 * (2.0 * (x + 0.5) / width - 1.0));
+  for (int y = 0; y < height; ++y) rows[static_cast<size_t>(y)] = static_cast<float>(0.6 * (2.0 * (y + 0.5) / height - 1.0));
+  for (float& z : depths) z = unit(random) < -0.8 ? 0.0f : static_cast<float>(depth(random));
   const double zMin = 2.0, zMax = 40.0;
   for (const ShadowSetup& setup : {perspective, linear}) {
     ReceiverMask byWorld, byRays;
     byWorld.reset(setup, 1024, 256);
     byRays.reset(setup, 1024, 256);
-    for (const EyePoint& p : points) {
-      const double x = p.x, y = p.y, z = p.z;
-      if (z >= zMin && z <= zMax) byWorld.add(rays.eye + z * (rays.forward + x * rays.right + y * rays.up));
+    for (int y = 0; y < height; ++y) {
+      const std::span<const float> row(depths.data() + static_cast<size_t>(y) * width, width);
+      for (int x = 0; x < width; ++x) {
+        const double z = row[static_cast<size_t>(x)], cx = columns[static_cast<size_t>(x)], cy = rows[static_cast<size_t>(y)];
+        if (z >= zMin && z <= zMax) byWorld.add(rays.eye + z * (rays.forward + cx * rays.right + cy * rays.up));
+      }
+      byRays.addEyeRow(rays, rows[static_cast<size_t>(y)], columns, row, zMin, zMax);
     }
-    byRays.addEyePoints(rays, points, zMin, zMax);
     ASSERT_EQ(byRays.receivers(), byWorld.receivers());
     ASSERT_GT(byWorld.receivers(), 1000);
     int shadowing = 0, differing = 0;

@@ -224,7 +224,7 @@ int runRender(const RenderOptions& options) {
                    {"cascades", cascades.cascades}, {"split_lambda", cascades.split_lambda},
                    {"cascade_blend", cascades.cascade_blend},
                    {"shadow_texels", static_cast<long long>(cascades.cascades) * options.frame.shadowSize * options.frame.shadowSize},
-                   {"culling", options.frame.culling}, {"casters", options.frame.casters},
+                   {"culling", options.frame.culling}, {"casters", render::casterSelectionName(settings.casters)},
                    {"slope_bias", options.bias},       {"backside", settings.backside},
                    {"pcf_radius", options.frame.pcf},  {"blur_px", options.frame.blur},
                    {"fog", options.fog.value_or(scene.render.haze)},               {"timing", render::timingModeName(settings.timing)},

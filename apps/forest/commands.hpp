@@ -75,7 +75,7 @@ struct FrameOptions {
   int pcf = 0;
   double blur = 3.0;         // eye-space blur radius, pixels (0: off)
   double blurDepth = 10.0;   // metres up to which the full radius applies
-  std::string casters = "receivers";  // render::parseCasterSelection
+  std::string casters = "auto";  // render::parseCasterSelection, or auto: render::defaultCasterSelection
   // Z-partitioning; each left unset (the scene's [shadows]) unless its flag is given.
   int cascades = 1;
   double splitLambda = 0.8;
@@ -90,8 +90,9 @@ struct FrameOptions {
   // Throws InputError for names the checks let through.
   render::FrameSettings settings(const gl::ContextInfo& context) const;
   render::FrameSettings settings() const { return settings(gl::ContextInfo{}); }  // before a context exists: checks only
-  // Sets the timing and query modes of `s` for the context (what settings(context) does for them).
-  void resolveModes(render::FrameSettings& s, const gl::ContextInfo& context) const { modes.resolve(s, context); }
+  // Sets what `auto` leaves to the context in `s` — the timing and query modes and the casters —
+  // as settings(context) does.
+  void resolveModes(render::FrameSettings& s, const gl::ContextInfo& context) const;
   // The settings as report.json writes them (timing as resolved for the context; cascades as
   // resolved for the scene, with the total texels K · size²).
   nlohmann::ordered_json json(const gl::ContextInfo& context, const Scene& scene) const;

@@ -98,8 +98,10 @@ void FrameOptions::add(CLI::App& command, bool withCulling) {
   command.add_option("--casters", casters,
                      "Shadow casters: of the visible receivers' boxes (receivers), of the visible sun-facing\n"
                      "pixels (receiver-pixels: the G-buffer read back, a CPU wait on a GPU), of the frustum's\n"
-                     "focus body (frustum-body), or all")
-      ->check(CLI::IsMember({"receivers", "receiver-pixels", "frustum-body", "all"}))
+                     "focus body (frustum-body), all, or auto (receiver-pixels on a software renderer such as\n"
+                     "llvmpipe, whose rasteriser threads wait anyway while the CPU sets up the shadows; receivers\n"
+                     "on a GPU)")
+      ->check(CLI::IsMember({"auto", "receivers", "receiver-pixels", "frustum-body", "all"}))
       ->capture_default_str();
   command.add_option("--blur", blur,
                      "Eye-space blur of the shadow term (thesis §9.4.2): radius in pixels (0 to 16) up to\n"
@@ -128,6 +130,11 @@ void ModeOptions::add(CLI::App& command) {
       ->capture_default_str();
 }
 
+void FrameOptions::resolveModes(render::FrameSettings& s, const gl::ContextInfo& context) const {
+  modes.resolve(s, context);
+  if (casters == "auto") s.casters = render::defaultCasterSelection(context);
+}
+
 render::FrameSettings FrameOptions::settings(const gl::ContextInfo& context) const {
   render::FrameSettings s;
   resolveModes(s, context);
@@ -137,7 +144,7 @@ render::FrameSettings FrameOptions::settings(const gl::ContextInfo& context) con
   s.pcfRadius = pcf;
   s.blurRadius = blur;
   s.blurReferenceDepth = blurDepth;
-  s.casters = render::parseCasterSelection(casters);
+  if (casters != "auto") s.casters = render::parseCasterSelection(casters);
   if (cascadesOption && cascadesOption->count() > 0) s.cascades = cascades;
   if (splitLambdaOption && splitLambdaOption->count() > 0) s.splitLambda = splitLambda;
   if (cascadeBlendOption && cascadeBlendOption->count() > 0) s.cascadeBlend = cascadeBlend;
@@ -174,7 +181,7 @@ nlohmann::ordered_json FrameOptions::json(const gl::ContextInfo& context, const 
                               {"cascade_blend", c.cascade_blend},
                               {"shadow_texels", static_cast<long long>(c.cascades) * shadowSize * shadowSize},
                               {"culling", culling},
-                              {"casters", casters},
+                              {"casters", render::casterSelectionName(settings(context).casters)},
                               {"pcf_radius", pcf},
                               {"blur_px", blur},
                               {"blur_depth_m", blurDepth}};

@@ -56,6 +56,10 @@ gl::TimingMode defaultTimingMode(const gl::ContextInfo& info) {
   return info.softwareRenderer ? gl::TimingMode::Profiling : gl::TimingMode::GpuQueries;
 }
 
+CasterSelection defaultCasterSelection(const gl::ContextInfo& info) {
+  return info.softwareRenderer ? CasterSelection::ReceiverPixels : CasterSelection::Receivers;
+}
+
 culling::QueryMode defaultQueryMode(const gl::ContextInfo& info) {
   return info.softwareRenderer ? culling::QueryMode::Deterministic : culling::QueryMode::Async;
 }

@@ -1,15 +1,13 @@
 #pragma once
 // The visible receiver pixels of a frame for CasterSelection::ReceiverPixels: the G-buffer surface's
 // eye depth and albedo (its alpha: whether the geometric normal faces the sun) read back (the CPU
-// waits for the geometry pass), and for every pixel that faces the sun — the pixels whose shadow term is
-// looked up (shaders/shadow_lookup.frag) — its ray's offsets and eye depth, which place it from the
-// eye (shadows::ReceiverMask::addEyePoints). The rows are split into bands, one per hardware thread,
-// each band's pixels gathered by a thread of its own: a software rasteriser's threads sit idle
-// while the CPU works here, and the receiver mask fills band by band in the same way
-// (ShadowSetupPass::fillReceiverMask). Storage is kept from frame to frame.
+// waits for the geometry pass). A pixel that faces the sun — one whose shadow term is looked up
+// (shaders/shadow_lookup.frag) — is a receiver at its eye depth along its ray; the receiver mask
+// takes them row by row (shadows::ReceiverMask::addEyeRow), the rows split into bands, one per
+// hardware thread (ShadowSetupPass::fillReceiverMask): a software rasteriser's threads sit idle
+// while the CPU works here. Storage is kept from frame to frame.
 #include <glm/glm.hpp>
 
-#include <functional>
 #include <span>
 #include <vector>
 
@@ -22,23 +20,21 @@ namespace forest::render {
 class ReceiverPixels {
  public:
   void read(const GBuffer& gbuffer, int width, int height, const Camera& camera);
-  // The sun-facing pixels' centres, a list per band of rows: eye + z · (forward + x · right + y · up)
-  // with rays().
-  std::span<const std::vector<shadows::EyePoint>> bands() const { return bands_; }
+  int width() const { return static_cast<int>(columns_.size()); }
+  int height() const { return static_cast<int>(rows_.size()); }
+  // Row y's receivers (y = 0 at the bottom): the eye depth of each sun-facing pixel, 0 where there
+  // is none (sky, or a surface turned from the sun). `depths` holds width() floats.
+  void rowDepths(int y, std::span<float> depths) const;
+  // The pixel centres' offsets at eye depth 1: along right per column, along up per row; with
+  // rays() a pixel's receiver is eye + z · (forward + column · right + row · up).
+  std::span<const float> columns() const { return columns_; }
+  float row(int y) const { return rows_[static_cast<size_t>(y)]; }
   const shadows::EyeRays& rays() const { return rays_; }
 
  private:
   std::vector<glm::uvec2> surface_;  // the G-buffer surface's x and y (shaders/gbuffer.frag)
-  std::vector<float> columns_;       // per column, the pixel centre's offset along right
-  std::vector<std::vector<shadows::EyePoint>> bands_;
+  std::vector<float> columns_, rows_;
   shadows::EyeRays rays_{};
 };
-
-// Runs work(0) … work(count − 1), each but the first on a thread of its own, and returns when all
-// are done.
-void runInParallel(int count, const std::function<void(int)>& work);
-
-// One band per hardware thread (at least 1, at most 8).
-int receiverBands();
 
 }  // namespace forest::render

@@ -142,15 +142,25 @@ void ShadowSetupPass::fillReceiverMask(const ShadowSlice& slice, const FrameSett
   // the triangles the truth needs with 8-texel cells, 4.03× with 4, 3.96× with 2), coarser ones
   // are cheaper to clear and scan.
   const int cells = std::clamp(settings.shadowMapSize / 4, 64, 1024);
-  // A mask per band of pixels, each filled on a thread of its own (ReceiverPixels), then merged.
-  const auto bands = receiverPixels.bands();
-  bandMasks_.resize(bands.size());
-  runInParallel(static_cast<int>(bands.size()), [&](int band) {
+  // A mask per band of rows (rows dealt in turn: the ground and the sky shared alike), each filled
+  // on a thread of its own, then merged.
+  const int height = receiverPixels.height();
+  if (!workers_) workers_ = std::make_unique<WorkerThreads>(hardwareParts());
+  const int bands = workers_->count();
+  bandMasks_.resize(static_cast<size_t>(bands));
+  bandRows_.resize(static_cast<size_t>(bands));
+  workers_->run([&](int band) {
     shadows::ReceiverMask& mask = band == 0 ? mask_ : bandMasks_[static_cast<size_t>(band)];
     mask.reset(slice.setup, settings.shadowMapSize, cells);
-    mask.addEyePoints(receiverPixels.rays(), bands[static_cast<size_t>(band)], slice.camera.near, slice.camera.far);
+    std::vector<float>& depths = bandRows_[static_cast<size_t>(band)];
+    depths.resize(static_cast<size_t>(receiverPixels.width()));
+    for (int y = band; y < height; y += bands) {
+      receiverPixels.rowDepths(y, depths);
+      mask.addEyeRow(receiverPixels.rays(), receiverPixels.row(y), receiverPixels.columns(), depths, slice.camera.near,
+                     slice.camera.far);
+    }
   });
-  for (size_t band = 1; band < bands.size(); ++band) mask_.merge(bandMasks_[band]);
+  for (size_t band = 1; band < bandMasks_.size(); ++band) mask_.merge(bandMasks_[band]);
 }
 
 // Zhang et al. 2006 eq. (4) on [z_near, z_f], z_near the nearest visible depth (SDSM, Lauritzen et

@@ -5,6 +5,7 @@
 // setup of the chosen method (n smoothed over time, §9.2.5) and the casters its layer draws. CPU only.
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -16,6 +17,7 @@
 #include "forest/shadows/receiver_mask.hpp"
 #include "forest/shadows/shadow_setup.hpp"
 #include "receiver_pixels.hpp"
+#include "worker_threads.hpp"
 
 namespace forest::render {
 
@@ -89,6 +91,8 @@ class ShadowSetupPass {
   shadows::CasterSelector selector_;
   shadows::ReceiverMask mask_;
   std::vector<shadows::ReceiverMask> bandMasks_;  // [1, bands): the other bands' masks (fillReceiverMask)
+  std::vector<std::vector<float>> bandRows_;      // per band: a row's receiver depths (fillReceiverMask)
+  std::unique_ptr<WorkerThreads> workers_;        // the bands' threads, started on first use
 };
 
 }  // namespace forest::render

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 
 #include "forest/core/error.hpp"
 
@@ -60,23 +61,25 @@ void ReceiverMask::add(const dvec3& world) {
   addClip(h, 1.0 / h.w, depthOf(world, h));
 }
 
-void ReceiverMask::addEyePoints(const EyeRays& rays, std::span<const EyePoint> points, double zMin, double zMax) {
-  // M (eye + z (f + x r + y u)) = M eye + z (M f + x M r + y M u): the map's clip position, and
-  // likewise tsm's linear light depth, is affine in z·(1, x, y) for one eye.
+void ReceiverMask::addEyeRow(const EyeRays& rays, float row, std::span<const float> columns, std::span<const float> depths,
+                             double zMin, double zMax) {
+  // M (eye + z (f + y u + x r)) = M eye + z (M (f + y u) + x M r): the map's clip position, and
+  // likewise tsm's linear light depth, is affine in z·(1, x) along a row.
+  const dvec3 rowRay = rays.forward + static_cast<double>(row) * rays.up;
   const dvec4 origin = worldToShadowClip_ * dvec4(rays.eye, 1.0);
-  const dvec4 forward = worldToShadowClip_ * dvec4(rays.forward, 0.0);
+  const dvec4 base = worldToShadowClip_ * dvec4(rowRay, 0.0);
   const dvec4 right = worldToShadowClip_ * dvec4(rays.right, 0.0);
-  const dvec4 up = worldToShadowClip_ * dvec4(rays.up, 0.0);
   const double depthOrigin = glm::dot(worldToLightDepth_, dvec4(rays.eye, 1.0));
-  const double depthForward = glm::dot(worldToLightDepth_, dvec4(rays.forward, 0.0));
+  const double depthBase = glm::dot(worldToLightDepth_, dvec4(rowRay, 0.0));
   const double depthRight = glm::dot(worldToLightDepth_, dvec4(rays.right, 0.0));
-  const double depthUp = glm::dot(worldToLightDepth_, dvec4(rays.up, 0.0));
-  for (const EyePoint& p : points) {
-    const double x = p.x, y = p.y, z = p.z;
+  const size_t count = std::min(columns.size(), depths.size());
+  for (size_t i = 0; i < count; ++i) {
+    const double z = depths[i];
     if (!(z >= zMin && z <= zMax)) continue;
-    const dvec4 h = origin + z * (forward + x * right + y * up);
+    const double x = columns[i];
+    const dvec4 h = origin + z * (base + x * right);
     const double invW = 1.0 / h.w;  // one division per point: clip z / w is h.z · invW
-    const double depth = linearDepth_ ? depthOrigin + z * (depthForward + x * depthRight + y * depthUp) : h.z * invW;
+    const double depth = linearDepth_ ? depthOrigin + z * (depthBase + x * depthRight) : h.z * invW;
     addClip(h, invW, depth);
   }
 }

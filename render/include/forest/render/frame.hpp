@@ -97,6 +97,12 @@ struct FrameSettings {
 // Deterministic queries on a software renderer, async on a hardware one (the default of --queries).
 culling::QueryMode defaultQueryMode(const gl::ContextInfo& info);
 
+// Receiver pixels on a software renderer, receiver boxes on a hardware one (the default of
+// --casters). On llvmpipe the read-back costs no GPU time (the rasteriser's threads sit idle while
+// the CPU sets up the shadows either way) and the mask's fewer casters save more than it costs
+// (docs/design.md); a GPU would stall on the read-back (DESIGN §9).
+CasterSelection defaultCasterSelection(const gl::ContextInfo& info);
+
 // Profiling on a software renderer, timer queries on a hardware one (the default of --timing).
 gl::TimingMode defaultTimingMode(const gl::ContextInfo& info);
 gl::TimingMode parseTimingMode(std::string_view name);  // "profile", "queries"; throws InputError

@@ -16,13 +16,6 @@
 
 namespace forest::shadows {
 
-// A receiver seen from an eye (EyeRays): the point eye + z · (forward + x · right + y · up).
-// Floats, as the GPU places the pixel (its eye depth is a float in the G-buffer): a frame hands
-// over one per sun-facing pixel, and 12 bytes a point keep that stream half the size of doubles.
-struct EyePoint {
-  float x, y;  // the pixel centre's offsets along right and up at eye depth 1 (ndc · tan(fov / 2))
-  float z;     // eye depth (m)
-};
 // The eye's position and orthonormal basis.
 struct EyeRays {
   glm::dvec3 eye, forward, right, up;
@@ -36,10 +29,13 @@ class ReceiverMask {
   // A receiver point (world). Points outside the map read its border texels (clamped) and count
   // there.
   void add(const glm::dvec3& world);
-  // The points of `points` with zMin ≤ z ≤ zMax, as add() would take them: the map's transform is
-  // applied to the eye's basis once, so each point costs a few multiply-adds (a frame brings one
-  // per sun-facing pixel).
-  void addEyePoints(const EyeRays& rays, std::span<const EyePoint> points, double zMin, double zMax);
+  // One row of an image seen from the eye (a frame hands over every row): pixel i's receiver is
+  // eye + depths[i] · (forward + columns[i] · right + row · up), as add() would take it, when
+  // zMin ≤ depths[i] ≤ zMax (0: no receiver at that pixel). The map's transform is applied to the
+  // row's rays once, so each pixel costs a few multiply-adds and one division. Floats, as the GPU
+  // places the pixel (its eye depth is a float in the G-buffer).
+  void addEyeRow(const EyeRays& rays, float row, std::span<const float> columns, std::span<const float> depths, double zMin,
+                 double zMax);
   // Takes the points of `other`, a mask reset for the same map and cells (filled from another part
   // of the points, e.g. on another thread): per cell the farther depth, the receivers of both.
   void merge(const ReceiverMask& other);
