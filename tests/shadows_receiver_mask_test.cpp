@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <random>
 #include <span>
 #include <vector>
@@ -79,8 +80,11 @@ TEST(ReceiverMask, AReceiverTheMapCannotPlaceKeepsEveryCaster) {
 // Pixels handed over row by row as eye rays (addEyeRow, a frame's path) fill the mask as the same
 // points given as world positions (add): every probe caster gets the same answer. A map with a
 // perspective (w varies with height, so the division matters), with map depth as clip z / w and as
-// tsm's linear light depth; an eye looking down and across the map, an image of 80 × 50 pixels at
-// 0.5–60 m, some without a receiver (depth 0), and only the depths inside [zMin, zMax] counted.
+// tsm's linear light depth; an eye looking down and across the map, and only the depths inside
+// [zMin, zMax] counted. Two images: 80 × 50 pixels at scattered depths of 0.5–60 m, some without a
+// receiver (depth 0), so that neighbours rarely share a cell; and 400 × 50 pixels of a rippled
+// ground plane (every other pixel 1% nearer; sky above the horizon), so that runs of neighbours share
+// one and the nearest of a run is often its last (addEyeRow keeps a run's cell in a register).
 TEST(ReceiverMask, EyeRowsFillTheMaskAsTheirWorldPositionsDo) {
   ShadowSetup perspective = overheadSetup();
   perspective.worldToShadowClip[1][3] = 0.02;  // w = 1 + y / 50
@@ -95,38 +99,62 @@ TEST(ReceiverMask, EyeRowsFillTheMaskAsTheirWorldPositionsDo) {
   rays.up = glm::cross(rays.right, rays.forward);
   std::mt19937_64 random(11);
   std::uniform_real_distribution<double> unit(-1.0, 1.0), depth(0.5, 60.0);
-  const int width = 80, height = 50;
-  std::vector<float> columns(width), rows(height), depths(static_cast<size_t>(width) * height);
-  for (int x = 0; x < width; ++x) columns[static_cast<size_t>(x)] = static_cast<float>(0.8 * (2.0 * (x + 0.5) / width - 1.0));
-  for (int y = 0; y < height; ++y) rows[static_cast<size_t>(y)] = static_cast<float>(0.6 * (2.0 * (y + 0.5) / height - 1.0));
-  for (float& z : depths) z = unit(random) < -0.8 ? 0.0f : static_cast<float>(depth(random));
   const double zMin = 2.0, zMax = 40.0;
-  for (const ShadowSetup& setup : {perspective, linear}) {
-    ReceiverMask byWorld, byRays;
-    byWorld.reset(setup, 1024, 256);
-    byRays.reset(setup, 1024, 256);
-    for (int y = 0; y < height; ++y) {
-      const std::span<const float> row(depths.data() + static_cast<size_t>(y) * width, width);
-      for (int x = 0; x < width; ++x) {
-        const double z = row[static_cast<size_t>(x)], cx = columns[static_cast<size_t>(x)], cy = rows[static_cast<size_t>(y)];
-        if (z >= zMin && z <= zMax) byWorld.add(rays.eye + z * (rays.forward + cx * rays.right + cy * rays.up));
+  auto check = [&](const char* image, int width, int height, const std::function<float(int, double, double)>& depthAt) {
+    std::vector<float> columns(width), rows(height), depths(static_cast<size_t>(width) * height);
+    for (int x = 0; x < width; ++x) columns[static_cast<size_t>(x)] = static_cast<float>(0.8 * (2.0 * (x + 0.5) / width - 1.0));
+    for (int y = 0; y < height; ++y) rows[static_cast<size_t>(y)] = static_cast<float>(0.6 * (2.0 * (y + 0.5) / height - 1.0));
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x)
+        depths[static_cast<size_t>(y) * width + x] = depthAt(x, columns[static_cast<size_t>(x)], rows[static_cast<size_t>(y)]);
+    for (const ShadowSetup& setup : {perspective, linear}) {
+      ReceiverMask byWorld, byRays;
+      byWorld.reset(setup, 1024, 256);
+      byRays.reset(setup, 1024, 256);
+      for (int y = 0; y < height; ++y) {
+        const std::span<const float> row(depths.data() + static_cast<size_t>(y) * width, width);
+        for (int x = 0; x < width; ++x) {
+          const double z = row[static_cast<size_t>(x)], cx = columns[static_cast<size_t>(x)], cy = rows[static_cast<size_t>(y)];
+          if (z >= zMin && z <= zMax) byWorld.add(rays.eye + z * (rays.forward + cx * rays.right + cy * rays.up));
+        }
+        byRays.addEyeRow(rays, rows[static_cast<size_t>(y)], columns, row, zMin, zMax);
       }
-      byRays.addEyeRow(rays, rows[static_cast<size_t>(y)], columns, row, zMin, zMax);
+      ASSERT_EQ(byRays.receivers(), byWorld.receivers()) << image;
+      ASSERT_GT(byWorld.receivers(), 1000) << image;
+      int shadowing = 0, differing = 0;
+      for (int i = 0; i < 3000; ++i) {
+        const dvec3 corner(30.0 * unit(random), 2.0 + 8.0 * unit(random), 30.0 * unit(random));
+        const Aabb caster{corner, corner + dvec3(0.6, 1.0, 0.6)};
+        const bool expected = byWorld.mayShadow(caster, 0.5);
+        shadowing += expected ? 1 : 0;
+        differing += expected != byRays.mayShadow(caster, 0.5) ? 1 : 0;
+      }
+      EXPECT_EQ(differing, 0) << image;
+      EXPECT_GT(shadowing, 100) << image;       // the probes meet receivers …
+      EXPECT_LT(shadowing, 3000 - 100) << image;  // … and miss them
+      // And probes just above receivers (2–3 cm, toward the light): a cell that kept a nearer
+      // receiver than its farthest would lose some of them.
+      int close = 0, closeDiffering = 0;
+      for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; x += 3) {
+          const double z = depths[static_cast<size_t>(y) * width + x];
+          if (!(z >= zMin && z <= zMax)) continue;
+          const dvec3 p = rays.eye + z * (rays.forward + double(columns[static_cast<size_t>(x)]) * rays.right +
+                                          double(rows[static_cast<size_t>(y)]) * rays.up);
+          const Aabb caster{p + dvec3(-0.005, 0.02, -0.005), p + dvec3(0.005, 0.03, 0.005)};
+          ++close;
+          closeDiffering += byWorld.mayShadow(caster, 0.0) != byRays.mayShadow(caster, 0.0) ? 1 : 0;
+        }
+      EXPECT_GT(close, 300) << image;
+      EXPECT_EQ(closeDiffering, 0) << image;
     }
-    ASSERT_EQ(byRays.receivers(), byWorld.receivers());
-    ASSERT_GT(byWorld.receivers(), 1000);
-    int shadowing = 0, differing = 0;
-    for (int i = 0; i < 3000; ++i) {
-      const dvec3 corner(30.0 * unit(random), 2.0 + 8.0 * unit(random), 30.0 * unit(random));
-      const Aabb caster{corner, corner + dvec3(0.6, 1.0, 0.6)};
-      const bool expected = byWorld.mayShadow(caster, 0.5);
-      shadowing += expected ? 1 : 0;
-      differing += expected != byRays.mayShadow(caster, 0.5) ? 1 : 0;
-    }
-    EXPECT_EQ(differing, 0);
-    EXPECT_GT(shadowing, 100);       // the probes meet receivers …
-    EXPECT_LT(shadowing, 3000 - 100);  // … and miss them
-  }
+  };
+  check("scattered", 80, 50, [&](int, double, double) { return unit(random) < -0.8 ? 0.0f : static_cast<float>(depth(random)); });
+  check("rippled ground", 400, 50, [&](int column, double x, double y) {
+    const double down = -(rays.forward + x * rays.right + y * rays.up).y;  // the ray's drop per unit of eye depth
+    const double ripple = column % 2 == 1 ? 0.99 : 1.0;
+    return down > 0.0 ? static_cast<float>(ripple * rays.eye.y / down) : 0.0f;  // y = 0 at that eye depth; 0: sky
+  });
 }
 
 // A frame fills one mask per band of pixels, each on a thread of its own, and merges them
