@@ -139,6 +139,30 @@ TEST(ForestCli, RenderWritesALitImageHeadless) {
   EXPECT_GT(png.at(160, 175, 1), png.at(160, 175, 2));  // green ground
 }
 
+// --casters auto (the default) is the receiver pixels on a software renderer and the receiver boxes
+// on a GPU (render::defaultCasterSelection), as `forest info` reports the renderer; the record says
+// which it resolved to. The mask only removes casters from the boxes' selection, so the default
+// never draws more shadow triangles than --casters receivers on the same view.
+TEST(ForestCli, CastersAutoFollowTheRenderer) {
+  const Result info = runForest("info --json");
+  ASSERT_EQ(info.exitCode, 0) << info.err;
+  const bool software = nlohmann::json::parse(info.out)["software_renderer"].get<bool>();
+  const std::string scene = std::string(FOREST_REPO_DATA) + "/scenes/terrain.toml";
+  std::map<std::string, nlohmann::json> records;
+  for (const char* casters : {"auto", "receivers"}) {
+    const fs::path image = fs::path(FOREST_TEST_OUTPUT) / "cli" / (std::string("casters-") + casters + ".png");
+    fs::remove(image);
+    const Result r = runForest("render --scene " + scene + " --casters " + casters + " --out " + image.string() +
+                               " --width 320 --height 180");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    records[casters] = nlohmann::json::parse(readTextFile(fs::path(image).replace_extension(".json")));
+  }
+  EXPECT_EQ(records["auto"]["settings"]["casters"], software ? "receiver-pixels" : "receivers");
+  EXPECT_EQ(records["receivers"]["settings"]["casters"], "receivers");
+  EXPECT_GT(records["receivers"]["shadow"]["triangles"].get<long long>(), 0);
+  EXPECT_LE(records["auto"]["shadow"]["triangles"].get<long long>(), records["receivers"]["shadow"]["triangles"].get<long long>());
+}
+
 TEST(ForestCli, RenderDrawsTheTerrainScene) {
   const fs::path image = fs::path(FOREST_TEST_OUTPUT) / "cli" / "terrain.png";
   fs::remove(image);
