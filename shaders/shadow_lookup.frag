@@ -5,8 +5,9 @@
 // The pixel's position from its eye depth, into the shadow map with the eye-relative light matrix
 // (its ray in shadow clip space comes from fullscreen.vert), hardware 2×2 PCF (sampler2DShadow
 // with linear filtering). Forced to 0 where the geometric normal faces away from the sun: backside
-// rendering leaves noise on lee faces, and the eye-space blur must not spread it. The caller fetches the pixel's surface (gbuffer_read.frag) and
-// hands it over, so that a pass reads each G-buffer texel once.
+// rendering leaves noise on lee faces, and the eye-space blur must not spread it. The caller
+// fetches the pixel's surface (gbuffer_read.frag) and hands it over, so that a pass reads each
+// G-buffer texel once.
 // The rest comes from the frame block (frame_block.glsl): the lookup matrices, tsm's linear light
 // depth row, the sun, the slices' ends. The PCF radius (0: one hardware 2×2 lookup;
 // r: (2r+1)² lookups a texel apart) and the slice count are compile-time constants, PCF_RADIUS and

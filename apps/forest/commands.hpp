@@ -90,8 +90,8 @@ struct FrameOptions {
   // Throws InputError for names the checks let through.
   render::FrameSettings settings(const gl::ContextInfo& context) const;
   render::FrameSettings settings() const { return settings(gl::ContextInfo{}); }  // before a context exists: checks only
-  // Sets what `auto` leaves to the context in `s` — the timing and query modes and the casters —
-  // as settings(context) does.
+  // Sets what `auto` may leave to the context in `s` — the timing and query modes and the
+  // casters — as settings(context) does.
   void resolveModes(render::FrameSettings& s, const gl::ContextInfo& context) const;
   // The settings as report.json writes them (timing as resolved for the context; cascades as
   // resolved for the scene, with the total texels K · size²).

@@ -132,7 +132,7 @@ void ModeOptions::add(CLI::App& command) {
 
 void FrameOptions::resolveModes(render::FrameSettings& s, const gl::ContextInfo& context) const {
   modes.resolve(s, context);
-  if (casters == "auto") s.casters = render::defaultCasterSelection(context);
+  s.casters = casters == "auto" ? render::defaultCasterSelection(context) : render::parseCasterSelection(casters);
 }
 
 render::FrameSettings FrameOptions::settings(const gl::ContextInfo& context) const {
@@ -144,7 +144,6 @@ render::FrameSettings FrameOptions::settings(const gl::ContextInfo& context) con
   s.pcfRadius = pcf;
   s.blurRadius = blur;
   s.blurReferenceDepth = blurDepth;
-  if (casters != "auto") s.casters = render::parseCasterSelection(casters);
   if (cascadesOption && cascadesOption->count() > 0) s.cascades = cascades;
   if (splitLambdaOption && splitLambdaOption->count() > 0) s.splitLambda = splitLambda;
   if (cascadeBlendOption && cascadeBlendOption->count() > 0) s.cascadeBlend = cascadeBlend;
