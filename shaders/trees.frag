@@ -1,6 +1,7 @@
 #version 450 core
 // Tree surface: per-vertex albedo times the tree's tint. Outputs (one per program): lit (Lambert
-// plus a weak global ambient, thesis §6.2, no shadows), OUTPUT_GBUFFER (gbuffer.frag), OUTPUT_ID.
+// plus a weak global ambient, thesis §6.2, no shadows), OUTPUT_GBUFFER (gbuffer.frag), OUTPUT_ID,
+// OUTPUT_LIGHT_DEPTH (light_depth.frag), OUTPUT_QUERY_STAMP (query_stamp.frag; the ID is a slot).
 in vec3 vNormal;
 in vec3 vAlbedo;
 in vec3 vRelativePosition;
@@ -14,6 +15,8 @@ void writeGBuffer(vec3 albedo, vec3 shadingNormal, vec3 relativePosition, uint o
 out uint fragId;
 #elif defined(OUTPUT_LIGHT_DEPTH)
 void writeLightDepth(vec3 relativePosition);
+#elif defined(OUTPUT_QUERY_STAMP)
+void writeQueryStamp(uint slot);
 #else
 out vec4 fragColor;
 #endif
@@ -25,6 +28,8 @@ void main() {
   fragId = vObjectId;
 #elif defined(OUTPUT_LIGHT_DEPTH)
   writeLightDepth(vRelativePosition);
+#elif defined(OUTPUT_QUERY_STAMP)
+  writeQueryStamp(vObjectId);
 #else
   vec3 n = normalize(vNormal);
   float ambient = uView.toSunAmbient.w;

@@ -12,6 +12,9 @@ layout(location = 6) in uint iObjectId;
 
 // uView: the view block (view_block.glsl).
 
+// The same position in every program that draws trees: a geometry query (query_stamp.frag) must
+// cover exactly the fragments, at exactly the depths, that the tree's draw does.
+invariant gl_Position;
 out vec3 vNormal;
 out vec3 vAlbedo;
 out vec3 vRelativePosition;  // to the view's origin

@@ -1,8 +1,10 @@
 // Visibility per tree (DESIGN §4 culling/): each tree is an object of the culling hierarchy, and
 // the visible trees are drawn by one instanced call per species × LOD. Checked on the GPU with
 // counts from outside the culler: the triangles the draw generates (GL_PRIMITIVES_GENERATED)
-// against the species meshes' triangle counts, and the trees in the object-ID image.
+// against the species meshes' triangle counts, and the trees in the object-ID image; and the
+// trees chc++ draws with geometry queries against the trees in the brute-force ID image.
 #include <algorithm>
+#include <cstdio>
 #include <set>
 #include <vector>
 
@@ -143,6 +145,71 @@ TEST_F(TreeVisibilityGl, OneVisibleTreeOfAClusterDrawsThatTreeOnly) {
     EXPECT_EQ(r.stats.trianglesDrawn, counting.primitives) << "frame " << frame;
     EXPECT_TRUE(std::binary_search(r.visibleObjects.begin(), r.visibleObjects.end(),
                                    static_cast<std::uint32_t>(objects.tileCount()) + target));
+  }
+}
+
+
+// Geometry queries ([culling] geometry_queries): a box sees through the gaps between nearer crowns,
+// a tree's own triangles do not. On a still ground-level view into the default forest, every
+// visible leaf is queried again with its triangles within n_av frames (§3.3), against the depth of
+// everything visible the frame before; so after n_av + 2 frames chc++ draws exactly the trees that
+// have a pixel in the brute-force object-ID image — no more (and, as always, no fewer). Box queries
+// alone draw more on this view (checked too, so that the view can tell them apart).
+TEST_F(TreeVisibilityGl, GeometryQueriesDrawExactlyTheTreesWithPixelsOnAStillView) {
+  const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
+  const terrain::Terrain terrain(*scene.terrain);
+  const vegetation::Forest forest(*scene.vegetation, terrain);
+  const render::SceneObjects objects(&terrain, &forest, scene.props);
+  const render::TerrainRenderer terrainIds(terrain, render::TerrainRenderer::Output::ObjectId, objects.terrainIdBase());
+  const render::TreeRenderer treeIds(forest, render::TreeRenderer::Output::ObjectId, objects.treeIdBase());
+  const culling::Bvh bvh(objects.boxes(), 1);
+  Camera camera = scene.startCamera();
+  camera.aspect = static_cast<double>(kWidth) / kHeight;
+  const terrain::TerrainLod lod = terrain.lodFor(camera, kHeight);
+  const IdDepthTarget image(kWidth, kHeight);
+  auto treesIn = [&](std::span<const std::uint32_t> ids) {
+    std::set<std::uint32_t> trees;
+    for (std::uint32_t id : ids)
+      if (id >= objects.treeIdBase() && id < objects.propIdBase()) trees.insert(id - objects.treeIdBase());
+    return trees;
+  };
+  // Brute force: every object drawn, the trees with a pixel.
+  image.bindAndClear();
+  {
+    render::SceneDrawer all(objects, &terrainIds, &treeIds, nullptr, camera, &lod, 0.0, scene.sun);
+    culling::OcclusionCuller none;
+    none.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::None, all, objects.queryShapes(&lod));
+  }
+  const std::set<std::uint32_t> withPixels = treesIn(image.readIds());
+  ASSERT_GT(withPixels.size(), 100u) << "the view should look into the forest";
+
+  for (const bool geometryQueries : {true, false}) {
+    CullingSettings settings = scene.culling;
+    settings.geometry_queries = geometryQueries;
+    culling::OcclusionCuller culler;
+    culler.setParameters(settings);
+    const int frames = settings.visible_requery_frames + 2;
+    std::set<std::uint32_t> drawn;
+    int geometryQueriesIssued = 0;
+    for (int frame = 0; frame < frames; ++frame) {
+      image.bindAndClear();
+      render::SceneDrawer drawer(objects, &terrainIds, &treeIds, nullptr, camera, &lod, 0.0, scene.sun);
+      const culling::CullingResult& r =
+          culler.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::ChcPlusPlus, drawer, objects.queryShapes(&lod));
+      EXPECT_EQ(treesIn(image.readIds()), withPixels) << "frame " << frame << ": the image must equal brute force's";
+      drawn.clear();
+      for (std::uint32_t o : r.visibleObjects)
+        if (o >= objects.tileCount()) drawn.insert(static_cast<std::uint32_t>(o - objects.tileCount()));
+      geometryQueriesIssued = r.stats.geometryQueries;
+    }
+    std::printf("[geometry queries %s] %zu trees with pixels, %zu drawn\n", geometryQueries ? "on" : "off", withPixels.size(), drawn.size());
+    if (geometryQueries) {
+      EXPECT_GT(geometryQueriesIssued, 0);
+      EXPECT_EQ(drawn, withPixels) << drawn.size() << " trees drawn, " << withPixels.size() << " with pixels";
+    } else {
+      EXPECT_EQ(geometryQueriesIssued, 0);
+      EXPECT_GT(drawn.size(), withPixels.size()) << "box queries should see through the crowns' gaps on this view";
+    }
   }
 }
 

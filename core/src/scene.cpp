@@ -65,6 +65,7 @@ void readCulling(TomlSection& s, CullingSettings& c) {
   c.multiqueries = s.boolean("multiqueries", c.multiqueries);
   c.tight_box_depth = static_cast<int>(s.integer("tight_box_depth", c.tight_box_depth, 0, 8));
   c.tight_box_area_ratio = s.number("tight_box_area_ratio", c.tight_box_area_ratio, detail::closed(0.1, 10.0));
+  c.geometry_queries = s.boolean("geometry_queries", c.geometry_queries);
   s.finish();
 }
 
@@ -245,7 +246,8 @@ std::string sceneToToml(const Scene& scene) {
                       {"visible_requery_frames", c.visible_requery_frames},
                       {"multiqueries", c.multiqueries},
                       {"tight_box_depth", c.tight_box_depth},
-                      {"tight_box_area_ratio", c.tight_box_area_ratio}};
+                      {"tight_box_area_ratio", c.tight_box_area_ratio},
+                      {"geometry_queries", c.geometry_queries}};
   toml::table shadows{{"cascades", scene.shadows.cascades},
                       {"split_lambda", scene.shadows.split_lambda},
                       {"cascade_blend", scene.shadows.cascade_blend}};

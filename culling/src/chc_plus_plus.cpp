@@ -104,6 +104,34 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     pending.push({first, group.size(), slot, drawnAlready});
   };
   auto issueOne = [&](std::int32_t n, bool drawnAlready) { issue({&n, 1}, drawnAlready); };
+  // Geometry queries (beyond the paper; CullingSettings::geometry_queries): for leaves whose
+  // objects the drawer can query with their own triangles.
+  std::vector<std::int32_t>& geometryQueue = scratch.geometryQueue;
+  auto ownGeometry = [&](std::int32_t n) {
+    if (!p.geometry_queries || !nodes[n].leaf()) return false;
+    for (std::uint32_t o : t.objectsOf(n))
+      if (!t.drawer.queriesOwnGeometry(o)) return false;
+    return true;
+  };
+  auto issueGeometry = [&](std::int32_t n, bool drawnAlready) {
+    ++t.stats.queriesIssued;
+    ++t.stats.geometryQueries;
+    const std::size_t slot = issueGeometryQuery(t.objectsOf(n));
+    const std::size_t first = groupNodes.size();
+    groupNodes.push_back(n);
+    pending.push({first, 1, slot, drawnAlready, 0, true});
+  };
+  // Like the i-queue, after the render queue: the depth buffer must hold everything known visible.
+  auto issueGeometryQueue = [&] {
+    flushRender();
+    for (std::int32_t n : geometryQueue) issueGeometry(n, false);
+    geometryQueue.clear();
+  };
+  // A visible leaf's query for the next frame (§3.2's v-queue): with its triangles when it can be.
+  auto issueVisible = [&](std::int32_t n) {
+    if (ownGeometry(n)) issueGeometry(n, true);
+    else issueOne(n, true);
+  };
   // §3.1, §3.4: the i-queue goes out as one batch; with multiqueries, nodes sorted by p_keep are
   // grouped greedily while the group's queries saved per query issued, |M| / (1 + (1 − Π p)·|M|),
   // grows (a single node is an ordinary query: cost 1).
@@ -165,12 +193,20 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
       return;
     }
     const std::int32_t n = groupNodes[q.first];
+    NodeState& s = state_[n];
     if (!visible) {
       foundInvisible(n);
+      if (q.geometry) s.geometryHidden = true;
       return;
     }
-    NodeState& s = state_[n];
     const bool wasInvisible = !q.drawnAlready;
+    // A box that sees something may see it through the gaps of nearer crowns: before the leaf is
+    // drawn, its own triangles are asked.
+    if (wasInvisible && !q.geometry && ownGeometry(n)) {
+      geometryQueue.push_back(n);
+      return;
+    }
+    if (q.geometry) s.geometryHidden = false;
     pullUpVisibility(n);
     s.invisibleFrames = 0;
     if (nodes[n].leaf()) {
@@ -194,11 +230,13 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     if (traversal.empty()) {
       if (!invisibleQueue.empty()) {
         issueInvisibleQueue();
+      } else if (!geometryQueue.empty()) {
+        issueGeometryQueue();
       } else if (!pending.empty()) {
         // About to wait: issue the visible leaves' queries first (§3.2), then take a result.
         if (!visibleQueue.empty()) {
           flushRender();
-          for (std::int32_t n : visibleQueue) issueOne(n, true);
+          for (std::int32_t n : visibleQueue) issueVisible(n);
           visibleQueue.clear();
         }
         takeResult();
@@ -223,6 +261,10 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     }
     if (!wasVisible) {  // §3.1: wait in the i-queue for a batch
       s.visible = false;
+      if (s.geometryHidden && ownGeometry(n)) {  // its box saw past what hid it: ask its triangles again
+        geometryQueue.push_back(n);
+        continue;
+      }
       invisibleQueue.push_back(n);
       if (static_cast<int>(invisibleQueue.size()) >= p.batch_size) issueInvisibleQueue();
       continue;
@@ -245,7 +287,7 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
   }
   flushRender();
   // The remaining visible leaves' queries (for the next frame); their results complete this frame's state.
-  for (std::int32_t n : visibleQueue) issueOne(n, true);
+  for (std::int32_t n : visibleQueue) issueVisible(n);
   visibleQueue.clear();
   while (!pending.empty()) takeResult();
 }

@@ -136,11 +136,25 @@ void OcclusionCuller::endQueries() {
   glBindVertexArray(0);
 }
 
+namespace {
+// At most three per node and frame: a node enters the traversal once, and is queried once for
+// itself, once more when a multiquery that held it found something, and once with its own
+// triangles (a leaf's geometry query).
+std::uint32_t takeSlot(std::size_t& used, std::size_t slots) {
+  if (used == slots) throw Error(fmt::format("OcclusionCuller: more than {} queries in a frame", slots));
+  return static_cast<std::uint32_t>(used++);
+}
+}  // namespace
+
+std::size_t OcclusionCuller::issueGeometryQuery(std::span<const std::uint32_t> objects) {
+  const std::uint32_t slot = takeSlot(used_, slots_);
+  geometryObjects_.insert(geometryObjects_.end(), objects.begin(), objects.end());
+  geometrySlots_.insert(geometrySlots_.end(), objects.size(), slot);
+  return slot;
+}
+
 std::size_t OcclusionCuller::issueQuery(std::span<const Aabb> boxes) {
-  // At most two per node and frame: a node enters the traversal once, and is queried once for
-  // itself and once more when a multiquery that held it found something.
-  if (used_ == slots_) throw Error(fmt::format("OcclusionCuller: more than {} queries in a frame", slots_));
-  const auto slot = static_cast<std::uint32_t>(used_++);
+  const std::uint32_t slot = takeSlot(used_, slots_);
   for (const Aabb& box : boxes) {
     // Camera-relative in double, grown by 4 float ulps of its largest coordinate so that a face
     // never sits behind the geometry it bounds after rounding.
@@ -153,15 +167,29 @@ std::size_t OcclusionCuller::issueQuery(std::span<const Aabb> boxes) {
 }
 
 void OcclusionCuller::drawQueryBatch() {
-  if (batch_.empty()) return;
-  beginQueries();
-  const GLuint ringBefore = boxes_->id();
-  const gl::StreamRing::Allocation part = boxes_->allocate(batch_.size() * sizeof(QueryBox));
-  if (boxes_->id() != ringBefore) glVertexArrayVertexBuffer(vertexArray_.id(), 1, boxes_->id(), 0, sizeof(QueryBox));
-  std::memcpy(part.data, batch_.data(), batch_.size() * sizeof(QueryBox));
-  glDrawElementsInstancedBaseInstance(GL_TRIANGLES, 36, GL_UNSIGNED_INT, nullptr, static_cast<GLsizei>(batch_.size()),
-                                      static_cast<GLuint>(part.offset / sizeof(QueryBox)));
-  batch_.clear();
+  if (batch_.empty() && geometryObjects_.empty()) return;
+  if (!batch_.empty()) {
+    beginQueries();
+    const GLuint ringBefore = boxes_->id();
+    const gl::StreamRing::Allocation part = boxes_->allocate(batch_.size() * sizeof(QueryBox));
+    if (boxes_->id() != ringBefore) glVertexArrayVertexBuffer(vertexArray_.id(), 1, boxes_->id(), 0, sizeof(QueryBox));
+    std::memcpy(part.data, batch_.data(), batch_.size() * sizeof(QueryBox));
+    glDrawElementsInstancedBaseInstance(GL_TRIANGLES, 36, GL_UNSIGNED_INT, nullptr, static_cast<GLsizei>(batch_.size()),
+                                        static_cast<GLuint>(part.offset / sizeof(QueryBox)));
+    batch_.clear();
+  }
+  if (!geometryObjects_.empty()) {
+    // The objects' own triangles, as their draw places them; GL_GEQUAL, so that a leaf drawn
+    // already this frame (a visible leaf's re-query) passes where its own depth is still the
+    // nearest. The drawer binds its own program: the box program is bound again next time.
+    beginQueries();
+    glDepthFunc(GL_GEQUAL);
+    stats_->queryTriangles += drawer_->drawGeometryQueries(geometryObjects_, geometrySlots_);
+    glDepthFunc(GL_GREATER);
+    endQueries();
+    geometryObjects_.clear();
+    geometrySlots_.clear();
+  }
   drawnSlots_ = used_;
   if (queryMode_ == QueryMode::Async) {
     // Shader writes reach a mapped buffer after this barrier and a fence (GL 4.5 §7.12.2); the
@@ -253,8 +281,12 @@ const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb>
     state_.assign(bvh.nodes().size(), NodeState{});
     stateOf_ = &bvh;
     scratch_->reserve(bvh.nodes().size(), bvh.objectCount(), shapes.boxes.size(), result_.visibleObjects);
-    allocateResultSlots(2 * bvh.nodes().size() + 2);
+    allocateResultSlots(3 * bvh.nodes().size() + 2);
+    geometryObjects_.reserve(bvh.objectCount());
+    geometrySlots_.reserve(bvh.objectCount());
   }
+  drawer_ = &drawer;
+  stats_ = &result.stats;
   Traversal t{bvh, camera, view, Frustum(camera), drawer, result.stats, result.visibleObjects, scratch, shapes,
               parameters_.tight_box_area_ratio};
   const std::vector<BvhNode>& nodes = bvh.nodes();

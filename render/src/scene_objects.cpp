@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "forest/core/error.hpp"
+
 namespace forest::render {
 
 SceneObjects::SceneObjects(const terrain::Terrain* terrain, const vegetation::Forest* forest,
@@ -86,7 +88,24 @@ SceneDrawer::SceneDrawer(const SceneObjects& objects, const TerrainRenderer* ter
   tiles_.reserve(objects.tileCount());
   blocks_.reserve(objects.tileCount() * terrain::Terrain::kMaxBlockBoxes);
   treeList_.reserve(objects.treeCount());
+  querySlots_.reserve(objects.treeCount());
   propList_.reserve(objects.propCount());
+}
+
+bool SceneDrawer::queriesOwnGeometry(std::uint32_t object) const {
+  return trees_ && objects_.objects()[object].kind == SceneObjects::Kind::Tree;
+}
+
+long long SceneDrawer::drawGeometryQueries(std::span<const std::uint32_t> objects, std::span<const std::uint32_t> slots) {
+  treeList_.clear();
+  querySlots_.clear();
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    const SceneObjects::Object& object = objects_.objects()[objects[i]];
+    if (object.kind != SceneObjects::Kind::Tree) throw Error("SceneDrawer: a geometry query for an object that is not a tree");
+    treeList_.push_back(object.index);
+    querySlots_.push_back(slots[i]);
+  }
+  return trees_ ? trees_->drawQueries(view_, treeList_, querySlots_).triangles : 0;
 }
 
 long long SceneDrawer::draw(std::span<const std::uint32_t> objects) {

@@ -78,6 +78,17 @@ TreeRenderer::Stats TreeRenderer::draw(const Camera& camera, std::span<const std
 }
 
 TreeRenderer::Stats TreeRenderer::draw(const DrawView& view, std::span<const std::uint32_t> trees) const {
+  return drawInstances(view, trees, {}, program_);
+}
+
+TreeRenderer::Stats TreeRenderer::drawQueries(const DrawView& view, std::span<const std::uint32_t> trees,
+                                              std::span<const std::uint32_t> slots) const {
+  if (!queryProgram_) queryProgram_ = loadSurfaceProgram("trees.vert", "trees.frag", SurfaceOutput::QueryStamp);
+  return drawInstances(view, trees, slots, *queryProgram_);
+}
+
+TreeRenderer::Stats TreeRenderer::drawInstances(const DrawView& view, std::span<const std::uint32_t> trees,
+                                                std::span<const std::uint32_t> ids, const gl::Program& program) const {
   Stats stats;
   const double time = view.time;
   // Instances grouped by (species, LOD), base positions relative to the eye in double, written
@@ -107,13 +118,13 @@ TreeRenderer::Stats TreeRenderer::draw(const DrawView& view, std::span<const std
     g.rotationShear = glm::vec4(static_cast<float>(std::cos(tree.yaw)), static_cast<float>(std::sin(tree.yaw)),
                                 static_cast<float>(shear.x), static_cast<float>(shear.y));
     g.tint = glm::vec4(tree.tint, 1.0f);
-    g.objectId = objectIdBase_ + t;
+    g.objectId = ids.empty() ? objectIdBase_ + t : ids[k - 1];
     g.padding[0] = g.padding[1] = g.padding[2] = 0;
   }
   const GLuint baseInstance = static_cast<GLuint>(part.offset / sizeof(InstanceGpu));
 
   viewUniforms_.bind(viewBlock(view));
-  program_.use();
+  program.use();
   glBindVertexArray(vertexArray_.id());
   for (int s = 0; s < kSpeciesCount; ++s) {
     for (int lod = 0; lod < kTreeLods; ++lod) {

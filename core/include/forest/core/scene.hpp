@@ -161,6 +161,10 @@ struct CullingSettings {
   bool multiqueries = true;         // one query for a group of nodes likely to stay invisible
   int tight_box_depth = 3;          // query a node with its descendants' boxes down to this depth, [0, 8] (0: own box)
   double tight_box_area_ratio = 1.4;  // ... when their total area is at most this × the node's box area, [0.1, 10]
+  // A leaf whose box query found it visible is queried once more with its trees' own triangles
+  // before it is drawn, and visible leaves are re-queried so (a box sees through the gaps between
+  // nearer crowns): fewer trees drawn, for queries that draw the candidates' triangles depth-tested only.
+  bool geometry_queries = true;
 };
 
 struct Scene {

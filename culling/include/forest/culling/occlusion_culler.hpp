@@ -19,6 +19,11 @@
 //                   multiquery, grouped greedily by p_keep(i) = 0.99 − 0.7·e^(−i) after i invisible
 //                   frames — a visible multiquery re-queries its nodes one by one (§3.4); queries
 //                   draw the boxes of a node's descendants when they are tighter (§3.5).
+//                   Beyond the paper (geometry queries, CullingSettings::geometry_queries): a leaf
+//                   whose box query found it visible is queried once more with its objects' own
+//                   triangles before it is drawn, and visible leaves are re-queried so; a leaf
+//                   found hidden so is queried with its triangles again while it stays hidden. A
+//                   box sees through the gaps between nearer crowns; a tree's own triangles do not.
 // A query is not a GL query object: its box's fragments that pass the depth test write the frame's
 // stamp into the query's slot of a persistently mapped buffer (query_box.frag, early fragment
 // tests), so a slot holds the stamp exactly when GL_SAMPLES_PASSED would be nonzero. The boxes of
@@ -65,6 +70,16 @@ class ObjectDrawer {
  public:
   virtual ~ObjectDrawer() = default;
   virtual long long draw(std::span<const std::uint32_t> objects) = 0;
+  // Geometry queries (optional; chc++ with CullingSettings::geometry_queries): whether `object`
+  // can be queried with its own triangles.
+  virtual bool queriesOwnGeometry(std::uint32_t /*object*/) const { return false; }
+  // Draws objects[i]'s triangles, exactly as draw() would place them, with a fragment program
+  // that writes the culler's frame stamp into result slot slots[i] (query_stamp.frag: the results
+  // buffer and the stamp's block are bound by the culler, as are the depth function and masks).
+  // Returns the triangles drawn.
+  virtual long long drawGeometryQueries(std::span<const std::uint32_t> /*objects*/, std::span<const std::uint32_t> /*slots*/) {
+    return 0;
+  }
 };
 
 // Query shapes tighter than the objects' boxes (optional): object o is queried with the boxes
@@ -87,6 +102,8 @@ struct CullingStats {
   int nodesVisited = 0;      // nodes taken from the traversal queue inside the frustum
   int queriesIssued = 0;     // all queries, multiqueries included
   int multiQueries = 0;      // queries covering several nodes (chc++)
+  int geometryQueries = 0;   // queries drawn with the objects' own triangles (chc++)
+  long long queryTriangles = 0;  // triangles those queries drew (the boxes' are not counted)
   int stateSwitches = 0;     // changes between drawing and querying (colour/depth writes, program)
   int drawCalls = 0;         // ObjectDrawer::draw calls
   int objectsDrawn = 0;
@@ -134,13 +151,17 @@ class OcclusionCuller {
     std::uint64_t lastVisited = 0;
     int invisibleFrames = 0;          // chc++: frames found invisible in a row (p_keep's i)
     std::uint64_t nextQueryFrame = 0;  // chc++: a visible leaf is queried again from this frame
+    bool geometryHidden = false;  // chc++: a leaf whose own triangles were hidden at its last query
   };
   struct Traversal;  // one frame's shared state (src/traversal.hpp)
   struct Scratch;    // the traversals' queues and lists, kept from frame to frame (src/traversal.hpp)
   // Issues one query for the boxes (drawn with the next batch); returns its result slot.
   std::size_t issueQuery(std::span<const Aabb> boxes);
-  // Draws the boxes of the queries issued since the last batch, in one instanced call; async:
-  // fences them.
+  // Issues one query drawn with the objects' own triangles (ObjectDrawer::drawGeometryQueries),
+  // with the next batch; returns its result slot.
+  std::size_t issueGeometryQuery(std::span<const std::uint32_t> objects);
+  // Draws the boxes of the queries issued since the last batch, in one instanced call, and the
+  // geometry queries' objects; async: fences them.
   void drawQueryBatch();
   // Makes the results of every drawn query readable: waits for the GPU (deterministic) or for
   // the fence covering `slot` (async).
@@ -185,11 +206,15 @@ class OcclusionCuller {
   // The boxes of a batch, camera-relative, written once into a mapped ring (DESIGN §9).
   std::unique_ptr<gl::StreamRing> boxes_;
   std::vector<QueryBox> batch_;  // the boxes of the queries issued since the last batch was drawn
+  // The geometry queries issued since the last batch was drawn: each object and its query's slot.
+  std::vector<std::uint32_t> geometryObjects_, geometrySlots_;
+  ObjectDrawer* drawer_ = nullptr;  // the current cull's (geometry queries)
+  CullingStats* stats_ = nullptr;   // the current cull's (the geometry queries' triangles)
   // Per slot, the stamp of the last frame in which a sample of its query passed (query_box.frag):
   // persistently and coherently mapped for reading.
   gl::Buffer results_;
   const std::uint32_t* resultStamps_ = nullptr;
-  std::size_t slots_ = 0;          // the buffer's capacity: two queries per BVH node
+  std::size_t slots_ = 0;          // the buffer's capacity: three queries per BVH node
   std::size_t used_ = 0;           // slots issued this frame
   std::size_t drawnSlots_ = 0;     // slots whose boxes have been drawn
   std::size_t readableSlots_ = 0;  // slots whose results the CPU may read

@@ -36,7 +36,9 @@ ViewBlock viewBlock(const DrawView& view);
 // the geometry pass (albedo, shading normal, geometric normal, object ID; see gbuffer.frag), or
 // depth only (the shadow pass: nothing but depth is attached).
 // LightDepth: depth only, written as the linear light depth (TSM §4, light_depth.frag).
-enum class SurfaceOutput { Lit, ObjectId, GBuffer, LightDepth };
+// QueryStamp: nothing written but the occlusion culler's frame stamp, into the result slot the
+// object ID carries, by each fragment that passes the depth test (query_stamp.frag: a geometry query).
+enum class SurfaceOutput { Lit, ObjectId, GBuffer, LightDepth, QueryStamp };
 
 // A surface program for an output: defines OUTPUT_ID or OUTPUT_GBUFFER (and links gbuffer.frag);
 // every stage gets the view block's declaration (view_block.glsl).

@@ -80,6 +80,10 @@ class SceneDrawer : public culling::ObjectDrawer {
               const SunSettings& sun)
       : SceneDrawer(objects, terrain, trees, props, DrawView::fromCamera(camera, time, sun), lod) {}
   long long draw(std::span<const std::uint32_t> objects) override;
+  // Trees can be queried with their own triangles (TreeRenderer::drawQueries); tiles and props
+  // are queried with boxes.
+  bool queriesOwnGeometry(std::uint32_t object) const override;
+  long long drawGeometryQueries(std::span<const std::uint32_t> objects, std::span<const std::uint32_t> slots) override;
   // Draws from another view from now on (a pass keeps its drawer, and so its lists, from frame to
   // frame: no allocation per frame).
   void setView(const DrawView& view, const terrain::TerrainLod* lod) {
@@ -101,7 +105,7 @@ class SceneDrawer : public culling::ObjectDrawer {
   const Frustum* blockFrustum_ = nullptr;
   std::vector<int> tiles_;
   std::vector<terrain::TileBlock> blocks_;
-  std::vector<std::uint32_t> treeList_, propList_;
+  std::vector<std::uint32_t> treeList_, propList_, querySlots_;
 };
 
 }  // namespace forest::render

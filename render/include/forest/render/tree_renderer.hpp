@@ -5,6 +5,7 @@
 // same transform as Forest::treeTransform (scale, yaw, wind shear, camera-relative position).
 #include <array>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -38,6 +39,11 @@ class TreeRenderer {
   Stats draw(const Camera& camera, std::span<const std::uint32_t> trees, double time, const SunSettings& sun) const;
   // The same from any view (LOD from view.lodEye).
   Stats draw(const DrawView& view, std::span<const std::uint32_t> trees) const;
+  // Occlusion queries drawn with the trees' own triangles (culling::ObjectDrawer's geometry
+  // queries): trees[i] exactly as draw() places it, each passing fragment writing the culler's
+  // stamp into result slot slots[i] (SurfaceOutput::QueryStamp). The caller sets the depth test
+  // and masks and binds the culler's block and buffer.
+  Stats drawQueries(const DrawView& view, std::span<const std::uint32_t> trees, std::span<const std::uint32_t> slots) const;
   // Trees whose boxes meet the camera's frustum.
   std::vector<std::uint32_t> treesInFrustum(const Camera& camera) const;
 
@@ -57,10 +63,14 @@ class TreeRenderer {
   struct Range {
     int baseVertex = 0, firstIndex = 0, indexCount = 0;
   };
+  // Draws the trees with `program`; each instance's ID is ids[i], or objectIdBase + tree without ids.
+  Stats drawInstances(const DrawView& view, std::span<const std::uint32_t> trees, std::span<const std::uint32_t> ids,
+                      const gl::Program& program) const;
   const vegetation::Forest& forest_;
   Output output_;
   std::uint32_t objectIdBase_;
   gl::Program program_;
+  mutable std::optional<gl::Program> queryProgram_;  // SurfaceOutput::QueryStamp, loaded at the first query
   mutable gl::UniformStream viewUniforms_;  // ViewBlock at binding 0
   gl::VertexArray vertexArray_;
   gl::Buffer vertices_, indices_;
