@@ -322,60 +322,6 @@ TEST(ForestCli, StressStaysExactWithMovingObjectsAndItsMemoryFlat) {
   EXPECT_GT(plot.width, 500);
 }
 
-// In both timing and query modes (DESIGN §9): the profiled, deterministic default on llvmpipe and
-// the GPU's timestamp queries with occlusion results read when available.
-TEST(ForestCli, BenchCullingWritesEveryStrategyAndTheOracle) {
-  const fs::path out = fs::path(FOREST_TEST_OUTPUT) / "cli" / "bench-culling";
-  for (const auto& [timing, queries] : {std::pair{"profile", "deterministic"}, std::pair{"queries", "async"}}) {
-    SCOPED_TRACE(std::string(timing) + " timing, " + queries + " queries");
-    fs::remove_all(out);
-    const Result r = runForest(fmt::format("bench culling --trees 300,600 --paths ground,hill --frames 4 --width 160 --height 90 "
-                                           "--timing {} --queries {} --quiet --out {}", timing, queries, out.string()));
-    ASSERT_EQ(r.exitCode, 0) << r.err;
-    EXPECT_THAT(r.out, HasSubstr("chc++ ground-path p50 frame, 600 trees over 300 trees"));
-    EXPECT_TRUE(fs::exists(out / "bench-culling.md"));
-    EXPECT_GT(readImage8(out / "bench-culling.png").width, 0);
-    const nlohmann::json j = nlohmann::json::parse(readTextFile(out / "bench-culling.json"));
-    EXPECT_EQ(j["timing"], timing);
-    EXPECT_EQ(j["queries"], queries);
-    ASSERT_EQ(j["runs"].size(), 2u);
-    for (const auto& [trees, paths] : j["runs"].items()) {
-      ASSERT_EQ(paths.size(), 2u) << trees;
-      for (const auto& [path, run] : paths.items()) {
-        const auto& s = run["strategies"];
-        for (const char* name : {"none", "frustum", "stop-and-wait", "chc", "chc++", "oracle"}) {
-          ASSERT_TRUE(s.contains(name)) << trees << " " << path << " " << name;
-          EXPECT_GT(s[name]["triangles_p50"].get<double>(), 0.0) << name;
-          EXPECT_GT(s[name]["p50_ms"].get<double>(), 0.0) << name;
-        }
-        // Exact culling never draws fewer triangles than the visible set needs, nor more than all.
-        const double oracle = s["oracle"]["triangles_p50"].get<double>();
-        for (const char* name : {"frustum", "stop-and-wait", "chc", "chc++"}) {
-          EXPECT_GE(s[name]["triangles_p50"].get<double>(), oracle) << trees << " " << path << " " << name;
-          EXPECT_LE(s[name]["triangles_p50"].get<double>(), s["none"]["triangles_p50"].get<double>()) << name;
-        }
-        EXPECT_EQ(s["none"]["queries_p50"].get<double>(), 0.0);
-        EXPECT_GT(s["stop-and-wait"]["queries_p50"].get<double>(), 0.0);
-        // Every ratio is that strategy's p50 over frustum's and over the oracle's, as printed.
-        const double frustumMs = s["frustum"]["p50_ms"].get<double>(), oracleMs = s["oracle"]["p50_ms"].get<double>();
-        for (const char* name : {"none", "stop-and-wait", "chc", "chc++"}) {
-          const double ms = s[name]["p50_ms"].get<double>();
-          EXPECT_NEAR(s[name]["over_frustum"].get<double>(), ms / frustumMs, 1e-12 * ms / frustumMs) << name;
-          EXPECT_NEAR(s[name]["over_oracle"].get<double>(), ms / oracleMs, 1e-12 * ms / oracleMs) << name;
-        }
-        // chc++ draws from its render queue and queries in batches: never more draw calls or state
-        // switches than chc (in these tiny scenes chc may need only a couple as well).
-        EXPECT_LE(s["chc++"]["draw_calls_p50"].get<double>(), s["chc"]["draw_calls_p50"].get<double>()) << trees << " " << path;
-        EXPECT_LE(s["chc++"]["state_switches_p50"].get<double>(), s["chc"]["state_switches_p50"].get<double>()) << trees << " " << path;
-      }
-    }
-  }
-  const Result bad = runForest("bench culling --trees 0 --out " + (out / "bad").string());
-  EXPECT_EQ(bad.exitCode, 2);
-  EXPECT_THAT(bad.err, HasSubstr("--trees: Value 0 not in range 1 to 1000000"));
-  EXPECT_FALSE(fs::exists(out / "bad"));
-}
-
 TEST(ForestCli, WalkthroughWritesConsistentOutputsAndRepeatsExactly) {
   const fs::path base = fs::path(FOREST_TEST_OUTPUT) / "cli";
   std::vector<Image8> first;
