@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <set>
+#include <string>
 #include <vector>
 
 #include "forest/core/scene.hpp"
@@ -154,7 +155,8 @@ TEST_F(TreeVisibilityGl, OneVisibleTreeOfAClusterDrawsThatTreeOnly) {
 // visible leaf is queried again with its triangles within n_av frames (§3.3), against the depth of
 // everything visible the frame before; so after n_av + 2 frames chc++ draws exactly the trees that
 // have a pixel in the brute-force object-ID image — no more (and, as always, no fewer). Box queries
-// alone draw more on this view (checked too, so that the view can tell them apart).
+// alone draw more on this view (checked too, so that the view can tell them apart). Results read
+// deterministically and as soon as available (async) alike.
 TEST_F(TreeVisibilityGl, GeometryQueriesDrawExactlyTheTreesWithPixelsOnAStillView) {
   const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
   const terrain::Terrain terrain(*scene.terrain);
@@ -183,11 +185,19 @@ TEST_F(TreeVisibilityGl, GeometryQueriesDrawExactlyTheTreesWithPixelsOnAStillVie
   const std::set<std::uint32_t> withPixels = treesIn(image.readIds());
   ASSERT_GT(withPixels.size(), 100u) << "the view should look into the forest";
 
-  for (const bool geometryQueries : {true, false}) {
+  struct Run {
+    bool geometryQueries;
+    culling::QueryMode mode;
+  };
+  for (const Run run : {Run{true, culling::QueryMode::Deterministic}, Run{true, culling::QueryMode::Async},
+                        Run{false, culling::QueryMode::Deterministic}}) {
+    const bool geometryQueries = run.geometryQueries;
+    SCOPED_TRACE(std::string(geometryQueries ? "geometry" : "box") + " queries, " + std::string(culling::queryModeName(run.mode)));
     CullingSettings settings = scene.culling;
     settings.geometry_queries = geometryQueries;
     culling::OcclusionCuller culler;
     culler.setParameters(settings);
+    culler.setQueryMode(run.mode);
     const int frames = settings.visible_requery_frames + 2;
     std::set<std::uint32_t> drawn;
     int geometryQueriesIssued = 0;
@@ -202,7 +212,8 @@ TEST_F(TreeVisibilityGl, GeometryQueriesDrawExactlyTheTreesWithPixelsOnAStillVie
         if (o >= objects.tileCount()) drawn.insert(static_cast<std::uint32_t>(o - objects.tileCount()));
       geometryQueriesIssued = r.stats.geometryQueries;
     }
-    std::printf("[geometry queries %s] %zu trees with pixels, %zu drawn\n", geometryQueries ? "on" : "off", withPixels.size(), drawn.size());
+    std::printf("[geometry queries %s, %s reads] %zu trees with pixels, %zu drawn\n", geometryQueries ? "on" : "off",
+                std::string(culling::queryModeName(run.mode)).c_str(), withPixels.size(), drawn.size());
     if (geometryQueries) {
       EXPECT_GT(geometryQueriesIssued, 0);
       EXPECT_EQ(drawn, withPixels) << drawn.size() << " trees drawn, " << withPixels.size() << " with pixels";
