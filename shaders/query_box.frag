@@ -4,10 +4,7 @@
 // samples GL_SAMPLES_PASSED would count — and each one marks the query's slot with the frame's
 // stamp. Zero passing fragments leave the slot as it was: hidden.
 layout(early_fragment_tests) in;
-layout(std140, binding = 3) uniform QueryViewBlock {
-  mat4 viewProjectionRelative;
-  uvec4 frameStamp;
-} uQuery;
+// uQuery: the culler's query block (query_block.glsl).
 layout(std430, binding = 2) buffer QueryResults { uint stamps[]; };
 flat in uint vSlot;
 void main() { stamps[vSlot] = uQuery.frameStamp.x; }

@@ -6,12 +6,7 @@ layout(location = 0) in vec3 aUnit;
 layout(location = 1) in vec3 iMin;
 layout(location = 2) in vec3 iMax;
 layout(location = 3) in uint iSlot;
-// Written once per cull (OcclusionCuller, std140, binding 3): (p − eye) → clip, composed in
-// double; x of frameStamp: the frame's stamp, which query_box.frag writes.
-layout(std140, binding = 3) uniform QueryViewBlock {
-  mat4 viewProjectionRelative;
-  uvec4 frameStamp;
-} uQuery;
+// uQuery: the culler's query block (query_block.glsl).
 flat out uint vSlot;
 void main() {
   vSlot = iSlot;

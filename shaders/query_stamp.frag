@@ -4,10 +4,7 @@
 // query_box.frag, the depth test runs first (early fragment tests), and each fragment that passes
 // marks the slot with the frame's stamp. The culler binds the block and the buffer.
 layout(early_fragment_tests) in;
-layout(std140, binding = 3) uniform QueryViewBlock {
-  mat4 viewProjectionRelative;
-  uvec4 frameStamp;
-} uQuery;
+// uQuery: the culler's query block (query_block.glsl).
 layout(std430, binding = 2) buffer QueryResults { uint stamps[]; };
 
 void writeQueryStamp(uint slot) { stamps[slot] = uQuery.frameStamp.x; }

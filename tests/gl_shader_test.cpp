@@ -123,7 +123,7 @@ TEST_F(GlTest, UniformBlocksMatchTheShaders) {
   programs.emplace_back("blur", gl::loadProgram({"fullscreen.vert", "shadow_blur.frag", "blur_taps.frag"}, frameBlock));
   programs.emplace_back("lighting, blurred term", gl::loadProgram({"fullscreen.vert", "lighting.frag", "blur_taps.frag", "gbuffer_read.frag"}, "#define BLURRED_TERM\n" + frameBlock));
   programs.emplace_back("lighting, term looked up", gl::loadProgram({"fullscreen.vert", "lighting.frag", "shadow_lookup.frag", "gbuffer_read.frag"}, lookup + frameBlock));
-  programs.emplace_back("query box", gl::loadProgram({"query_box.vert", "query_box.frag"}));
+  programs.emplace_back("query box", gl::loadProgram({"query_box.vert", "query_box.frag"}, gl::readShader("query_block.glsl")));
 
   std::map<std::string, int> programsWith;
   for (const auto& [name, program] : programs) {

@@ -55,8 +55,8 @@ QueryMode parseQueryMode(std::string_view name) {
 std::string_view queryModeName(QueryMode mode) { return mode == QueryMode::Deterministic ? "deterministic" : "async"; }
 
 namespace {
-constexpr GLuint kQueryViewBinding = 3;     // query_box.vert, query_box.frag
-constexpr GLuint kQueryResultsBinding = 2;  // query_box.frag
+constexpr GLuint kQueryViewBinding = 3;     // query_block.glsl
+constexpr GLuint kQueryResultsBinding = 2;  // query_box.frag, query_stamp.frag
 }  // namespace
 
 OcclusionCuller::~OcclusionCuller() = default;
@@ -64,7 +64,7 @@ OcclusionCuller::OcclusionCuller(OcclusionCuller&&) noexcept = default;
 OcclusionCuller& OcclusionCuller::operator=(OcclusionCuller&&) noexcept = default;
 
 OcclusionCuller::OcclusionCuller()
-    : program_(gl::loadProgram({"query_box.vert", "query_box.frag"})),
+    : program_(gl::loadProgram({"query_box.vert", "query_box.frag"}, gl::readShader("query_block.glsl"))),
       viewUniforms_(kQueryViewBinding, sizeof(QueryView)),
       scratch_(std::make_unique<Scratch>()) {
   const float corners[8][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
@@ -344,6 +344,8 @@ const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb>
   }
   drawQueryBatch();  // none left unread by the strategies; kept for a query issued last
   endQueries();
+  drawer_ = nullptr;  // geometry queries only within a cull
+  stats_ = nullptr;
   for (const BatchFence& f : fences_) glDeleteSync(f.fence);
   fences_.clear();
   result.stats.stateSwitches = switches_;

@@ -33,7 +33,8 @@ gl::Program loadSurfaceProgram(const std::string& vertex, const std::string& fra
     case SurfaceOutput::LightDepth:
       return gl::loadProgram({vertex, fragment, "light_depth.frag"}, "#define OUTPUT_LIGHT_DEPTH 1\n" + extraDefines);
     case SurfaceOutput::QueryStamp:
-      return gl::loadProgram({vertex, fragment, "query_stamp.frag"}, "#define OUTPUT_QUERY_STAMP 1\n" + extraDefines);
+      return gl::loadProgram({vertex, fragment, "query_stamp.frag"},
+                             "#define OUTPUT_QUERY_STAMP 1\n" + extraDefines + gl::readShader("query_block.glsl"));
     case SurfaceOutput::Lit: break;
   }
   return gl::loadProgram({vertex, fragment}, extraDefines);

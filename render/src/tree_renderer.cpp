@@ -107,18 +107,19 @@ TreeRenderer::Stats TreeRenderer::drawInstances(const DrawView& view, std::span<
   const gl::StreamRing::Allocation part = instances_->allocate(groupOf_.size() * sizeof(InstanceGpu));
   if (instances_->id() != ringBefore) glVertexArrayVertexBuffer(vertexArray_.id(), 1, instances_->id(), 0, sizeof(InstanceGpu));
   auto* out = static_cast<InstanceGpu*>(part.data);
-  size_t k = 0;
+  size_t k = 0;  // the tree's place in `trees` (and `ids`)
   const bool windy = forest_.settings().wind_strength != 0.0;
   for (std::uint32_t t : trees) {
     const vegetation::TreeInstance& tree = forest_.trees()[t];
-    InstanceGpu& g = out[cursor[groupOf_[k++]]++];
+    const size_t i = k++;
+    InstanceGpu& g = out[cursor[groupOf_[i]]++];
     // Forest::treeTransform's factors: translate · windShear · rotateY(yaw) · scale.
     const glm::dvec2 shear = windy ? vegetation::windShear(forest_.settings(), tree.swayPhase, time) : glm::dvec2(0.0);
     g.baseScale = glm::vec4(glm::vec3(tree.position - view.origin), static_cast<float>(tree.scale));
     g.rotationShear = glm::vec4(static_cast<float>(std::cos(tree.yaw)), static_cast<float>(std::sin(tree.yaw)),
                                 static_cast<float>(shear.x), static_cast<float>(shear.y));
     g.tint = glm::vec4(tree.tint, 1.0f);
-    g.objectId = ids.empty() ? objectIdBase_ + t : ids[k - 1];
+    g.objectId = ids.empty() ? objectIdBase_ + t : ids[i];
     g.padding[0] = g.padding[1] = g.padding[2] = 0;
   }
   const GLuint baseInstance = static_cast<GLuint>(part.offset / sizeof(InstanceGpu));
