@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "forest/core/error.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/render/frame.hpp"
 #include "gl_test_support.hpp"
@@ -53,6 +54,32 @@ TEST_F(BlurGl, BlurOffLightsWithTheTermThePassWouldWrite) {
     EXPECT_GT(shadowed, static_cast<long>(fromPass.size() / 100)) << "pcf " << pcf;
     EXPECT_LT(shadowed, static_cast<long>(fromPass.size() / 2)) << "pcf " << pcf;
   }
+}
+
+// FrameSettings::keepShadowTerm off (the walkthrough's runs) leaves the term's target out of the
+// lighting pass: the image is the same, pixel for pixel, and reading the term it did not keep is
+// an error, not stale data; with the blur on, the term pass's own output can still be read.
+TEST_F(BlurGl, AFrameThatKeepsNoTermDrawsTheSameImageAndRefusesToReadIt) {
+  Scene scene;
+  scene.sun.direction = glm::normalize(dvec3(0.3, -1.0, 0.2));
+  scene.props.push_back({dvec3(-40, -1, -80), dvec3(40, 0, 40), dvec3(0.6)});
+  scene.props.push_back({dvec3(-2, 3, -2), dvec3(2, 5, 2), dvec3(0.8)});
+  render::Frame frame(scene, kWidth, kHeight);
+  const Camera camera = cameraAt({0, 6, 14}, 0.0, -20.0, 300.0);
+  for (const double blur : {0.0, 4.0}) {
+    render::FrameSettings settings;
+    settings.blurRadius = blur;
+    frame.render(camera, 0.0, settings);
+    const Image8 kept = frame.readColor();
+    const std::vector<float> term = frame.readShadowTerm();
+    settings.keepShadowTerm = false;
+    frame.render(camera, 0.0, settings);
+    EXPECT_EQ(frame.readColor().pixels, kept.pixels) << "blur " << blur;
+    EXPECT_THROW(frame.readBlurredShadowTerm(), Error) << "blur " << blur;
+    if (blur > 0.0) EXPECT_EQ(frame.readShadowTerm(), term);
+    else EXPECT_THROW(frame.readShadowTerm(), Error);
+  }
+  EXPECT_EQ(gl::debugErrorCount(), 0u);
 }
 
 TEST_F(BlurGl, BlurWidensNearShadowEdgesMoreThanFarOnes) {

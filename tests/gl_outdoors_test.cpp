@@ -1,6 +1,7 @@
 // Ground and sky that read as outdoors (issue "A forest to walk through"): the sky is the gradient
 // and sun disc of its closed form (tests/gl_test_support.hpp: skyDisplay), the same twice; the
 // terrain's material lays forest floor under the stands and grass in the clearings.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -53,6 +54,61 @@ TEST_F(OutdoorsGl, SkyIsTheGradientOfItsClosedFormWithTheSunsDisc) {
   // Paler (more red) at the bottom row, 10° above the horizon, than at the top, 30°+ up.
   const size_t bottom = static_cast<size_t>(kHeight - 1) * kWidth;
   EXPECT_GT(first.pixels[bottom * 4], first.pixels[0] + 5);
+}
+
+// Distance haze (shaders/lighting.frag, HAZE): a pixel of the ground at camera distance r is the
+// haze-free pixel's linear colour L0 faded toward the haze colour H along its ray by
+// exp(-density · r), H = the horizon's colour + 0.25 × the sun's colour × max(ray · toSun, 0)^8.
+// L0 comes from the same view rendered without haze; the expected display value is within the two
+// images' 8-bit conversion (a level each, the clear one's carried through the fade) and the display
+// encoding's 0.12 of 255. A frame that leaves the haze out (e.g. the program compiled without it) is off by
+// tens of levels far away.
+TEST_F(OutdoorsGl, HazeFadesTheGroundTowardItsColourByDistance) {
+  Scene scene;
+  scene.props.push_back({dvec3(-400, -1, -400), dvec3(400, 0, 400), dvec3(0.5, 0.45, 0.3)});  // the ground, top at y = 0
+  const double elevation = glm::radians(40.0);
+  scene.sun.direction = -glm::normalize(dvec3(0.3, std::sin(elevation), -std::cos(elevation)));
+  render::Frame frame(scene, kWidth, kHeight);
+  const Camera camera = cameraAt(dvec3(0.0, 3.0, 0.0), 0.0, -4.0, 500.0, static_cast<double>(kWidth) / kHeight);
+  frame.render(camera, 0.0, render::FrameSettings{});
+  const Image8 clear = frame.readColor();
+  render::FrameSettings hazy;
+  const double density = 0.01;
+  hazy.fogDensity = density;
+  frame.render(camera, 0.0, hazy);
+  const Image8 faded = frame.readColor();
+  const std::vector<std::uint32_t> ids = frame.readObjectIds();
+  const std::vector<float> depth = frame.readDepth();
+  const dvec3 zenith = glm::pow(scene.render.sky_color, dvec3(2.2));
+  const dvec3 horizon = zenith + 0.55 * (dvec3(0.75, 0.8, 0.85) - zenith);
+  int compared = 0, farOff = 0;
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      const size_t i = static_cast<size_t>(y) * kWidth + x;
+      if (ids[i] != frame.objects().propIdBase()) continue;
+      const dvec3 relative = pixelPosition(camera, x, y, depth[i], kWidth, kHeight) - camera.position;
+      const dvec3 ray = glm::normalize(relative);
+      const dvec3 haze = horizon + 0.25 * scene.sun.color * std::pow(std::max(glm::dot(ray, -scene.sun.direction), 0.0), 8.0);
+      const double kept = std::exp(-density * glm::length(relative));
+      const size_t top = static_cast<size_t>(kHeight - 1 - y) * kWidth + static_cast<size_t>(x);
+      for (int k = 0; k < 3; ++k) {
+        const double before = clear.pixels[top * 4 + static_cast<size_t>(k)];
+        const double linear = std::pow(before / 255.0, 2.2);
+        const double hazed = std::clamp(haze[k] + kept * (linear - haze[k]), 1e-6, 1.0);
+        const double expected = 255.0 * std::pow(hazed, 1.0 / 2.2);
+        // The clear pixel's 8-bit conversion (within a level: not round-to-nearest on llvmpipe, as
+        // the sky test allows) carries over scaled by d(expected)/d(before) =
+        // kept · (linear / hazed)^(1 − 1/2.2); then the faded pixel's own and the encoding's 0.12.
+        const double carried = kept * std::pow(std::max(linear, 1e-6) / hazed, 1.0 - 1.0 / 2.2);
+        ASSERT_NEAR(faded.pixels[top * 4 + static_cast<size_t>(k)], expected, carried + 1.0 + 0.12)
+            << x << ", " << y << " channel " << k;
+        farOff += std::abs(expected - before) > 20.0 ? 1 : 0;
+      }
+      ++compared;
+    }
+  EXPECT_GT(compared, kWidth * kHeight / 3);
+  EXPECT_GT(farOff, kWidth * kHeight / 20);  // the haze shows: far pixels move by over 20 levels
+  EXPECT_EQ(gl::debugErrorCount(), 0u);
 }
 
 // The mean green-to-red ratio of the terrain's pixels near the eye, by night (ambient light only,

@@ -121,8 +121,8 @@ TEST_F(GlTest, UniformBlocksMatchTheShaders) {
   const std::string lookup = "#define PCF_RADIUS 1\n#define SHADOW_SLICES 4\n";  // the lookup's constants (ShadowLookupPrograms)
   programs.emplace_back("shadow term", gl::loadProgram({"fullscreen.vert", "shadow_term.frag", "shadow_lookup.frag", "gbuffer_read.frag"}, lookup + frameBlock));
   programs.emplace_back("blur", gl::loadProgram({"fullscreen.vert", "shadow_blur.frag", "blur_taps.frag"}, frameBlock));
-  programs.emplace_back("lighting, blurred term", gl::loadProgram({"fullscreen.vert", "lighting.frag", "blur_taps.frag", "gbuffer_read.frag"}, "#define BLURRED_TERM\n" + frameBlock));
-  programs.emplace_back("lighting, term looked up", gl::loadProgram({"fullscreen.vert", "lighting.frag", "shadow_lookup.frag", "gbuffer_read.frag"}, lookup + frameBlock));
+  programs.emplace_back("lighting, blurred term", gl::loadProgram({"fullscreen.vert", "lighting.frag", "display_gamma.frag", "blur_taps.frag", "gbuffer_read.frag"}, "#define BLURRED_TERM\n#define HAZE\n" + frameBlock));
+  programs.emplace_back("lighting, term looked up", gl::loadProgram({"fullscreen.vert", "lighting.frag", "display_gamma.frag", "shadow_lookup.frag", "gbuffer_read.frag"}, lookup + frameBlock));
   programs.emplace_back("query box", gl::loadProgram({"query_box.vert", "query_box.frag"}, gl::readShader("query_block.glsl")));
 
   std::map<std::string, int> programsWith;
@@ -168,6 +168,45 @@ TEST_F(GlTest, UniformLocationTableAgreesWithTheGl) {
   }
   EXPECT_EQ(checked, 5);  // all but the unused and the missing one are active
   EXPECT_EQ(program.location("uMissing"), -1);
+}
+
+// shaders/display_gamma.frag against the closed form x^(1/2.2) over [0, 1] (4096 inputs, the ends
+// included, and their squares for the dark end), evaluated on the GL: within the fit's stated
+// bound, 0.12 / 255, plus float32 rounding.
+TEST_F(GlTest, DisplayGammaIsWithinAQuarterStepOfPow) {
+  constexpr int kInputs = 4096;
+  const gl::Program program = gl::compileProgram(
+      {{GL_VERTEX_SHADER, "ramp.vert",
+        "#version 450 core\nvoid main() { gl_Position = vec4(2.0 * vec2(gl_VertexID & 1, gl_VertexID >> 1) * 2.0 - 1.0, 0.0, 1.0); }\n"},
+       {GL_FRAGMENT_SHADER, "ramp.frag",
+        "#version 450 core\nvec3 displayFromLinear(vec3 linear);\nout vec4 encoded;\n"
+        "void main() { float x = floor(gl_FragCoord.x) / 4095.0; encoded = vec4(displayFromLinear(vec3(x, x * x, 0.0)), x); }\n"},
+       {GL_FRAGMENT_SHADER, "display_gamma.frag", gl::readShader("display_gamma.frag")}});
+  gl::Texture target(GL_RGBA32F, kInputs, 1);
+  gl::Framebuffer framebuffer;
+  framebuffer.attach(GL_COLOR_ATTACHMENT0, target);
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.id());
+  glViewport(0, 0, kInputs, 1);
+  glDisable(GL_DEPTH_TEST);
+  gl::VertexArray empty;
+  glBindVertexArray(empty.id());
+  program.use();
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  std::vector<float> texels(4 * kInputs);
+  glGetTextureImage(target.id(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(texels.size() * 4), texels.data());
+  glBindVertexArray(0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  double worst = 0.0;
+  for (int i = 0; i < kInputs; ++i) {
+    const float x = texels[4 * static_cast<size_t>(i) + 3];  // the input the shader used, i / 4095
+    ASSERT_NEAR(x, i / 4095.0, 1e-6) << i;
+    for (int c = 0; c < 3; ++c) {
+      const double linear = c == 0 ? x : c == 1 ? x * x : 0.0f;
+      worst = std::max(worst, std::abs(texels[4 * static_cast<size_t>(i) + c] - std::pow(linear, 1.0 / 2.2)));
+    }
+  }
+  EXPECT_LE(worst * 255.0, 0.12 + 255.0 * 1e-6);
+  EXPECT_EQ(gl::debugErrorCount(), 0u);
 }
 
 TEST(ShaderLog, DriverFormatsBecomeFileLine) {

@@ -324,6 +324,7 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
     // Render with this frame's settings and sun.
     render::FrameSettings settings = controls.frame.settings(context->info());
     settings.freezeCulling = controls.frozen;
+    settings.keepShadowTerm = false;  // shown, not read back
     settings.cascades = controls.cascades;
     scene.sun.direction = controls.sun.travel();
     camera.position = controls.pose.position;

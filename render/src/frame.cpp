@@ -228,8 +228,9 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   const ShadowSettings cascades = resolveCascades(settings, scene_);
   const ShadowLookupShape lookupShape{settings.pcfRadius, cascades.cascades};
   const bool blurred = settings.blurRadius > 0.0;
+  const bool haze = settings.fogDensity.value_or(scene_.render.haze) > 0.0;
   if (blurred) p.shadowTerm.prepare(lookupShape);
-  else p.lighting.prepare(lookupShape);
+  p.lighting.prepare(blurred, lookupShape, haze);
 
   if (!timer_ || timer_->mode() != settings.timing) timer_ = std::make_unique<gl::PassTimer>(settings.timing, 3, framesRendered_);
   gl::PassTimer& timer = *timer_;
@@ -293,7 +294,8 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   // 5. Lighting.
   {
     auto timed = timer.scope(kFramePassNames[5]);
-    p.lighting.run(p.geometry.gbuffer(), blurredTerm, p.shadow.map(), lookupShape);
+    p.lighting.run(p.geometry.gbuffer(), blurredTerm, p.shadow.map(), lookupShape, haze, settings.keepShadowTerm);
+    usedTermKept_ = settings.keepShadowTerm;
   }
   timer.endFrame();
   if (settings.timing == gl::TimingMode::Profiling) {
@@ -328,16 +330,24 @@ Image8 Frame::readColor() const {
   return image;
 }
 
+void Frame::requireUsedTerm(const char* reader) const {
+  if (!usedTermKept_)
+    throw Error(fmt::format("Frame::{}: the last frame did not keep the shadow term it lit with (FrameSettings::keepShadowTerm "
+                            "was false, or no frame was rendered)", reader));
+}
+
 std::vector<float> Frame::readShadowTerm() const {
   std::vector<float> v(static_cast<size_t>(width_) * height_);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
   // The blur off, the lighting pass looked the term up and wrote it as the term it used.
+  if (!termWritten_) requireUsedTerm("readShadowTerm");
   const gl::Texture& term = termWritten_ ? passes_->shadowTerm.term() : passes_->lighting.usedTerm();
   glGetTextureImage(term.id(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(v.size() * 4), v.data());
   return v;
 }
 
 std::vector<float> Frame::readBlurredShadowTerm() const {
+  requireUsedTerm("readBlurredShadowTerm");
   std::vector<float> v(static_cast<size_t>(width_) * height_);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
   glGetTextureImage(passes_->lighting.usedTerm().id(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(v.size() * 4), v.data());

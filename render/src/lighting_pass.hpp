@@ -1,8 +1,12 @@
 #pragma once
 // Pass 5 of the frame (thesis §6.2, DESIGN §4): Phong lighting from the G-buffer with a weak
 // global ambient, the shadow term (the blur's vertical half when the blur is on, the lookup itself
-// when it is off), fog and the sky colour. Targets: the lit colour (RGBA8) and the term it used (RG16F).
+// when it is off), fog and the sky colour. Targets: the lit colour (RGBA8) and, when asked, the term
+// it used (RG16F).
 #include <glm/glm.hpp>
+
+#include <array>
+#include <optional>
 
 #include "forest/core/scene.hpp"
 #include "forest/gl/objects.hpp"
@@ -19,9 +23,12 @@ class LightingPass {
   LightingPass(int width, int height);
   // With the blur on, `term` is the horizontally blurred shadow term; with it off (null), the
   // term is looked up in `shadowMap`. The sun, sky, fog and blur come from the frame block
-  // (frame_uniforms.hpp), bound.
-  void run(const GBuffer& gbuffer, const gl::Texture* term, const gl::Texture& shadowMap, const ShadowLookupShape& shape);
-  void prepare(const ShadowLookupShape& shape) { lookup_.get(shape); }  // compiles the lookup's program now
+  // (frame_uniforms.hpp), bound; `haze`: whether its haze density is above 0. `keepTerm`: also
+  // write the term used into usedTerm().
+  void run(const GBuffer& gbuffer, const gl::Texture* term, const gl::Texture& shadowMap, const ShadowLookupShape& shape,
+           bool haze, bool keepTerm);
+  // Compiles the program run() will use now (before any pass is timed).
+  void prepare(bool blurred, const ShadowLookupShape& shape, bool haze) { program(blurred, shape, haze); }
 
   const gl::Texture& color() const { return color_; }
   const gl::Texture& usedTerm() const { return usedTerm_; }
@@ -31,8 +38,10 @@ class LightingPass {
   int width_, height_;
   gl::Texture usedTerm_, color_;
   gl::Framebuffer framebuffer_;
-  gl::Program blurred_;           // the term from the blur's horizontal pass
-  ShadowLookupPrograms lookup_;   // or looked up here
+  const gl::Program& program(bool blurred, const ShadowLookupShape& shape, bool haze);
+  // Without and with haze (HAZE): the term from the blur's horizontal pass, compiled on first use,
+  std::array<std::optional<gl::Program>, 2> blurred_;
+  std::array<ShadowLookupPrograms, 2> lookup_;  // or looked up here
   FullScreenTriangle triangle_;
 };
 

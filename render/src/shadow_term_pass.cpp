@@ -14,14 +14,15 @@ std::string shadowLookupDefines(const ShadowLookupShape& shape) {
 }
 }  // namespace
 
-ShadowLookupPrograms::ShadowLookupPrograms(std::vector<std::string> fragments) : fragments_(std::move(fragments)) {
+ShadowLookupPrograms::ShadowLookupPrograms(std::vector<std::string> fragments, std::string defines)
+    : fragments_(std::move(fragments)), defines_(std::move(defines)) {
   fragments_.push_back("shadow_lookup.frag");
   fragments_.push_back("gbuffer_read.frag");
 }
 
 const gl::Program& ShadowLookupPrograms::get(const ShadowLookupShape& shape) {
   auto it = programs_.find(shape);
-  if (it == programs_.end()) it = programs_.emplace(shape, loadFullScreenProgram(fragments_, shadowLookupDefines(shape))).first;
+  if (it == programs_.end()) it = programs_.emplace(shape, loadFullScreenProgram(fragments_, defines_ + shadowLookupDefines(shape))).first;
   return it->second;
 }
 

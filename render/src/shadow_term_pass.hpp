@@ -34,14 +34,16 @@ struct ShadowLookupShape {
 // (800×600, llvmpipe).
 class ShadowLookupPrograms {
  public:
-  // fullscreen.vert with `fragments`, shadow_lookup.frag and gbuffer_read.frag.
-  explicit ShadowLookupPrograms(std::vector<std::string> fragments);
+  // fullscreen.vert with `fragments`, shadow_lookup.frag and gbuffer_read.frag; `defines` go
+  // before the shape's.
+  explicit ShadowLookupPrograms(std::vector<std::string> fragments, std::string defines = "");
   // The program for `shape`, compiled now if it was not yet (Frame::render asks before its timer
   // starts, so no pass time holds a compile).
   const gl::Program& get(const ShadowLookupShape& shape);
 
  private:
   std::vector<std::string> fragments_;
+  std::string defines_;
   std::map<ShadowLookupShape, gl::Program> programs_;
 };
 

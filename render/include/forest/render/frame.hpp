@@ -92,6 +92,11 @@ struct FrameSettings {
   // How CHC and CHC++ read their occlusion queries (culling/occlusion_culler.hpp): at fixed
   // traversal steps (deterministic: the same visible set every run) or when available (async).
   culling::QueryMode queries = culling::QueryMode::Deterministic;
+  // The lighting pass also writes the shadow term it lit with, for readShadowTerm (the blur off)
+  // and readBlurredShadowTerm. Runs that only time or show frames (walkthrough, budget, stress,
+  // window) turn it off: one render target less (0.2–0.3 ms of the 800 × 600 lighting pass on
+  // llvmpipe, thesis walk).
+  bool keepShadowTerm = true;
 };
 
 // Deterministic queries on a software renderer, async on a hardware one (the default of --queries).
@@ -184,6 +189,7 @@ class Frame {
   void presentTo(GLuint framebuffer, int width, int height) const;
   std::vector<float> readShadowTerm() const;      // bottom row first (GL), 1 lit, 0 shadowed; before the blur
   std::vector<float> readBlurredShadowTerm() const;  // what lighting used (= the term when the blur is off)
+  // Both throw forest::Error where the last frame did not keep the term they read (keepShadowTerm).
   std::vector<std::uint32_t> readObjectIds() const;  // bottom row first, 0 = sky
   std::vector<float> readDepth() const;           // bottom row first, reversed-Z
   // The last shadow map (of slice `slice`): depth in [0, 1] (0 nearest the light), size × size,
@@ -214,6 +220,7 @@ class Frame {
   Camera cameraAt(const CameraPose& pose, bool aboveGround) const;
 
  private:
+  void requireUsedTerm(const char* reader) const;
   void objectsMoved();  // after object boxes changed: refit the BVH, recompute the scene bounds
   std::optional<terrain::TerrainLod> terrainLodFor(const Camera& camera) const;  // none without terrain
   struct Passes;  // the passes in order (src/*_pass.hpp)
@@ -231,6 +238,7 @@ class Frame {
   std::vector<std::uint32_t> visibleObjects_;
   bool haveVisibleSet_ = false;
   bool termWritten_ = false;  // the last frame's shadow term pass ran (the blur on)
+  bool usedTermKept_ = false;  // the last frame's lighting pass wrote the term it used (keepShadowTerm)
   std::unique_ptr<gl::PassTimer> timer_;  // made for the mode of the first frame, remade on a change
   gl::FrameTiming passTiming_;            // profiling: this frame's pass times, read back (storage reused)
   std::uint64_t framesRendered_ = 0;
