@@ -84,6 +84,7 @@ TEST(ForestCli, BenchCullingWritesEveryStrategyAndTheOracle) {
                                            "--timing {} --queries {} --quiet --out {}", timing, queries, out.string()));
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_THAT(r.out, HasSubstr("chc++ ground-path p50 frame, 600 trees over 300 trees"));
+    EXPECT_THAT(r.out, HasSubstr("the oracle's one-frame lag: "));
     EXPECT_TRUE(fs::exists(out / "bench-culling.md"));
     EXPECT_GT(readImage8(out / "bench-culling.png").width, 0);
     const nlohmann::json j = nlohmann::json::parse(readTextFile(out / "bench-culling.json"));
@@ -105,6 +106,9 @@ TEST(ForestCli, BenchCullingWritesEveryStrategyAndTheOracle) {
           EXPECT_GE(s[name]["triangles_p50"].get<double>(), oracle) << trees << " " << path << " " << name;
           EXPECT_LE(s[name]["triangles_p50"].get<double>(), s["none"]["triangles_p50"].get<double>()) << name;
         }
+        // The oracle's one-frame lag, written and printed (a share of its triangles).
+        ASSERT_TRUE(run.contains("oracle_lag_triangles")) << trees << " " << path;
+        EXPECT_GE(run["oracle_lag_triangles"].get<double>(), 0.0);
         EXPECT_EQ(s["none"]["queries_p50"].get<double>(), 0.0);
         EXPECT_GT(s["stop-and-wait"]["queries_p50"].get<double>(), 0.0);
         // Every ratio is that strategy's p50 over frustum's and over the oracle's, as printed.
