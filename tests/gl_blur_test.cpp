@@ -26,16 +26,23 @@ class BlurGl : public GlTest {};
 // Eye depth of pixel i from the reversed-Z depth buffer.
 double eyeDepthAt(const Camera& c, float depth) { return c.near * c.far / (c.near + depth * (c.far - c.near)); }
 
-// The blur off, the lighting pass looks the term up itself (no shadow-term pass runs): what it
-// used must equal, texel for texel, the term the shadow-term pass writes for the blur when the
-// blur is on — the same lookup on the same G-buffer and map.
-TEST_F(BlurGl, BlurOffLightsWithTheTermThePassWouldWrite) {
+// A plane with a box above it, lit from high up, and a view of the box's shadow on the plane.
+Scene boxOverPlane() {
   Scene scene;
   scene.sun.direction = glm::normalize(dvec3(0.3, -1.0, 0.2));
   scene.props.push_back({dvec3(-40, -1, -80), dvec3(40, 0, 40), dvec3(0.6)});
   scene.props.push_back({dvec3(-2, 3, -2), dvec3(2, 5, 2), dvec3(0.8)});
+  return scene;
+}
+Camera boxOverPlaneView() { return cameraAt({0, 6, 14}, 0.0, -20.0, 300.0); }
+
+// The blur off, the lighting pass looks the term up itself (no shadow-term pass runs): what it
+// used must equal, texel for texel, the term the shadow-term pass writes for the blur when the
+// blur is on — the same lookup on the same G-buffer and map.
+TEST_F(BlurGl, BlurOffLightsWithTheTermThePassWouldWrite) {
+  const Scene scene = boxOverPlane();  // the frame keeps a reference
   render::Frame frame(scene, kWidth, kHeight);
-  const Camera camera = cameraAt({0, 6, 14}, 0.0, -20.0, 300.0);
+  const Camera camera = boxOverPlaneView();
   for (const int pcf : {0, 2}) {
     render::FrameSettings settings;
     settings.pcfRadius = pcf;
@@ -60,12 +67,9 @@ TEST_F(BlurGl, BlurOffLightsWithTheTermThePassWouldWrite) {
 // lighting pass: the image is the same, pixel for pixel, and reading the term it did not keep is
 // an error, not stale data; with the blur on, the term pass's own output can still be read.
 TEST_F(BlurGl, AFrameThatKeepsNoTermDrawsTheSameImageAndRefusesToReadIt) {
-  Scene scene;
-  scene.sun.direction = glm::normalize(dvec3(0.3, -1.0, 0.2));
-  scene.props.push_back({dvec3(-40, -1, -80), dvec3(40, 0, 40), dvec3(0.6)});
-  scene.props.push_back({dvec3(-2, 3, -2), dvec3(2, 5, 2), dvec3(0.8)});
+  const Scene scene = boxOverPlane();  // the frame keeps a reference
   render::Frame frame(scene, kWidth, kHeight);
-  const Camera camera = cameraAt({0, 6, 14}, 0.0, -20.0, 300.0);
+  const Camera camera = boxOverPlaneView();
   for (const double blur : {0.0, 4.0}) {
     render::FrameSettings settings;
     settings.blurRadius = blur;

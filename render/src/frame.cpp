@@ -228,7 +228,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   const ShadowSettings cascades = resolveCascades(settings, scene_);
   const ShadowLookupShape lookupShape{settings.pcfRadius, cascades.cascades};
   const bool blurred = settings.blurRadius > 0.0;
-  const bool haze = settings.fogDensity.value_or(scene_.render.haze) > 0.0;
+  const bool haze = hazeDensityOf(settings, scene_) > 0.0;
   if (blurred) p.shadowTerm.prepare(lookupShape);
   p.lighting.prepare(blurred, lookupShape, haze);
 
@@ -337,10 +337,10 @@ void Frame::requireUsedTerm(const char* reader) const {
 }
 
 std::vector<float> Frame::readShadowTerm() const {
-  std::vector<float> v(static_cast<size_t>(width_) * height_);
-  glPixelStorei(GL_PACK_ALIGNMENT, 4);
   // The blur off, the lighting pass looked the term up and wrote it as the term it used.
   if (!termWritten_) requireUsedTerm("readShadowTerm");
+  std::vector<float> v(static_cast<size_t>(width_) * height_);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
   const gl::Texture& term = termWritten_ ? passes_->shadowTerm.term() : passes_->lighting.usedTerm();
   glGetTextureImage(term.id(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(v.size() * 4), v.data());
   return v;

@@ -22,7 +22,7 @@ FrameBlock frameBlock(const Camera& camera, const ShadowPlan& plan, const FrameS
   for (int c = 0; c < 3; ++c) b.rays[c] = glm::vec4(rays[c], 0.0f);
   b.toSunUp = glm::vec4(glm::vec3(-l), sunUp ? 1.0f : 0.0f);
   b.sunColorAmbient = glm::vec4(glm::vec3(scene.sun.color), static_cast<float>(scene.sun.ambient));
-  b.skyFog = glm::vec4(glm::vec3(glm::pow(scene.render.sky_color, glm::dvec3(2.2))), static_cast<float>(settings.fogDensity.value_or(scene.render.haze)));
+  b.skyFog = glm::vec4(glm::vec3(glm::pow(scene.render.sky_color, glm::dvec3(2.2))), static_cast<float>(hazeDensityOf(settings, scene)));
   b.blur = glm::vec4(static_cast<float>(settings.blurRadius), static_cast<float>(settings.blurReferenceDepth),
                      static_cast<float>(kBlurDepthTolerance), 0.0f);
   b.modes = glm::ivec4(settings.pcfRadius, plan.slices[0].setup.linearDepth ? 1 : 0, plan.cascades, plan.shadowed ? 1 : 0);

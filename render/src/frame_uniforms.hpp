@@ -18,6 +18,10 @@ namespace forest::render {
 // across silhouettes; a sloped surface's depth changes less than this over 16 pixels).
 constexpr double kBlurDepthTolerance = 0.05;
 
+// The frame's distance haze per metre: the settings' fog density, else the scene's haze. Lighting
+// compiles the haze in only where it is above 0 (HAZE, shaders/lighting.frag).
+inline double hazeDensityOf(const FrameSettings& settings, const Scene& scene) { return settings.fogDensity.value_or(scene.render.haze); }
+
 // This frame's block: `l` the unit light direction, `sunUp` whether the sun is above the horizon;
 // the plan says whether the map holds its shadows (else the term is 0 everywhere).
 FrameBlock frameBlock(const Camera& camera, const ShadowPlan& plan, const FrameSettings& settings, const Scene& scene,

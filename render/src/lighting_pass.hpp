@@ -39,9 +39,10 @@ class LightingPass {
   gl::Texture usedTerm_, color_;
   gl::Framebuffer framebuffer_;
   const gl::Program& program(bool blurred, const ShadowLookupShape& shape, bool haze);
-  // Without and with haze (HAZE): the term from the blur's horizontal pass, compiled on first use,
+  // Indexed by haze (0: without, 1: with HAZE): the programs taking the term from the blur's
+  // horizontal pass (compiled on first use), and those looking it up here.
   std::array<std::optional<gl::Program>, 2> blurred_;
-  std::array<ShadowLookupPrograms, 2> lookup_;  // or looked up here
+  std::array<ShadowLookupPrograms, 2> lookup_;
   FullScreenTriangle triangle_;
 };
 
