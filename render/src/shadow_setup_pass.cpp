@@ -125,8 +125,8 @@ void ShadowSetupPass::refineCasters(ShadowSlice& slice, const FrameSettings& set
     bool any = false;
     for (int b = 0; b < static_cast<int>(blocks.size()); ++b) {
       const Aabb& box = blocks[static_cast<size_t>(b)];
-      if (settings.backside && !terrain->blockMayFaceAway(tile, level, b, *lod, -l)) continue;
       if (!selector_.needed(box) || !covers(box)) continue;
+      if (settings.backside && !terrain->blockMayFaceAway(tile, level, b, *lod, -l)) continue;  // last: per triangle in a ramp
       slice.terrainBlocks.push_back({tile, level, b});
       any = true;
     }

@@ -18,7 +18,6 @@ using glm::dvec2;
 using glm::dvec3;
 
 constexpr int kSlotsPerTile = 4 * 16 + 4 + 1 + 1;  // levels 0–3: 16 blocks, level 4: 4, levels 5 and 6: 1
-constexpr double kFacingMargin = 1e-3;             // n̂·l ≥ 10⁻³ n̂_y (mayFaceAway)
 
 dvec2 direction(int k) {
   const double angle = 2.0 * std::numbers::pi * k / BlockFacing::kDirections;
@@ -109,7 +108,7 @@ bool BlockFacing::mayFaceAway(int tile, int level, int block, BlockMorph morph, 
     const double beta = std::max(0.0, std::sin(angle - k * step) / std::sin(step));
     bound = length * (alpha * support[k] + beta * support[next]);
   }
-  return !(bound <= toSun.y * (1.0 - kFacingMargin));
+  return !(bound <= toSun.y * (1.0 - BlockFacing::kFacingMargin));
 }
 
 }  // namespace forest::terrain

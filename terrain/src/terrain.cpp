@@ -148,7 +148,9 @@ BlockMorph Terrain::blockMorph(int tile, int level, int block, const TerrainLod&
 bool Terrain::blockMayFaceAway(int tile, int level, int block, const TerrainLod& lod, const dvec3& toSun) const {
   if (level < 0 || level >= kLevels || block < 0 || block >= blocksPerTile(level))
     throw Error(fmt::format("terrain: no block {} at level {}", block, level));
-  return blockFacing_.mayFaceAway(tile, level, block, blockMorph(tile, level, block, lod), toSun);
+  const BlockMorph morph = blockMorph(tile, level, block, lod);
+  if (morph == BlockMorph::Morphing && toSun.y > 0.0) return rampBlockMayFaceAway(tile, level, block, lod, toSun);
+  return blockFacing_.mayFaceAway(tile, level, block, morph, toSun);
 }
 
 int Terrain::tileLevel(int tile, const TerrainLod& lod) const {

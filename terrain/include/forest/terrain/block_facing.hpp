@@ -8,8 +8,9 @@
 // g·l_xz < l_y. A block keeps the support of its triangles' slopes in 16 directions across the
 // ground, which bounds g·d for any d between two of them (d = αd_k + βd_{k+1}, α, β ≥ 0) — once
 // for its level's mesh unmorphed (every k = 0) and once fully morphed (every k = 1, the coarser
-// level's mesh). A block inside a morph ramp mixes the two vertex by vertex; slivers between them
-// can face anywhere, so such a block is always drawn.
+// level's mesh). A block inside a morph ramp mixes the two vertex by vertex, and a triangle's
+// n·l is quadratic in a common k, so neither end bounds it: such a block is tested triangle by
+// triangle at the frame's own morph factors (Terrain::blockMayFaceAway).
 #include <glm/glm.hpp>
 
 #include <vector>
@@ -33,11 +34,14 @@ class BlockFacing {
   BlockFacing(const Heightfield& heightfield, int tilesPerSide);
 
   // False only when no triangle drawn over the block at `level` in that morph state faces away
-  // from the sun: every one has n̂·toSun ≥ 10⁻³ · n̂_y, a margin for the GPU's float32 vertices.
+  // from the sun: every one has n̂·toSun ≥ kFacingMargin · toSun_y · n̂_y.
   // `toSun`: unit, toward the sun; a sun at or below the horizon, or a morphing block, gets true.
   bool mayFaceAway(int tile, int level, int block, BlockMorph morph, const glm::dvec3& toSun) const;
 
   static constexpr int kDirections = 16;
+  // A face counts as turned toward the sun when n̂·toSun ≥ kFacingMargin · toSun_y · n̂_y: room
+  // for the GPU's float32 transform of its vertices.
+  static constexpr double kFacingMargin = 1e-3;
 
  private:
   static int slotOf(int level, int block);

@@ -77,7 +77,8 @@ class Terrain {
   std::span<const Aabb> blockBoxes(int tile, int level) const;
   static constexpr int kMaxBlockBoxes = (kTileQuads / 16) * (kTileQuads / 16);
   // Whether block `block` of a tile drawn at `level` may write into a backside shadow map for a
-  // sun (BlockFacing), in the morph state `lod` gives it (blockMorph).
+  // sun, in the morph state `lod` gives it (blockMorph): by its slopes' support (BlockFacing)
+  // outside a morph ramp, triangle by triangle at the LOD's morph factors inside one.
   bool blockMayFaceAway(int tile, int level, int block, const TerrainLod& lod, const glm::dvec3& toSun) const;
   // Every vertex of the block at k = 0 (its box ends before the level's morph ramp), at k = 1 (it
   // starts past the ramp) or either.
@@ -110,6 +111,8 @@ class Terrain {
 
  private:
   int tileOf(double x, double z) const;
+  // blockMayFaceAway for a block inside a morph ramp (ramp_block_facing.cpp).
+  bool rampBlockMayFaceAway(int tile, int level, int block, const TerrainLod& lod, const glm::dvec3& toSun) const;
 
   TerrainSettings settings_;
   Heightfield heightfield_;
