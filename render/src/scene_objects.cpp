@@ -1,6 +1,7 @@
 #include "forest/render/scene_objects.hpp"
 
 #include <algorithm>
+#include <string>
 
 #include "forest/core/error.hpp"
 
@@ -74,6 +75,12 @@ culling::QueryShapes SceneObjects::queryShapes(const terrain::TerrainLod* lod) c
     queryRanges_[t] = {first, static_cast<std::uint32_t>(blocks.size())};
   }
   return {queryRanges_, queryBoxes_};
+}
+
+std::span<const Aabb> SceneObjects::shapeBoxes(std::uint32_t object) const {
+  if (object < tiles_ || object >= objects_.size()) throw Error("scene objects: no tree or prop " + std::to_string(object));
+  const culling::QueryShapes::Range range = queryRanges_[object];
+  return {queryBoxes_.data() + range.first, range.count};
 }
 
 std::int64_t SceneObjects::objectOfId(std::uint32_t id) const {

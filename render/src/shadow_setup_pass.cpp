@@ -105,7 +105,7 @@ void ShadowSetupPass::selectCastersOfReceivers(ShadowSlice& slice, const FrameSe
 // the light, meets a receiver. A tile none of whose blocks remain is no caster.
 // With a receiver mask (Bittner et al. 2011 §4, box casters), a caster or block stays only when its
 // box, in the slice's map and grown by the filter's reach, covers a receiver pixel farther from the
-// light.
+// light — for a tree, one of its height slabs (SceneObjects::shapeBoxes), which hug its crown.
 void ShadowSetupPass::refineCasters(ShadowSlice& slice, const FrameSettings& settings, const dvec3& l, const SceneObjects& objects,
                                     const terrain::TerrainLod* lod, const shadows::ReceiverMask* mask) {
   const terrain::Terrain* terrain = lod ? objects.terrain() : nullptr;
@@ -116,7 +116,12 @@ void ShadowSetupPass::refineCasters(ShadowSlice& slice, const FrameSettings& set
   size_t kept = 0;
   for (std::uint32_t o : slice.casters) {
     const SceneObjects::Object& object = objects.objects()[o];
-    if (object.kind != SceneObjects::Kind::Tile || !terrain) {
+    if (object.kind != SceneObjects::Kind::Tile) {
+      const std::span<const Aabb> shapes = objects.shapeBoxes(o);
+      if (std::any_of(shapes.begin(), shapes.end(), covers)) slice.casters[kept++] = o;
+      continue;
+    }
+    if (!terrain) {
       if (covers(objects.boxes()[o])) slice.casters[kept++] = o;
       continue;
     }

@@ -35,6 +35,9 @@ class SceneObjects {
   // (terrain::Terrain::blockBoxes; without a LOD, its box), a prop's box. Valid until the next call.
   culling::QueryShapes queryShapes(const terrain::TerrainLod* lod) const;
   const std::vector<Object>& objects() const { return objects_; }
+  // The boxes whose union holds a tree or a prop at all times (a tree's height slabs, a prop's
+  // box): what its queries draw. Not for a tile, whose blocks depend on the LOD (queryShapes).
+  std::span<const Aabb> shapeBoxes(std::uint32_t object) const;
   std::size_t tileCount() const { return tiles_; }
   const terrain::Terrain* terrain() const { return terrain_; }  // null without terrain
   std::size_t treeCount() const { return trees_; }
