@@ -42,7 +42,7 @@ TEST(ForestCli, SpeedErrorQuickWritesTheDocumentedReportAndPlots) {
     for (const char* key : {"scenario", "method", "focus", "cascades", "map_size", "total_texels", "blur", "frame_ms", "shadow_ms",
                             "shadow_triangles", "misclassification", "near_edge", "elsewhere", "false_shadow", "false_light", "bands",
                             "soft_mae", "aliasing_p95_px", "aliasing_max_px", "lit_facing_pixels", "casters_selected", "casters_needed",
-                            "casters_missing"})
+                            "casters_missing", "casters_needed_triangles"})
       ASSERT_TRUE(row.contains(key)) << key;
     // Equal total texels: one 1024² map or four 512² layers.
     EXPECT_EQ(row["total_texels"].get<long long>(), 1024LL * 1024);
@@ -57,6 +57,7 @@ TEST(ForestCli, SpeedErrorQuickWritesTheDocumentedReportAndPlots) {
     EXPECT_LE(row["misclassification"].get<double>(), 1.0);
     EXPECT_NEAR(row["misclassification"].get<double>(), row["false_shadow"].get<double>() + row["false_light"].get<double>(), 1e-12);
     EXPECT_EQ(row["casters_missing"].get<int>(), 0) << row["scenario"] << " " << row["method"];
+    EXPECT_EQ(row["casters_needed_triangles"].get<long long>() > 0, row["casters_needed"].get<int>() > 0);  // a caster has triangles
   }
   EXPECT_EQ(cascaded, 16);
   EXPECT_EQ(j["flicker"].size(), 12u);

@@ -120,7 +120,7 @@ std::string writeSpeedErrorReport(const std::filesystem::path& out, const SpeedE
   std::ostringstream csv;
   csv << "scenario,method,focus,cascades,map_size,total_texels,blur,frame_ms,shadow_ms,shadow_triangles,misclassification,near_edge,"
          "elsewhere,false_shadow,false_light,band_0_50,band_50_200,band_200_plus,soft_mae,aliasing_p95_px,aliasing_max_px,"
-         "casters_selected,casters_needed,casters_missing\n";
+         "casters_selected,casters_needed,casters_missing,casters_needed_triangles\n";
   report["rows"] = ordered_json::array();
   for (const Row& r : rows) {
     const truth::FrameError& e = r.error;
@@ -147,13 +147,14 @@ std::string writeSpeedErrorReport(const std::filesystem::path& out, const SpeedE
                               {"lit_facing_pixels", e.litFacing},
                               {"casters_selected", e.casters.selected},
                               {"casters_needed", e.casters.needed},
-                              {"casters_missing", e.casters.missing}});
+                              {"casters_missing", e.casters.missing},
+                              {"casters_needed_triangles", e.casters.neededTriangles}});
     auto band = [&](size_t i) { return i < e.bands.size() ? e.bands[i].misclassification : 0.0; };
-    csv << fmt::format("\"{}\",{},{},{},{},{},{},{:.3f},{:.3f},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.4f},{:.4f},{},{},{}\n",
+    csv << fmt::format("\"{}\",{},{},{},{},{},{},{:.3f},{:.3f},{},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.6f},{:.4f},{:.4f},{},{},{},{}\n",
                        r.scenario, r.method, r.focus, r.layout.cascades, r.layout.layerSize, texels, r.blur ? 1 : 0, r.frameMs,
                        r.shadowMs, r.shadowTriangles, e.misclassification, e.misclassificationNearEdge, e.misclassificationElsewhere,
                        e.falseShadow, e.falseLight, band(0), band(1), band(2), r.softError, e.aliasingPixels.p95, e.aliasingPixels.max,
-                       e.casters.selected, e.casters.needed, e.casters.missing);
+                       e.casters.selected, e.casters.needed, e.casters.missing, e.casters.neededTriangles);
   }
   report["flicker"] = ordered_json::array();
   for (const FlickerRow& f : flicker)
@@ -190,14 +191,15 @@ std::string writeSpeedErrorReport(const std::filesystem::path& out, const SpeedE
 
   // By distance, at 2048² total texels when swept (else the largest total).
   const int bandTotal = std::find(totals.begin(), totals.end(), 2048) != totals.end() ? 2048 : totals.back();
-  md << fmt::format("\nBy distance from the eye at {}² total texels: misclassified lit-facing pixels (%) per band, and the "
-                    "shadow pass's triangles:\n\n| scenario | method |",
+  md << fmt::format("\nBy distance from the eye at {}² total texels: misclassified lit-facing pixels (%) per band; the "
+                    "shadow pass's triangles (all layers), the triangles of the casters the truth needs (the first "
+                    "occluder of each lit-facing pixel) and the ratio of the two:\n\n| scenario | method |",
                     bandTotal);
   const Row* any = findRow(rows, scenarios.front().name, series.front().first, series.front().second, bandTotal);
   const size_t bandCount = any ? any->error.bands.size() : 0;
   for (size_t b = 0; b < bandCount; ++b) md << " " << bandName(any->error.bands[b]) << " |";
-  md << " shadow triangles |\n|---|---|";
-  for (size_t b = 0; b <= bandCount; ++b) md << "---|";
+  md << " shadow triangles | needed | drawn / needed |\n|---|---|";
+  for (size_t b = 0; b < bandCount + 3; ++b) md << "---|";
   md << "\n";
   for (const Scenario& s : scenarios)
     for (const auto& [method, k] : series) {
@@ -205,7 +207,9 @@ std::string writeSpeedErrorReport(const std::filesystem::path& out, const SpeedE
       if (!r) continue;
       md << "| " << s.name << " | " << seriesName(method, k) << " |";
       for (const truth::DistanceBand& b : r->error.bands) md << fmt::format(" {:.2f} |", 100 * b.misclassification);
-      md << fmt::format(" {} |\n", r->shadowTriangles);
+      const long long needed = r->error.casters.neededTriangles;
+      md << fmt::format(" {} | {} | {} |\n", r->shadowTriangles, needed,
+                        needed > 0 ? fmt::format("{:.2f}", static_cast<double>(r->shadowTriangles) / static_cast<double>(needed)) : std::string("–"));
     }
 
   md << "\nFlicker (share of probe states that change between consecutive frames, " << scenarios.front().name
