@@ -208,7 +208,7 @@ const std::map<std::string, std::string>& pathDescriptions() {
 }
 
 ordered_json summarise(const std::vector<FrameRecord>& frames) {
-  std::vector<double> ms, triangles, draws, queries, multi, geometry, queryTriangles, switches, wait, objects;
+  std::vector<double> ms, triangles, draws, queries, multi, geometry, queryTriangles, switches, wait, cpu, objects;
   for (const FrameRecord& r : frames) {
     ms.push_back(r.milliseconds);
     triangles.push_back(static_cast<double>(r.stats.trianglesDrawn));
@@ -219,6 +219,7 @@ ordered_json summarise(const std::vector<FrameRecord>& frames) {
     queryTriangles.push_back(static_cast<double>(r.stats.queryTriangles));
     switches.push_back(r.stats.stateSwitches);
     wait.push_back(r.stats.waitMilliseconds);
+    cpu.push_back(r.stats.cpuMilliseconds);
     objects.push_back(r.stats.objectsDrawn);
   }
   return {{"p50_ms", percentile(ms, 0.5)},          {"p95_ms", percentile(ms, 0.95)},
@@ -226,7 +227,7 @@ ordered_json summarise(const std::vector<FrameRecord>& frames) {
           {"draw_calls_p50", percentile(draws, 0.5)},   {"queries_p50", percentile(queries, 0.5)},
           {"multiqueries_p50", percentile(multi, 0.5)}, {"geometry_queries_p50", percentile(geometry, 0.5)},
           {"query_triangles_p50", percentile(queryTriangles, 0.5)}, {"state_switches_p50", percentile(switches, 0.5)},
-          {"wait_ms_p50", percentile(wait, 0.5)}};
+          {"wait_ms_p50", percentile(wait, 0.5)},        {"culling_cpu_ms_p50", percentile(cpu, 0.5)}};
 }
 
 glm::vec3 strategyColour(const std::string& name) {
@@ -427,12 +428,12 @@ int runBenchCulling(const BenchOptions& options) {
           "the oracle's one-frame lag: {:.3f} of its triangles over the measured frames (visible in the frame before, hidden "
           "now, in the frustum: the least a method that draws the previous frame's visible set untested draws above them)", lag);
       markdown += fmt::format("## {} trees, {} ({})\n\n", size, pathName, pathDescriptions().at(pathName));
-      markdown += "| strategy | p50 ms | p95 ms | / frustum | / oracle | triangles | / oracle's | draws | queries | multi | geometry | switches | wait ms |\n";
-      markdown += "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+      markdown += "| strategy | p50 ms | p95 ms | / frustum | / oracle | triangles | / oracle's | draws | queries | multi | geometry | switches | wait ms | cpu ms |\n";
+      markdown += "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
       std::cout << fmt::format("\n{} trees, {} path ({}), {} frames:\n", size, pathName, pathDescriptions().at(pathName), options.length.frames);
-      std::cout << fmt::format("  {:<14} {:>8} {:>8} {:>9} {:>8} {:>11} {:>8} {:>7} {:>8} {:>6} {:>6} {:>8} {:>8}\n", "strategy", "p50 ms",
-                               "p95 ms", "/frustum", "/oracle", "triangles", "/oracle", "draws", "queries", "multi", "geom", "switches",
-                               "wait ms");
+      std::cout << fmt::format("  {:<14} {:>8} {:>8} {:>9} {:>8} {:>11} {:>8} {:>7} {:>8} {:>6} {:>6} {:>8} {:>8} {:>7}\n", "strategy",
+                               "p50 ms", "p95 ms", "/frustum", "/oracle", "triangles", "/oracle", "draws", "queries", "multi", "geom",
+                               "switches", "wait ms", "cpu ms");
       PlotPanel panel{fmt::format("{} trees, {}", size, pathName), "frame", "ms (culling + geometry)", {}};
       for (const std::string& name : order) {
         ordered_json& j = summaries[name];
@@ -443,17 +444,18 @@ int runBenchCulling(const BenchOptions& options) {
         j["triangles_over_oracle"] = j["triangles_p50"].get<double>() / std::max(1.0, oracleTriangles);
         entry["strategies"][name] = j;
         const std::string row = fmt::format(
-            "{:.2f} | {:.2f} | {:.3f} | {:.3f} | {:.0f} | {:.3f} | {:.0f} | {:.0f} | {:.0f} | {:.0f} | {:.0f} | {:.2f}", ms,
+            "{:.2f} | {:.2f} | {:.3f} | {:.3f} | {:.0f} | {:.3f} | {:.0f} | {:.0f} | {:.0f} | {:.0f} | {:.0f} | {:.2f} | {:.2f}", ms,
             j["p95_ms"].get<double>(), j["over_frustum"].get<double>(), j["over_oracle"].get<double>(), j["triangles_p50"].get<double>(),
             j["triangles_over_oracle"].get<double>(), j["draw_calls_p50"].get<double>(), j["queries_p50"].get<double>(),
             j["multiqueries_p50"].get<double>(), j["geometry_queries_p50"].get<double>(), j["state_switches_p50"].get<double>(),
-            j["wait_ms_p50"].get<double>());
+            j["wait_ms_p50"].get<double>(), j["culling_cpu_ms_p50"].get<double>());
         markdown += fmt::format("| {} | {} |\n", name, row);
-        std::cout << fmt::format("  {:<14} {:>8.2f} {:>8.2f} {:>9.3f} {:>8.3f} {:>11.0f} {:>8.3f} {:>7.0f} {:>8.0f} {:>6.0f} {:>6.0f} {:>8.0f} {:>8.2f}\n",
+        std::cout << fmt::format("  {:<14} {:>8.2f} {:>8.2f} {:>9.3f} {:>8.3f} {:>11.0f} {:>8.3f} {:>7.0f} {:>8.0f} {:>6.0f} {:>6.0f} {:>8.0f} {:>8.2f} {:>7.2f}\n",
                                  name, ms, j["p95_ms"].get<double>(), j["over_frustum"].get<double>(), j["over_oracle"].get<double>(),
                                  j["triangles_p50"].get<double>(), j["triangles_over_oracle"].get<double>(), j["draw_calls_p50"].get<double>(),
                                  j["queries_p50"].get<double>(), j["multiqueries_p50"].get<double>(), j["geometry_queries_p50"].get<double>(),
-                                 j["state_switches_p50"].get<double>(), j["wait_ms_p50"].get<double>());
+                                 j["state_switches_p50"].get<double>(), j["wait_ms_p50"].get<double>(),
+                                 j["culling_cpu_ms_p50"].get<double>());
         PlotSeries series{name, strategyColour(name), {}, true};
         for (size_t f = 0; f < records[name].size(); ++f) series.points.push_back({static_cast<double>(f), records[name][f].milliseconds});
         panel.series.push_back(std::move(series));

@@ -262,6 +262,7 @@ const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb>
     throw Error(fmt::format("OcclusionCuller: query shapes for {} objects, expected {}", shapes.ranges.size(), objectBoxes.size()));
   if (objectBoxes.size() != bvh.objectCount())
     throw Error(fmt::format("OcclusionCuller: {} object boxes for a BVH over {}", objectBoxes.size(), bvh.objectCount()));
+  const auto start = std::chrono::steady_clock::now();
   CullingResult& result = result_;
   result.stats = CullingStats{};
   result.visibleObjects.clear();
@@ -354,6 +355,8 @@ const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb>
   std::sort(visible.begin(), visible.end());
   visible.erase(std::unique(visible.begin(), visible.end()), visible.end());
   result.farDepth = farDepthOf(visible, objectBoxes, camera);
+  result.stats.cpuMilliseconds =
+      1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - result.stats.waitMilliseconds;
   return result;
 }
 

@@ -109,6 +109,9 @@ struct CullingStats {
   int objectsDrawn = 0;
   long long trianglesDrawn = 0;
   double waitMilliseconds = 0.0;  // CPU time blocked on query results (async: polling until available)
+  // The cull call's own CPU time, less the waits: traversal, queues and GL submission (on a
+  // software renderer the submitting thread's share of the draws' vertex work too).
+  double cpuMilliseconds = 0.0;
   int availabilityPolls = 0;      // async: fences polled
 };
 
