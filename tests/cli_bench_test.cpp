@@ -31,10 +31,11 @@ TEST(ForestCli, SpeedErrorQuickWritesTheDocumentedReportAndPlots) {
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("equal-error size"));
   const nlohmann::json j = nlohmann::json::parse(readTextFile(folder / "report.json"));
-  for (const char* key : {"version", "scene", "device", "timing", "queries", "resolution", "quick", "map_sizes", "soft_rays",
+  for (const char* key : {"version", "scene", "device", "timing", "queries", "casters", "resolution", "quick", "map_sizes", "soft_rays",
                           "target_misclassification", "scenarios", "rows", "flicker", "equal_error_map_size"})
     EXPECT_TRUE(j.contains(key)) << key;
-  EXPECT_EQ(j["timing"], "profile");  // auto on llvmpipe
+  EXPECT_EQ(j["timing"], "profile");           // auto on llvmpipe
+  EXPECT_EQ(j["casters"], "receiver-pixels");  // auto on llvmpipe, as in every other command
   // 2 scenarios × 4 methods × (2 focus bounds at 1024², receivers at 4 × 512²) × blur on / off.
   ASSERT_EQ(j["rows"].size(), 48u);
   int cascaded = 0;

@@ -156,6 +156,7 @@ int runSpeedError(const SpeedErrorOptions& options) {
         for (const std::string& focus : focusBoundsFor(layout)) {
           render::FrameSettings settings = settingsFor(method, focus, layout);
           options.modes.resolve(settings, context->info());
+          settings.casters = options.casters.resolve(context->info());
           settings.blurRadius = 3.0;
           // One frame to settle CHC, the smoothed n and the splits, then the measured one.
           frame.resetHistory();
@@ -212,6 +213,7 @@ int runSpeedError(const SpeedErrorOptions& options) {
       for (const std::string& focus : focusBoundsFor(layout)) {
         render::FrameSettings settings = settingsFor(method, focus, layout);
         options.modes.resolve(settings, context->info());
+        settings.casters = options.casters.resolve(context->info());
         frame.resetHistory();
         FlickerRow f{method, focus, layout, truth::measureFlicker(frame, scene, path, 0.0, settings), 0.0};
         for (const Row& r : rows)
@@ -223,7 +225,9 @@ int runSpeedError(const SpeedErrorOptions& options) {
   if (gl::debugErrorCount() > 0)
     throw Error(fmt::format("{} GL errors during the sweep (first: {})", gl::debugErrorCount(), gl::debugErrorMessages().front()));
 
-  const std::string table = writeSpeedErrorReport(out, options, scenePath, gl::describe(context->info()), options.modes.json(context->info()),
+  nlohmann::ordered_json modes = options.modes.json(context->info());
+  modes["casters"] = render::casterSelectionName(options.casters.resolve(context->info()));
+  const std::string table = writeSpeedErrorReport(out, options, scenePath, gl::describe(context->info()), modes,
                                                   width, height, scenarios, layouts, rows, flicker);
   for (const auto& [series, w] : worst) writeImage(out / fmt::format("worst-{}.png", series), w.second);
   std::cout << table << fmt::format("\nwrote {}/report.json, results.csv, table.md, 5 plots, {} worst-case error images\n", out.string(),
@@ -262,6 +266,7 @@ Run addSpeedErrorCommand(CLI::App& bench) {
       ->capture_default_str();
   addSoftRaysOption(*command, options->softRays);
   options->modes.add(*command);
+  options->casters.add(*command);
   command->add_flag("--quiet", options->quiet, "No progress bar");
   return [options] { return runSpeedError(*options); };
 }

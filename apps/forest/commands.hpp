@@ -62,6 +62,14 @@ struct ModeOptions {
   nlohmann::ordered_json json(const gl::ContextInfo& context) const;
 };
 
+// --casters: which objects the shadow pass draws (render::CasterSelection), auto resolved by the
+// renderer (render::defaultCasterSelection: the receiver pixels on a software renderer).
+struct CasterOptions {
+  std::string casters = "auto";
+  void add(CLI::App& command);
+  render::CasterSelection resolve(const gl::ContextInfo& context) const;  // throws InputError for a bad name
+};
+
 // Renders a frame; in the GpuQueries timing mode also waits (outside the frame) for its pass
 // times, so a benchmark reads them from the returned stats in either mode.
 render::FrameStats renderWithPassTimes(render::Frame& frame, const Camera& camera, double time, const render::FrameSettings& settings);
@@ -75,7 +83,7 @@ struct FrameOptions {
   int pcf = 0;
   double blur = 3.0;         // eye-space blur radius, pixels (0: off)
   double blurDepth = 10.0;   // metres up to which the full radius applies
-  std::string casters = "auto";  // render::parseCasterSelection, or auto: render::defaultCasterSelection
+  CasterOptions casters;
   // Z-partitioning; each left unset (the scene's [shadows]) unless its flag is given.
   int cascades = 1;
   double splitLambda = 0.8;

@@ -95,14 +95,7 @@ void FrameOptions::add(CLI::App& command, bool withCulling) {
                                           "share of the split's distance (0 to 0.5; 0: hard; default: the scene's, else 0.1)")
                            ->check(CLI::Range(0.0, 0.5));
   command.add_option("--pcf", pcf, "Wider PCF: (2r+1)² hardware 2×2 lookups (0 to 4; 0: one)")->check(CLI::Range(0, 4))->capture_default_str();
-  command.add_option("--casters", casters,
-                     "Shadow casters: of the visible receivers' boxes (receivers), of the visible sun-facing\n"
-                     "pixels (receiver-pixels: the G-buffer read back, a CPU wait on a GPU), of the frustum's\n"
-                     "focus body (frustum-body), all, or auto (receiver-pixels on a software renderer such as\n"
-                     "llvmpipe, whose rasteriser threads wait anyway while the CPU sets up the shadows; receivers\n"
-                     "on a GPU)")
-      ->check(CLI::IsMember({"auto", "receivers", "receiver-pixels", "frustum-body", "all"}))
-      ->capture_default_str();
+  casters.add(command);
   command.add_option("--blur", blur,
                      "Eye-space blur of the shadow term (thesis §9.4.2): radius in pixels (0 to 16) up to\n"
                      "--blur-depth, then shrinking as 1/depth (0: off)")
@@ -112,6 +105,21 @@ void FrameOptions::add(CLI::App& command, bool withCulling) {
       ->check(CLI::Range(0.01, 1e4))
       ->capture_default_str();
   modes.add(command);
+}
+
+void CasterOptions::add(CLI::App& command) {
+  command.add_option("--casters", casters,
+                     "Shadow casters: of the visible receivers' boxes (receivers), of the visible sun-facing\n"
+                     "pixels (receiver-pixels: the G-buffer read back, a CPU wait on a GPU), of the frustum's\n"
+                     "focus body (frustum-body), all, or auto (receiver-pixels on a software renderer such as\n"
+                     "llvmpipe, whose rasteriser threads wait anyway while the CPU sets up the shadows; receivers\n"
+                     "on a GPU)")
+      ->check(CLI::IsMember({"auto", "receivers", "receiver-pixels", "frustum-body", "all"}))
+      ->capture_default_str();
+}
+
+render::CasterSelection CasterOptions::resolve(const gl::ContextInfo& context) const {
+  return casters == "auto" ? render::defaultCasterSelection(context) : render::parseCasterSelection(casters);
 }
 
 void ModeOptions::add(CLI::App& command) {
@@ -132,7 +140,7 @@ void ModeOptions::add(CLI::App& command) {
 
 void FrameOptions::resolveModes(render::FrameSettings& s, const gl::ContextInfo& context) const {
   modes.resolve(s, context);
-  s.casters = casters == "auto" ? render::defaultCasterSelection(context) : render::parseCasterSelection(casters);
+  s.casters = casters.resolve(context);
 }
 
 render::FrameSettings FrameOptions::settings(const gl::ContextInfo& context) const {

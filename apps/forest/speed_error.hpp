@@ -26,6 +26,7 @@ struct SpeedErrorOptions {
   double target = 0.02;  // misclassification for the equal-error map sizes
   int softRays = 8;      // fewer than truth's 16: the sweep scores 130 frames
   ModeOptions modes;
+  CasterOptions casters;
   bool quiet = false;
 };
 

@@ -169,10 +169,10 @@ std::string writeSpeedErrorReport(const std::filesystem::path& out, const SpeedE
   report["equal_error_map_size"] = equalError;
 
   std::ostringstream md;
-  md << fmt::format("Speed against error: {} at {}x{}, B from the visible receivers, blur 3 px ({}). Layouts at equal total "
-                    "texels: one map of N², or K slices of (N/√K)² (\"xK\").\n\n"
+  md << fmt::format("Speed against error: {} at {}x{}, B from the visible receivers, blur 3 px, casters {} ({}). Layouts at "
+                    "equal total texels: one map of N², or K slices of (N/√K)² (\"xK\").\n\n"
                     "Misclassified lit-facing pixels (%) / frame ms, per total texels N²:\n\n",
-                    std::filesystem::path(scenePath).filename().string(), width, height, device);
+                    std::filesystem::path(scenePath).filename().string(), width, height, modes.value("casters", std::string("?")), device);
   md << "| scenario | method |";
   for (int total : totals) md << fmt::format(" {}² |", total);
   md << " equal-error size (≤ " << 100 * options.target << "%) |\n|---|---|";
