@@ -130,6 +130,7 @@ int runSpeedError(const SpeedErrorOptions& options) {
   contextOptions.height = height;
   auto context = gl::createContext(contextOptions);
   log::info("{}", gl::describe(context->info()));
+  const render::CasterSelection casters = options.casters.resolve(context->info());
   render::Frame frame(scene, width, height);
   const std::vector<Scenario> scenarios = makeScenarios(scene, frame, options.quick);
 
@@ -156,7 +157,7 @@ int runSpeedError(const SpeedErrorOptions& options) {
         for (const std::string& focus : focusBoundsFor(layout)) {
           render::FrameSettings settings = settingsFor(method, focus, layout);
           options.modes.resolve(settings, context->info());
-          settings.casters = options.casters.resolve(context->info());
+          settings.casters = casters;
           settings.blurRadius = 3.0;
           // One frame to settle CHC, the smoothed n and the splits, then the measured one.
           frame.resetHistory();
@@ -213,7 +214,7 @@ int runSpeedError(const SpeedErrorOptions& options) {
       for (const std::string& focus : focusBoundsFor(layout)) {
         render::FrameSettings settings = settingsFor(method, focus, layout);
         options.modes.resolve(settings, context->info());
-        settings.casters = options.casters.resolve(context->info());
+        settings.casters = casters;
         frame.resetHistory();
         FlickerRow f{method, focus, layout, truth::measureFlicker(frame, scene, path, 0.0, settings), 0.0};
         for (const Row& r : rows)
@@ -226,7 +227,7 @@ int runSpeedError(const SpeedErrorOptions& options) {
     throw Error(fmt::format("{} GL errors during the sweep (first: {})", gl::debugErrorCount(), gl::debugErrorMessages().front()));
 
   nlohmann::ordered_json modes = options.modes.json(context->info());
-  modes["casters"] = render::casterSelectionName(options.casters.resolve(context->info()));
+  modes["casters"] = render::casterSelectionName(casters);
   const std::string table = writeSpeedErrorReport(out, options, scenePath, gl::describe(context->info()), modes,
                                                   width, height, scenarios, layouts, rows, flicker);
   for (const auto& [series, w] : worst) writeImage(out / fmt::format("worst-{}.png", series), w.second);

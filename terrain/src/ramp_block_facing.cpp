@@ -46,7 +46,6 @@ struct RampVertex {
 
 bool Terrain::rampBlockMayFaceAway(int tile, int level, int block, const TerrainLod& lod, const dvec3& toSun) const {
   const Heightfield& h = heightfield_;
-  const int tx = tile % tilesPerSide_, tz = tile / tilesPerSide_;
   const int step = 1 << level, quads = blockQuads(level), perSide = kTileQuads / quads;
   const int i0 = (block % perSide) * quads, j0 = (block / perSide) * quads, n = quads / step + 1;
   const double start = lod.morphStart[static_cast<size_t>(level)], width = lod.morphEnd[static_cast<size_t>(level)] - start;
@@ -61,9 +60,8 @@ bool Terrain::rampBlockMayFaceAway(int tile, int level, int block, const Terrain
   for (int b = 0; b < n; ++b)
     for (int a = 0; a < n; ++a) {
       const int i = i0 + a * step, j = j0 + b * step;
-      const int ti = (i / step) % 2 == 1 ? i - step : i, tj = (j / step) % 2 == 1 ? j - step : j;
-      const dvec3 fine = h.position(tx * kTileQuads + i, tz * kTileQuads + j);
-      const dvec3 target = h.position(tx * kTileQuads + ti, tz * kTileQuads + tj);
+      const int ti = (i / step) % 2 == 1 ? i - step : i, tj = (j / step) % 2 == 1 ? j - step : j;  // the target's sample
+      const auto [fine, target] = morphEnds(tile, i, j, level);
       const double distance = glm::distance(fine, lod.eye), slide = glm::distance(fine, target);
       const double t = (distance - start) / width;
       const double tError = 2.0 * ((sampleError + 4.0 * kUlp * (distance + end)) / width + 4.0 * kUlp);

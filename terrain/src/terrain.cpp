@@ -158,13 +158,16 @@ int Terrain::tileLevel(int tile, const TerrainLod& lod) const {
   return std::min(static_cast<int>(std::floor(lod.levelAt(distance))), kLevels - 1);
 }
 
-glm::dvec3 Terrain::drawnVertex(int tile, int i, int j, int level, const TerrainLod& lod) const {
+std::pair<dvec3, dvec3> Terrain::morphEnds(int tile, int i, int j, int level) const {
   const int tx = tile % tilesPerSide_, tz = tile / tilesPerSide_;
   const int step = 1 << level;
   const int ti = (i / step) % 2 == 1 ? i - step : i;  // odd at this level: slides to i − step
   const int tj = (j / step) % 2 == 1 ? j - step : j;
-  const dvec3 fine = heightfield_.position(tx * kTileQuads + i, tz * kTileQuads + j);
-  const dvec3 target = heightfield_.position(tx * kTileQuads + ti, tz * kTileQuads + tj);
+  return {heightfield_.position(tx * kTileQuads + i, tz * kTileQuads + j), heightfield_.position(tx * kTileQuads + ti, tz * kTileQuads + tj)};
+}
+
+glm::dvec3 Terrain::drawnVertex(int tile, int i, int j, int level, const TerrainLod& lod) const {
+  const auto [fine, target] = morphEnds(tile, i, j, level);
   const double k = lod.morphFactor(level, glm::distance(fine, lod.eye));
   return fine * (1.0 - k) + target * k;
 }

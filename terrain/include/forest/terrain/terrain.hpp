@@ -14,6 +14,7 @@
 
 #include <array>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "forest/core/bounds.hpp"
@@ -111,6 +112,9 @@ class Terrain {
 
  private:
   int tileOf(double x, double z) const;
+  // Local sample (i, j) of a tile at `level` and the sample it slides to (odd at the level: one
+  // step lower), world positions: the two ends of its morph (drawnVertex).
+  std::pair<glm::dvec3, glm::dvec3> morphEnds(int tile, int i, int j, int level) const;
   // blockMayFaceAway for a block inside a morph ramp (ramp_block_facing.cpp).
   bool rampBlockMayFaceAway(int tile, int level, int block, const TerrainLod& lod, const glm::dvec3& toSun) const;
 
