@@ -12,21 +12,28 @@ double cross(const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b) {
 
 }  // namespace
 
-std::vector<glm::dvec2> convexHull(std::vector<glm::dvec2> points) {
+size_t convexHullInPlace(std::span<glm::dvec2> points, std::span<glm::dvec2> hull) {
   std::sort(points.begin(), points.end(), [](const glm::dvec2& a, const glm::dvec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
-  points.erase(std::unique(points.begin(), points.end()), points.end());
-  if (points.size() < 3) return points;
-  std::vector<glm::dvec2> hull(2 * points.size());
+  const size_t n = static_cast<size_t>(std::unique(points.begin(), points.end()) - points.begin());
+  if (n < 3) {
+    std::copy_n(points.begin(), n, hull.begin());
+    return n;
+  }
   size_t k = 0;
-  for (size_t i = 0; i < points.size(); ++i) {  // lower chain
+  for (size_t i = 0; i < n; ++i) {  // lower chain
     while (k >= 2 && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
     hull[k++] = points[i];
   }
-  for (size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {  // upper chain
+  for (size_t i = n - 1, lower = k + 1; i-- > 0;) {  // upper chain
     while (k >= lower && cross(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
     hull[k++] = points[i];
   }
-  hull.resize(k - 1);
+  return k - 1;
+}
+
+std::vector<glm::dvec2> convexHull(std::vector<glm::dvec2> points) {
+  std::vector<glm::dvec2> hull(2 * points.size());
+  hull.resize(convexHullInPlace(points, hull));
   return hull;
 }
 

@@ -131,9 +131,16 @@ void ShadowSetupPass::refineCasters(ShadowSlice& slice, const FrameSettings& set
     for (int b = 0; b < static_cast<int>(blocks.size()); ++b) {
       const Aabb& box = blocks[static_cast<size_t>(b)];
       if (!selector_.needed(box) || !covers(box)) continue;
-      if (settings.backside && !terrain->blockMayFaceAway(tile, level, b, *lod, -l)) continue;  // last: per triangle in a ramp
-      slice.terrainBlocks.push_back({tile, level, b});
-      any = true;
+      if (!settings.backside) {
+        slice.terrainBlocks.push_back({tile, level, b});
+        any = true;
+        continue;
+      }
+      // Last, per triangle in a ramp: such a block draws only its runs of cells that may face away.
+      cellRuns_.clear();
+      terrain->cellsThatMayFaceAway(tile, level, b, *lod, -l, cellRuns_);
+      for (const terrain::CellSpan& run : cellRuns_) slice.terrainBlocks.push_back({tile, level, b, run});
+      any = any || !cellRuns_.empty();
     }
     if (any) slice.casters[kept++] = o;
   }
@@ -165,7 +172,9 @@ void ShadowSetupPass::fillReceiverMask(const ShadowSlice& slice, const FrameSett
                      slice.camera.far);
     }
   });
-  for (size_t band = 1; band < bandMasks_.size(); ++band) mask_.merge(bandMasks_[band]);
+  workers_->run([&](int part) {  // each thread merges a share of the cells
+    for (size_t band = 1; band < bandMasks_.size(); ++band) mask_.merge(bandMasks_[band], part, bands);
+  });
 }
 
 // Zhang et al. 2006 eq. (4) on [z_near, z_f], z_near the nearest visible depth (SDSM, Lauritzen et

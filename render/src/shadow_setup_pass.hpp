@@ -87,6 +87,7 @@ class ShadowSetupPass {
   shadows::SplitDepths previousSplits_;  // cascades 0: none
   // Kept from frame to frame, so a steady-state frame allocates nothing (DESIGN §9).
   std::vector<Aabb> receivers_, sliceReceivers_, footprints_;
+  std::vector<terrain::CellSpan> cellRuns_;  // one terrain block's (refineCasters)
   std::vector<glm::dvec2> receiverDepths_;  // each receiver's eye-depth range
   shadows::CasterSelector selector_;
   shadows::ReceiverMask mask_;

@@ -84,10 +84,13 @@ TerrainRenderer::TerrainRenderer(const terrain::Terrain& terrain, Output output,
   // A segment holds every block of every tile (the largest draw), so the ring never grows.
   const size_t mostInstances = static_cast<size_t>(terrain.tileCount()) * terrain::Terrain::kMaxBlockBoxes;
   instances_ = std::make_unique<gl::StreamRing>(mostInstances * sizeof(glm::ivec4), sizeof(glm::ivec4));
+  // Room for a command per ramp block of a few hundred tiles; more grows the ring (rare).
+  commands_ = std::make_unique<gl::StreamRing>(4096 * sizeof(IndirectCommand), sizeof(IndirectCommand));
   // Room for every block of every tile in every list: a draw never grows them (no allocation per frame).
   for (int level = 0; level < kLevels; ++level)
     byLevel_[static_cast<size_t>(level)].reserve(static_cast<size_t>(terrain.tileCount() * terrain::blocksPerTile(level)));
   packed_.reserve(mostInstances);
+  partBlocks_.reserve(mostInstances);
 
   const GLuint vao = vertexArray_.id();
   glVertexArrayVertexBuffer(vao, 0, grid_.id(), 0, sizeof(glm::ivec2));
@@ -169,14 +172,22 @@ TerrainRenderer::Stats TerrainRenderer::drawBlocks(const DrawView& view, const t
                                                    std::span<const terrain::TileBlock> blocks) const {
   if (blocks.empty()) return {};
   for (auto& level : byLevel_) level.clear();
+  partBlocks_.clear();
   for (const terrain::TileBlock& b : blocks) {
     if (b.level < 0 || b.level >= kLevels || b.block < 0 || b.block >= terrain::blocksPerTile(b.level) || b.tile < 0 ||
         b.tile >= terrain_.tileCount())
       throw Error(fmt::format("TerrainRenderer::drawBlocks: no block {} of tile {} at level {}", b.block, b.tile, b.level));
+    const int cells = terrain::cellsPerBlock(b.level), end = std::min(b.cells.end, cells);
+    if (b.cells.first < 0 || b.cells.first >= end)
+      throw Error(fmt::format("TerrainRenderer::drawBlocks: cells [{}, {}) of block {} of tile {} at level {}: expected a non-empty "
+                              "span within [0, {})", b.cells.first, b.cells.end, b.block, b.tile, b.level, cells));
     const int quads = terrain::blockQuads(b.level), perSide = kTileQuads / quads;
     const int origin = (b.block % perSide) * quads + 256 * ((b.block / perSide) * quads);  // terrain.vert's iTile.w
-    byLevel_[static_cast<size_t>(b.level)].emplace_back(b.tile % terrain_.tilesPerSide(), b.tile / terrain_.tilesPerSide(), b.level,
-                                                         origin);
+    const glm::ivec4 instance(b.tile % terrain_.tilesPerSide(), b.tile / terrain_.tilesPerSide(), b.level, origin);
+    if (b.cells.first == 0 && end == cells)
+      byLevel_[static_cast<size_t>(b.level)].push_back(instance);
+    else
+      partBlocks_.push_back({instance, {b.cells.first, end}});
   }
   return drawByLevel(view, lod, true);
 }
@@ -192,6 +203,10 @@ TerrainRenderer::Stats TerrainRenderer::drawByLevel(const DrawView& view, const 
     first[level] = static_cast<int>(packed.size());
     packed.insert(packed.end(), byLevel[level].begin(), byLevel[level].end());
   }
+  const int firstPart = static_cast<int>(packed.size());
+  if (blocks)
+    for (const PartBlock& piece : partBlocks_) packed.push_back(piece.instance);
+  if (packed.empty()) return stats;
   const GLuint ringBefore = instances_->id();
   const gl::StreamRing::Allocation part = instances_->allocate(packed.size() * sizeof(glm::ivec4));
   std::memcpy(part.data, packed.data(), packed.size() * sizeof(glm::ivec4));
@@ -231,12 +246,31 @@ TerrainRenderer::Stats TerrainRenderer::drawByLevel(const DrawView& view, const 
     stats.tilesPerLevel[level] = count;
     stats.triangles += static_cast<long long>(count) * counts[level] / 3;
   }
+  // Blocks drawn in part (a ramp block's runs of cells, terrain::Terrain::cellsThatMayFaceAway):
+  // one indirect command each, all in one multi-draw.
+  if (blocks && !partBlocks_.empty()) {
+    const gl::StreamRing::Allocation written = commands_->allocate(partBlocks_.size() * sizeof(IndirectCommand));
+    auto* commands = static_cast<IndirectCommand*>(written.data);
+    for (size_t p = 0; p < partBlocks_.size(); ++p) {
+      const PartBlock& piece = partBlocks_[p];
+      const int level = piece.instance.z, indices = 6 * (piece.cells.end - piece.cells.first);
+      commands[p] = {static_cast<GLuint>(indices), 1, static_cast<GLuint>(offsets[level] + 6 * piece.cells.first), 0,
+                     baseInstance + static_cast<GLuint>(firstPart) + static_cast<GLuint>(p)};
+      stats.tiles += 1;
+      stats.tilesPerLevel[level] += 1;
+      stats.triangles += indices / 3;
+    }
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, commands_->id());
+    glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT, reinterpret_cast<const void*>(written.offset),
+                                static_cast<GLsizei>(partBlocks_.size()), 0);
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+  }
   glBindVertexArray(0);
   return stats;
 }
 
 std::size_t TerrainRenderer::gpuBytes() const {
-  return heights_.bytes() + normals_.bytes() + grid_.size() + indices_.size() + instances_->size();
+  return heights_.bytes() + normals_.bytes() + grid_.size() + indices_.size() + instances_->size() + commands_->size();
 }
 
 }  // namespace forest::render

@@ -1,14 +1,17 @@
 #include "forest/shadows/receiver_mask.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <span>
 
 #include "forest/core/error.hpp"
+#include "forest/core/polygon2d.hpp"
 
 namespace forest::shadows {
 
+using glm::dvec2;
 using glm::dvec3;
 using glm::dvec4;
 
@@ -23,42 +26,76 @@ void ReceiverMask::reset(const ShadowSetup& setup, int mapSize, int cells) {
   linearDepth_ = setup.linearDepth;
   worldToLightDepth_ = setup.worldToLightDepth;
   mapSize_ = mapSize;
-  cells_ = cells;
+  side_ = cells;
   receivers_ = 0;
   everywhere_ = false;
-  farthest_.assign(static_cast<size_t>(cells) * cells, -std::numeric_limits<float>::infinity());
+  cells_.assign(static_cast<size_t>(cells) * cells, Cell{0, 0});
 }
 
 double ReceiverMask::depthOf(const dvec3& world, const dvec4& clip) const {
   return linearDepth_ ? glm::dot(worldToLightDepth_, dvec4(world, 1.0)) : clip.z / clip.w;
 }
 
-// Inlined: a frame calls these once per sun-facing pixel.
-[[gnu::always_inline]] inline int ReceiverMask::cellOf(double ndc) const {
-  // Clamped first, then truncated: the same as floor then clamp, without a call to floor (no
-  // SSE4.1 rounding instruction in the baseline x86-64 build).
-  return static_cast<int>(std::clamp((ndc + 1.0) * 0.5 * cells_, 0.0, cells_ - 1.0));
+namespace {
+
+// [−1, 1] → [0, subCells), clamped first, then truncated: the same as floor then clamp, without a
+// call to floor (no SSE4.1 rounding instruction in the baseline x86-64 build). Inlined: a frame
+// calls it twice per sun-facing pixel.
+[[gnu::always_inline]] inline int subCellAt(double ndc, int subCells) {
+  return static_cast<int>(std::clamp((ndc + 1.0) * 0.5 * subCells, 0.0, subCells - 1.0));
 }
 
-[[gnu::always_inline]] inline void ReceiverMask::addClip(const dvec4& h, double invW, double depth) {
-  const double x = h.x * invW, y = h.y * invW;
-  if (!(h.w > 0.0) || !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(depth)) {
-    everywhere_ = true;  // a receiver the map cannot place: every caster may shadow it
-    return;
-  }
-  ++receivers_;
-  float& cell = farthest_[static_cast<size_t>(cellOf(y)) * cells_ + cellOf(x)];
-  // Rounded up, without a branch (a frame adds one point per pixel, and whether a point raises its
-  // cell is a coin toss to the branch predictor): |depth| grown by 2⁻²² of itself rounds to a
-  // float no nearer the light than the point (round to nearest moves it by at most 2⁻²⁴).
-  constexpr double kUp = 1.0 + 0x1p-22, kDown = 1.0 - 0x1p-22;
-  const float rounded = static_cast<float>(depth * (depth >= 0.0 ? kUp : kDown));
-  cell = std::max(cell, rounded);
+// Map depth in 16 bits: [−1, 1] (clip z / w, or tsm's linear light depth) onto 0 … 65535, clamped
+// (a receiver beyond the ends counts at them: farther for one past −1, as far as can be for one past
+// 1). Rounded up for receivers (a code no nearer the light than the point, and without a branch:
+// a frame adds one per pixel), down for casters, so the test errs toward keeping a caster: by at
+// most 3·10⁻⁵ of the depth range, as kDepthTolerance (1·10⁻⁵) already does.
+constexpr double kCodesPerUnit = 0.5 * 65535.0;
+[[gnu::always_inline]] inline std::uint16_t depthCodeAtOrBeyond(double depth) {
+  return static_cast<std::uint16_t>(std::min(65535.0, (std::clamp(depth, -1.0, 1.0) + 1.0) * kCodesPerUnit + 1.0));
 }
+std::uint16_t depthCodeAtOrBefore(double depth) {
+  return static_cast<std::uint16_t>((std::clamp(depth, -1.0, 1.0) + 1.0) * kCodesPerUnit);
+}
+
+}  // namespace
+
+int ReceiverMask::subCellOf(double ndc) const { return subCellAt(ndc, side_ * kSubCells); }
+
+// Places receiver points. The mask's fields are copied into it, so that the per-pixel loop keeps
+// them in registers (a write to a cell could alias them otherwise); done() hands the counts back.
+struct ReceiverMask::Writer {
+  explicit Writer(ReceiverMask& target) : mask(target), cells(target.cells_.data()), side(target.side_) {}
+  void done() {
+    mask.receivers_ += receivers;
+    mask.everywhere_ = mask.everywhere_ || everywhere;
+  }
+  // A receiver at clip position h (invW: 1 / h.w) with map depth `depth`.
+  [[gnu::always_inline]] void add(const dvec4& h, double invW, double depth) {
+    const double x = h.x * invW, y = h.y * invW;
+    if (!(h.w > 0.0) || !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(depth)) {
+      everywhere = true;  // a receiver the map cannot place: every caster may shadow it
+      return;
+    }
+    ++receivers;
+    const unsigned sx = static_cast<unsigned>(subCellAt(x, side * kSubCells)), sy = static_cast<unsigned>(subCellAt(y, side * kSubCells));
+    Cell& cell = cells[static_cast<size_t>(sy / kSubCells) * static_cast<size_t>(side) + sx / kSubCells];
+    cell.occupied = static_cast<std::uint16_t>(cell.occupied | 1u << (kSubCells * (sy % kSubCells) + sx % kSubCells));
+    cell.farthest = std::max(cell.farthest, depthCodeAtOrBeyond(depth));
+  }
+
+  ReceiverMask& mask;
+  Cell* cells;
+  int side;
+  int receivers = 0;
+  bool everywhere = false;
+};
 
 void ReceiverMask::add(const dvec3& world) {
   const dvec4 h = worldToShadowClip_ * dvec4(world, 1.0);
-  addClip(h, 1.0 / h.w, depthOf(world, h));
+  Writer writer(*this);
+  writer.add(h, 1.0 / h.w, depthOf(world, h));
+  writer.done();
 }
 
 void ReceiverMask::addEyeRow(const EyeRays& rays, float row, std::span<const float> columns, std::span<const float> depths,
@@ -73,48 +110,87 @@ void ReceiverMask::addEyeRow(const EyeRays& rays, float row, std::span<const flo
   const double depthBase = glm::dot(worldToLightDepth_, dvec4(rowRay, 0.0));
   const double depthRight = glm::dot(worldToLightDepth_, dvec4(rays.right, 0.0));
   const size_t count = std::min(columns.size(), depths.size());
+  const bool linearDepth = linearDepth_;
+  Writer writer(*this);
   for (size_t i = 0; i < count; ++i) {
     const double z = depths[i];
     if (!(z >= zMin && z <= zMax)) continue;
     const double x = columns[i];
     const dvec4 h = origin + z * (base + x * right);
     const double invW = 1.0 / h.w;  // one division per point: clip z / w is h.z · invW
-    const double depth = linearDepth_ ? depthOrigin + z * (depthBase + x * depthRight) : h.z * invW;
-    addClip(h, invW, depth);
+    const double depth = linearDepth ? depthOrigin + z * (depthBase + x * depthRight) : h.z * invW;
+    writer.add(h, invW, depth);
   }
+  writer.done();
 }
 
-void ReceiverMask::merge(const ReceiverMask& other) {
-  if (other.cells_ != cells_ || other.mapSize_ != mapSize_ || other.worldToShadowClip_ != worldToShadowClip_)
+void ReceiverMask::merge(const ReceiverMask& other, int part, int parts) {
+  if (other.side_ != side_ || other.mapSize_ != mapSize_ || other.worldToShadowClip_ != worldToShadowClip_)
     throw Error("ReceiverMask::merge: the masks are of different maps or cells");
-  receivers_ += other.receivers_;
-  everywhere_ = everywhere_ || other.everywhere_;
-  for (size_t i = 0; i < farthest_.size(); ++i) farthest_[i] = std::max(farthest_[i], other.farthest_[i]);
+  if (parts < 1 || part < 0 || part >= parts) throw Error("ReceiverMask::merge: expected a part in [0, parts)");
+  if (part == 0) {
+    receivers_ += other.receivers_;
+    everywhere_ = everywhere_ || other.everywhere_;
+  }
+  const size_t from = cells_.size() * static_cast<size_t>(part) / static_cast<size_t>(parts);
+  const size_t to = cells_.size() * static_cast<size_t>(part + 1) / static_cast<size_t>(parts);
+  for (size_t i = from; i < to; ++i) {
+    cells_[i].farthest = std::max(cells_[i].farthest, other.cells_[i].farthest);
+    cells_[i].occupied = static_cast<std::uint16_t>(cells_[i].occupied | other.cells_[i].occupied);
+  }
 }
 
 bool ReceiverMask::mayShadow(const Aabb& caster, double reachTexels) const {
   if (everywhere_) return true;
-  if (cells_ == 0) return false;
+  if (side_ == 0) return false;
   // The box's footprint in the map (x, y) and its nearest depth: over a box, a projective map's
   // x/w, y/w and depth are extreme at corners when w > 0 at all of them (w is affine).
   double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0, nearest = x0;
+  std::array<dvec2, 8> corners;
   for (int c = 0; c < 8; ++c) {
     const dvec3 p = caster.corner(c);
     const dvec4 h = worldToShadowClip_ * dvec4(p, 1.0);
     if (!(h.w > 0.0)) return true;
     const double x = h.x / h.w, y = h.y / h.w, z = depthOf(p, h);
+    corners[static_cast<size_t>(c)] = dvec2(x, y);
     x0 = std::min(x0, x);
     x1 = std::max(x1, x);
     y0 = std::min(y0, y);
     y1 = std::max(y1, y);
     nearest = std::min(nearest, z);
   }
+  // The box's outline: the hull of its corners (a projective map with w > 0 keeps it convex).
+  std::array<dvec2, 16> hull;
+  const size_t hullSize = convexHullInPlace(corners, hull);
   // Grown by the reach, in map units (2 / mapSize per texel).
   const double grow = reachTexels * 2.0 / mapSize_;
-  const int cx0 = cellOf(x0 - grow), cx1 = cellOf(x1 + grow), cy0 = cellOf(y0 - grow), cy1 = cellOf(y1 + grow);
-  for (int cy = cy0; cy <= cy1; ++cy)
-    for (int cx = cx0; cx <= cx1; ++cx)
-      if (static_cast<double>(farthest_[static_cast<size_t>(cy) * cells_ + cx]) >= nearest - kDepthTolerance) return true;
+  const int subCells = side_ * kSubCells;
+  const double subCellSize = 2.0 / subCells;
+  // Whether sub-cell (sx, sy), grown by the reach, meets the outline: separated by no edge of it
+  // (its x and y range meet the outline's: the loops below stay inside them).
+  auto meetsOutline = [&](int sx, int sy) {
+    if (hullSize < 3) return true;  // a flat outline: its bounding rectangle decides
+    const dvec2 centre((sx + 0.5) * subCellSize - 1.0, (sy + 0.5) * subCellSize - 1.0);
+    const double half = 0.5 * subCellSize + grow;
+    for (size_t e = 0; e < hullSize; ++e) {
+      const dvec2 a = hull[e], b = hull[(e + 1) % hullSize];
+      const dvec2 outward(b.y - a.y, a.x - b.x);  // the hull runs counter-clockwise
+      if (glm::dot(outward, centre - a) > (std::abs(outward.x) + std::abs(outward.y)) * half) return false;
+    }
+    return true;
+  };
+  const std::uint16_t nearestCode = depthCodeAtOrBefore(nearest - kDepthTolerance);
+  const int sx0 = subCellOf(x0 - grow), sx1 = subCellOf(x1 + grow), sy0 = subCellOf(y0 - grow), sy1 = subCellOf(y1 + grow);
+  for (int cy = sy0 / kSubCells; cy <= sy1 / kSubCells; ++cy)
+    for (int cx = sx0 / kSubCells; cx <= sx1 / kSubCells; ++cx) {
+      const Cell& cell = cells_[static_cast<size_t>(cy) * side_ + cx];
+      if (cell.occupied == 0 || cell.farthest < nearestCode) continue;
+      // Its occupied sub-cells inside the footprint's rectangle, then against the outline. A
+      // sub-cell's receiver may be nearer the light than the cell's farthest: a bound, still exact.
+      for (int sy = std::max(sy0, cy * kSubCells); sy <= std::min(sy1, cy * kSubCells + kSubCells - 1); ++sy)
+        for (int sx = std::max(sx0, cx * kSubCells); sx <= std::min(sx1, cx * kSubCells + kSubCells - 1); ++sx)
+          if ((cell.occupied >> (kSubCells * (sy % kSubCells) + sx % kSubCells) & 1u) != 0 && meetsOutline(sx, sy)) return true;
+    }
   return false;
 }
 

@@ -32,6 +32,11 @@ int blocksPerTile(int level) {
   return perSide * perSide;
 }
 
+int cellsPerBlock(int level) {
+  const int side = blockQuads(level) >> level;
+  return side * side;
+}
+
 int BlockFacing::slotOf(int level, int block) {
   if (level <= 3) return 16 * level + block;
   return level == 4 ? 64 + block : 63 + level;  // 68, 69

@@ -1,5 +1,7 @@
-// Whether a terrain block inside a morph ramp may write into a backside shadow map (DESIGN §4):
-// its triangles, tested one by one at the morph factors the frame's LOD gives their vertices.
+// Which cells of a terrain block inside a morph ramp may write into a backside shadow map (DESIGN
+// §4): its triangles, tested one by one at the morph factors the frame's LOD gives their vertices;
+// the runs of cells with a triangle that may face away (the shadow pass draws their index ranges
+// only: a ramp block is mostly kept for a few slivers).
 //
 // A triangle (p0, p1, p2) is turned toward the sun when f = ((p1 − p0) × (p2 − p0))·s ≥ 0 with
 // s = toSun − m·toSun_y·ŷ (m = BlockFacing::kFacingMargin, the margin the unmorphed and morphed
@@ -44,7 +46,8 @@ struct RampVertex {
 
 }  // namespace
 
-bool Terrain::rampBlockMayFaceAway(int tile, int level, int block, const TerrainLod& lod, const dvec3& toSun) const {
+void Terrain::rampCellsThatMayFaceAway(int tile, int level, int block, const TerrainLod& lod, const dvec3& toSun,
+                                       std::vector<CellSpan>& runs) const {
   const Heightfield& h = heightfield_;
   const int step = 1 << level, quads = blockQuads(level), perSide = kTileQuads / quads;
   const int i0 = (block % perSide) * quads, j0 = (block / perSide) * quads, n = quads / step + 1;
@@ -85,13 +88,19 @@ bool Terrain::rampBlockMayFaceAway(int tile, int level, int block, const Terrain
     const double deviation = sLength * (2.0 * error * (glm::length(edge1) + glm::length(edge2)) + 4.0 * error * error);
     return !(glm::dot(glm::cross(edge1, edge2), s) > deviation);
   };
+  // Cell (a, b) is cell b · (n − 1) + a of blockGridIndices; a run continues over a row's end.
+  const size_t before = runs.size();
   for (int b = 0; b + 1 < n; ++b)
     for (int a = 0; a + 1 < n; ++a) {
       const RampVertex &v00 = vertices[static_cast<size_t>(b * n + a)], &v10 = vertices[static_cast<size_t>(b * n + a + 1)];
       const RampVertex &v01 = vertices[static_cast<size_t>((b + 1) * n + a)], &v11 = vertices[static_cast<size_t>((b + 1) * n + a + 1)];
-      if (facesAway(v00, v01, v11) || facesAway(v00, v11, v10)) return true;
+      if (!facesAway(v00, v01, v11) && !facesAway(v00, v11, v10)) continue;
+      const int cell = b * (n - 1) + a;
+      if (runs.size() > before && runs.back().end == cell)
+        runs.back().end = cell + 1;
+      else
+        runs.push_back({cell, cell + 1});
     }
-  return false;
 }
 
 }  // namespace forest::terrain

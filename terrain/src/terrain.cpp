@@ -145,12 +145,20 @@ BlockMorph Terrain::blockMorph(int tile, int level, int block, const TerrainLod&
   return BlockMorph::Morphing;
 }
 
-bool Terrain::blockMayFaceAway(int tile, int level, int block, const TerrainLod& lod, const dvec3& toSun) const {
+void Terrain::cellsThatMayFaceAway(int tile, int level, int block, const TerrainLod& lod, const dvec3& toSun,
+                                   std::vector<CellSpan>& runs) const {
   if (level < 0 || level >= kLevels || block < 0 || block >= blocksPerTile(level))
     throw Error(fmt::format("terrain: no block {} at level {}", block, level));
   const BlockMorph morph = blockMorph(tile, level, block, lod);
-  if (morph == BlockMorph::Morphing && toSun.y > 0.0) return rampBlockMayFaceAway(tile, level, block, lod, toSun);
-  return blockFacing_.mayFaceAway(tile, level, block, morph, toSun);
+  if (morph == BlockMorph::Morphing && toSun.y > 0.0) return rampCellsThatMayFaceAway(tile, level, block, lod, toSun, runs);
+  if (blockFacing_.mayFaceAway(tile, level, block, morph, toSun)) runs.push_back({0, cellsPerBlock(level)});
+}
+
+bool Terrain::blockMayFaceAway(int tile, int level, int block, const TerrainLod& lod, const dvec3& toSun) const {
+  thread_local std::vector<CellSpan> runs;  // kept from call to call
+  runs.clear();
+  cellsThatMayFaceAway(tile, level, block, lod, toSun, runs);
+  return !runs.empty();
 }
 
 int Terrain::tileLevel(int tile, const TerrainLod& lod) const {

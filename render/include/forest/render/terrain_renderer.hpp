@@ -43,7 +43,8 @@ class TerrainRenderer {
   Stats draw(const DrawView& view, const terrain::TerrainLod& lod, std::span<const int> tiles) const;
   // Blocks of tiles, each at its `level` (the one the LOD gives its tile), one instanced draw per
   // level (terrain::blockGridIndices, offset by the block's origin in terrain.vert): the shadow
-  // pass's terrain casters. Stats count blocks as tiles.
+  // pass's terrain casters. A block asked for a span of its cells (TileBlock::cells) draws that
+  // index range alone (one multi-draw for all such). Stats count blocks and spans as tiles.
   Stats drawBlocks(const DrawView& view, const terrain::TerrainLod& lod, std::span<const terrain::TileBlock> blocks) const;
   // The ground cover the lit and G-buffer materials read (terrain.frag): a side × side grid of the
   // forest's stand density D in [0, 1] over the terrain (StandField::densityGrid), row by row,
@@ -77,6 +78,17 @@ class TerrainRenderer {
 
   // Per-draw scratch, kept so the per-leaf draws of the culling traversal do not allocate.
   mutable std::array<std::vector<glm::ivec4>, terrain::kLevels> byLevel_;  // (tx, tz, level, block origin)
+  struct IndirectCommand {  // glMultiDrawElementsIndirect's
+    GLuint count, instanceCount, firstIndex;
+    GLint baseVertex;
+    GLuint baseInstance;
+  };
+  std::unique_ptr<gl::StreamRing> commands_;  // the blocks drawn in part, as indirect commands
+  struct PartBlock {
+    glm::ivec4 instance;
+    terrain::CellSpan cells;  // within the block's cells
+  };
+  mutable std::vector<PartBlock> partBlocks_;  // drawBlocks' blocks with a span of their cells
   mutable std::vector<glm::ivec4> packed_;
   // Index ranges per level: the whole tile's grid, and block 0's.
   std::array<int, terrain::kLevels> indexOffset_{}, indexCount_{}, blockIndexOffset_{}, blockIndexCount_{};

@@ -24,6 +24,9 @@ namespace forest::terrain {
 int blockQuads(int level);
 // Blocks per tile at `level` (16, 4 or 1), row-major: block b = bz · (64 / blockQuads) + bx.
 int blocksPerTile(int level);
+// Cells per block at `level` (16², 8², 4² or 2²), each two triangles, row by row in
+// blockGridIndices' order.
+int cellsPerBlock(int level);
 
 enum class BlockMorph { Unmorphed, Morphed, Morphing };  // every vertex at k = 0, at k = 1, or between
 

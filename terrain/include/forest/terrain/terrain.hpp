@@ -13,6 +13,7 @@
 #include <glm/glm.hpp>
 
 #include <array>
+#include <limits>
 #include <span>
 #include <utility>
 #include <vector>
@@ -51,9 +52,19 @@ struct TerrainLod {
   double morphFactor(int level, double distance) const;
 };
 
-// Block `block` (row-major, blocksPerTile(level) of them) of a tile drawn at `level`.
+// Cells [first, end) of a block, in blockGridIndices' order (row by row, two triangles each);
+// an end past cellsPerBlock(level) reaches the block's last cell.
+struct CellSpan {
+  static constexpr int kToTheLast = std::numeric_limits<int>::max();
+  int first = 0, end = kToTheLast;
+  bool empty() const { return end <= first; }
+};
+
+// Block `block` (row-major, blocksPerTile(level) of them) of a tile drawn at `level`: its cells
+// `cells` (all by default).
 struct TileBlock {
   int tile = 0, level = 0, block = 0;
+  CellSpan cells{};
 };
 
 struct TerrainTriangle {
@@ -77,9 +88,14 @@ class Terrain {
   // drawn vertex over a block is a mix of that block's samples.
   std::span<const Aabb> blockBoxes(int tile, int level) const;
   static constexpr int kMaxBlockBoxes = (kTileQuads / 16) * (kTileQuads / 16);
-  // Whether block `block` of a tile drawn at `level` may write into a backside shadow map for a
-  // sun, in the morph state `lod` gives it (blockMorph): by its slopes' support (BlockFacing)
-  // outside a morph ramp, triangle by triangle at the LOD's morph factors inside one.
+  // The cells of block `block` of a tile drawn at `level` that may write into a backside shadow
+  // map for a sun, in the morph state `lod` gives it (blockMorph), appended to `runs` as runs of
+  // consecutive cells. Outside a morph ramp by its slopes' support (BlockFacing): all cells or
+  // none. Inside one triangle by triangle at the LOD's morph factors: each run of cells with a
+  // triangle that may face away; the other cells write nothing there.
+  void cellsThatMayFaceAway(int tile, int level, int block, const TerrainLod& lod, const glm::dvec3& toSun,
+                            std::vector<CellSpan>& runs) const;
+  // Whether any cell of the block may (cellsThatMayFaceAway).
   bool blockMayFaceAway(int tile, int level, int block, const TerrainLod& lod, const glm::dvec3& toSun) const;
   // Every vertex of the block at k = 0 (its box ends before the level's morph ramp), at k = 1 (it
   // starts past the ramp) or either.
@@ -115,8 +131,9 @@ class Terrain {
   // Local sample (i, j) of a tile at `level` and the sample it slides to (odd at the level: one
   // step lower), world positions: the two ends of its morph (drawnVertex).
   std::pair<glm::dvec3, glm::dvec3> morphEnds(int tile, int i, int j, int level) const;
-  // blockMayFaceAway for a block inside a morph ramp (ramp_block_facing.cpp).
-  bool rampBlockMayFaceAway(int tile, int level, int block, const TerrainLod& lod, const glm::dvec3& toSun) const;
+  // cellsThatMayFaceAway for a block inside a morph ramp (ramp_block_facing.cpp).
+  void rampCellsThatMayFaceAway(int tile, int level, int block, const TerrainLod& lod, const glm::dvec3& toSun,
+                                std::vector<CellSpan>& runs) const;
 
   TerrainSettings settings_;
   Heightfield heightfield_;
