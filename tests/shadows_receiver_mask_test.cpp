@@ -173,17 +173,25 @@ TEST(ReceiverMask, MasksOfPartsMergeIntoTheMaskOfAllPoints) {
     all.add(points[i]);
     (i % 2 == 0 ? first : second).add(points[i]);
   }
+  // Merged at once, and in two parts (as the frame's threads do, each a share of the cells).
+  ReceiverMask inParts = first;
   first.merge(second);
+  inParts.merge(second, 1, 2);
+  inParts.merge(second, 0, 2);
   EXPECT_EQ(first.receivers(), all.receivers());
-  int shadowing = 0, differing = 0;
+  EXPECT_EQ(inParts.receivers(), all.receivers());
+  int shadowing = 0, differing = 0, differingInParts = 0;
   for (int i = 0; i < 3000; ++i) {
     const dvec3 corner(across(random), height(random), across(random));
     const Aabb caster{corner, corner + dvec3(0.3, 0.5, 0.3)};
     const bool expected = all.mayShadow(caster, 0.5);
     shadowing += expected ? 1 : 0;
     differing += expected != first.mayShadow(caster, 0.5) ? 1 : 0;
+    differingInParts += expected != inParts.mayShadow(caster, 0.5) ? 1 : 0;
   }
   EXPECT_EQ(differing, 0);
+  EXPECT_EQ(differingInParts, 0);
+  EXPECT_THROW(inParts.merge(second, 2, 2), Error);
   EXPECT_GT(shadowing, 100);
   EXPECT_LT(shadowing, 3000 - 100);
 
@@ -201,6 +209,44 @@ TEST(ReceiverMask, MasksOfPartsMergeIntoTheMaskOfAllPoints) {
   ReceiverMask coarse;
   coarse.reset(overheadSetup(), 1024, 128);
   EXPECT_THROW(all.merge(coarse), Error);
+}
+
+// Within a cell (4 texels, 0.39 m), only the sub-cells (1 texel) a box's footprint reaches count: a
+// box ending at x = 0, with a reach of half a texel (0.049 m), cannot shadow a receiver at
+// x = 0.35 m, three sub-cells away in the same cell; one at x = 0.05 m, in the first sub-cell, it may.
+TEST(ReceiverMask, OnlyTheSubCellsAFootprintReachesCount) {
+  ReceiverMask mask;
+  mask.reset(overheadSetup(), 1024, 256);
+  const Aabb caster{dvec3(-1.0, 5.0, -0.2), dvec3(0.0, 6.0, 0.2)};
+  mask.add(dvec3(0.35, 0.0, 0.1));
+  EXPECT_FALSE(mask.mayShadow(caster, 0.5));
+  EXPECT_TRUE(mask.mayShadow(caster, 4.0));  // a reach of 4 texels (0.39 m) gets there
+  mask.add(dvec3(0.05, 0.0, 0.1));
+  EXPECT_TRUE(mask.mayShadow(caster, 0.5));
+}
+
+// The box's outline in the map decides, not its bounding rectangle. A map turned 45° to the world
+// (map x ∝ x + z, map y ∝ z − x; 0.098 m a texel): the unit box over [0, 1] × [0, 1] shows as a
+// diamond. A receiver at (0.5, 1.4) lies inside the diamond's bounding rectangle but 0.4 m (4
+// texels) from the diamond: no shadow with a reach of half a texel. One at (0.5, 1.04), 0.04 m
+// from the box, may be.
+TEST(ReceiverMask, TheBoxsOutlineNotItsRectangleDecides) {
+  ShadowSetup turned = overheadSetup();
+  const double scale = 1.0 / (50.0 * std::sqrt(2.0));
+  turned.worldToShadowClip = glm::dmat4(0.0);
+  turned.worldToShadowClip[0][0] = scale;   // x → map x
+  turned.worldToShadowClip[2][0] = scale;   // z → map x
+  turned.worldToShadowClip[0][1] = -scale;  // x → map y
+  turned.worldToShadowClip[2][1] = scale;   // z → map y
+  turned.worldToShadowClip[1][2] = -1.0 / 100.0;
+  turned.worldToShadowClip[3][3] = 1.0;
+  ReceiverMask mask;
+  mask.reset(turned, 1024, 256);
+  const Aabb caster{dvec3(0.0, 5.0, 0.0), dvec3(1.0, 6.0, 1.0)};
+  mask.add(dvec3(0.5, 0.0, 1.4));
+  EXPECT_FALSE(mask.mayShadow(caster, 0.5));
+  mask.add(dvec3(0.5, 0.0, 1.04));
+  EXPECT_TRUE(mask.mayShadow(caster, 0.5));
 }
 
 }  // namespace
