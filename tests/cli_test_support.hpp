@@ -28,7 +28,8 @@ struct CliResult {
   std::string err;
 };
 
-inline CliResult runForest(const std::string& arguments) {
+// `environment`: assignments put before the program on its command line ("NAME=value …"), if any.
+inline CliResult runForest(const std::string& arguments, const std::string& environment = "") {
   namespace fs = std::filesystem;
   const fs::path folder = fs::path(FOREST_TEST_OUTPUT) / "cli";
   fs::create_directories(folder);
@@ -36,7 +37,7 @@ inline CliResult runForest(const std::string& arguments) {
   const std::string pid = std::to_string(getpid());
   const fs::path out = folder / ("stdout-" + pid + ".txt"), err = folder / ("stderr-" + pid + ".txt");
   const std::string command =
-      std::string(FOREST_EXE) + " " + arguments + " > " + out.string() + " 2> " + err.string() + " < /dev/null";
+      (environment.empty() ? std::string() : environment + " ") + std::string(FOREST_EXE) + " " + arguments + " > " + out.string() + " 2> " + err.string() + " < /dev/null";
   const int status = std::system(command.c_str());
   CliResult r;
   r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
