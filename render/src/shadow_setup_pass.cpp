@@ -131,14 +131,12 @@ void ShadowSetupPass::refineCasters(ShadowSlice& slice, const FrameSettings& set
     for (int b = 0; b < static_cast<int>(blocks.size()); ++b) {
       const Aabb& box = blocks[static_cast<size_t>(b)];
       if (!selector_.needed(box) || !covers(box)) continue;
-      if (!settings.backside) {
-        slice.terrainBlocks.push_back({tile, level, b});
-        any = true;
-        continue;
-      }
       // Last, per triangle in a ramp: such a block draws only its runs of cells that may face away.
       cellRuns_.clear();
-      terrain->cellsThatMayFaceAway(tile, level, b, *lod, -l, cellRuns_);
+      if (settings.backside)
+        terrain->cellsThatMayFaceAway(tile, level, b, *lod, -l, cellRuns_);
+      else
+        cellRuns_.push_back({});  // every cell
       for (const terrain::CellSpan& run : cellRuns_) slice.terrainBlocks.push_back({tile, level, b, run});
       any = any || !cellRuns_.empty();
     }

@@ -81,12 +81,13 @@ TerrainRenderer::TerrainRenderer(const terrain::Terrain& terrain, Output output,
     indices.insert(indices.end(), blockIndices.begin(), blockIndices.end());
   }
   indices_ = gl::Buffer(indices.size() * sizeof(std::uint32_t), indices.data(), 0);
-  // A segment holds every block of every tile (the largest draw), so the ring never grows.
+  // A segment holds every block of every tile once; only a shadow pass whose ramp blocks split into
+  // more runs than that grows the ring (rare).
   const size_t mostInstances = static_cast<size_t>(terrain.tileCount()) * terrain::Terrain::kMaxBlockBoxes;
   instances_ = std::make_unique<gl::StreamRing>(mostInstances * sizeof(glm::ivec4), sizeof(glm::ivec4));
   // Room for a command per ramp block of a few hundred tiles; more grows the ring (rare).
   commands_ = std::make_unique<gl::StreamRing>(4096 * sizeof(IndirectCommand), sizeof(IndirectCommand));
-  // Room for every block of every tile in every list: a draw never grows them (no allocation per frame).
+  // Room for every block of every tile in every list: a draw grows them only as the ring above.
   for (int level = 0; level < kLevels; ++level)
     byLevel_[static_cast<size_t>(level)].reserve(static_cast<size_t>(terrain.tileCount() * terrain::blocksPerTile(level)));
   packed_.reserve(mostInstances);
@@ -206,7 +207,6 @@ TerrainRenderer::Stats TerrainRenderer::drawByLevel(const DrawView& view, const 
   const int firstPart = static_cast<int>(packed.size());
   if (blocks)
     for (const PartBlock& piece : partBlocks_) packed.push_back(piece.instance);
-  if (packed.empty()) return stats;
   const GLuint ringBefore = instances_->id();
   const gl::StreamRing::Allocation part = instances_->allocate(packed.size() * sizeof(glm::ivec4));
   std::memcpy(part.data, packed.data(), packed.size() * sizeof(glm::ivec4));

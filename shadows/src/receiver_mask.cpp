@@ -159,9 +159,11 @@ bool ReceiverMask::mayShadow(const Aabb& caster, double reachTexels) const {
     y1 = std::max(y1, y);
     nearest = std::min(nearest, z);
   }
-  // The box's outline: the hull of its corners (a projective map with w > 0 keeps it convex).
+  // The box's outline: the hull of its corners (a projective map with w > 0 keeps it convex),
+  // found when a sub-cell first needs it (most boxes end at a cell's depth or bits).
   std::array<dvec2, 16> hull;
-  const size_t hullSize = convexHullInPlace(corners, hull);
+  size_t hullSize = 0;
+  bool hullFound = false;
   // Grown by the reach, in map units (2 / mapSize per texel).
   const double grow = reachTexels * 2.0 / mapSize_;
   const int subCells = side_ * kSubCells;
@@ -169,6 +171,10 @@ bool ReceiverMask::mayShadow(const Aabb& caster, double reachTexels) const {
   // Whether sub-cell (sx, sy), grown by the reach, meets the outline: separated by no edge of it
   // (its x and y range meet the outline's: the loops below stay inside them).
   auto meetsOutline = [&](int sx, int sy) {
+    if (!hullFound) {
+      hullSize = convexHullInPlace(corners, hull);
+      hullFound = true;
+    }
     if (hullSize < 3) return true;  // a flat outline: its bounding rectangle decides
     const dvec2 centre((sx + 0.5) * subCellSize - 1.0, (sy + 0.5) * subCellSize - 1.0);
     const double half = 0.5 * subCellSize + grow;
