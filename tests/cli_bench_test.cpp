@@ -1,6 +1,6 @@
 // forest bench speed-error --quick: the documented report, rows at equal total texels (one map and
 // four layers), bands that add up, plots with ink, the worst-case images. forest bench culling:
-// every strategy and the oracle, ratios as printed, chc++'s batching against chc.
+// every strategy and the oracle, ratios as printed, chc++'s batching against chc; a camera path file.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -161,6 +161,41 @@ TEST(ForestCli, BenchCullingWritesEveryStrategyAndTheOracle) {
   EXPECT_EQ(bad.exitCode, 2);
   EXPECT_THAT(bad.err, HasSubstr("--trees: Value 0 not in range 1 to 1000000"));
   EXPECT_FALSE(fs::exists(out / "bad"));
+}
+
+// --path: a camera path file instead of the built-in paths, sampled at --fps as forest walkthrough
+// samples it. A still camera (two keys at one pose) sees the same set every frame: the oracle's
+// one-frame lag is 0 exactly; 1 s at 4 frames per second is 5 frames.
+TEST(ForestCli, BenchCullingRunsACameraPathFile) {
+  const fs::path out = fs::path(FOREST_TEST_OUTPUT) / "cli" / "bench-culling-path";
+  fs::remove_all(out);
+  fs::create_directories(out);
+  const fs::path still = out / "still.toml";
+  writeFileAtomic(still, "heights = \"above_ground\"\n[[key]]\nt = 0.0\nposition = [0.0, 1.7, 0.0]\nyaw_deg = 30.0\n"
+                         "[[key]]\nt = 1.0\nposition = [0.0, 1.7, 0.0]\nyaw_deg = 30.0\n");
+  const Result r = runForest(fmt::format("bench culling --trees 300 --path {} --fps 4 --width 160 --height 90 --strategies frustum,chc++ "
+                                         "--quiet --out {}", still.string(), (out / "run").string()));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_THAT(r.out, HasSubstr("still path ("));
+  const nlohmann::json j = nlohmann::json::parse(readTextFile(out / "run" / "bench-culling.json"));
+  EXPECT_EQ(j["frames_per_path"].get<int>(), 5);
+  ASSERT_EQ(j["runs"].size(), 1u);
+  const auto& runs = j["runs"].begin().value();
+  ASSERT_EQ(runs.size(), 1u);
+  ASSERT_TRUE(runs.contains("still"));
+  EXPECT_EQ(runs["still"]["oracle_lag_triangles"].get<double>(), 0.0);
+  EXPECT_GT(runs["still"]["strategies"]["oracle"]["triangles_p50"].get<double>(), 0.0);
+
+  const Result both = runForest(fmt::format("bench culling --path {} --paths ground --out {}", still.string(), (out / "both").string()));
+  EXPECT_EQ(both.exitCode, 2);
+  EXPECT_THAT(both.err, HasSubstr("--paths excludes --path"));
+  const Result missing = runForest(fmt::format("bench culling --path {} --out {}", (out / "none.toml").string(), (out / "missing").string()));
+  EXPECT_EQ(missing.exitCode, 2);
+  EXPECT_THAT(missing.err, HasSubstr("none.toml"));
+  const Result shortPath =
+      runForest(fmt::format("bench culling --path {} --fps 4 --warmup 5 --out {}", still.string(), (out / "short").string()));
+  EXPECT_EQ(shortPath.exitCode, 2);
+  EXPECT_THAT(shortPath.err, HasSubstr("--warmup 5: expected fewer than the 5 frames of"));
 }
 
 }  // namespace

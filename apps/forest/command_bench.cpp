@@ -1,6 +1,7 @@
 // forest bench culling: the culling strategies along four paths — under the canopy of the densest
 // stand, a ground-level walk through the
-// forest, an open view above the canopy, a crossing of the highest hill — in scenes of several
+// forest, an open view above the canopy, a crossing of the highest hill, or a camera path file
+// (--path, sampled as forest walkthrough samples it) — in scenes of several
 // tree counts at equal density. Per frame: time (culling + geometry drawn, to glFinish), triangles,
 // draw calls, queries (single and multi), state switches, CPU wait. Against frustum culling and the
 // oracle: drawing exactly the visible set (from the brute-force object-ID buffer) with no queries.
@@ -19,6 +20,7 @@
 #include <set>
 
 #include "commands.hpp"
+#include "forest/core/camera_path.hpp"
 #include "forest/core/error.hpp"
 #include "forest/core/files.hpp"
 #include "forest/core/frustum.hpp"
@@ -46,6 +48,8 @@ struct BenchOptions {
   std::string scene;
   std::vector<int> trees{5000, 50000};
   std::vector<std::string> paths{"forest", "ground", "canopy", "hill"};
+  std::string cameraPath;  // --path: a camera path file, run instead of the built-in paths
+  double fps = 30.0;       // its frames per second of path time
   std::vector<std::string> strategies = culling::cullingStrategyNames();
   ImageSizeOptions size{640, 360};
   // 60 frames per path; no warm-up by default: the strategies take turns frame by frame, so a cold
@@ -191,6 +195,25 @@ std::vector<Camera> underCanopyPath(const Scene& scene, const terrain::Terrain& 
   return cameras;
 }
 
+// A camera path file sampled at `fps` from its start, as forest walkthrough flies it (Frame::cameraAt):
+// `frames` frames, or the whole path if it is shorter.
+std::vector<Camera> filePath(const CameraPath& path, const Scene& scene, const terrain::Terrain& terrain, int frames, double fps,
+                             double aspect) {
+  const int pathFrames = 1 + static_cast<int>(std::floor((path.endTime() - path.startTime()) * fps + 1e-9));
+  std::vector<Camera> cameras;
+  for (int f = 0; f < std::min(frames, pathFrames); ++f) {
+    const CameraPose pose = path.at(path.startTime() + f / fps);
+    Camera c = scene.startCamera();
+    c.aspect = aspect;
+    c.position = pose.position;
+    if (path.aboveGround()) c.position.y += terrain.heightAt(pose.position.x, pose.position.z);
+    c.yaw = glm::radians(pose.yaw_deg);
+    c.pitch = glm::radians(pose.pitch_deg);
+    cameras.push_back(c);
+  }
+  return cameras;
+}
+
 std::vector<Camera> benchPath(const std::string& kind, const Scene& scene, const terrain::Terrain& terrain, const vegetation::Forest& forest,
                               int frames, double aspect) {
   if (kind == "forest") return underCanopyPath(scene, terrain, forest, frames, aspect);
@@ -252,6 +275,23 @@ int runBenchCulling(const BenchOptions& options) {
   std::vector<CullingStrategy> strategies;
   for (const std::string& s : options.strategies) strategies.push_back(culling::parseCullingStrategy(s));
   const fs::path out(options.out);
+  // --path: that file's path alone, named by its file's stem.
+  std::optional<CameraPath> cameraPath;
+  std::vector<std::string> pathNames = options.paths;
+  int framesPerPath = options.length.frames;
+  if (!options.cameraPath.empty()) {
+    cameraPath = CameraPath::load(options.cameraPath);
+    if (cameraPath->aboveGround() && !base.terrain) throw InputError(options.cameraPath + ": heights = \"above_ground\" needs a scene with [terrain]");
+    const int pathFrames = 1 + static_cast<int>(std::floor((cameraPath->endTime() - cameraPath->startTime()) * options.fps + 1e-9));
+    if (warmup >= std::min(pathFrames, options.length.frames))
+      throw InputError(fmt::format("--warmup {}: expected fewer than the {} frames of {} at --fps {}", warmup, pathFrames,
+                                   options.cameraPath, options.fps));
+    pathNames = {fs::path(options.cameraPath).stem().string()};
+    framesPerPath = std::min(pathFrames, options.length.frames);
+  }
+  const auto describe = [&](const std::string& name) {
+    return cameraPath ? fmt::format("{} at {} frames per second", options.cameraPath, options.fps) : pathDescriptions().at(name);
+  };
 
   gl::ContextOptions contextOptions;
   contextOptions.backend = gl::parseBackend(options.gl.backend);
@@ -267,7 +307,7 @@ int runBenchCulling(const BenchOptions& options) {
   json["device"] = device;
   json["timing"] = render::timingModeName(modes.timing);
   json["queries"] = culling::queryModeName(modes.queries);
-  json["frames_per_path"] = options.length.frames;
+  json["frames_per_path"] = framesPerPath;
   json["warmup_frames"] = warmup;
   json["resolution"] = {options.size.width, options.size.height};
   json["leaf_size"] = leafSize;
@@ -283,11 +323,11 @@ int runBenchCulling(const BenchOptions& options) {
       "timed by {}; the strategies take turns frame by frame; occlusion queries read {}. Oracle = drawing exactly the visible set "
       "(from the brute-force object-ID buffer) with no queries. Triangles: those drawn (p50), and over the oracle's; geometry: "
       "queries drawn with the trees' own triangles ([culling] geometry_queries), whose triangles are not counted as drawn.\n\n",
-      scenePath, options.size.width, options.size.height, options.length.frames, device,
+      scenePath, options.size.width, options.size.height, framesPerPath, device,
       modes.timing == gl::TimingMode::Profiling ? "glFinish and a clock (--timing profile)" : "GL timestamp queries (--timing queries)",
       modes.queries == culling::QueryMode::Deterministic ? "at points the traversal fixes — chc every 64 steps, chc++ when its queue runs dry (--queries deterministic)"
                                                           : "when available (--queries async)");
-  const int total = static_cast<int>(options.trees.size() * options.paths.size()) * options.length.frames * static_cast<int>(strategies.size() + 2);
+  const int total = static_cast<int>(options.trees.size() * pathNames.size()) * framesPerPath * static_cast<int>(strategies.size() + 2);
   int done = 0;
   const auto benchStart = Clock::now();
   std::map<std::size_t, double> groundChcPlusPlus;  // p50 per tree count, for the scaling ratio
@@ -329,9 +369,10 @@ int runBenchCulling(const BenchOptions& options) {
       }
     };
 
-    for (const std::string& pathName : options.paths) {
-      const std::vector<Camera> path =
-          benchPath(pathName, scene, terrain, forest, options.length.frames, static_cast<double>(options.size.width) / options.size.height);
+    for (const std::string& pathName : pathNames) {
+      const double aspect = static_cast<double>(options.size.width) / options.size.height;
+      const std::vector<Camera> path = cameraPath ? filePath(*cameraPath, scene, terrain, options.length.frames, options.fps, aspect)
+                                                  : benchPath(pathName, scene, terrain, forest, options.length.frames, aspect);
       // The visible set of every frame: objects with a pixel in the brute-force ID buffer. And the
       // triangles of the objects visible in the frame before, hidden in this one and still in its
       // view frustum: what a method that draws the previous frame's visible set untested (CHC,
@@ -408,7 +449,7 @@ int runBenchCulling(const BenchOptions& options) {
 
       // Summaries, ratios, the table and the plot panel of this (scene size, path).
       ordered_json& entry = json["runs"][size][pathName];
-      entry["description"] = pathDescriptions().at(pathName);
+      entry["description"] = describe(pathName);
       std::vector<std::string> order = options.strategies;
       order.push_back(kOracle);
       std::map<std::string, ordered_json> summaries;
@@ -427,10 +468,10 @@ int runBenchCulling(const BenchOptions& options) {
       const std::string lagLine = fmt::format(
           "the oracle's one-frame lag: {:.3f} of its triangles over the measured frames (visible in the frame before, hidden "
           "now, in the frustum: the least a method that draws the previous frame's visible set untested draws above them)", lag);
-      markdown += fmt::format("## {} trees, {} ({})\n\n", size, pathName, pathDescriptions().at(pathName));
+      markdown += fmt::format("## {} trees, {} ({})\n\n", size, pathName, describe(pathName));
       markdown += "| strategy | p50 ms | p95 ms | / frustum | / oracle | triangles | / oracle's | draws | queries | multi | geometry | switches | wait ms | cpu ms |\n";
       markdown += "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-      std::cout << fmt::format("\n{} trees, {} path ({}), {} frames:\n", size, pathName, pathDescriptions().at(pathName), options.length.frames);
+      std::cout << fmt::format("\n{} trees, {} path ({}), {} frames:\n", size, pathName, describe(pathName), framesPerPath);
       std::cout << fmt::format("  {:<14} {:>8} {:>8} {:>9} {:>8} {:>11} {:>8} {:>7} {:>8} {:>6} {:>6} {:>8} {:>8} {:>7}\n", "strategy",
                                "p50 ms", "p95 ms", "/frustum", "/oracle", "triangles", "/oracle", "draws", "queries", "multi", "geom",
                                "switches", "wait ms", "cpu ms");
@@ -482,7 +523,7 @@ int runBenchCulling(const BenchOptions& options) {
   }
   writeFileAtomic(out / "bench-culling.json", json.dump(2) + "\n");
   writeFileAtomic(out / "bench-culling.md", markdown);
-  writeImage(out / "bench-culling.png", plotPanels(panels, static_cast<int>(std::min<size_t>(3, options.paths.size()))));
+  writeImage(out / "bench-culling.png", plotPanels(panels, static_cast<int>(std::min<size_t>(3, pathNames.size()))));
   std::cout << fmt::format("wrote {0}/bench-culling.json, {0}/bench-culling.md, {0}/bench-culling.png\n", out.string());
   return 0;
 }
@@ -496,7 +537,7 @@ Run addBenchCommand(CLI::App& app) {
   CLI::App* cullingBench = bench->add_subcommand(
       "culling",
       "The culling strategies under the canopy of the densest stand, along a ground-level walk, an open view\n"
-      "above the canopy and a hill crossing, in\n"
+      "above the canopy and a hill crossing (or along a camera path file, --path), in\n"
       "scenes of several tree counts at equal density: p50/p95 frame time, triangles, draw calls, queries\n"
       "(single and multi), state switches, CPU wait; ratios to frustum culling and to the oracle (the exact\n"
       "visible set drawn without queries). Writes JSON, a Markdown table and a PNG plot");
@@ -506,11 +547,20 @@ Run addBenchCommand(CLI::App& app) {
       ->delimiter(',')
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
-  cullingBench->add_option("--paths", options->paths,
+  CLI::Option* builtInPaths = cullingBench->add_option("--paths", options->paths,
                            "Paths: forest (under the canopy of the densest stand), ground (a walk from the scene's camera), "
                            "canopy (40 m over the ground), hill (over the highest hill)")
       ->delimiter(',')
       ->check(CLI::IsMember({"forest", "ground", "canopy", "hill"}))
+      ->capture_default_str();
+  cullingBench
+      ->add_option("--path", options->cameraPath,
+                   "A camera path file (as forest walkthrough's --path) to run instead of the built-in paths, sampled at --fps "
+                   "from its start (e.g. data/paths/thesis-walk.toml with --scene data/scenes/thesis-demo.toml)")
+      ->check(CLI::ExistingFile)
+      ->excludes(builtInPaths);
+  cullingBench->add_option("--fps", options->fps, "Frames per second of --path's time (0.1 to 1000)")
+      ->check(CLI::Range(0.1, 1000.0))
       ->capture_default_str();
   cullingBench->add_option("--strategies", options->strategies, "Culling strategies")
       ->delimiter(',')
