@@ -192,6 +192,19 @@ TEST(ForestCli, BenchCullingRunsACameraPathFile) {
   const Result missing = runForest(fmt::format("bench culling --path {} --out {}", (out / "none.toml").string(), (out / "missing").string()));
   EXPECT_EQ(missing.exitCode, 2);
   EXPECT_THAT(missing.err, HasSubstr("none.toml"));
+  // A grid scene (the thesis demo) takes square counts as its grid, on its own terrain.
+  const std::string thesis = (fs::path(FOREST_REPO_DATA) / "scenes" / "thesis-demo.toml").string();
+  const Result grid = runForest(fmt::format("bench culling --scene {} --trees 16 --path {} --fps 4 --width 160 --height 90 "
+                                            "--strategies chc++ --quiet --out {}", thesis, still.string(), (out / "grid").string()));
+  ASSERT_EQ(grid.exitCode, 0) << grid.err;
+  const nlohmann::json g = nlohmann::json::parse(readTextFile(out / "grid" / "bench-culling.json"));
+  EXPECT_EQ(g["scenes"]["16"]["trees"].get<int>(), 16);
+  EXPECT_DOUBLE_EQ(g["scenes"]["16"]["terrain_size_m"].get<double>(), 200.0);  // thesis-demo.toml's [terrain] size
+  const Result notSquare = runForest(fmt::format("bench culling --scene {} --trees 17 --path {} --out {}", thesis, still.string(),
+                                                 (out / "not-square").string()));
+  EXPECT_EQ(notSquare.exitCode, 2);
+  EXPECT_THAT(notSquare.err, HasSubstr("--trees 17: "));
+  EXPECT_THAT(notSquare.err, HasSubstr("expected a square count"));
   const Result shortPath =
       runForest(fmt::format("bench culling --path {} --fps 4 --warmup 5 --out {}", still.string(), (out / "short").string()));
   EXPECT_EQ(shortPath.exitCode, 2);

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <iterator>
 #include <iostream>
@@ -261,6 +262,22 @@ glm::vec3 strategyColour(const std::string& name) {
   return it == colours.end() ? glm::vec3(0.0f) : it->second;
 }
 
+// The scene of one tree count: a grid scene (the thesis demo: N × N trees on a fixed terrain, as
+// the classic demo places them) takes a square count as its grid; any other grows its terrain to
+// keep the base scene's density.
+Scene benchScene(const Scene& base, int trees) {
+  if (base.vegetation && base.vegetation->grid > 0) {
+    const int side = static_cast<int>(std::lround(std::sqrt(static_cast<double>(trees))));
+    if (side * side != trees || side > 1000)
+      throw InputError(fmt::format("--trees {}: {} places its trees on a grid; expected a square count of at most 1000², e.g. {}", trees,
+                                   base.source, std::max(1, side) * std::max(1, side)));
+    Scene scene = base;
+    scene.vegetation->grid = side;
+    return scene;
+  }
+  return scaledScene(base, trees, base.vegetation->lod0_triangles);
+}
+
 int runBenchCulling(const BenchOptions& options) {
   const std::string scenePath = sceneFileOr(options.scene);
   const Scene base = loadScene(scenePath);
@@ -270,8 +287,10 @@ int runBenchCulling(const BenchOptions& options) {
   const int warmup = options.length.warmupFor(options.length.frames);
   if (warmup >= options.length.frames)
     throw InputError(fmt::format("--warmup {}: expected fewer than --frames {}", warmup, options.length.frames));
-  for (int n : options.trees)
+  for (int n : options.trees) {
     if (n < 1 || n > 1000000) throw InputError(fmt::format("--trees {}: expected 1 to 1000000", n));
+    benchScene(base, n);  // a grid scene's counts are checked before any work
+  }
   std::vector<CullingStrategy> strategies;
   for (const std::string& s : options.strategies) strategies.push_back(culling::parseCullingStrategy(s));
   const fs::path out(options.out);
@@ -333,7 +352,7 @@ int runBenchCulling(const BenchOptions& options) {
   std::map<std::size_t, double> groundChcPlusPlus;  // p50 per tree count, for the scaling ratio
 
   for (int trees : options.trees) {
-    const Scene scene = scaledScene(base, trees, base.vegetation->lod0_triangles);
+    const Scene scene = benchScene(base, trees);
     const terrain::Terrain terrain(*scene.terrain);
     const vegetation::Forest forest(*scene.vegetation, terrain);
     const render::SceneObjects objects(&terrain, &forest, scene.props);
@@ -543,7 +562,9 @@ Run addBenchCommand(CLI::App& app) {
       "visible set drawn without queries). Writes JSON, a Markdown table and a PNG plot");
   options->gl.add(*cullingBench);
   cullingBench->add_option("--scene", options->scene, "Base scene file (default: data/scenes/forest.toml)");
-  cullingBench->add_option("--trees", options->trees, "Tree counts (comma-separated, 1 to 10^6; terrain grown to keep the base scene's density)")
+  cullingBench->add_option("--trees", options->trees,
+                           "Tree counts (comma-separated, 1 to 10^6; terrain grown to keep the base scene's density; a grid scene "
+                           "such as thesis-demo.toml takes square counts, N × N trees on its terrain)")
       ->delimiter(',')
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
