@@ -198,6 +198,7 @@ TEST(ForestCli, BenchCullingRunsACameraPathFile) {
                                             "--strategies chc++ --quiet --out {}", thesis, still.string(), (out / "grid").string()));
   ASSERT_EQ(grid.exitCode, 0) << grid.err;
   const nlohmann::json g = nlohmann::json::parse(readTextFile(out / "grid" / "bench-culling.json"));
+  ASSERT_TRUE(g["scenes"].contains("16")) << g["scenes"].dump();
   EXPECT_EQ(g["scenes"]["16"]["trees"].get<int>(), 16);
   EXPECT_DOUBLE_EQ(g["scenes"]["16"]["terrain_size_m"].get<double>(), 200.0);  // thesis-demo.toml's [terrain] size
   const Result notSquare = runForest(fmt::format("bench culling --scene {} --trees 17 --path {} --out {}", thesis, still.string(),
