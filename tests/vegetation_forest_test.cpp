@@ -378,6 +378,41 @@ TEST(ThesisDemo, PresetPlacesTheGridOfClosedConeAndRingTrees) {
 namespace forest::vegetation {
 namespace {
 
+// The thesis tree's query hull (SpeciesModel::queryHull): two closed, outward pieces — a 16-sided
+// pyramid circumscribed about the cone grown by the margin (inscribed radius 0.3 + 2m at y = −m,
+// apex at 1 + 2m) and a 16-sided prism about the ring (inscribed radius 0.35 + m, y from 0.25 − m
+// to 0.35 + m) — with the volumes of those solids, and every triangle of every LOD inside one piece.
+// The same hull shrunk by 1% about the axis no longer holds the tree.
+TEST(ThesisDemo, QueryHullHoldsEveryTriangleOfTheTreeInOnePiece) {
+  for (Species species : {Species::Conifer, Species::Broadleaf}) {
+    const SpeciesModel model = buildThesisTree(species);
+    const TreeMesh& hull = model.queryHull;
+    EXPECT_EQ(hull.triangleCount(), 90);
+    ASSERT_EQ(hull.components, 2);
+    const MeshTopology topology = inspectMesh(hull);
+    EXPECT_EQ(topology.boundaryEdges, 0);
+    EXPECT_EQ(topology.nonManifoldEdges, 0);
+    ASSERT_EQ(topology.componentVolumes.size(), 2u);
+    const double m = kThesisHullMargin, n = kThesisHullSides;
+    const double polygonArea = n * std::tan(std::numbers::pi / n);  // × r² for the inscribed radius r
+    EXPECT_NEAR(topology.componentVolumes[0], polygonArea * (0.3 + 2 * m) * (0.3 + 2 * m) * (1.0 + 3 * m) / 3.0, 1e-6);
+    EXPECT_NEAR(topology.componentVolumes[1], polygonArea * (0.35 + m) * (0.35 + m) * (0.1 + 2 * m), 1e-6);
+    for (const TreeMesh& lod : model.lods) EXPECT_TRUE(insideQueryHull(lod, hull));
+    TreeMesh shrunk = hull;
+    for (glm::vec3& p : shrunk.positions) p = glm::vec3(0.99f * p.x, p.y, 0.99f * p.z);
+    EXPECT_FALSE(insideQueryHull(model.lods[0], shrunk));
+  }
+  // The procedural species have none: their crowns' gaps would be wrapped (geometry queries use
+  // their own triangles).
+  EXPECT_TRUE(buildSpecies(Species::Conifer, 2000, 7).queryHull.indices.empty());
+}
+
+}  // namespace
+}  // namespace forest::vegetation
+
+namespace forest::vegetation {
+namespace {
+
 // The default walk (data/paths/walk.toml over data/scenes/forest.toml), sampled every 0.1 s: it
 // loads with heights over the ground; it starts outside a stand (D < 1/2) and is in one within
 // 3 s; it spends ≥ 10 s in stands (issue "A forest to walk through"); the terrain within 0.3 m of

@@ -27,16 +27,16 @@ TreeRenderer::TreeRenderer(const vegetation::Forest& forest, Output output, std:
       viewUniforms_(kViewBlockBinding, sizeof(ViewBlock)) {
   std::vector<TreeVertex> vertices;
   std::vector<std::uint32_t> indices;
+  auto append = [&](const vegetation::TreeMesh& mesh, Range& range) {
+    range.baseVertex = static_cast<int>(vertices.size());
+    range.firstIndex = static_cast<int>(indices.size());
+    range.indexCount = static_cast<int>(mesh.indices.size());
+    for (size_t v = 0; v < mesh.positions.size(); ++v) vertices.push_back({mesh.positions[v], mesh.normals[v], mesh.albedo[v]});
+    indices.insert(indices.end(), mesh.indices.begin(), mesh.indices.end());
+  };
   for (int s = 0; s < kSpeciesCount; ++s) {
-    for (int lod = 0; lod < kTreeLods; ++lod) {
-      const vegetation::TreeMesh& mesh = forest.species()[s].lods[lod];
-      Range& range = ranges_[s][lod];
-      range.baseVertex = static_cast<int>(vertices.size());
-      range.firstIndex = static_cast<int>(indices.size());
-      range.indexCount = static_cast<int>(mesh.indices.size());
-      for (size_t v = 0; v < mesh.positions.size(); ++v) vertices.push_back({mesh.positions[v], mesh.normals[v], mesh.albedo[v]});
-      indices.insert(indices.end(), mesh.indices.begin(), mesh.indices.end());
-    }
+    for (int lod = 0; lod < kTreeLods; ++lod) append(forest.species()[s].lods[lod], ranges_[s][lod]);
+    append(forest.species()[s].queryHull, hullRanges_[s]);
   }
   vertices_ = gl::Buffer(vertices.size() * sizeof(TreeVertex), vertices.data(), 0);
   indices_ = gl::Buffer(indices.size() * sizeof(std::uint32_t), indices.data(), 0);
@@ -84,11 +84,11 @@ TreeRenderer::Stats TreeRenderer::draw(const DrawView& view, std::span<const std
 TreeRenderer::Stats TreeRenderer::drawQueries(const DrawView& view, std::span<const std::uint32_t> trees,
                                               std::span<const std::uint32_t> slots) const {
   if (!queryProgram_) queryProgram_ = loadSurfaceProgram("trees.vert", "trees.frag", SurfaceOutput::QueryStamp);
-  return drawInstances(view, trees, slots, *queryProgram_);
+  return drawInstances(view, trees, slots, *queryProgram_, true);
 }
 
 TreeRenderer::Stats TreeRenderer::drawInstances(const DrawView& view, std::span<const std::uint32_t> trees,
-                                                std::span<const std::uint32_t> ids, const gl::Program& program) const {
+                                                std::span<const std::uint32_t> ids, const gl::Program& program, bool hulls) const {
   Stats stats;
   const double time = view.time;
   // Instances grouped by (species, LOD), base positions relative to the eye in double, written
@@ -131,7 +131,7 @@ TreeRenderer::Stats TreeRenderer::drawInstances(const DrawView& view, std::span<
     for (int lod = 0; lod < kTreeLods; ++lod) {
       const int count = counts[static_cast<size_t>(s * kTreeLods + lod)];
       if (count == 0) continue;
-      const Range& r = ranges_[s][lod];
+      const Range& r = hulls && hullRanges_[s].indexCount > 0 ? hullRanges_[s] : ranges_[s][lod];
       glDrawElementsInstancedBaseVertexBaseInstance(
           GL_TRIANGLES, r.indexCount, GL_UNSIGNED_INT,
           reinterpret_cast<const void*>(static_cast<std::uintptr_t>(r.firstIndex) * sizeof(std::uint32_t)), count,

@@ -342,6 +342,93 @@ TreeMesh exportMesh(OMesh& mesh, OpenMesh::FPropHandleT<int> component) {
 
 }  // namespace
 
+namespace {
+
+// Appends to `hull` a closed convex piece: a frustum of a `sides`-sided pyramid around the y axis
+// from height y0 to y1, circumscribed about the circles of radius r0 at y0 and r1 at y1 (r1 = 0:
+// an apex), faces counter-clockwise seen from outside.
+void addConvexPiece(TreeMesh& hull, double y0, double y1, double r0, double r1, int sides) {
+  const int piece = hull.components++;
+  const double circumscribed = 1.0 / std::cos(std::numbers::pi / sides);
+  const auto base = static_cast<std::uint32_t>(hull.positions.size());
+  auto ring = [&](double y, double r) {
+    for (int j = 0; j < sides; ++j) {
+      const double angle = 2.0 * std::numbers::pi * j / sides;
+      hull.positions.emplace_back(static_cast<float>(r * circumscribed * std::cos(angle)), static_cast<float>(y),
+                                  static_cast<float>(r * circumscribed * std::sin(angle)));
+    }
+  };
+  ring(y0, r0);
+  const bool apex = r1 <= 0.0;
+  if (apex) hull.positions.emplace_back(0.0f, static_cast<float>(y1), 0.0f);
+  else ring(y1, r1);
+  const glm::dvec3 inside(0.0, 0.5 * (y0 + y1), 0.0);
+  // Each triangle wound so that its normal points away from the axis point between the caps.
+  auto face = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    const glm::dvec3 pa(hull.positions[a]), pb(hull.positions[b]), pc(hull.positions[c]);
+    if (glm::dot(glm::cross(pb - pa, pc - pa), (pa + pb + pc) / 3.0 - inside) < 0.0) std::swap(b, c);
+    hull.indices.insert(hull.indices.end(), {a, b, c});
+    hull.faceComponent.push_back(static_cast<std::uint32_t>(piece));
+  };
+  const auto n = static_cast<std::uint32_t>(sides);
+  for (std::uint32_t j = 0; j < n; ++j) {
+    const std::uint32_t next = (j + 1) % n;
+    if (apex) {
+      face(base + j, base + next, base + n);
+    } else {
+      face(base + j, base + next, base + n + next);
+      face(base + j, base + n + next, base + n + j);
+    }
+  }
+  for (std::uint32_t j = 1; j + 1 < n; ++j) {  // the caps, fans from their first corner
+    face(base, base + j, base + j + 1);
+    if (!apex) face(base + n, base + n + j, base + n + j + 1);
+  }
+  hull.normals.resize(hull.positions.size(), glm::vec3(0.0f, 1.0f, 0.0f));
+  hull.albedo.resize(hull.positions.size(), glm::vec3(0.0f));
+  for (const glm::vec3& p : hull.positions) hull.bounds.extend(glm::dvec3(p));
+}
+
+}  // namespace
+
+bool insideQueryHull(const TreeMesh& mesh, const TreeMesh& hull) {
+  // Each piece as planes (a point on the face, its outward normal), checked to point out.
+  struct Plane {
+    glm::dvec3 point, normal;
+  };
+  std::vector<std::vector<Plane>> pieces(static_cast<size_t>(hull.components));
+  std::vector<glm::dvec3> centroids(pieces.size(), glm::dvec3(0.0));
+  std::vector<int> corners(pieces.size(), 0);
+  for (size_t f = 0; f < hull.faceComponent.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      centroids[hull.faceComponent[f]] += glm::dvec3(hull.positions[hull.indices[3 * f + k]]);
+      ++corners[hull.faceComponent[f]];
+    }
+  for (size_t f = 0; f < hull.faceComponent.size(); ++f) {
+    const glm::dvec3 a(hull.positions[hull.indices[3 * f]]), b(hull.positions[hull.indices[3 * f + 1]]),
+        c(hull.positions[hull.indices[3 * f + 2]]);
+    const size_t piece = hull.faceComponent[f];
+    const glm::dvec3 normal = glm::cross(b - a, c - a);
+    if (glm::dot(normal, a - centroids[piece] / static_cast<double>(corners[piece])) <= 0.0) return false;  // not outward
+    pieces[piece].push_back({a, glm::normalize(normal)});
+  }
+  auto inPiece = [&](const std::vector<Plane>& planes, const glm::dvec3& p) {
+    for (const Plane& plane : planes)
+      if (glm::dot(p - plane.point, plane.normal) > 0.0) return false;
+    return true;
+  };
+  for (size_t t = 0; t < mesh.indices.size() / 3; ++t) {
+    bool held = false;
+    for (const std::vector<Plane>& planes : pieces) {
+      held = true;
+      for (int k = 0; k < 3 && held; ++k) held = inPiece(planes, glm::dvec3(mesh.positions[mesh.indices[3 * t + k]]));
+      if (held) break;
+    }
+    if (!held) return false;
+  }
+  return true;
+}
+
 SpeciesModel buildThesisTree(Species species) {
   // Thesis ch. 10's tree-like object, 1 m high (instances are scaled): a cone of 32 slices × 2
   // stacks with a base cap, and a torus ring of 32 × 8 segments around it.
@@ -361,6 +448,11 @@ SpeciesModel buildThesisTree(Species species) {
     model.lods[static_cast<size_t>(l)] = lod;  // one shape at every distance, as in the demo
     model.targetTriangles[static_cast<size_t>(l)] = lod.triangleCount();
   }
+  // The query hull: the cone (radius 0.3 at y = 0 to its apex at 1) and the torus's ring (radius
+  // 0.3 ± 0.05 at y = 0.3 ± 0.05), each circumscribed and grown by the margin.
+  const double m = kThesisHullMargin;
+  addConvexPiece(model.queryHull, -m, 1.0 + 2.0 * m, 0.3 + 2.0 * m, 0.0, kThesisHullSides);
+  addConvexPiece(model.queryHull, 0.25 - m, 0.35 + m, 0.35 + m, 0.35 + m, kThesisHullSides);
   return model;
 }
 

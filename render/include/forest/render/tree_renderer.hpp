@@ -41,8 +41,9 @@ class TreeRenderer {
   Stats draw(const DrawView& view, std::span<const std::uint32_t> trees) const;
   // Occlusion queries drawn with the trees' own triangles (culling::ObjectDrawer's geometry
   // queries): trees[i] exactly as draw() places it, each passing fragment writing the culler's
-  // stamp into result slot slots[i] (SurfaceOutput::QueryStamp). The caller sets the depth test
-  // and masks and binds the culler's block and buffer.
+  // stamp into result slot slots[i] (SurfaceOutput::QueryStamp) — or, for a species with a query
+  // hull (vegetation::SpeciesModel::queryHull), its hull under the same transform, which holds
+  // every LOD. The caller sets the depth test and masks and binds the culler's block and buffer.
   Stats drawQueries(const DrawView& view, std::span<const std::uint32_t> trees, std::span<const std::uint32_t> slots) const;
   // Trees whose boxes meet the camera's frustum.
   std::vector<std::uint32_t> treesInFrustum(const Camera& camera) const;
@@ -64,8 +65,9 @@ class TreeRenderer {
     int baseVertex = 0, firstIndex = 0, indexCount = 0;
   };
   // Draws the trees with `program`; each instance's ID is ids[i], or objectIdBase + tree without ids.
+  // `hulls`: a species with a query hull is drawn with it at every LOD.
   Stats drawInstances(const DrawView& view, std::span<const std::uint32_t> trees, std::span<const std::uint32_t> ids,
-                      const gl::Program& program) const;
+                      const gl::Program& program, bool hulls = false) const;
   const vegetation::Forest& forest_;
   Output output_;
   std::uint32_t objectIdBase_;
@@ -80,6 +82,7 @@ class TreeRenderer {
   // Per-draw scratch: each drawn tree's (species, LOD) group, room for every tree (no allocation).
   mutable std::vector<std::uint8_t> groupOf_;
   std::array<std::array<Range, vegetation::kTreeLods>, vegetation::kSpeciesCount> ranges_{};
+  std::array<Range, vegetation::kSpeciesCount> hullRanges_{};  // indexCount 0: no query hull
 };
 
 }  // namespace forest::render

@@ -38,6 +38,14 @@ struct SpeciesModel {
   Species species = Species::Conifer;
   std::array<TreeMesh, kTreeLods> lods;  // LOD i has about lod0Triangles / 4^i triangles
   std::array<int, kTreeLods> targetTriangles{};
+  // A cheaper stand-in for the LODs in occlusion queries (culling's geometry queries), or empty:
+  // closed convex pieces (faceComponent: the piece; counter-clockwise seen from outside) such that
+  // each triangle of every LOD lies inside one piece. A piece's front faces then cover every pixel
+  // the triangles inside it cover, nearer to the eye, under any affine transform of the tree (scale,
+  // yaw, the wind's shear): a query with them that finds no sample proves the tree hidden. Only
+  // where the shape is solid enough for its pieces to hug it (the thesis tree); a crown of leaves
+  // would be wrapped with its gaps.
+  TreeMesh queryHull;
 };
 
 // Triangle budget of LOD0: [1000, 20000]; LOD1 and LOD2 get a quarter and a sixteenth, at least
@@ -59,7 +67,15 @@ constexpr int kThesisConeSlices = 32;
 constexpr int kThesisTorusSegments = 32;
 constexpr int kThesisTorusSides = 8;
 constexpr int kThesisTreeTriangles = 640;
+// Its query hull: a 16-sided pyramid around the cone and a 16-sided prism around the torus
+// (circumscribed, grown by kThesisHullMargin): 30 + 60 = 90 triangles.
+constexpr int kThesisHullSides = 16;
+constexpr double kThesisHullMargin = 1e-3;  // metres of the 1 m tree: no face of the hull touches the tree
 SpeciesModel buildThesisTree(Species species);
+
+// Whether every triangle of `mesh` lies inside one closed convex piece of `hull`, each piece's
+// faces pointing out (SpeciesModel::queryHull's contract; tests).
+bool insideQueryHull(const TreeMesh& mesh, const TreeMesh& hull);
 
 // Topology report of a mesh (tests): OpenMesh half-edge checks and the signed volume.
 struct MeshTopology {
