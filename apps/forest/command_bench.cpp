@@ -196,13 +196,12 @@ std::vector<Camera> underCanopyPath(const Scene& scene, const terrain::Terrain& 
   return cameras;
 }
 
-// A camera path file sampled at `fps` from its start, as forest walkthrough flies it (Frame::cameraAt):
-// `frames` frames, or the whole path if it is shorter.
+// A camera path file's first `frames` frames sampled at `fps` from its start, as forest walkthrough
+// flies it (Frame::cameraAt).
 std::vector<Camera> filePath(const CameraPath& path, const Scene& scene, const terrain::Terrain& terrain, int frames, double fps,
                              double aspect) {
-  const int pathFrames = 1 + static_cast<int>(std::floor((path.endTime() - path.startTime()) * fps + 1e-9));
   std::vector<Camera> cameras;
-  for (int f = 0; f < std::min(frames, pathFrames); ++f) {
+  for (int f = 0; f < frames; ++f) {
     const CameraPose pose = path.at(path.startTime() + f / fps);
     Camera c = scene.startCamera();
     c.aspect = aspect;
@@ -301,7 +300,7 @@ int runBenchCulling(const BenchOptions& options) {
   if (!options.cameraPath.empty()) {
     cameraPath = CameraPath::load(options.cameraPath);
     if (cameraPath->aboveGround() && !base.terrain) throw InputError(options.cameraPath + ": heights = \"above_ground\" needs a scene with [terrain]");
-    const int pathFrames = 1 + static_cast<int>(std::floor((cameraPath->endTime() - cameraPath->startTime()) * options.fps + 1e-9));
+    const int pathFrames = cameraPath->frameCount(options.fps);
     if (warmup >= std::min(pathFrames, options.length.frames))
       throw InputError(fmt::format("--warmup {}: expected fewer than the {} frames of {} at --fps {}", warmup, pathFrames,
                                    options.cameraPath, options.fps));
@@ -390,7 +389,7 @@ int runBenchCulling(const BenchOptions& options) {
 
     for (const std::string& pathName : pathNames) {
       const double aspect = static_cast<double>(options.size.width) / options.size.height;
-      const std::vector<Camera> path = cameraPath ? filePath(*cameraPath, scene, terrain, options.length.frames, options.fps, aspect)
+      const std::vector<Camera> path = cameraPath ? filePath(*cameraPath, scene, terrain, framesPerPath, options.fps, aspect)
                                                   : benchPath(pathName, scene, terrain, forest, options.length.frames, aspect);
       // The visible set of every frame: objects with a pixel in the brute-force ID buffer. And the
       // triangles of the objects visible in the frame before, hidden in this one and still in its

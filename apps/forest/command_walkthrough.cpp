@@ -148,7 +148,7 @@ int runWalkthrough(const WalkthroughOptions& options) {
   if (path.aboveGround() && !scene.terrain) throw InputError(pathPath + ": heights = \"above_ground\" needs a scene with [terrain]");
   render::FrameSettings settings = options.frame.settings();  // names checked before anything opens
   settings.keepShadowTerm = false;  // the run shows and times frames; nothing reads the term back
-  const int pathFrames = 1 + static_cast<int>(std::floor((path.endTime() - path.startTime()) * options.fps + 1e-9));
+  const int pathFrames = path.frameCount(options.fps);
   const int total = options.length.frames > 0 ? std::min(options.length.frames, pathFrames) : pathFrames;
   const int warmup = options.length.warmupFor(total);
   if (warmup >= total)

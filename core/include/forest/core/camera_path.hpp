@@ -9,6 +9,7 @@
 // and optionally, before the keys, heights = "absolute" (default) or "above_ground".
 #include <glm/glm.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -50,6 +51,8 @@ class CameraPath {
 
   double startTime() const { return keys_.front().time; }
   double endTime() const { return keys_.back().time; }
+  // Frames of the path sampled at `fps` from its start, the end included when it falls on a frame.
+  int frameCount(double fps) const { return 1 + static_cast<int>(std::floor((endTime() - startTime()) * fps + 1e-9)); }
   const std::vector<PathKey>& keys() const { return keys_; }
 
  private:
