@@ -8,6 +8,7 @@
 //   OUTPUT_GBUFFER  — the geometry pass's G-buffer (gbuffer.frag);
 //   OUTPUT_ID       — the tile's object ID;
 //   OUTPUT_LIGHT_DEPTH — linear light depth for TSM (light_depth.frag);
+//   OUTPUT_QUERY_STAMP — an occlusion query with the tile's own triangles (query_stamp.frag);
 //   OUTPUT_POSITION — the world-space position (tests compare it with the CPU twin).
 in vec3 vNormal;
 in vec3 vWorldPosition;
@@ -28,6 +29,8 @@ void writeGBuffer(vec3 albedo, vec3 shadingNormal, vec3 relativePosition, uint o
 out uint fragId;
 #elif defined(OUTPUT_LIGHT_DEPTH)
 void writeLightDepth(vec3 relativePosition);
+#elif defined(OUTPUT_QUERY_STAMP)
+void writeQueryStamp(uint slot);
 #else
 out vec4 fragColor;
 #endif
@@ -74,6 +77,8 @@ void main() {
   fragId = vObjectId;
 #elif defined(OUTPUT_LIGHT_DEPTH)
   writeLightDepth(vRelativePosition);
+#elif defined(OUTPUT_QUERY_STAMP)
+  writeQueryStamp(vObjectId);
 #elif defined(OUTPUT_POSITION)
   fragColor = vec4(vWorldPosition, 1.0);
 #else

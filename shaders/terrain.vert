@@ -29,7 +29,7 @@ uniform uint uObjectIdBase;
 out vec3 vNormal;
 out vec3 vWorldPosition;
 out vec3 vRelativePosition;  // to the view's origin
-flat out uint vObjectId;     // uObjectIdBase + tile index
+flat out uint vObjectId;     // uObjectIdBase + tile index (a query: its slot)
 
 // Camera-relative position of sample s.
 vec3 samplePosition(ivec2 s) {
@@ -46,7 +46,12 @@ vec3 sampleNormal(ivec2 s) {
 }
 
 void main() {
+#ifdef OUTPUT_QUERY_STAMP
+  // TerrainRenderer::drawQueries packs the tile's query slot above its level.
+  int level = iTile.z & ((1 << QUERY_SLOT_SHIFT) - 1);
+#else
   int level = iTile.z;
+#endif
   int step = 1 << level;
   ivec2 local = aLocal + ivec2(iTile.w & 255, iTile.w >> 8);
   ivec2 target = local - step * ((local / step) & 1);  // odd at this level → one step lower
@@ -61,6 +66,10 @@ void main() {
   vNormal = normalize(sampleNormal(base + local) * (1.0 - k) + sampleNormal(base + target) * k);
   vWorldPosition = p + uTerrain.eye.xyz;
   vRelativePosition = p;
+#ifdef OUTPUT_QUERY_STAMP
+  vObjectId = uint(iTile.z >> QUERY_SLOT_SHIFT);
+#else
   vObjectId = uObjectIdBase + uint(iTile.y * uTilesPerSide + iTile.x);
+#endif
   gl_Position = uView.viewProjectionRelative * vec4(p, 1.0);
 }

@@ -152,13 +152,14 @@ TEST_F(TreeVisibilityGl, OneVisibleTreeOfAClusterDrawsThatTreeOnly) {
 
 
 // Geometry queries ([culling] geometry_queries): a box sees through the gaps between nearer crowns,
-// a tree's own triangles do not. On a still ground-level view into the default forest, every
-// visible leaf is queried again with its triangles within n_av frames (§3.3), against the depth of
-// everything visible the frame before; so after n_av + 2 frames chc++ draws exactly the trees that
-// have a pixel in the brute-force object-ID image — no more (and, as always, no fewer). Box queries
-// alone draw more on this view (checked too, so that the view can tell them apart). Results read
-// deterministically and as soon as available (async) alike.
-TEST_F(TreeVisibilityGl, GeometryQueriesDrawExactlyTheTreesWithPixelsOnAStillView) {
+// and a tile's block boxes over the crest of the hill in front of it; a tree's or a tile's own
+// triangles do not. On a still ground-level view into the default forest, every visible leaf is
+// queried again with its triangles within n_av frames (§3.3), against the depth of everything
+// visible the frame before; so after n_av + 2 frames chc++ draws exactly the trees and the terrain
+// tiles that have a pixel in the brute-force object-ID image — no more (and, as always, no fewer).
+// Box queries alone draw more trees and more tiles on this view (checked too, so that the view can
+// tell them apart). Results read deterministically and as soon as available (async) alike.
+TEST_F(TreeVisibilityGl, GeometryQueriesDrawExactlyTheTreesAndTilesWithPixelsOnAStillView) {
   const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
   const terrain::Terrain terrain(*scene.terrain);
   const vegetation::Forest forest(*scene.vegetation, terrain);
@@ -176,6 +177,12 @@ TEST_F(TreeVisibilityGl, GeometryQueriesDrawExactlyTheTreesWithPixelsOnAStillVie
       if (id >= objects.treeIdBase() && id < objects.propIdBase()) trees.insert(id - objects.treeIdBase());
     return trees;
   };
+  auto tilesIn = [&](std::span<const std::uint32_t> ids) {
+    std::set<std::uint32_t> tiles;
+    for (std::uint32_t id : ids)
+      if (id >= objects.terrainIdBase() && id < objects.treeIdBase()) tiles.insert(id - objects.terrainIdBase());
+    return tiles;
+  };
   // Brute force: every object drawn, the trees with a pixel.
   image.bindAndClear();
   {
@@ -184,6 +191,7 @@ TEST_F(TreeVisibilityGl, GeometryQueriesDrawExactlyTheTreesWithPixelsOnAStillVie
     none.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::None, all, objects.queryShapes(&lod));
   }
   const std::set<std::uint32_t> withPixels = treesIn(image.readIds());
+  const std::set<std::uint32_t> tilesWithPixels = tilesIn(image.readIds());
   ASSERT_GT(withPixels.size(), 100u) << "the view should look into the forest";
 
   struct Run {
@@ -200,7 +208,7 @@ TEST_F(TreeVisibilityGl, GeometryQueriesDrawExactlyTheTreesWithPixelsOnAStillVie
     culler.setParameters(settings);
     culler.setQueryMode(run.mode);
     const int frames = settings.visible_requery_frames + 2;
-    std::set<std::uint32_t> drawn;
+    std::set<std::uint32_t> drawn, tilesDrawn;
     int geometryQueriesIssued = 0;
     for (int frame = 0; frame < frames; ++frame) {
       image.bindAndClear();
@@ -209,28 +217,59 @@ TEST_F(TreeVisibilityGl, GeometryQueriesDrawExactlyTheTreesWithPixelsOnAStillVie
           culler.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::ChcPlusPlus, drawer, objects.queryShapes(&lod));
       EXPECT_EQ(treesIn(image.readIds()), withPixels) << "frame " << frame << ": the image must equal brute force's";
       drawn.clear();
-      for (std::uint32_t o : r.visibleObjects)
+      tilesDrawn.clear();
+      for (std::uint32_t o : r.visibleObjects) {
         if (o >= objects.tileCount()) drawn.insert(static_cast<std::uint32_t>(o - objects.tileCount()));
+        else tilesDrawn.insert(o);
+      }
       geometryQueriesIssued = r.stats.geometryQueries;
     }
-    std::printf("[geometry queries %s, %s reads] %zu trees with pixels, %zu drawn\n", geometryQueries ? "on" : "off",
-                std::string(culling::queryModeName(run.mode)).c_str(), withPixels.size(), drawn.size());
+    std::printf("[geometry queries %s, %s reads] %zu trees with pixels, %zu drawn; %zu tiles with pixels, %zu drawn\n",
+                geometryQueries ? "on" : "off", std::string(culling::queryModeName(run.mode)).c_str(), withPixels.size(), drawn.size(),
+                tilesWithPixels.size(), tilesDrawn.size());
     if (geometryQueries) {
       EXPECT_GT(geometryQueriesIssued, 0);
       EXPECT_EQ(drawn, withPixels) << drawn.size() << " trees drawn, " << withPixels.size() << " with pixels";
+      EXPECT_EQ(tilesDrawn, tilesWithPixels) << tilesDrawn.size() << " tiles drawn, " << tilesWithPixels.size() << " with pixels";
     } else {
       EXPECT_EQ(geometryQueriesIssued, 0);
       EXPECT_GT(drawn.size(), withPixels.size()) << "box queries should see through the crowns' gaps on this view";
+      EXPECT_GT(tilesDrawn.size(), tilesWithPixels.size()) << "block boxes should see over the hills' crests on this view";
     }
   }
 }
+
+// A scene drawer that adds up what its geometry queries should draw, from the queried objects
+// alone: a thesis tree's query hull, 90 triangles; a terrain tile, its level's grid (the level the
+// LOD gives the tile, terrain::tileGridIndices).
+struct QueryTallyDrawer : render::SceneDrawer {
+  QueryTallyDrawer(const render::SceneObjects& objects, const render::TerrainRenderer* terrainRenderer,
+                   const render::TreeRenderer* treeRenderer, const Camera& camera, const terrain::TerrainLod& lod, const SunSettings& sun)
+      : SceneDrawer(objects, terrainRenderer, treeRenderer, nullptr, camera, &lod, 0.0, sun), sceneObjects(objects), eyeLod(lod) {}
+  long long drawGeometryQueries(std::span<const std::uint32_t> objects, std::span<const std::uint32_t> slots) override {
+    for (std::uint32_t o : objects) {
+      if (o < sceneObjects.tileCount()) {
+        ++tiles;
+        triangles += static_cast<long long>(terrain::tileGridIndices(sceneObjects.terrain()->tileLevel(static_cast<int>(o), eyeLod)).size() / 3);
+      } else {
+        ++trees;
+        triangles += 90;
+      }
+    }
+    return SceneDrawer::drawGeometryQueries(objects, slots);
+  }
+  const render::SceneObjects& sceneObjects;
+  const terrain::TerrainLod& eyeLod;
+  long long trees = 0, tiles = 0, triangles = 0;
+};
 
 // Geometry queries with the thesis trees' query hulls (vegetation::SpeciesModel::queryHull, 90
 // triangles for the tree's 640): along the thesis walk (data/paths/thesis-walk.toml, every third
 // frame of its first 120 at 30 fps, 5184 trees), chc++ with hull queries draws the same depth and
 // object IDs as drawing everything, deterministic and async reads alike; each of its geometry
-// queries draws one hull (90 triangles a query: leaves of one tree); and it draws fewer trees than
-// chc++ with box queries, which see past the cones through the gaps between nearer ones.
+// queries draws one hull (90 triangles a query of a leaf of one tree) or one tile's triangles at its
+// level; and it draws fewer trees than chc++ with box queries, which see past the cones through the
+// gaps between nearer ones.
 TEST_F(TreeVisibilityGl, HullQueriesKeepTheThesisWalkExactAndDrawFewerTreesThanBoxes) {
   Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/thesis-demo.toml");
   scene.vegetation->grid = 72;
@@ -258,7 +297,8 @@ TEST_F(TreeVisibilityGl, HullQueriesKeepTheThesisWalkExactAndDrawFewerTreesThanB
     run.culler.setParameters(settings);
     run.culler.setQueryMode(run.mode);
   }
-  int geometryQueries = 0, views = 0;
+  long long geometryQueries = 0, tileQueries = 0;
+  int views = 0;
   for (int f = 0; f < 120; f += 3, ++views) {
     const CameraPose pose = path.at(path.startTime() + f / 30.0);
     Camera camera = scene.startCamera();
@@ -278,19 +318,24 @@ TEST_F(TreeVisibilityGl, HullQueriesKeepTheThesisWalkExactAndDrawFewerTreesThanB
       SCOPED_TRACE(std::string(run.hulls ? "hull" : "box") + " queries, " + std::string(culling::queryModeName(run.mode)) +
                    ", frame " + std::to_string(f));
       target.bindAndClear();
-      render::SceneDrawer drawer(objects, &terrainIds, &treeIds, nullptr, camera, &lod, 0.0, scene.sun);
+      QueryTallyDrawer drawer(objects, &terrainIds, &treeIds, camera, lod, scene.sun);
       const culling::CullingResult& r =
           run.culler.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::ChcPlusPlus, drawer, objects.queryShapes(&lod));
       EXPECT_EQ(target.readIds(), bruteIds);
       EXPECT_EQ(target.readDepth(), bruteDepth);
-      EXPECT_EQ(r.stats.queryTriangles, 90LL * r.stats.geometryQueries);
-      if (run.hulls && run.mode == culling::QueryMode::Deterministic) geometryQueries += r.stats.geometryQueries;
+      EXPECT_EQ(r.stats.geometryQueries, drawer.trees + drawer.tiles);  // leaves of one object each
+      EXPECT_EQ(r.stats.queryTriangles, drawer.triangles);
+      if (run.hulls && run.mode == culling::QueryMode::Deterministic) {
+        geometryQueries += drawer.trees;
+        tileQueries += drawer.tiles;
+      }
       for (std::uint32_t o : r.visibleObjects) run.treesDrawn += o >= objects.tileCount() ? 1 : 0;
     }
   }
-  std::printf("[hull queries] %d views of the thesis walk: %d geometry queries; trees drawn %lld with hulls, %lld with boxes\n",
-              views, geometryQueries, runs[0].treesDrawn, runs[2].treesDrawn);
+  std::printf("[hull queries] %d views of the thesis walk: %lld tree and %lld tile geometry queries; trees drawn %lld with hulls, "
+              "%lld with boxes\n", views, geometryQueries, tileQueries, runs[0].treesDrawn, runs[2].treesDrawn);
   EXPECT_GT(geometryQueries, 0);
+  EXPECT_GT(tileQueries, 0);
   EXPECT_LT(runs[0].treesDrawn, runs[2].treesDrawn);
 }
 

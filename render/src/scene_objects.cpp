@@ -1,5 +1,7 @@
 #include "forest/render/scene_objects.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <string>
 
@@ -96,23 +98,39 @@ SceneDrawer::SceneDrawer(const SceneObjects& objects, const TerrainRenderer* ter
   blocks_.reserve(objects.tileCount() * terrain::Terrain::kMaxBlockBoxes);
   treeList_.reserve(objects.treeCount());
   querySlots_.reserve(objects.treeCount());
+  tileSlots_.reserve(objects.tileCount());
   propList_.reserve(objects.propCount());
 }
 
 bool SceneDrawer::queriesOwnGeometry(std::uint32_t object) const {
-  return trees_ && objects_.objects()[object].kind == SceneObjects::Kind::Tree;
+  switch (objects_.objects()[object].kind) {
+    case SceneObjects::Kind::Tree: return trees_ != nullptr;
+    case SceneObjects::Kind::Tile: return terrain_ != nullptr && lod_ != nullptr;
+    case SceneObjects::Kind::Prop: break;
+  }
+  return false;
 }
 
 long long SceneDrawer::drawGeometryQueries(std::span<const std::uint32_t> objects, std::span<const std::uint32_t> slots) {
   treeList_.clear();
   querySlots_.clear();
+  tiles_.clear();
+  tileSlots_.clear();
   for (std::size_t i = 0; i < objects.size(); ++i) {
+    if (!queriesOwnGeometry(objects[i])) throw Error(fmt::format("SceneDrawer: a geometry query for object {}, which has none", objects[i]));
     const SceneObjects::Object& object = objects_.objects()[objects[i]];
-    if (object.kind != SceneObjects::Kind::Tree) throw Error("SceneDrawer: a geometry query for an object that is not a tree");
-    treeList_.push_back(object.index);
-    querySlots_.push_back(slots[i]);
+    if (object.kind == SceneObjects::Kind::Tile) {
+      tiles_.push_back(static_cast<int>(object.index));
+      tileSlots_.push_back(slots[i]);
+    } else {
+      treeList_.push_back(object.index);
+      querySlots_.push_back(slots[i]);
+    }
   }
-  return trees_ ? trees_->drawQueries(view_, treeList_, querySlots_).triangles : 0;
+  long long triangles = 0;
+  if (!treeList_.empty()) triangles += trees_->drawQueries(view_, treeList_, querySlots_).triangles;
+  if (!tiles_.empty()) triangles += terrain_->drawQueries(view_, *lod_, tiles_, tileSlots_).triangles;
+  return triangles;
 }
 
 long long SceneDrawer::draw(std::span<const std::uint32_t> objects) {

@@ -16,6 +16,11 @@ namespace {
 using terrain::kLevels;
 using terrain::kTileQuads;
 
+// drawQueries' instances carry the query slot above the level: (level | slot << shift).
+constexpr int kQuerySlotShift = 4;
+static_assert(kLevels <= (1 << kQuerySlotShift), "the level must fit below the query slot");
+constexpr std::uint32_t kMaxQuerySlot = (1u << (31 - kQuerySlotShift)) - 1u;
+
 // `groundCover`: the material reads the ground cover texture (GROUND_COVER; without it, meadow).
 gl::Program loadTerrainProgram(TerrainRenderer::Output output, bool groundCover = false) {
   const std::string levels =
@@ -42,7 +47,7 @@ TerrainRenderer::TerrainRenderer(const terrain::Terrain& terrain, Output output,
       viewUniforms_(kViewBlockBinding, sizeof(ViewBlock)),
       terrainViewUniforms_(kTerrainViewBlockBinding, sizeof(TerrainViewBlock)) {
   const terrain::Heightfield& h = terrain.heightfield();
-  setProgramConstants();
+  setProgramConstants(program_);
   heights_ = gl::Texture(GL_R32F, h.samples(), h.samples());
   glTextureSubImage2D(heights_.id(), 0, 0, 0, h.samples(), h.samples(), GL_RED, GL_FLOAT, h.heights().data());
   glTextureParameteri(heights_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
@@ -107,19 +112,19 @@ TerrainRenderer::TerrainRenderer(const terrain::Terrain& terrain, Output output,
 }
 
 // What does not change with the view, set once per program.
-void TerrainRenderer::setProgramConstants() {
+void TerrainRenderer::setProgramConstants(const gl::Program& program) const {
   const terrain::Heightfield& h = terrain_.heightfield();
-  program_.set("uSpacing", static_cast<float>(h.spacing()));
-  program_.set("uTileQuads", kTileQuads);
-  program_.set("uTilesPerSide", terrain_.tilesPerSide());
-  program_.set("uObjectIdBase", objectIdBase_);
-  program_.set("uMorphSlack", static_cast<float>(terrain::TerrainLod::kMorphSlack));
-  if (output_ != Output::Lit && output_ != Output::GBuffer) return;
-  program_.set("uAlbedo", glm::vec3(terrain_.settings().albedo));
+  program.set("uSpacing", static_cast<float>(h.spacing()));
+  program.set("uTileQuads", kTileQuads);
+  program.set("uTilesPerSide", terrain_.tilesPerSide());
+  program.set("uObjectIdBase", objectIdBase_);
+  program.set("uMorphSlack", static_cast<float>(terrain::TerrainLod::kMorphSlack));
+  if (&program != &program_ || (output_ != Output::Lit && output_ != Output::GBuffer)) return;  // no material
+  program.set("uAlbedo", glm::vec3(terrain_.settings().albedo));
   const Aabb box = terrain_.bounds();
-  program_.set("uHeightRange", glm::vec2(static_cast<float>(box.min.y), static_cast<float>(std::max(box.max.y - box.min.y, 1e-6))));
+  program.set("uHeightRange", glm::vec2(static_cast<float>(box.min.y), static_cast<float>(std::max(box.max.y - box.min.y, 1e-6))));
   if (cover_.id() != 0)
-    program_.set("uCoverOriginInvSize", glm::vec4(static_cast<float>(h.origin().x), static_cast<float>(h.origin().y),
+    program.set("uCoverOriginInvSize", glm::vec4(static_cast<float>(h.origin().x), static_cast<float>(h.origin().y),
                                                   static_cast<float>(1.0 / h.size()), 0.0f));
 }
 
@@ -140,7 +145,7 @@ void TerrainRenderer::setGroundCover(std::span<const float> cover, int side) {
   glTextureParameteri(cover_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   if (first) {
     program_ = loadTerrainProgram(output_, true);
-    setProgramConstants();
+    setProgramConstants(program_);
   }
 }
 
@@ -166,7 +171,7 @@ TerrainRenderer::Stats TerrainRenderer::draw(const DrawView& view, const terrain
     const int level = terrain_.tileLevel(t, lod);
     byLevel_[static_cast<size_t>(level)].emplace_back(t % terrain_.tilesPerSide(), t / terrain_.tilesPerSide(), level, 0);
   }
-  return drawByLevel(view, lod, false);
+  return drawByLevel(view, lod, false, program_);
 }
 
 TerrainRenderer::Stats TerrainRenderer::drawBlocks(const DrawView& view, const terrain::TerrainLod& lod,
@@ -190,10 +195,34 @@ TerrainRenderer::Stats TerrainRenderer::drawBlocks(const DrawView& view, const t
     else
       partBlocks_.push_back({instance, {b.cells.first, end}});
   }
-  return drawByLevel(view, lod, true);
+  return drawByLevel(view, lod, true, program_);
 }
 
-TerrainRenderer::Stats TerrainRenderer::drawByLevel(const DrawView& view, const terrain::TerrainLod& lod, bool blocks) const {
+TerrainRenderer::Stats TerrainRenderer::drawQueries(const DrawView& view, const terrain::TerrainLod& lod, std::span<const int> tiles,
+                                                    std::span<const std::uint32_t> slots) const {
+  if (tiles.size() != slots.size())
+    throw Error(fmt::format("TerrainRenderer::drawQueries: {} tiles, {} query slots", tiles.size(), slots.size()));
+  if (tiles.empty()) return {};
+  if (!queryProgram_) {
+    queryProgram_ = loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::QueryStamp,
+                                       "#define TERRAIN_LEVELS " + std::to_string(kLevels) + "\n#define QUERY_SLOT_SHIFT " +
+                                           std::to_string(kQuerySlotShift) + "\n");
+    setProgramConstants(*queryProgram_);
+  }
+  // As draw(), with each tile's query slot packed above its level (terrain.vert unpacks both).
+  for (auto& level : byLevel_) level.clear();
+  for (size_t i = 0; i < tiles.size(); ++i) {
+    const int t = tiles[i], level = terrain_.tileLevel(t, lod);
+    if (slots[i] > kMaxQuerySlot)
+      throw Error(fmt::format("TerrainRenderer::drawQueries: query slot {} of tile {}: at most {}", slots[i], t, kMaxQuerySlot));
+    const int packed = level | static_cast<int>(slots[i] << kQuerySlotShift);
+    byLevel_[static_cast<size_t>(level)].emplace_back(t % terrain_.tilesPerSide(), t / terrain_.tilesPerSide(), packed, 0);
+  }
+  return drawByLevel(view, lod, false, *queryProgram_);
+}
+
+TerrainRenderer::Stats TerrainRenderer::drawByLevel(const DrawView& view, const terrain::TerrainLod& lod, bool blocks,
+                                                    const gl::Program& program) const {
   const glm::dvec3 eye = view.origin;
   Stats stats;
   auto& byLevel = byLevel_;
@@ -227,7 +256,7 @@ TerrainRenderer::Stats TerrainRenderer::drawByLevel(const DrawView& view, const 
   }
   viewUniforms_.bind(viewBlock(view));
   terrainViewUniforms_.bind(block);
-  program_.use();
+  program.use();
   glBindTextureUnit(0, heights_.id());
   // Outputs without normals or cover never read units 1 and 2; valid textures stay bound there.
   glBindTextureUnit(1, normals_.id() != 0 ? normals_.id() : heights_.id());

@@ -83,7 +83,8 @@ class SceneDrawer : public culling::ObjectDrawer {
               const SunSettings& sun)
       : SceneDrawer(objects, terrain, trees, props, DrawView::fromCamera(camera, time, sun), lod) {}
   long long draw(std::span<const std::uint32_t> objects) override;
-  // Trees can be queried with their own triangles (TreeRenderer::drawQueries); tiles and props
+  // Trees (TreeRenderer::drawQueries: the species' query hull where it has one) and, with a LOD,
+  // terrain tiles (TerrainRenderer::drawQueries) can be queried with their own triangles; props
   // are queried with boxes.
   bool queriesOwnGeometry(std::uint32_t object) const override;
   long long drawGeometryQueries(std::span<const std::uint32_t> objects, std::span<const std::uint32_t> slots) override;
@@ -108,7 +109,7 @@ class SceneDrawer : public culling::ObjectDrawer {
   const Frustum* blockFrustum_ = nullptr;
   std::vector<int> tiles_;
   std::vector<terrain::TileBlock> blocks_;
-  std::vector<std::uint32_t> treeList_, propList_, querySlots_;
+  std::vector<std::uint32_t> treeList_, propList_, querySlots_, tileSlots_;
 };
 
 }  // namespace forest::render

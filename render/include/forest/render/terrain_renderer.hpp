@@ -5,6 +5,7 @@
 // Terrain::drawnVertex does on the CPU (camera-relative float positions).
 #include <array>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -46,6 +47,11 @@ class TerrainRenderer {
   // pass's terrain casters. A block asked for a span of its cells (TileBlock::cells) draws that
   // index range alone (one multi-draw for all such). Stats count blocks and spans as tiles.
   Stats drawBlocks(const DrawView& view, const terrain::TerrainLod& lod, std::span<const terrain::TileBlock> blocks) const;
+  // Occlusion queries with the tiles' own triangles (OcclusionCuller's geometry queries), tile i
+  // into query slot slots[i], each at the level and morph the LOD gives it — the same surface
+  // draw() makes, so a query is exactly as conservative as the depth test.
+  Stats drawQueries(const DrawView& view, const terrain::TerrainLod& lod, std::span<const int> tiles,
+                    std::span<const std::uint32_t> slots) const;
   // The ground cover the lit and G-buffer materials read (terrain.frag): a side × side grid of the
   // forest's stand density D in [0, 1] over the terrain (StandField::densityGrid), row by row,
   // filtered linearly. Forest floor where D is high, meadow where it is low; without a call the
@@ -57,11 +63,12 @@ class TerrainRenderer {
   std::size_t gpuBytes() const;
 
  private:
-  void setProgramConstants();  // the uniforms that do not change with the view
+  void setProgramConstants(const gl::Program& program) const;  // the uniforms that do not change with the view
   const terrain::Terrain& terrain_;
   std::uint32_t objectIdBase_;
   Output output_;
   gl::Program program_;
+  mutable std::optional<gl::Program> queryProgram_;  // SurfaceOutput::QueryStamp, loaded at the first query
   mutable gl::UniformStream viewUniforms_;         // ViewBlock at binding 0
   mutable gl::UniformStream terrainViewUniforms_;  // terrain.vert's TerrainViewBlock at binding 1
   gl::Texture heights_;
@@ -74,7 +81,7 @@ class TerrainRenderer {
   // addresses its part by base instance; nothing the GPU may still read is rewritten.
   std::unique_ptr<gl::StreamRing> instances_;
   // The instances in byLevel_, one instanced draw per level of the tile or the block grid.
-  Stats drawByLevel(const DrawView& view, const terrain::TerrainLod& lod, bool blocks) const;
+  Stats drawByLevel(const DrawView& view, const terrain::TerrainLod& lod, bool blocks, const gl::Program& program) const;
 
   // Per-draw scratch, kept so the per-leaf draws of the culling traversal do not allocate.
   mutable std::array<std::vector<glm::ivec4>, terrain::kLevels> byLevel_;  // (tx, tz, level, block origin)
