@@ -35,6 +35,24 @@ long long meshTriangles(const vegetation::Forest& forest, std::span<const std::u
   return sum;
 }
 
+// A scene's terrain, forest and objects, their object-ID renderers and a BVH of one object per
+// leaf: what the geometry-query tests cull and compare with brute force.
+struct IdScene {
+  explicit IdScene(const Scene& scene)
+      : terrain(*scene.terrain),
+        forest(*scene.vegetation, terrain),
+        objects(&terrain, &forest, scene.props),
+        terrainIds(terrain, render::TerrainRenderer::Output::ObjectId, objects.terrainIdBase()),
+        treeIds(forest, render::TreeRenderer::Output::ObjectId, objects.treeIdBase()),
+        bvh(objects.boxes(), 1) {}
+  const terrain::Terrain terrain;
+  const vegetation::Forest forest;
+  const render::SceneObjects objects;
+  const render::TerrainRenderer terrainIds;
+  const render::TreeRenderer treeIds;
+  const culling::Bvh bvh;
+};
+
 // Wraps a drawer: counts how often each object is drawn and the primitives the GPU generated for
 // the draws (occlusion-query boxes are drawn outside them and not counted).
 struct CountingDrawer : culling::ObjectDrawer {
@@ -161,12 +179,8 @@ TEST_F(TreeVisibilityGl, OneVisibleTreeOfAClusterDrawsThatTreeOnly) {
 // tell them apart). Results read deterministically and as soon as available (async) alike.
 TEST_F(TreeVisibilityGl, GeometryQueriesDrawExactlyTheTreesAndTilesWithPixelsOnAStillView) {
   const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
-  const terrain::Terrain terrain(*scene.terrain);
-  const vegetation::Forest forest(*scene.vegetation, terrain);
-  const render::SceneObjects objects(&terrain, &forest, scene.props);
-  const render::TerrainRenderer terrainIds(terrain, render::TerrainRenderer::Output::ObjectId, objects.terrainIdBase());
-  const render::TreeRenderer treeIds(forest, render::TreeRenderer::Output::ObjectId, objects.treeIdBase());
-  const culling::Bvh bvh(objects.boxes(), 1);
+  const IdScene built(scene);
+  [[maybe_unused]] const auto& [terrain, forest, objects, terrainIds, treeIds, bvh] = built;
   Camera camera = scene.startCamera();
   camera.aspect = static_cast<double>(kWidth) / kHeight;
   const terrain::TerrainLod lod = terrain.lodFor(camera, kHeight);
@@ -274,12 +288,8 @@ TEST_F(TreeVisibilityGl, HullQueriesKeepTheThesisWalkExactAndDrawFewerTreesThanB
   Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/thesis-demo.toml");
   scene.vegetation->grid = 72;
   const CameraPath path = CameraPath::load(std::string(FOREST_REPO_DATA) + "/paths/thesis-walk.toml");
-  const terrain::Terrain terrain(*scene.terrain);
-  const vegetation::Forest forest(*scene.vegetation, terrain);
-  const render::SceneObjects objects(&terrain, &forest, scene.props);
-  const render::TerrainRenderer terrainIds(terrain, render::TerrainRenderer::Output::ObjectId, objects.terrainIdBase());
-  const render::TreeRenderer treeIds(forest, render::TreeRenderer::Output::ObjectId, objects.treeIdBase());
-  const culling::Bvh bvh(objects.boxes(), 1);
+  const IdScene built(scene);
+  [[maybe_unused]] const auto& [terrain, forest, objects, terrainIds, treeIds, bvh] = built;
   const IdDepthTarget target(kWidth, kHeight);
   struct Run {
     bool hulls;
