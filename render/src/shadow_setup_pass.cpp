@@ -281,7 +281,8 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
     if (const std::optional<std::string> outside = shadows::outsideShadowDomain(input)) {
       // A view too shallow for float32 this far from the origin: no shadows this frame, and why.
       plan.shadowed = false;
-      stats.shadow.fallback = *outside;
+      outsideNote_ = *outside;  // kept here: the diagnostics hold a view of it
+      stats.shadow.fallback = outsideNote_;
       return;
     }
     if (onReceivers && sliceReceivers_.empty()) {

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "forest/culling/occlusion_culler.hpp"
@@ -84,6 +85,7 @@ class ShadowSetupPass {
   // Per slice, the last frame's lispsm n (ShadowInput::previousN) and uniform-stable radius
   // (ShadowInput::previousStableRadius); 0: none.
   std::array<double, shadows::kMaxCascades> previousN_{}, stableRadius_{};
+  std::string outsideNote_;  // why a view got no shadows (outside float32's domain): the stats' fallback views it
   shadows::SplitDepths previousSplits_;  // cascades 0: none
   // Kept from frame to frame, so a steady-state frame allocates nothing (DESIGN §9).
   std::vector<Aabb> receivers_, sliceReceivers_, footprints_;

@@ -358,6 +358,18 @@ void validateShadowInput(const ShadowInput& in) {
 
 namespace {
 
+// computeShadowSetup's note when float32 forces the uniform map (a literal per method).
+std::string_view float32FallbackNote(ShadowMethod method) {
+  switch (method) {
+    case ShadowMethod::Uniform: break;
+    case ShadowMethod::UniformStable: return "uniform-stable cannot keep B inside its map in float32: uniform";
+    case ShadowMethod::Lispsm: return "lispsm cannot keep B inside its map in float32: uniform";
+    case ShadowMethod::Tsm: return "tsm cannot keep B inside its map in float32: uniform";
+    case ShadowMethod::TsmIterative: return "tsm-iterative cannot keep B inside its map in float32: uniform";
+  }
+  return "uniform cannot keep B inside its map in float32";
+}
+
 // One method's setup; nothing when float32 cannot keep B inside its map (see finish).
 std::optional<ShadowSetup> computeMethodSetup(const ShadowInput& in, ShadowMethod method) {
   const Camera& camera = in.camera;
@@ -487,7 +499,7 @@ ShadowSetup computeShadowSetup(const ShadowInput& in, ShadowMethod method) {
   // frame.
   if (method != ShadowMethod::Uniform) {
     if (std::optional<ShadowSetup> setup = computeMethodSetup(in, ShadowMethod::Uniform)) {
-      setup->diagnostics.fallback = fmt::format("{} cannot keep B inside its map in float32: uniform", shadowMethodName(method));
+      setup->diagnostics.fallback = float32FallbackNote(method);
       return *setup;
     }
   }

@@ -52,7 +52,7 @@ double tsmProjectionDistance(double lambda, double deltaPrime, double xi) {
   return lambda * deltaPrime * (1.0 + xi) / denominator;
 }
 
-std::optional<Trapezoid> computeTrapezoid(const TrapezoidInput& in, std::string& why) {
+std::optional<Trapezoid> computeTrapezoid(const TrapezoidInput& in, std::string_view& why) {
   const std::vector<dvec2> hull = convexHull(in.footprint);
   double size = 0.0;
   for (const dvec2& p : hull) size = std::max(size, glm::distance(p, hull.front()));

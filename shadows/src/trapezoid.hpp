@@ -5,7 +5,7 @@
 #include <glm/glm.hpp>
 
 #include <optional>
-#include <string>
+#include <string_view>
 #include <vector>
 
 namespace forest::shadows {
@@ -30,6 +30,6 @@ struct Trapezoid {
 // nullopt when there is no centre line (eye and centre project to the same point: the light
 // looks along the view) or the footprint has no extent along it; the caller falls back to the
 // uniform map then (§6.1: "handled separately").
-std::optional<Trapezoid> computeTrapezoid(const TrapezoidInput& input, std::string& why);
+std::optional<Trapezoid> computeTrapezoid(const TrapezoidInput& input, std::string_view& why);
 
 }  // namespace forest::shadows

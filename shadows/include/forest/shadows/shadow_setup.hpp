@@ -86,7 +86,9 @@ struct ShadowDiagnostics {
   double z1 = 0.0;
   double d = 0.0;          // light-space depth extent of B along the warp axis
   size_t bodyVertices = 0;
-  std::string fallback;    // "" or why the method fell back ("empty focus body", "n at cap", ...)
+  // "" or why the method fell back ("empty focus body", "n at cap: uniform", ...): a static note,
+  // so that a frame that falls back allocates nothing (DESIGN §9).
+  std::string_view fallback;
   double stableRadius = 0.0;  // uniform-stable: the radius (m) the map covers (stableMapRadius)
   double floatShrink = 0.0;  // share of the map given up to keep B inside it in float32 (usually 0)
   // tsm (§6): λ (top to base line), δ' (focus point below the top line), both in the uniform
