@@ -354,6 +354,14 @@ TEST(ThesisDemo, PresetPlacesTheGridOfClosedConeAndRingTrees) {
     EXPECT_LE(std::abs(t.position.x - cx), 0.4 * cell + 1e-9) << i;
     EXPECT_LE(std::abs(t.position.z - cz), 0.4 * cell + 1e-9) << i;
   }
+  // A tree's box holds its query hull too (which reaches past the cone's facets: the culler's
+  // tests on the box must cover what a hull query draws).
+  for (std::uint32_t i = 0; i < forest.trees().size(); i += 97) {
+    const glm::dmat4 m = forest.treeTransform(i, -1e9);
+    const Aabb box = forest.treeBounds(i);
+    for (const glm::vec3& p : forest.model(forest.trees()[i].species).queryHull.positions)
+      ASSERT_TRUE(box.contains(dvec3(m * glm::dvec4(dvec3(p), 1.0)), 1e-9)) << "tree " << i;
+  }
   for (const SpeciesModel& model : forest.species())
     for (const TreeMesh& lod : model.lods) {
       EXPECT_EQ(lod.triangleCount(), kThesisTreeTriangles);

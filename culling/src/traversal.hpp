@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "forest/core/frustum.hpp"
+#include "forest/core/near_slab.hpp"
 #include "forest/culling/occlusion_culler.hpp"
 
 namespace forest::culling {
@@ -130,6 +131,7 @@ struct OcclusionCuller::Traversal {
   Scratch& scratch;
   const QueryShapes& shapes;
   double shapeAreaRatio;  // the chc++ tight-box rule (§3.5): shapes only when their area ≤ this × the box's
+  NearSlab nearSlab;      // of camera
 
   const std::vector<BvhNode>& nodes() const { return bvh.nodes(); }
   std::span<const std::uint32_t> objectsOf(std::int32_t n) const {
@@ -162,13 +164,12 @@ struct OcclusionCuller::Traversal {
     }
   }
   Entry entry(std::int32_t n) const { return {bvh.nodes()[n].bounds.distanceTo(camera.position), n}; }
-  // Visible without a query: the box holds the eye (grown by z_n) or reaches in front of the near
-  // plane, where its rasterised faces would be clipped away.
+  // Visible without a query (§3.6): the box holds the eye (grown by z_n), or meets the near slab,
+  // where the near plane could clip the faces its query needs (NearSlab).
   bool visibleWithoutQuery(std::int32_t n) const {
     const Aabb& box = bvh.nodes()[n].bounds;
     const Aabb grown{box.min - glm::dvec3(camera.near), box.max + glm::dvec3(camera.near)};
-    if (grown.contains(camera.position)) return true;
-    return depthRange(box, view).first <= camera.near;
+    return grown.contains(camera.position) || nearSlab.meets(box);
   }
 };
 

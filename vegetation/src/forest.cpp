@@ -96,6 +96,9 @@ Forest::Forest(const VegetationSettings& settings, const terrain::Terrain& terra
     const int budget = s == Species::Shrub ? std::max(kMinLod0Triangles, settings.lod0_triangles / 2) : settings.lod0_triangles;
     species_[i] = settings.style == TreeStyle::Thesis ? buildThesisTree(s) : buildSpecies(s, budget, settings.seed);
     for (const TreeMesh& lod : species_[i].lods) speciesBounds_[i].extend(lod.bounds);
+    // And its query hull, which circumscribes the LODs: a test on the tree's box (the culler's
+    // near slab) then holds for what a hull query draws.
+    for (const glm::vec3& p : species_[i].queryHull.positions) speciesBounds_[i].extend(dvec3(p));
     slabs_[i] = querySlabs(species_[i], speciesBounds_[i]);
   }
   if (settings.grid > 0) placeOnGrid();
