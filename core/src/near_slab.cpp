@@ -19,8 +19,8 @@ NearSlab::NearSlab(const Camera& camera) : eye_(camera.position), margin_(kDepth
     corners[c + 4] = camera.near * (1.0 + kDepth) * lateral[c];
   }
   int n = 0;
+  axes_[n++] = f;  // near and far faces: first, as they part the slab from most boxes
   for (int k = 0; k < 3; ++k) axes_[n++] = glm::dvec3(k == 0, k == 1, k == 2);  // the box's faces
-  axes_[n++] = f;                                                                 // near and far faces
   // The 4 side faces: each holds the eye and two neighbouring lateral edges.
   const int ring[4] = {0, 1, 3, 2};
   for (int k = 0; k < 4; ++k) axes_[n++] = glm::cross(lateral[ring[k]], lateral[ring[(k + 1) % 4]]);

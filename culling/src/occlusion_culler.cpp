@@ -288,7 +288,7 @@ const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb>
   }
   drawer_ = &drawer;
   stats_ = &result.stats;
-  Traversal t{bvh, camera, view, Frustum(camera), drawer, result.stats, result.visibleObjects, scratch, shapes,
+  Traversal t{bvh, camera, Frustum(camera), drawer, result.stats, result.visibleObjects, scratch, shapes,
               parameters_.tight_box_area_ratio, NearSlab(camera)};
   const std::vector<BvhNode>& nodes = bvh.nodes();
 

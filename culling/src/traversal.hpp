@@ -123,7 +123,6 @@ struct OcclusionCuller::Scratch {
 struct OcclusionCuller::Traversal {
   const Bvh& bvh;
   const Camera& camera;
-  glm::dmat4 view;
   Frustum frustum;
   ObjectDrawer& drawer;
   CullingStats& stats;
