@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <malloc.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -16,6 +17,10 @@
 #include "commands.hpp"
 #include "forest/core/error.hpp"
 #include "forest/core/resources.hpp"
+
+#if defined(__SANITIZE_ADDRESS__)
+#include <sanitizer/allocator_interface.h>
+#endif
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -40,6 +45,16 @@ double residentMegabytes() {
   long pages = 0, resident = 0;
   statm >> pages >> resident;
   return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1 << 20);
+}
+
+double heapInUseMegabytes() {
+#if defined(__SANITIZE_ADDRESS__)
+  const double bytes = static_cast<double>(__sanitizer_get_current_allocated_bytes());  // ASan's allocator replaces glibc's
+#else
+  const struct mallinfo2 m = mallinfo2();  // every arena: in use from the heaps, plus blocks of their own mmap
+  const double bytes = static_cast<double>(m.uordblks) + static_cast<double>(m.hblkhd);
+#endif
+  return bytes / (1 << 20);
 }
 
 void showProgress(std::string_view what, std::string_view unit, int done, int total, double elapsed, bool quiet) {

@@ -1,6 +1,6 @@
 // forest stress: polygon-rich dynamic scenes. For each tree count (terrain grown to keep the default
 // density) and LOD0 budget: a walk with a share of the trees and 20 props moved every frame (BVH
-// refit), a day cycle of the sun and wind; per frame times, triangles, queries and RSS; on sampled
+// refit), a day cycle of the sun and wind; per frame times, triangles, queries, RSS and heap in use; on sampled
 // frames the culled (chc++) geometry pass (depth and object IDs) is compared with frustum culling's. Writes
 // stress.json and stress.png (scaling curves); exit 1 when culling was not exact.
 #include <fmt/format.h>
@@ -80,6 +80,16 @@ double slope(const std::vector<double>& y) {
   return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
 
+// A memory series (MiB per measured frame): first, last, least-squares slope in % of its mean per
+// 100 frames, every 10th value.
+ordered_json memoryTrend(const std::vector<double>& mib) {
+  const double mean = mib.empty() ? 0.0 : std::accumulate(mib.begin(), mib.end(), 0.0) / static_cast<double>(mib.size());
+  std::vector<double> every10th;
+  for (size_t k = 0; k < mib.size(); k += 10) every10th.push_back(mib[k]);
+  return {{"first", mib.empty() ? 0.0 : mib.front()}, {"last", mib.empty() ? 0.0 : mib.back()},
+          {"slope_percent_per_100_frames", mean > 0.0 ? 100.0 * 100.0 * slope(mib) / mean : 0.0}, {"every_10th_frame", every10th}};
+}
+
 // The sun over the run: rising at 5°, 85° at the middle, setting again, turning a full circle.
 dvec3 daySun(double phase) {
   const double elevation = glm::radians(5.0 + 80.0 * std::sin(std::numbers::pi * phase));
@@ -112,7 +122,7 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
   SplitMix64 random(SplitMix64::substream(scene.vegetation->seed, 0x57e55ull));
   const int treeCount = static_cast<int>(frame.forest()->trees().size());
   const int movedPerFrame = static_cast<int>(std::lround(options.moving * treeCount));
-  std::vector<double> frameMs, rss;
+  std::vector<double> frameMs, rss, heap;
   std::vector<double> geometryByFrame(static_cast<size_t>(options.length.frames), 0.0);  // timer queries fill it late
   auto takeGeometryTimes = [&](const std::vector<gl::FrameTiming>& timings) {
     for (const gl::FrameTiming& t : timings) {
@@ -166,6 +176,7 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
       trianglesShadow.push_back(s.shadowTriangles);
       queries.push_back(s.culling.queriesIssued);
       rss.push_back(residentMegabytes());
+      heap.push_back(heapInUseMegabytes());
     }
     ++done;
     showProgress("stress", "frames", done, total, std::chrono::duration<double>(Clock::now() - start).count(), options.length.quiet);
@@ -176,9 +187,6 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
     throw Error(fmt::format("{} GL errors during the stress run (first: {})", gl::debugErrorCount(), gl::debugErrorMessages().front()));
   auto asDouble = [](const std::vector<long long>& v) { return std::vector<double>(v.begin(), v.end()); };
   const double p50 = percentile(frameMs, 0.5);
-  const double rssMean = rss.empty() ? 0.0 : std::accumulate(rss.begin(), rss.end(), 0.0) / static_cast<double>(rss.size());
-  std::vector<double> rssSeries;
-  for (size_t k = 0; k < rss.size(); k += 10) rssSeries.push_back(rss[k]);
   RunResult r;
   r.frameP50 = p50;
   r.mismatched = mismatched;
@@ -195,9 +203,8 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
             {"moved_trees_per_frame", movedPerFrame},
             {"moved_props_per_frame", kProps},
             {"exactness", {{"checked_frames", checks}, {"mismatched_pixels", mismatched}}},
-            {"rss_mib", {{"first", rss.empty() ? 0.0 : rss.front()}, {"last", rss.empty() ? 0.0 : rss.back()},
-                         {"slope_percent_per_100_frames", rssMean > 0.0 ? 100.0 * 100.0 * slope(rss) / rssMean : 0.0},
-                         {"every_10th_frame", rssSeries}}}};
+            {"rss_mib", memoryTrend(rss)},
+            {"heap_in_use_mib", memoryTrend(heap)}};
   return r;
 }
 
@@ -258,17 +265,18 @@ int runStress(const StressOptions& options) {
 
   std::cout << fmt::format("stress: {} at {}x{}, {} frames per run ({} warm-up), {:.0f}% of the trees and {} props moved per frame, day cycle\n",
                            scenePath, options.size.width, options.size.height, options.length.frames, options.length.warmup, 100 * options.moving, kProps);
-  std::cout << fmt::format("  {:>7} {:>6} {:>9} {:>9} {:>9} {:>8} {:>11} {:>11} {:>8} {:>10} {:>11}\n", "trees", "lod0", "p50 ms",
-                           "p95 ms", "max/p50", "geom ms", "eye tris", "shadow tris", "queries", "exactness", "RSS %/100f");
+  std::cout << fmt::format("  {:>7} {:>6} {:>9} {:>9} {:>9} {:>8} {:>11} {:>11} {:>8} {:>10} {:>11} {:>11}\n", "trees", "lod0", "p50 ms",
+                           "p95 ms", "max/p50", "geom ms", "eye tris", "shadow tris", "queries", "exactness", "RSS %/100f", "heap %/100f");
   for (const auto& r : runs)
-    std::cout << fmt::format("  {:>7} {:>6} {:>9.1f} {:>9.1f} {:>9.2f} {:>8.1f} {:>11.0f} {:>11.0f} {:>8.0f} {:>10} {:>+11.2f}\n",
+    std::cout << fmt::format("  {:>7} {:>6} {:>9.1f} {:>9.1f} {:>9.2f} {:>8.1f} {:>11.0f} {:>11.0f} {:>8.0f} {:>10} {:>+11.2f} {:>+11.2f}\n",
                              r["trees"].get<int>(), r["lod0_triangles"].get<int>(), r["frame_ms"]["p50"].get<double>(),
                              r["frame_ms"]["p95"].get<double>(), r["max_over_median"].get<double>(), r["geometry_ms_p50"].get<double>(),
                              r["triangles_geometry_p50"].get<double>(), r["triangles_shadow_p50"].get<double>(),
                              r["queries_p50"].get<double>(),
                              r["exactness"]["mismatched_pixels"].get<long long>() == 0 ? std::string("exact")
                                                                                       : fmt::format("{} px", r["exactness"]["mismatched_pixels"].get<long long>()),
-                             r["rss_mib"]["slope_percent_per_100_frames"].get<double>());
+                             r["rss_mib"]["slope_percent_per_100_frames"].get<double>(),
+                             r["heap_in_use_mib"]["slope_percent_per_100_frames"].get<double>());
   std::cout << fmt::format("  wrote {} and {}\n", (out / "stress.json").string(), (out / "stress.png").string());
   if (mismatched > 0) std::cerr << fmt::format("stress: culling was not exact: {} pixels differ from frustum culling\n", mismatched);
   return mismatched == 0 ? 0 : 1;
@@ -282,7 +290,7 @@ Run addStressCommand(CLI::App& app) {
       "stress",
       "Polygon-rich dynamic scenes: for each tree count (terrain grown to keep the density) and LOD0 budget, a walk\n"
       "with a share of the trees and 20 props moved every frame (BVH refit), a day cycle of the sun and wind;\n"
-      "frame time, geometry pass, triangles, queries and RSS per run, and on sampled frames the culled geometry pass\n"
+      "frame time, geometry pass, triangles, queries, RSS and heap in use per run, and on sampled frames the culled geometry pass\n"
       "(depth and object IDs) against frustum culling's. Writes stress.json (fields: docs/report-format.md) and stress.png; exit 1 if not exact.");
   options->gl.add(*command);
   command->add_option("--scene", options->scene, "Base scene (default: data/scenes/forest.toml)");

@@ -170,6 +170,10 @@ std::string sceneFileOr(const std::string& given);
 // Resident memory of this process, MiB (/proc/self/statm).
 double residentMegabytes();
 
+// Heap memory this process holds in blocks not yet freed (malloc's, every thread's arena; under
+// AddressSanitizer its allocator's count), MiB. Unlike RSS it falls again when memory is freed.
+double heapInUseMegabytes();
+
 // A progress line on stderr: a bar with ETA redrawn in place on a terminal, else a line at every
 // tenth and at the end. Nothing when quiet.
 void showProgress(std::string_view what, std::string_view unit, int done, int total, double elapsedSeconds, bool quiet);
