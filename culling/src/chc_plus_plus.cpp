@@ -211,7 +211,14 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     s.invisibleFrames = 0;
     if (nodes[n].leaf()) {
       t.markVisible(n);
-      if (wasInvisible) s.nextQueryFrame = frame_ + 1 + hashDraw(static_cast<std::uint64_t>(n), frame_, requery);  // §3.3
+      // A query of a leaf not yet drawn tests this frame's depth before all of it is drawn, so a
+      // leaf it finds visible may be hidden in the finished image. Beyond the paper: it is asked
+      // again next frame (after the render queue, §3.2), and only then gets §3.3's random interval,
+      // so a leaf found too early is drawn one frame more instead of up to n_av.
+      if (wasInvisible) {
+        s.nextQueryFrame = frame_ + 1;
+        s.newlyVisible = true;
+      }
     }
     if (wasInvisible) traverseNode(n);
   };
@@ -278,7 +285,10 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     renderQueue.push_back(n);
     if (frame_ >= s.nextQueryFrame) {
       s.visible = false;
-      s.nextQueryFrame = frame_ + requery;
+      // §3.3: a random first interval after the confirming query spreads the re-queries of the
+      // leaves that became visible together; n_av after that.
+      s.nextQueryFrame = s.newlyVisible ? frame_ + 1 + hashDraw(static_cast<std::uint64_t>(n), frame_, requery) : frame_ + requery;
+      s.newlyVisible = false;
       visibleQueue.push_back(n);
     } else {
       pullUpVisibility(n);

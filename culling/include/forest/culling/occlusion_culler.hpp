@@ -15,7 +15,10 @@
 //                   render queue flushed only before queries are issued (fewer state switches) and
 //                   their queries wait in a v-queue issued while the CPU would otherwise wait
 //                   (§3.2); a visible leaf is queried again only every n_av frames, the first time
-//                   after a random 1…n_av (§3.3); nodes likely to stay invisible share one
+//                   after a random 1…n_av (§3.3) — beyond the paper, a leaf found visible by a
+//                   query that went out before the rest of the frame was drawn is first asked
+//                   again the next frame, so one found too early is drawn for one frame more, not
+//                   up to n_av; nodes likely to stay invisible share one
 //                   multiquery, grouped greedily by p_keep(i) = 0.99 − 0.7·e^(−i) after i invisible
 //                   frames — a visible multiquery re-queries its nodes one by one (§3.4); queries
 //                   draw the boxes of a node's descendants when they are tighter (§3.5).
@@ -155,6 +158,7 @@ class OcclusionCuller {
     int invisibleFrames = 0;          // chc++: frames found invisible in a row (p_keep's i)
     std::uint64_t nextQueryFrame = 0;  // chc++: a visible leaf is queried again from this frame
     bool geometryHidden = false;  // chc++: a leaf whose own triangles were hidden at its last query
+    bool newlyVisible = false;    // chc++: found visible by a query against this frame's partial depth
   };
   struct Traversal;  // one frame's shared state (src/traversal.hpp)
   struct Scratch;    // the traversals' queues and lists, kept from frame to frame (src/traversal.hpp)
