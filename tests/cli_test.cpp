@@ -325,7 +325,7 @@ TEST(ForestCli, StressStaysExactWithMovingObjectsAndItsMemoryFlat) {
     EXPECT_EQ(run["exactness"]["mismatched_pixels"].get<long long>(), 0);
     EXPECT_GT(run["moved_trees_per_frame"].get<int>(), 0);
     EXPECT_LT(run["heap_in_use_mib"]["slope_percent_per_100_frames"].get<double>(), 1.0) << run["heap_in_use_mib"].dump();  // growth
-    EXPECT_GT(run["heap_in_use_mib"]["first"].get<double>(), 1.0);  // measured: the scene alone holds more
+    EXPECT_GT(run["heap_in_use_mib"]["first"].get<double>(), 1.0);  // the count works: 2000 trees' meshes and lists alone are more
     EXPECT_GT(run["triangles_geometry_p50"].get<double>(), 0.0);
   }
   EXPECT_EQ(j["runs"][0]["trees"].get<int>(), 2000);

@@ -363,7 +363,7 @@ TEST_F(CullingGl, ABoxBesideTheEyeIsQueriedNotTakenAsVisible) {
 }
 
 // A leaf that a query finds visible before what hides it is drawn (here: the whole first batch
-// goes out before the wall is drawn) is asked again the next frame, not kept for §3.3's random
+// goes out before the walls are drawn) is asked again the next frame, not kept for §3.3's random
 // interval: from the third frame on, CHC++ draws exactly the objects of the brute-force ID image,
 // even with n_av = 100.
 TEST_F(CullingGl, ALeafFoundVisibleBeforeItsOccluderWasDrawnIsAskedAgainNextFrame) {
