@@ -315,18 +315,36 @@ TEST_F(CullingGl, MultiqueriesCutTheQueriesForBoxesBehindWalls) {
   EXPECT_LT(runs[2].queries, runs[0].queries);
 }
 
-// The objects with a pixel in the brute-force ID image of `camera` (drawn into `target`).
-std::set<std::uint32_t> objectsWithPixels(const render::SceneObjects& objects, const render::PropRenderer& propIds,
-                                          const culling::Bvh& bvh, const Camera& camera, const GeometryTarget& target) {
-  culling::OcclusionCuller bruteForce;
-  target.bindAndClear();
-  render::SceneDrawer all(objects, nullptr, nullptr, &propIds, camera, nullptr, 0.0, SunSettings{});
-  bruteForce.cull(bvh, objects.boxes(), camera, CullingStrategy::None, all);
-  std::set<std::uint32_t> seen;
-  for (std::uint32_t id : target.readIds())
-    if (objects.objectOfId(id) >= 0) seen.insert(static_cast<std::uint32_t>(objects.objectOfId(id)));
-  return seen;
-}
+// Boxes (props, one per BVH leaf) seen by the default camera looking down −z, drawn as object IDs.
+struct PropScene {
+  explicit PropScene(const std::vector<PropBox>& props)
+      : objects(nullptr, nullptr, props), propIds(props, render::PropRenderer::Output::ObjectId, objects.propIdBase()),
+        bvh(objects.boxes(), 1) {
+    camera.aspect = static_cast<double>(kWidth) / kHeight;
+    camera.far = 100.0;
+  }
+  // One frame culled with `strategy` by `culler`: the objects it drew.
+  std::set<std::uint32_t> drawn(culling::OcclusionCuller& culler, CullingStrategy strategy) const {
+    target.bindAndClear();
+    render::SceneDrawer drawer(objects, nullptr, nullptr, &propIds, camera, nullptr, 0.0, SunSettings{});
+    const culling::CullingResult& r = culler.cull(bvh, objects.boxes(), camera, strategy, drawer);
+    return {r.visibleObjects.begin(), r.visibleObjects.end()};
+  }
+  // The objects with a pixel in the brute-force ID image.
+  std::set<std::uint32_t> withPixels() const {
+    culling::OcclusionCuller bruteForce;
+    drawn(bruteForce, CullingStrategy::None);
+    std::set<std::uint32_t> seen;
+    for (std::uint32_t id : target.readIds())
+      if (objects.objectOfId(id) >= 0) seen.insert(static_cast<std::uint32_t>(objects.objectOfId(id)));
+    return seen;
+  }
+  const render::SceneObjects objects;
+  const render::PropRenderer propIds;
+  const culling::Bvh bvh;
+  Camera camera;
+  const GeometryTarget target;
+};
 
 // A box beside the eye that reaches behind the near plane outside the view (NearSlab) is queried,
 // not taken as visible: hidden behind a wall, it is not drawn. (CHC++ §3.6's test — the box's
@@ -335,28 +353,19 @@ TEST_F(CullingGl, ABoxBesideTheEyeIsQueriedNotTakenAsVisible) {
   std::vector<PropBox> props;
   props.push_back({dvec3(-50, -10, -0.4), dvec3(50, 30, -0.3), dvec3(0.5)});  // 0: a wall 0.3 m ahead
   props.push_back({dvec3(0.5, -1, -6), dvec3(3, 1, 0.5)});                   // 1: beside the eye, through the wall
-  const render::SceneObjects objects(nullptr, nullptr, props);
-  const render::PropRenderer propIds(props, render::PropRenderer::Output::ObjectId, objects.propIdBase());
-  const culling::Bvh bvh(objects.boxes(), 1);
-  Camera camera;
-  camera.aspect = static_cast<double>(kWidth) / kHeight;
-  camera.far = 100.0;
-  const GeometryTarget target;
-  const std::set<std::uint32_t> seen = objectsWithPixels(objects, propIds, bvh, camera, target);
+  const PropScene scene(props);
+  const std::set<std::uint32_t> seen = scene.withPixels();
   ASSERT_EQ(seen, std::set<std::uint32_t>{0}) << "the wall hides the box beside the eye";
   for (CullingStrategy s : {CullingStrategy::StopAndWait, CullingStrategy::Chc, CullingStrategy::ChcPlusPlus}) {
     culling::OcclusionCuller culler;
     const int kAfterFirstFind = 2;
     for (int frame = 0; frame < kAfterFirstFind + 3; ++frame) {
-      target.bindAndClear();
-      render::SceneDrawer drawer(objects, nullptr, nullptr, &propIds, camera, nullptr, 0.0, SunSettings{});
-      const culling::CullingResult r = culler.cull(bvh, objects.boxes(), camera, s, drawer);
+      const std::set<std::uint32_t> drawn = scene.drawn(culler, s);
       // CHC and CHC++ query the wall and the box in one batch on the first frame, before the wall
       // is drawn, and find both; the next frame the box is asked again against the wall (CHC++:
       // a leaf found visible by a query not yet drawn is confirmed before §3.3's interval).
       if (s == CullingStrategy::StopAndWait || frame >= kAfterFirstFind) {
-        EXPECT_EQ(std::set<std::uint32_t>(r.visibleObjects.begin(), r.visibleObjects.end()), seen)
-            << culling::cullingStrategyName(s) << " frame " << frame;
+        EXPECT_EQ(drawn, seen) << culling::cullingStrategyName(s) << " frame " << frame;
       }
     }
   }
@@ -374,24 +383,15 @@ TEST_F(CullingGl, ALeafFoundVisibleBeforeItsOccluderWasDrawnIsAskedAgainNextFram
     props.push_back({dvec3(side * 4.0 - 2.0, -3, -5.1), dvec3(side * 4.0 + 2.0, 3, -5.0), dvec3(0.5)});
     props.push_back({dvec3(side * 16.0 - 1.0, -1, -21), dvec3(side * 16.0 + 1.0, 1, -20), dvec3(0.3)});
   }
-  const render::SceneObjects objects(nullptr, nullptr, props);
-  const render::PropRenderer propIds(props, render::PropRenderer::Output::ObjectId, objects.propIdBase());
-  const culling::Bvh bvh(objects.boxes(), 1);
-  Camera camera;
-  camera.aspect = static_cast<double>(kWidth) / kHeight;
-  camera.far = 100.0;
-  const GeometryTarget target;
-  const std::set<std::uint32_t> seen = objectsWithPixels(objects, propIds, bvh, camera, target);
+  const PropScene scene(props);
+  const std::set<std::uint32_t> seen = scene.withPixels();
   ASSERT_EQ(seen, (std::set<std::uint32_t>{0, 2})) << "the walls hide the boxes";
   CullingSettings settings;
   settings.visible_requery_frames = 100;
   culling::OcclusionCuller culler;
   culler.setParameters(settings);
   for (int frame = 0; frame < 12; ++frame) {
-    target.bindAndClear();
-    render::SceneDrawer drawer(objects, nullptr, nullptr, &propIds, camera, nullptr, 0.0, SunSettings{});
-    const culling::CullingResult r = culler.cull(bvh, objects.boxes(), camera, CullingStrategy::ChcPlusPlus, drawer);
-    const std::set<std::uint32_t> drawn(r.visibleObjects.begin(), r.visibleObjects.end());
+    const std::set<std::uint32_t> drawn = scene.drawn(culler, CullingStrategy::ChcPlusPlus);
     if (frame == 0) {
       EXPECT_GT(drawn.size(), seen.size()) << "the premise: the first batch finds boxes behind the undrawn wall";
     } else if (frame >= 2) {
