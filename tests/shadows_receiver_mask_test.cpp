@@ -3,6 +3,7 @@
 // (higher is nearer the light), 1024² texels over 100 m (0.098 m per texel), 256² cells.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <random>
@@ -205,6 +206,20 @@ TEST(ReceiverMask, MasksOfPartsMergeIntoTheMaskOfAllPoints) {
   unplaced.add(dvec3(0.0, -2.0, 0.0));
   placed.merge(unplaced);
   EXPECT_TRUE(placed.mayShadow(Aabb{dvec3(30, 5, 30), dvec3(31, 6, 31)}, 0.5));
+  EXPECT_EQ(placed.texelsRead(0.5).texels(), 1024LL * 1024);
+  // The texels read of merged parts: those of all their points (one in the south-west, one in the
+  // north-east), merged by part 0, which takes the counts.
+  ReceiverMask southWest, northEast, both;
+  for (ReceiverMask* m : {&southWest, &northEast, &both}) m->reset(overheadSetup(), 1024, 256);
+  southWest.add(dvec3(-30.0, 0.0, -20.0));
+  northEast.add(dvec3(25.0, 0.0, 35.0));
+  both.add(dvec3(-30.0, 0.0, -20.0));
+  both.add(dvec3(25.0, 0.0, 35.0));
+  southWest.merge(northEast, 1, 2);
+  southWest.merge(northEast, 0, 2);
+  const TexelRect merged = southWest.texelsRead(1.5), expected = both.texelsRead(1.5);
+  EXPECT_EQ(glm::ivec4(merged.x0, merged.y0, merged.x1, merged.y1), glm::ivec4(expected.x0, expected.y0, expected.x1, expected.y1));
+  EXPECT_GT(expected.texels(), 500LL * 500);
   // Masks of different maps or cells do not merge.
   ReceiverMask coarse;
   coarse.reset(overheadSetup(), 1024, 128);
@@ -247,6 +262,55 @@ TEST(ReceiverMask, TheBoxsOutlineNotItsRectangleDecides) {
   EXPECT_FALSE(mask.mayShadow(caster, 0.5));
   mask.add(dvec3(0.5, 0.0, 1.04));
   EXPECT_TRUE(mask.mayShadow(caster, 0.5));
+}
+
+// texelsRead: the texels a lookup at a receiver may read, against a brute-force count on the
+// closed-form map (1024² texels over 100 m: texel coordinate (x / 50 + 1) · 512). A lookup at
+// texel coordinate u reads the texels whose centres i + ½ lie within the reach of u along each
+// axis (clamped to the map: CLAMP_TO_EDGE). The rectangle must hold every such texel of every
+// receiver, and may exceed their bounds by at most two texels a side: a sub-cell (one texel here)
+// forgets where in it the point lay, and the ends are rounded to whole texels.
+TEST(ReceiverMask, TheTexelsReadHoldEveryTexelALookupAtAReceiverReads) {
+  constexpr int kSize = 1024;
+  const double reach = 2.5;
+  ReceiverMask mask;
+  mask.reset(overheadSetup(), kSize, 256);
+  EXPECT_TRUE(mask.texelsRead(reach).empty());  // no receivers: no texel is read
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> coordinate(-20.0, 30.0);
+  int lower[2] = {kSize, kSize}, upper[2] = {-1, -1};  // the texels read, inclusive
+  for (int i = 0; i < 40; ++i) {
+    const dvec3 p(coordinate(random), 0.0, i == 0 ? 49.99 : coordinate(random));  // one at the map's top edge
+    mask.add(p);
+    const double u[2] = {(p.x / 50.0 + 1.0) * 0.5 * kSize, (p.z / 50.0 + 1.0) * 0.5 * kSize};
+    for (int axis = 0; axis < 2; ++axis)
+      for (int t = -10; t < kSize + 10; ++t)
+        if (std::abs(t + 0.5 - u[axis]) < reach) {
+          const int texel = std::clamp(t, 0, kSize - 1);
+          lower[axis] = std::min(lower[axis], texel);
+          upper[axis] = std::max(upper[axis], texel);
+        }
+  }
+  const TexelRect rect = mask.texelsRead(reach);
+  EXPECT_LE(rect.x0, lower[0]);
+  EXPECT_LE(rect.y0, lower[1]);
+  EXPECT_GT(rect.x1, upper[0]);
+  EXPECT_GT(rect.y1, upper[1]);
+  EXPECT_GE(rect.x0, lower[0] - 2);
+  EXPECT_GE(rect.y0, lower[1] - 2);
+  EXPECT_LE(rect.x1, upper[0] + 1 + 2);
+  EXPECT_LE(rect.y1, upper[1] + 1 + 2);
+  EXPECT_EQ(rect.y1, kSize);  // the receiver at the top edge reads the last row
+  EXPECT_LT(rect.texels(), static_cast<long long>(kSize) * kSize / 2);  // the receivers span half the map's width or less
+  // A receiver the map cannot place may read any texel.
+  ShadowSetup behind = overheadSetup();
+  behind.worldToShadowClip[1][3] = 1.0;  // w = 1 + y
+  mask.reset(behind, kSize, 256);
+  mask.add(dvec3(0.0, 1.0, 0.0));
+  EXPECT_LE(mask.texelsRead(reach).texels(), 10 * 10);  // one receiver: a few texels around it
+  mask.add(dvec3(0.0, -2.0, 0.0));
+  const TexelRect whole = mask.texelsRead(reach);
+  EXPECT_EQ(whole.texels(), static_cast<long long>(kSize) * kSize);
 }
 
 }  // namespace

@@ -119,6 +119,7 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
   }
   render::FrameSettings settings = options.frame.settings(context);
   settings.keepShadowTerm = false;  // timed; nothing reads the term back
+  settings.wholeShadowMap = false;  // nothing reads the map back
   SplitMix64 random(SplitMix64::substream(scene.vegetation->seed, 0x57e55ull));
   const int treeCount = static_cast<int>(frame.forest()->trees().size());
   const int movedPerFrame = static_cast<int>(std::lround(options.moving * treeCount));

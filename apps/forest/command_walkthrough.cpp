@@ -79,7 +79,8 @@ nlohmann::ordered_json cascadesJson(const render::FrameStats& s) {
   for (int i = 0; i < s.cascades; ++i) {
     const render::CascadeStats& c = s.cascade[static_cast<size_t>(i)];
     slices.push_back({{"from_m", c.fromM}, {"to_m", c.toM}, {"n", c.n}, {"gamma_deg", c.gammaDeg},
-                      {"casters", c.casters}, {"triangles", c.triangles}, {"shadow_ms", c.shadowMs}});
+                      {"casters", c.casters}, {"triangles", c.triangles}, {"texels_drawn", c.texelsDrawn},
+                      {"shadow_ms", c.shadowMs}});
   }
   return slices;
 }
@@ -148,6 +149,7 @@ int runWalkthrough(const WalkthroughOptions& options) {
   if (path.aboveGround() && !scene.terrain) throw InputError(pathPath + ": heights = \"above_ground\" needs a scene with [terrain]");
   render::FrameSettings settings = options.frame.settings();  // names checked before anything opens
   settings.keepShadowTerm = false;  // the run shows and times frames; nothing reads the term back
+  settings.wholeShadowMap = false;  // nothing reads the map back
   const int pathFrames = path.frameCount(options.fps);
   const int total = options.length.frames > 0 ? std::min(options.length.frames, pathFrames) : pathFrames;
   const int warmup = options.length.warmupFor(total);

@@ -325,6 +325,7 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
     render::FrameSettings settings = controls.frame.settings(context->info());
     settings.freezeCulling = controls.frozen;
     settings.keepShadowTerm = false;  // shown, not read back
+    settings.wholeShadowMap = false;  // nothing reads the map back
     settings.cascades = controls.cascades;
     scene.sun.direction = controls.sun.travel();
     camera.position = controls.pose.position;

@@ -274,6 +274,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   {
     auto timed = timer.scope(kFramePassNames[2]);
     stats.shadowTriangles = p.shadow.run(p.plan, eye, eyeLod, settings, l, stats);
+    wholeShadowMap_ = settings.wholeShadowMap;
   }
 
   // 4. The frame block holds what the full-screen passes read. With the blur on: the shadow term
@@ -367,6 +368,8 @@ std::vector<std::uint32_t> Frame::readObjectIds() const {
 int Frame::shadowMapSize() const { return passes_->shadow.size(); }
 
 std::vector<float> Frame::readShadowMap(int layer) const {
+  if (!wholeShadowMap_)
+    throw Error("Frame::readShadowMap: the last frame drew only the texels its lookups read (FrameSettings::wholeShadowMap was false)");
   const int size = passes_->shadow.size();
   std::vector<float> v(static_cast<size_t>(size) * size);
   if (size == 0) return v;

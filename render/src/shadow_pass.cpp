@@ -97,12 +97,23 @@ long long ShadowPass::run(const ShadowPlan& plan, const DrawView& eye, const ter
     const auto start = std::chrono::steady_clock::now();
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffers_[static_cast<size_t>(i)].id());
     glViewport(0, 0, size_, size_);
-    const float nearLight = 1.0f;
-    glClearBufferfv(GL_DEPTH, 0, &nearLight);
     const ShadowSlice& slice = plan.slices[static_cast<size_t>(i)];
-    const long long drawn =
-        plan.shadowed && !slice.setup.empty ? drawSlice(slice, eye, lod, settings, l, stats.shadowTerrainTriangles) : 0;
+    // Only the texels a lookup can read, when known and the whole map is not asked for: the
+    // rest keeps whatever it held (the scissor bounds the clear and the draws alike).
+    const bool scissored = !settings.wholeShadowMap && slice.texelsRead.has_value();
+    const shadows::TexelRect read = scissored ? *slice.texelsRead : shadows::TexelRect{0, 0, size_, size_};
+    const float nearLight = 1.0f;
+    if (!read.empty()) glClearBufferfv(GL_DEPTH, 0, &nearLight);
+    if (scissored) {
+      glEnable(GL_SCISSOR_TEST);
+      glScissor(read.x0, read.y0, std::max(read.x1 - read.x0, 0), std::max(read.y1 - read.y0, 0));
+    }
+    const long long drawn = plan.shadowed && !slice.setup.empty && !read.empty()
+                                ? drawSlice(slice, eye, lod, settings, l, stats.shadowTerrainTriangles)
+                                : 0;
+    if (scissored) glDisable(GL_SCISSOR_TEST);
     CascadeStats& out = stats.cascade[static_cast<size_t>(i)];
+    out.texelsDrawn = read.texels();
     out.triangles = drawn;
     triangles += drawn;
     if (profiling) {  // serialised like the pass timer's own brackets (gl::TimingMode::Profiling)

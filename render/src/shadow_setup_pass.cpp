@@ -23,6 +23,13 @@ double filterReachTexels(int pcfRadius) { return pcfRadius + 1.0; }
 // texel-centre test (8 sub-texel bits) — half a texel covers both many times over.
 constexpr double kFilterMarginTexels = 0.5;
 
+// How far from its point, in texels along each map axis, a pixel's lookup may read: the filter's
+// reach, the margin, and the error injection's shift (FrameSettings::lookupShiftTexels).
+double lookupReachTexels(const FrameSettings& settings) {
+  const double shift = std::max(std::abs(settings.lookupShiftTexels.x), std::abs(settings.lookupShiftTexels.y));
+  return filterReachTexels(settings.pcfRadius) + kFilterMarginTexels + std::ceil(shift);
+}
+
 // The map keeps this many texels free around B, so that a lookup at B's border reads texels the
 // shadow pass drew (DESIGN §4): the reach and the margin, rounded up.
 int mapBorderTexels(int pcfRadius) {
@@ -230,6 +237,7 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
     slice.terrainBlocks.reserve(mostBlocks);
     slice.terrainBlocks.clear();
     slice.terrainByBlock = false;
+    slice.texelsRead.reset();
   }
   plan.shadowed = !sunBelowHorizon && !receivers_.empty() && sceneBounds.valid();
   if (!plan.shadowed) return;
@@ -301,6 +309,7 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
         case CasterSelection::ReceiverPixels:
           if (!receiverPixels) throw Error("shadow setup: receiver-pixels casters without the receiver pixels");
           fillReceiverMask(slice, settings, *receiverPixels);
+          slice.texelsRead = mask_.texelsRead(lookupReachTexels(settings));
           selectCastersOfReceivers(slice, settings, l, objects, lod, sceneBounds, &mask_);
           break;
         case CasterSelection::FrustumBody: {

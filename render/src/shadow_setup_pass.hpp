@@ -32,6 +32,10 @@ struct ShadowSlice {
   // may write into the backside map and whose boxes meet a receiver. Otherwise the tiles whole.
   bool terrainByBlock = false;
   std::vector<terrain::TileBlock> terrainBlocks;
+  // With the receiver pixels known (CasterSelection::ReceiverPixels): the texels this frame's
+  // lookups can read (shadows::ReceiverMask::texelsRead), the only ones the shadow pass needs to
+  // clear and draw. Unset: the whole layer.
+  std::optional<shadows::TexelRect> texelsRead;
 };
 
 // What the shadow pass and the shadow term work from. Kept from the last frame that had a sun and

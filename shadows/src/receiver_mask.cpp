@@ -29,6 +29,8 @@ void ReceiverMask::reset(const ShadowSetup& setup, int mapSize, int cells) {
   side_ = cells;
   receivers_ = 0;
   everywhere_ = false;
+  occupiedLower_ = glm::ivec2(cells * kSubCells);
+  occupiedUpper_ = glm::ivec2(-1);
   cells_.assign(static_cast<size_t>(cells) * cells, Cell{0, 0});
 }
 
@@ -65,10 +67,13 @@ int ReceiverMask::subCellOf(double ndc) const { return subCellAt(ndc, side_ * kS
 // Places receiver points. The mask's fields are copied into it, so that the per-pixel loop keeps
 // them in registers (a write to a cell could alias them otherwise); done() hands the counts back.
 struct ReceiverMask::Writer {
-  explicit Writer(ReceiverMask& target) : mask(target), cells(target.cells_.data()), side(target.side_) {}
+  explicit Writer(ReceiverMask& target)
+      : mask(target), cells(target.cells_.data()), side(target.side_), lower(target.occupiedLower_), upper(target.occupiedUpper_) {}
   void done() {
     mask.receivers_ += receivers;
     mask.everywhere_ = mask.everywhere_ || everywhere;
+    mask.occupiedLower_ = lower;
+    mask.occupiedUpper_ = upper;
   }
   // A receiver at clip position h (invW: 1 / h.w) with map depth `depth`.
   [[gnu::always_inline]] void add(const dvec4& h, double invW, double depth) {
@@ -82,6 +87,8 @@ struct ReceiverMask::Writer {
     Cell& cell = cells[static_cast<size_t>(sy / kSubCells) * static_cast<size_t>(side) + sx / kSubCells];
     cell.occupied = static_cast<std::uint16_t>(cell.occupied | 1u << (kSubCells * (sy % kSubCells) + sx % kSubCells));
     cell.farthest = std::max(cell.farthest, depthCodeAtOrBeyond(depth));
+    lower = glm::min(lower, glm::ivec2(static_cast<int>(sx), static_cast<int>(sy)));
+    upper = glm::max(upper, glm::ivec2(static_cast<int>(sx), static_cast<int>(sy)));
   }
 
   ReceiverMask& mask;
@@ -89,6 +96,7 @@ struct ReceiverMask::Writer {
   int side;
   int receivers = 0;
   bool everywhere = false;
+  glm::ivec2 lower, upper;  // the occupied sub-cells' bounds, as occupiedLower_ and occupiedUpper_
 };
 
 void ReceiverMask::add(const dvec3& world) {
@@ -131,6 +139,8 @@ void ReceiverMask::merge(const ReceiverMask& other, int part, int parts) {
   if (part == 0) {
     receivers_ += other.receivers_;
     everywhere_ = everywhere_ || other.everywhere_;
+    occupiedLower_ = glm::min(occupiedLower_, other.occupiedLower_);
+    occupiedUpper_ = glm::max(occupiedUpper_, other.occupiedUpper_);
   }
   const size_t from = cells_.size() * static_cast<size_t>(part) / static_cast<size_t>(parts);
   const size_t to = cells_.size() * static_cast<size_t>(part + 1) / static_cast<size_t>(parts);
@@ -138,6 +148,16 @@ void ReceiverMask::merge(const ReceiverMask& other, int part, int parts) {
     cells_[i].farthest = std::max(cells_[i].farthest, other.cells_[i].farthest);
     cells_[i].occupied = static_cast<std::uint16_t>(cells_[i].occupied | other.cells_[i].occupied);
   }
+}
+
+TexelRect ReceiverMask::texelsRead(double reachTexels) const {
+  if (everywhere_) return TexelRect{0, 0, mapSize_, mapSize_};
+  if (occupiedUpper_.x < occupiedLower_.x || occupiedUpper_.y < occupiedLower_.y) return TexelRect{};
+  // Sub-cell s spans texels [s, s + 1) · mapSize / subCells; a lookup in it reads up to the reach beyond.
+  const double texelsPerSubCell = static_cast<double>(mapSize_) / (side_ * kSubCells);
+  auto lower = [&](int s) { return std::max(0, static_cast<int>(std::floor(s * texelsPerSubCell - reachTexels))); };
+  auto upper = [&](int s) { return std::min(mapSize_, static_cast<int>(std::ceil((s + 1) * texelsPerSubCell + reachTexels))); };
+  return TexelRect{lower(occupiedLower_.x), lower(occupiedLower_.y), upper(occupiedUpper_.x), upper(occupiedUpper_.y)};
 }
 
 bool ReceiverMask::mayShadow(const Aabb& caster, double reachTexels) const {

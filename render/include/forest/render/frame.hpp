@@ -97,6 +97,11 @@ struct FrameSettings {
   // window) turn it off: one render target less (0.2–0.3 ms of the 800 × 600 lighting pass on
   // llvmpipe, thesis walk).
   bool keepShadowTerm = true;
+  // The shadow pass clears and draws the whole map, for readShadowMap (debug images, the truth's
+  // flicker probes). Off (the walkthrough's runs), with the receiver pixels known
+  // (CasterSelection::ReceiverPixels), it clears and draws only the texels this frame's lookups
+  // can read (ShadowSlice::texelsRead): ~60% of the map along the thesis walk.
+  bool wholeShadowMap = true;
 };
 
 // Deterministic queries on a software renderer, async on a hardware one (the default of --queries).
@@ -123,6 +128,7 @@ struct CascadeStats {
   double n = 0.0, gammaDeg = 0.0; // the setup's (0 for uniform methods' n)
   int casters = 0;
   long long triangles = 0;
+  long long texelsDrawn = 0;      // texels of its layer the shadow pass cleared and drew into (ShadowSlice::texelsRead)
   double shadowMs = 0.0;          // its share of the shadow pass (Profiling timing; 0 with GpuQueries)
 };
 
@@ -238,6 +244,7 @@ class Frame {
   std::vector<std::uint32_t> visibleObjects_;
   bool haveVisibleSet_ = false;
   bool termWritten_ = false;  // the last frame's shadow term pass ran (the blur on)
+  bool wholeShadowMap_ = true;  // the last frame's shadow pass drew every texel (FrameSettings::wholeShadowMap)
   bool usedTermKept_ = false;  // the last frame's lighting pass wrote the term it used (keepShadowTerm)
   std::unique_ptr<gl::PassTimer> timer_;  // made for the mode of the first frame, remade on a change
   gl::FrameTiming passTiming_;            // profiling: this frame's pass times, read back (storage reused)

@@ -27,6 +27,13 @@ struct EyeRays {
   glm::dvec3 eye, forward, right, up;
 };
 
+// A rectangle of map texels: columns [x0, x1), rows [y0, y1) (row 0 at v = 0, as glScissor counts).
+struct TexelRect {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  bool empty() const { return x1 <= x0 || y1 <= y0; }
+  long long texels() const { return empty() ? 0 : static_cast<long long>(x1 - x0) * (y1 - y0); }
+};
+
 class ReceiverMask {
  public:
   // Empties the mask for one map (its setup, texels per side) with `cells` × `cells` cells. Keeps
@@ -51,6 +58,12 @@ class ReceiverMask {
   // point. True when the box reaches behind the light's projection (w ≤ 0 at a corner).
   bool mayShadow(const Aabb& caster, double reachTexels) const;
   int receivers() const { return receivers_; }
+  // Every texel a lookup at one of the receivers can read, reaching `reachTexels` from its point
+  // along each map axis: the rectangle of the occupied sub-cells grown by the reach and clamped to
+  // the map. The whole map once a receiver could not be placed; empty without receivers. A shadow
+  // pass need not clear or draw texels outside it (most of a LiSPSM map along the thesis walk: the
+  // map spans the receivers' boxes, their visible pixels cover less).
+  TexelRect texelsRead(double reachTexels) const;
 
  private:
   static constexpr int kSubCells = 4;  // sub-cells per cell and axis (a cell's bits fit 16)
@@ -65,6 +78,8 @@ class ReceiverMask {
   glm::dvec4 worldToLightDepth_{0.0};
   int mapSize_ = 1, side_ = 0, receivers_ = 0;  // side_: cells per side
   bool everywhere_ = false;  // a receiver with w ≤ 0 was added
+  // The occupied sub-cells' bounding rectangle, inclusive (lower > upper: none).
+  glm::ivec2 occupiedLower_{0}, occupiedUpper_{-1};
   struct Cell {
     std::uint16_t farthest;  // the largest receiver depth, coded (receiver_mask.cpp); 0 when none
     std::uint16_t occupied;  // bit kSubCells · j + i: sub-cell (i, j) holds a receiver (none: 0)
