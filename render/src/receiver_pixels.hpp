@@ -32,7 +32,7 @@ class ReceiverPixels {
   const shadows::EyeRays& rays() const { return rays_; }
 
  private:
-  std::vector<glm::uvec4> surface_;  // the G-buffer surface's x and y (shaders/gbuffer.frag)
+  std::vector<glm::uvec2> surface_;  // the G-buffer surface's x and y (shaders/gbuffer.frag)
   std::vector<float> columns_, rows_;
   shadows::EyeRays rays_{};
 };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -29,8 +30,6 @@ void ReceiverMask::reset(const ShadowSetup& setup, int mapSize, int cells) {
   side_ = cells;
   receivers_ = 0;
   everywhere_ = false;
-  occupiedLower_ = glm::ivec2(cells * kSubCells);
-  occupiedUpper_ = glm::ivec2(-1);
   cells_.assign(static_cast<size_t>(cells) * cells, Cell{0, 0});
 }
 
@@ -67,13 +66,10 @@ int ReceiverMask::subCellOf(double ndc) const { return subCellAt(ndc, side_ * kS
 // Places receiver points. The mask's fields are copied into it, so that the per-pixel loop keeps
 // them in registers (a write to a cell could alias them otherwise); done() hands the counts back.
 struct ReceiverMask::Writer {
-  explicit Writer(ReceiverMask& target)
-      : mask(target), cells(target.cells_.data()), side(target.side_), lower(target.occupiedLower_), upper(target.occupiedUpper_) {}
+  explicit Writer(ReceiverMask& target) : mask(target), cells(target.cells_.data()), side(target.side_) {}
   void done() {
     mask.receivers_ += receivers;
     mask.everywhere_ = mask.everywhere_ || everywhere;
-    mask.occupiedLower_ = lower;
-    mask.occupiedUpper_ = upper;
   }
   // A receiver at clip position h (invW: 1 / h.w) with map depth `depth`.
   [[gnu::always_inline]] void add(const dvec4& h, double invW, double depth) {
@@ -87,8 +83,6 @@ struct ReceiverMask::Writer {
     Cell& cell = cells[static_cast<size_t>(sy / kSubCells) * static_cast<size_t>(side) + sx / kSubCells];
     cell.occupied = static_cast<std::uint16_t>(cell.occupied | 1u << (kSubCells * (sy % kSubCells) + sx % kSubCells));
     cell.farthest = std::max(cell.farthest, depthCodeAtOrBeyond(depth));
-    lower = glm::min(lower, glm::ivec2(static_cast<int>(sx), static_cast<int>(sy)));
-    upper = glm::max(upper, glm::ivec2(static_cast<int>(sx), static_cast<int>(sy)));
   }
 
   ReceiverMask& mask;
@@ -96,7 +90,6 @@ struct ReceiverMask::Writer {
   int side;
   int receivers = 0;
   bool everywhere = false;
-  glm::ivec2 lower, upper;  // the occupied sub-cells' bounds, as occupiedLower_ and occupiedUpper_
 };
 
 void ReceiverMask::add(const dvec3& world) {
@@ -139,8 +132,6 @@ void ReceiverMask::merge(const ReceiverMask& other, int part, int parts) {
   if (part == 0) {
     receivers_ += other.receivers_;
     everywhere_ = everywhere_ || other.everywhere_;
-    occupiedLower_ = glm::min(occupiedLower_, other.occupiedLower_);
-    occupiedUpper_ = glm::max(occupiedUpper_, other.occupiedUpper_);
   }
   const size_t from = cells_.size() * static_cast<size_t>(part) / static_cast<size_t>(parts);
   const size_t to = cells_.size() * static_cast<size_t>(part + 1) / static_cast<size_t>(parts);
@@ -150,14 +141,53 @@ void ReceiverMask::merge(const ReceiverMask& other, int part, int parts) {
   }
 }
 
+namespace {
+// A cell's occupied bits folded onto one row (which sub-cell columns i occur) or one column (which rows j).
+unsigned subColumns(unsigned bits) {
+  unsigned columns = 0;
+  for (int j = 0; j < 4; ++j) columns |= bits >> (4 * j) & 0xFu;
+  return columns;
+}
+unsigned subRows(unsigned bits) {
+  unsigned rows = 0;
+  for (int j = 0; j < 4; ++j) rows |= (bits >> (4 * j) & 0xFu) != 0 ? 1u << j : 0u;
+  return rows;
+}
+}  // namespace
+
 TexelRect ReceiverMask::texelsRead(double reachTexels) const {
+  static_assert(kSubCells == 4, "subColumns and subRows read 4 × 4 bits");
   if (everywhere_) return TexelRect{0, 0, mapSize_, mapSize_};
-  if (occupiedUpper_.x < occupiedLower_.x || occupiedUpper_.y < occupiedLower_.y) return TexelRect{};
+  // The occupied sub-cells' bounds, from the cells' bits ORed per column and per row of cells (a
+  // frame's fill leaves them to this: tracking them per point cost its loop ~10%; these loops have
+  // no branch and vectorise).
+  std::vector<std::uint16_t> columnBits(static_cast<size_t>(side_), 0), rowBits(static_cast<size_t>(side_), 0);
+  for (int cy = 0; cy < side_; ++cy) {
+    const Cell* row = cells_.data() + static_cast<size_t>(cy) * side_;
+    std::uint16_t any = 0;
+    for (int cx = 0; cx < side_; ++cx) {
+      columnBits[static_cast<size_t>(cx)] = static_cast<std::uint16_t>(columnBits[static_cast<size_t>(cx)] | row[cx].occupied);
+      any = static_cast<std::uint16_t>(any | row[cx].occupied);
+    }
+    rowBits[static_cast<size_t>(cy)] = any;
+  }
+  auto firstOf = [](const std::vector<std::uint16_t>& bits) {
+    return static_cast<int>(std::find_if(bits.begin(), bits.end(), [](std::uint16_t b) { return b != 0; }) - bits.begin());
+  };
+  auto lastOf = [](const std::vector<std::uint16_t>& bits) {
+    return static_cast<int>(bits.rend() - std::find_if(bits.rbegin(), bits.rend(), [](std::uint16_t b) { return b != 0; })) - 1;
+  };
+  const int cx0 = firstOf(columnBits), cx1 = lastOf(columnBits), cy0 = firstOf(rowBits), cy1 = lastOf(rowBits);
+  if (cx1 < cx0) return TexelRect{};  // no receivers
+  const glm::ivec2 lower(cx0 * kSubCells + std::countr_zero(subColumns(columnBits[static_cast<size_t>(cx0)])),
+                         cy0 * kSubCells + std::countr_zero(subRows(rowBits[static_cast<size_t>(cy0)])));
+  const glm::ivec2 upper(cx1 * kSubCells + 31 - std::countl_zero(subColumns(columnBits[static_cast<size_t>(cx1)])),
+                         cy1 * kSubCells + 31 - std::countl_zero(subRows(rowBits[static_cast<size_t>(cy1)])));
   // Sub-cell s spans texels [s, s + 1) · mapSize / subCells; a lookup in it reads up to the reach beyond.
   const double texelsPerSubCell = static_cast<double>(mapSize_) / (side_ * kSubCells);
-  auto lower = [&](int s) { return std::max(0, static_cast<int>(std::floor(s * texelsPerSubCell - reachTexels))); };
-  auto upper = [&](int s) { return std::min(mapSize_, static_cast<int>(std::ceil((s + 1) * texelsPerSubCell + reachTexels))); };
-  return TexelRect{lower(occupiedLower_.x), lower(occupiedLower_.y), upper(occupiedUpper_.x), upper(occupiedUpper_.y)};
+  auto first = [&](int s) { return std::max(0, static_cast<int>(std::floor(s * texelsPerSubCell - reachTexels))); };
+  auto end = [&](int s) { return std::min(mapSize_, static_cast<int>(std::ceil((s + 1) * texelsPerSubCell + reachTexels))); };
+  return TexelRect{first(lower.x), first(lower.y), end(upper.x), end(upper.y)};
 }
 
 bool ReceiverMask::mayShadow(const Aabb& caster, double reachTexels) const {

@@ -78,8 +78,6 @@ class ReceiverMask {
   glm::dvec4 worldToLightDepth_{0.0};
   int mapSize_ = 1, side_ = 0, receivers_ = 0;  // side_: cells per side
   bool everywhere_ = false;  // a receiver with w ≤ 0 was added
-  // The occupied sub-cells' bounding rectangle, inclusive (lower > upper: none).
-  glm::ivec2 occupiedLower_{0}, occupiedUpper_{-1};
   struct Cell {
     std::uint16_t farthest;  // the largest receiver depth, coded (receiver_mask.cpp); 0 when none
     std::uint16_t occupied;  // bit kSubCells · j + i: sub-cell (i, j) holds a receiver (none: 0)
