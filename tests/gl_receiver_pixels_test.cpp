@@ -1,9 +1,9 @@
 // Casters of the visible sun-facing pixels (CasterSelection::ReceiverPixels: the receiver-box
 // selection, then the light-space receiver mask of the read-back G-buffer, shadows::ReceiverMask):
 // along 30 views of the default forest, suns from 10° to 80°, one map or three slices, every method
-// and PCF radius, the shadow term equals the term with all casters pixel for pixel — with the map
-// cleared and drawn only within the texels the pixels' lookups read — and the mask keeps fewer
-// casters than the receiver boxes.
+// and PCF radius, the shadow term equals the term with all casters pixel for pixel — with the
+// casters drawn only into the texels the pixels' lookups read — and the mask keeps fewer casters
+// than the receiver boxes.
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -43,8 +43,8 @@ TEST_F(ReceiverPixelsGl, CastersOfTheSunFacingPixelsGiveTheTermOfAllCasters) {
     settings.shadowMapSize = 1024;
     settings.pcfRadius = v % 3;
     settings.cascades = v % 2 == 0 ? 1 : 3;
-    // The pixels' map drawn only where their lookups read (ShadowSlice::texelsRead); the rest
-    // holds the last view's depths, of another sun: a texel read but not drawn differs.
+    // The casters drawn only where the pixels' lookups read (ShadowSlice::texelsRead); the rest
+    // stays cleared: a texel read but not drawn reads as lit where a caster shadows it.
     settings.wholeShadowMap = false;
     const CasterComparison c = compareSelectedWithAllCasters(frame, camera, 0.5 * v, settings, render::CasterSelection::ReceiverPixels);
     EXPECT_EQ(c.differ, 0) << "view " << v << ": " << c.differ << " pixels";

@@ -98,8 +98,9 @@ long long ShadowPass::run(const ShadowPlan& plan, const DrawView& eye, const ter
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffers_[static_cast<size_t>(i)].id());
     glViewport(0, 0, size_, size_);
     const ShadowSlice& slice = plan.slices[static_cast<size_t>(i)];
-    // Only the texels a lookup can read, when known and the whole map is not asked for: the
-    // rest keeps whatever it held (the scissor bounds the clear and the draws alike).
+    // The casters drawn only into the texels a lookup can read, when known and the whole map is
+    // not asked for. The clear stays whole: under a scissor llvmpipe clears by drawing a quad,
+    // slower than its fast clear of the whole layer. A layer no lookup reads is left as it was.
     const bool scissored = !settings.wholeShadowMap && slice.texelsRead.has_value();
     const shadows::TexelRect read = scissored ? *slice.texelsRead : shadows::TexelRect{0, 0, size_, size_};
     const float nearLight = 1.0f;

@@ -34,7 +34,7 @@ struct ShadowSlice {
   std::vector<terrain::TileBlock> terrainBlocks;
   // With the receiver pixels known (CasterSelection::ReceiverPixels): the texels this frame's
   // lookups can read (shadows::ReceiverMask::texelsRead), the only ones the shadow pass needs to
-  // clear and draw. Unset: the whole layer.
+  // draw into. Unset: the whole layer.
   std::optional<shadows::TexelRect> texelsRead;
 };
 

@@ -97,10 +97,10 @@ struct FrameSettings {
   // window) turn it off: one render target less (0.2–0.3 ms of the 800 × 600 lighting pass on
   // llvmpipe, thesis walk).
   bool keepShadowTerm = true;
-  // The shadow pass clears and draws the whole map, for readShadowMap (debug images, the truth's
-  // flicker probes). Off (the walkthrough's runs), with the receiver pixels known
-  // (CasterSelection::ReceiverPixels), it clears and draws only the texels this frame's lookups
-  // can read (ShadowSlice::texelsRead): ~60% of the map along the thesis walk.
+  // The shadow pass draws its casters into the whole map, for readShadowMap (debug images, the
+  // truth's flicker probes). Off (the walkthrough's runs), with the receiver pixels known
+  // (CasterSelection::ReceiverPixels), it draws them only into the texels this frame's lookups can
+  // read (ShadowSlice::texelsRead, ~60% of the map along the thesis walk); the rest stays cleared.
   bool wholeShadowMap = true;
 };
 
@@ -128,7 +128,7 @@ struct CascadeStats {
   double n = 0.0, gammaDeg = 0.0; // the setup's (0 for uniform methods' n)
   int casters = 0;
   long long triangles = 0;
-  long long texelsDrawn = 0;      // texels of its layer the shadow pass cleared and drew into (ShadowSlice::texelsRead)
+  long long texelsDrawn = 0;      // texels of its layer the shadow pass drew its casters into (ShadowSlice::texelsRead)
   double shadowMs = 0.0;          // its share of the shadow pass (Profiling timing; 0 with GpuQueries)
 };
 
