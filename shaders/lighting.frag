@@ -1,8 +1,7 @@
 #version 450 core
 // Lighting (thesis §6.2): Phong — Lambert diffuse and a weak Blinn-Phong highlight from the sun,
 // both times the shadow term — plus a weak hemispheric ambient (sky above, ground bounce below);
-// distance haze. Only where something was drawn: the pass's depth test (lighting_pass.cpp) leaves
-// the sky's pixels to sky_pixels.frag.
+// distance haze; where nothing was drawn, a sky gradient with the sun's disc.
 // With the blur on, uShadowTerm is the horizontally blurred term and the vertical pass of the
 // blur happens here (blur_taps.frag), saving a full-screen pass; with the blur off, the term is
 // looked up here (shadow_lookup.frag) and no pass before writes it. The term used is written out.
@@ -31,9 +30,26 @@ vec2 shadowTermOf(uvec4 surface);
 
 vec3 displayFromLinear(vec3 linear);  // γ 2.2 (display_gamma.frag)
 
-// The sky's radiance and its helpers (sky.frag): the horizon's colour, x^8.
-vec3 horizonRadiance(vec3 zenith);
-float pow8(float x);
+// x^8 by squaring: llvmpipe runs both sides of a branch, so the sky's terms are paid at every pixel,
+// and pow is exp2(log2) there.
+float pow8(float x) { x *= x; x *= x; return x * x; }
+
+// The horizon's colour (linear): the zenith's, paled toward a hazy white.
+vec3 horizonRadiance(vec3 zenith) { return mix(zenith, vec3(0.75, 0.8, 0.85), 0.55); }
+
+// The sky (linear): the scene's sky colour at the zenith, paler toward the horizon (a gradient in
+// elevation), a little darker below it, and, with the sun up, its disc (drawn 1.6° across so that
+// it covers a few pixels; the real one is 0.53°) and a glow around it.
+vec3 skyRadiance(vec3 d, vec3 zenith, vec3 toSun, vec3 sunColor, bool sunUp) {
+  vec3 horizon = horizonRadiance(zenith);
+  vec3 sky = d.y >= 0.0 ? mix(horizon, zenith, smoothstep(0.0, 0.6, d.y)) : horizon * (1.0 + 0.3 * d.y);
+  if (!sunUp) return sky;
+  float c = max(dot(d, toSun), 0.0);
+  float disc = smoothstep(0.99985, 0.99990, c);  // cos 1.0° to cos 0.8°
+  float c8 = pow8(c), c16 = c8 * c8, c128 = pow8(c16), c256 = c128 * c128;
+  float glow = 0.6 * (c256 * c128 * c16) + 0.08 * c8;  // 0.6 c^400 + 0.08 c^8
+  return sky + sunColor * (12.0 * disc + glow);
+}
 
 // The colour that distance haze fades toward along d: the horizon's, brighter toward the sun
 // (light scattered forward).
@@ -41,9 +57,11 @@ vec3 hazeRadiance(vec3 d, vec3 zenith, vec3 toSun, vec3 sunColor, bool sunUp) {
   return horizonRadiance(zenith) + (sunUp ? 0.25 * sunColor * pow8(max(dot(d, toSun), 0.0)) : vec3(0.0));
 }
 
-// The lit surface's radiance (linear).
-vec3 surfaceRadiance(uvec4 surface, vec2 term, vec3 view, vec3 zenith, vec3 toSun, vec3 sunColor, bool sunUp, float ambient,
-                     float hazeDensity) {
+// The pixel's radiance (linear): the sky where nothing was drawn (term.g, its eye depth, is 0),
+// else the lit surface. One display encoding for both in main: llvmpipe runs both sides of the branch.
+vec3 surfaceOrSky(uvec4 surface, vec2 term, vec3 view, vec3 zenith, vec3 toSun, vec3 sunColor, bool sunUp, float ambient,
+                  float hazeDensity) {
+  if (term.g == 0.0) return skyRadiance(view, zenith, toSun, sunColor, sunUp);
   vec3 albedo = albedoOf(surface);
   vec3 n = shadingNormalOf(surface);
   float shadow = term.r;
@@ -82,5 +100,5 @@ void main() {
 #endif
   usedTerm = term;
   vec3 view = normalize(vRay);
-  fragColor = vec4(displayFromLinear(surfaceRadiance(surface, term, view, zenith, toSun, sunColor, sunUp, ambient, hazeDensity)), 1.0);
+  fragColor = vec4(displayFromLinear(surfaceOrSky(surface, term, view, zenith, toSun, sunColor, sunUp, ambient, hazeDensity)), 1.0);
 }

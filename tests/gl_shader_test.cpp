@@ -121,9 +121,8 @@ TEST_F(GlTest, UniformBlocksMatchTheShaders) {
   const std::string lookup = "#define PCF_RADIUS 1\n#define SHADOW_SLICES 4\n";  // the lookup's constants (ShadowLookupPrograms)
   programs.emplace_back("shadow term", gl::loadProgram({"fullscreen.vert", "shadow_term.frag", "shadow_lookup.frag", "gbuffer_read.frag"}, lookup + frameBlock));
   programs.emplace_back("blur", gl::loadProgram({"fullscreen.vert", "shadow_blur.frag", "blur_taps.frag"}, frameBlock));
-  programs.emplace_back("lighting, blurred term", gl::loadProgram({"fullscreen.vert", "lighting.frag", "sky.frag", "display_gamma.frag", "blur_taps.frag", "gbuffer_read.frag"}, "#define BLURRED_TERM\n#define HAZE\n" + frameBlock));
-  programs.emplace_back("lighting, term looked up", gl::loadProgram({"fullscreen.vert", "lighting.frag", "sky.frag", "display_gamma.frag", "shadow_lookup.frag", "gbuffer_read.frag"}, lookup + frameBlock));
-  programs.emplace_back("sky pixels", gl::loadProgram({"fullscreen.vert", "sky_pixels.frag", "sky.frag", "display_gamma.frag"}, frameBlock));
+  programs.emplace_back("lighting, blurred term", gl::loadProgram({"fullscreen.vert", "lighting.frag", "display_gamma.frag", "blur_taps.frag", "gbuffer_read.frag"}, "#define BLURRED_TERM\n#define HAZE\n" + frameBlock));
+  programs.emplace_back("lighting, term looked up", gl::loadProgram({"fullscreen.vert", "lighting.frag", "display_gamma.frag", "shadow_lookup.frag", "gbuffer_read.frag"}, lookup + frameBlock));
   programs.emplace_back("query box", gl::loadProgram({"query_box.vert", "query_box.frag"}, gl::readShader("query_block.glsl")));
 
   std::map<std::string, int> programsWith;
@@ -144,10 +143,10 @@ TEST_F(GlTest, UniformBlocksMatchTheShaders) {
     }
   }
   // Every surface program reads the view block, the terrain's its own, the full-screen passes (the
-  // term, the blur, two lighting programs, the sky) the frame block, the query boxes theirs.
+  // term, the blur, two lighting programs) the frame block, the query boxes theirs.
   EXPECT_EQ(programsWith["ViewBlock"], 12);
   EXPECT_EQ(programsWith["TerrainViewBlock"], 4);
-  EXPECT_EQ(programsWith["FrameBlock"], 5);
+  EXPECT_EQ(programsWith["FrameBlock"], 4);
   EXPECT_EQ(programsWith["QueryViewBlock"], 1);
 }
 

@@ -6,9 +6,8 @@ namespace forest::render {
 
 LightingPass::LightingPass(int width, int height)
     : width_(width), height_(height), usedTerm_(GL_RG16F, width, height), color_(GL_RGBA8, width, height),
-      lookup_{ShadowLookupPrograms({"lighting.frag", "sky.frag", "display_gamma.frag"}),
-              ShadowLookupPrograms({"lighting.frag", "sky.frag", "display_gamma.frag"}, "#define HAZE\n")},
-      sky_(loadFullScreenProgram({"sky_pixels.frag", "sky.frag", "display_gamma.frag"})) {
+      lookup_{ShadowLookupPrograms({"lighting.frag", "display_gamma.frag"}),
+              ShadowLookupPrograms({"lighting.frag", "display_gamma.frag"}, "#define HAZE\n")} {
   framebuffer_.attach(GL_COLOR_ATTACHMENT0, color_);
   framebuffer_.attach(GL_COLOR_ATTACHMENT1, usedTerm_);
   framebuffer_.checkComplete("colour");
@@ -20,7 +19,7 @@ const gl::Program& LightingPass::program(bool blurred, const ShadowLookupShape& 
   if (!blurred) return lookup_[haze].get(shape);
   std::optional<gl::Program>& program = blurred_[haze];
   if (!program)
-    program = loadFullScreenProgram({"lighting.frag", "sky.frag", "display_gamma.frag", "blur_taps.frag", "gbuffer_read.frag"},
+    program = loadFullScreenProgram({"lighting.frag", "display_gamma.frag", "blur_taps.frag", "gbuffer_read.frag"},
                                     std::string("#define BLURRED_TERM\n") + (haze ? "#define HAZE\n" : ""));
   return *program;
 }
@@ -30,16 +29,9 @@ void LightingPass::run(const GBuffer& gbuffer, const gl::Texture* term, const gl
   // Without the term's target the shader's second output goes nowhere.
   const GLenum buffers[2] = {GL_COLOR_ATTACHMENT0, keepTerm ? GLenum{GL_COLOR_ATTACHMENT1} : GLenum{GL_NONE}};
   glNamedFramebufferDrawBuffers(framebuffer_.id(), 2, buffers);
-  // The G-buffer's depth, read-only, splits the pixels between the two programs: the full-screen
-  // triangle lies at depth 0, the cleared depth (reversed-Z), so GL_LESS passes where something
-  // was drawn and GL_EQUAL where nothing was. llvmpipe's early depth test then skips each
-  // program's shading at the other's pixels (the sky's at a surface, the surface's and its shadow
-  // lookup at the sky), where one program with a branch would run both sides everywhere.
-  glNamedFramebufferTexture(framebuffer_.id(), GL_DEPTH_ATTACHMENT, gbuffer.depth.id(), 0);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   glViewport(0, 0, width_, height_);
-  glEnable(GL_DEPTH_TEST);
-  glDepthMask(GL_FALSE);
+  glDisable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
   if (term) {
     glBindTextureUnit(5, gbuffer.surface.id());  // shaders/gbuffer_read.frag
@@ -47,13 +39,9 @@ void LightingPass::run(const GBuffer& gbuffer, const gl::Texture* term, const gl
   } else {
     bindShadowLookupInputs(gbuffer, shadowMap);
   }
-  glDepthFunc(GL_LESS);
   triangle_.draw(program(term != nullptr, shape, haze));
-  glDepthFunc(GL_EQUAL);
-  triangle_.draw(sky_);
   for (GLuint unit = 0; unit < 7; ++unit) glBindTextureUnit(unit, 0);
-  glDepthFunc(GL_GREATER);
-  glDepthMask(GL_TRUE);
+  glEnable(GL_DEPTH_TEST);
   glEnable(GL_CULL_FACE);
 }
 

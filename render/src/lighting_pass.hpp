@@ -1,8 +1,7 @@
 #pragma once
 // Pass 5 of the frame (thesis §6.2, DESIGN §4): Phong lighting from the G-buffer with a weak
 // global ambient, the shadow term (the blur's vertical half when the blur is on, the lookup itself
-// when it is off) and fog where something was drawn; the sky where nothing was (a program of its
-// own, split from the surfaces' by the G-buffer's depth). Targets: the lit colour (RGBA8) and, when asked, the term
+// when it is off), fog and the sky colour. Targets: the lit colour (RGBA8) and, when asked, the term
 // it used (RG16F).
 #include <glm/glm.hpp>
 
@@ -44,7 +43,6 @@ class LightingPass {
   // horizontal pass (compiled on first use), and those looking it up here.
   std::array<std::optional<gl::Program>, 2> blurred_;
   std::array<ShadowLookupPrograms, 2> lookup_;
-  gl::Program sky_;  // the pixels where nothing was drawn (shaders/sky_pixels.frag)
   FullScreenTriangle triangle_;
 };
 
