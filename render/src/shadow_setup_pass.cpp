@@ -22,18 +22,20 @@ double filterReachTexels(int pcfRadius) { return pcfRadius + 1.0; }
 // Beyond the reach: the GPU's float32 lookup coordinates and the rasteriser's fixed-point
 // texel-centre test (8 sub-texel bits) — half a texel covers both many times over.
 constexpr double kFilterMarginTexels = 0.5;
+// The two together: how far from its point a lookup's texels may lie, per map axis.
+double filterReachWithMarginTexels(int pcfRadius) { return filterReachTexels(pcfRadius) + kFilterMarginTexels; }
 
 // How far from its point, in texels along each map axis, a pixel's lookup may read: the filter's
 // reach, the margin, and the error injection's shift (FrameSettings::lookupShiftTexels).
 double lookupReachTexels(const FrameSettings& settings) {
   const double shift = std::max(std::abs(settings.lookupShiftTexels.x), std::abs(settings.lookupShiftTexels.y));
-  return filterReachTexels(settings.pcfRadius) + kFilterMarginTexels + std::ceil(shift);
+  return filterReachWithMarginTexels(settings.pcfRadius) + std::ceil(shift);
 }
 
 // The map keeps this many texels free around B, so that a lookup at B's border reads texels the
 // shadow pass drew (DESIGN §4): the reach and the margin, rounded up.
 int mapBorderTexels(int pcfRadius) {
-  return static_cast<int>(std::ceil(filterReachTexels(pcfRadius) + kFilterMarginTexels));
+  return static_cast<int>(std::ceil(filterReachWithMarginTexels(pcfRadius)));
 }
 
 // The largest world distance, across the light, that a map offset of (±1, ±1) texels (the corner
@@ -89,7 +91,7 @@ void ShadowSetupPass::selectCastersOfReceivers(ShadowSlice& slice, const FrameSe
                                                const shadows::ReceiverMask* mask) {
   const ConvexBody view = shadows::viewFrustumBody(slice.camera);
   const Frustum viewPlanes(slice.camera);
-  const double reach = filterReachTexels(settings.pcfRadius) + kFilterMarginTexels;
+  const double reach = filterReachWithMarginTexels(settings.pcfRadius);
   footprints_.clear();
   for (const Aabb& receiver : sliceReceivers_) {
     // Most receivers (trees) lie wholly inside V: clipping would return the box itself.
@@ -118,7 +120,7 @@ void ShadowSetupPass::refineCasters(ShadowSlice& slice, const FrameSettings& set
   const terrain::Terrain* terrain = lod ? objects.terrain() : nullptr;
   if (!terrain && !mask) return;
   slice.terrainByBlock = terrain != nullptr;
-  const double reach = filterReachTexels(settings.pcfRadius) + kFilterMarginTexels;
+  const double reach = filterReachWithMarginTexels(settings.pcfRadius);
   auto covers = [&](const Aabb& box) { return !mask || mask->mayShadow(box, reach); };
   size_t kept = 0;
   for (std::uint32_t o : slice.casters) {

@@ -158,10 +158,12 @@ unsigned subRows(unsigned bits) {
 TexelRect ReceiverMask::texelsRead(double reachTexels) const {
   static_assert(kSubCells == 4, "subColumns and subRows read 4 × 4 bits");
   if (everywhere_) return TexelRect{0, 0, mapSize_, mapSize_};
-  // The occupied sub-cells' bounds, from the cells' bits ORed per column and per row of cells (a
-  // frame's fill leaves them to this: tracking them per point cost its loop ~10%; these loops have
-  // no branch and vectorise).
-  std::vector<std::uint16_t> columnBits(static_cast<size_t>(side_), 0), rowBits(static_cast<size_t>(side_), 0);
+  // The occupied sub-cells' bounds, from the cells' bits ORed per column of cells and kept for the
+  // first and last occupied rows (a frame's fill leaves them to this: tracking them per point cost
+  // its loop ~10%; the inner loop has no branch and vectorises).
+  std::vector<std::uint16_t> columnBits(static_cast<size_t>(side_), 0);
+  int cy0 = side_, cy1 = -1;
+  std::uint16_t firstRowBits = 0, lastRowBits = 0;
   for (int cy = 0; cy < side_; ++cy) {
     const Cell* row = cells_.data() + static_cast<size_t>(cy) * side_;
     std::uint16_t any = 0;
@@ -169,20 +171,22 @@ TexelRect ReceiverMask::texelsRead(double reachTexels) const {
       columnBits[static_cast<size_t>(cx)] = static_cast<std::uint16_t>(columnBits[static_cast<size_t>(cx)] | row[cx].occupied);
       any = static_cast<std::uint16_t>(any | row[cx].occupied);
     }
-    rowBits[static_cast<size_t>(cy)] = any;
+    if (any == 0) continue;
+    if (cy1 < 0) {
+      cy0 = cy;
+      firstRowBits = any;
+    }
+    cy1 = cy;
+    lastRowBits = any;
   }
-  auto firstOf = [](const std::vector<std::uint16_t>& bits) {
-    return static_cast<int>(std::find_if(bits.begin(), bits.end(), [](std::uint16_t b) { return b != 0; }) - bits.begin());
-  };
-  auto lastOf = [](const std::vector<std::uint16_t>& bits) {
-    return static_cast<int>(bits.rend() - std::find_if(bits.rbegin(), bits.rend(), [](std::uint16_t b) { return b != 0; })) - 1;
-  };
-  const int cx0 = firstOf(columnBits), cx1 = lastOf(columnBits), cy0 = firstOf(rowBits), cy1 = lastOf(rowBits);
-  if (cx1 < cx0) return TexelRect{};  // no receivers
+  if (cy1 < 0) return TexelRect{};  // no receivers
+  const auto occupied = [](std::uint16_t b) { return b != 0; };
+  const int cx0 = static_cast<int>(std::find_if(columnBits.begin(), columnBits.end(), occupied) - columnBits.begin());
+  const int cx1 = static_cast<int>(columnBits.rend() - std::find_if(columnBits.rbegin(), columnBits.rend(), occupied)) - 1;
   const glm::ivec2 lower(cx0 * kSubCells + std::countr_zero(subColumns(columnBits[static_cast<size_t>(cx0)])),
-                         cy0 * kSubCells + std::countr_zero(subRows(rowBits[static_cast<size_t>(cy0)])));
+                         cy0 * kSubCells + std::countr_zero(subRows(firstRowBits)));
   const glm::ivec2 upper(cx1 * kSubCells + 31 - std::countl_zero(subColumns(columnBits[static_cast<size_t>(cx1)])),
-                         cy1 * kSubCells + 31 - std::countl_zero(subRows(rowBits[static_cast<size_t>(cy1)])));
+                         cy1 * kSubCells + 31 - std::countl_zero(subRows(lastRowBits)));
   // Sub-cell s spans texels [s, s + 1) · mapSize / subCells; a lookup in it reads up to the reach beyond.
   const double texelsPerSubCell = static_cast<double>(mapSize_) / (side_ * kSubCells);
   auto first = [&](int s) { return std::max(0, static_cast<int>(std::floor(s * texelsPerSubCell - reachTexels))); };
