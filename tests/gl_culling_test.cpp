@@ -1,8 +1,9 @@
 // Culling on the GPU. Exactness on the geometry pass (DESIGN §4): along 80 views of the default
 // forest — a ground-level walk, 20 under the canopy of the densest stand, above the canopy, facing a hill, facing the sky, the eye inside a
 // cluster's box, trees and props moving between frames — frustum, stop-and-wait, CHC and CHC++
-// (terrain drawn by the blocks that meet the frustum, as the frame does) draw the same depth and
-// object-ID images as drawing everything. The CHC and CHC++ visible sets
+// (terrain drawn by the blocks that meet the frustum, as the frame does, and for the query-driven
+// ones by the blocks found visible: render::TerrainBlockVisibility, also CHC++ without it) draw the
+// same depth and object-ID images as drawing everything. The CHC and CHC++ visible sets
 // hold every object with a visible pixel, and z_f reaches the farthest depth drawn. A synthetic box scene (a wall
 // hiding rows of boxes) gives the expected visible sets and query counts.
 #include <algorithm>
@@ -58,6 +59,7 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongEightyViews) {
   struct Run {
     CullingStrategy strategy;
     culling::QueryMode mode;
+    bool byBlock = true;  // query-driven: terrain blocks by their visibility (as the frame draws them)
   };
   const Run runs[] = {{CullingStrategy::None, culling::QueryMode::Deterministic},
                       {CullingStrategy::Frustum, culling::QueryMode::Deterministic},
@@ -66,9 +68,14 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongEightyViews) {
                       {CullingStrategy::Chc, culling::QueryMode::Deterministic},
                       {CullingStrategy::Chc, culling::QueryMode::Async},
                       {CullingStrategy::ChcPlusPlus, culling::QueryMode::Deterministic},
-                      {CullingStrategy::ChcPlusPlus, culling::QueryMode::Async}};
+                      {CullingStrategy::ChcPlusPlus, culling::QueryMode::Async},
+                      {CullingStrategy::ChcPlusPlus, culling::QueryMode::Deterministic, false}};
   std::vector<culling::OcclusionCuller> cullers(std::size(runs));
   for (size_t k = 0; k < std::size(runs); ++k) cullers[k].setQueryMode(runs[k].mode);
+  // Each query-driven run keeps its blocks' visibility from view to view, as its culler does.
+  std::vector<render::TerrainBlockVisibility> blockVisibility;
+  for (size_t k = 0; k < std::size(runs); ++k) blockVisibility.emplace_back(terrain, scene.culling.visible_requery_frames);
+  int blocksHeld = 0, blocksDrawnAfter = 0, blocksHidden = 0;
   int asyncPolls = 0;
   const GeometryTarget target;
 
@@ -155,8 +162,17 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongEightyViews) {
       // As the frame's geometry pass: terrain by the blocks that meet the frustum; brute force
       // (None) draws every tile whole.
       const Frustum frustum(view.camera);
-      if (s != CullingStrategy::None) drawer.cullTerrainBlocks(&frustum);
+      const bool byBlock = runs[k].byBlock && s != CullingStrategy::None && s != CullingStrategy::Frustum;
+      if (s != CullingStrategy::None) drawer.cullTerrainBlocks(&frustum, byBlock ? &blockVisibility[k] : nullptr);
+      blockVisibility[k].beginFrame();
       const culling::CullingResult r = cullers[k].cull(bvh, objects.boxes(), view.camera, s, drawer, objects.queryShapes(&lod));
+      if (byBlock) {
+        (void)blockVisibility[k].drawHeld(cullers[k], drawer);
+        const render::TerrainBlockVisibility::Stats& b = blockVisibility[k].stats();
+        blocksHeld += b.held;
+        blocksDrawnAfter += b.drawnAfter;
+        blocksHidden += b.held - b.drawnAfter;
+      }
       asyncPolls += r.stats.availabilityPolls;
       if (runs[k].mode == culling::QueryMode::Deterministic) {
         EXPECT_EQ(r.stats.availabilityPolls, 0);
@@ -195,6 +211,10 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongEightyViews) {
   EXPECT_GT(queries[CullingStrategy::Chc], 0);
   EXPECT_GT(queries[CullingStrategy::ChcPlusPlus], 0);
   EXPECT_GT(asyncPolls, 0);  // the async runs did ask for availability
+  // The block visibility held blocks back, left some undrawn and drew some after the traversal.
+  std::printf("[culling] terrain blocks: %d held back, %d of them drawn after the traversal\n", blocksHeld, blocksDrawnAfter);
+  EXPECT_GT(blocksHidden, 0);
+  EXPECT_GT(blocksDrawnAfter, 0);
 }
 
 // A wall 5 m ahead hides two rows of boxes; two boxes stand in front of it; one box lies far

@@ -66,6 +66,7 @@ void readCulling(TomlSection& s, CullingSettings& c) {
   c.tight_box_depth = static_cast<int>(s.integer("tight_box_depth", c.tight_box_depth, 0, 8));
   c.tight_box_area_ratio = s.number("tight_box_area_ratio", c.tight_box_area_ratio, detail::closed(0.1, 10.0));
   c.geometry_queries = s.boolean("geometry_queries", c.geometry_queries);
+  c.terrain_blocks = s.boolean("terrain_blocks", c.terrain_blocks);
   s.finish();
 }
 
@@ -247,7 +248,8 @@ std::string sceneToToml(const Scene& scene) {
                       {"multiqueries", c.multiqueries},
                       {"tight_box_depth", c.tight_box_depth},
                       {"tight_box_area_ratio", c.tight_box_area_ratio},
-                      {"geometry_queries", c.geometry_queries}};
+                      {"geometry_queries", c.geometry_queries},
+                      {"terrain_blocks", c.terrain_blocks}};
   toml::table shadows{{"cascades", scene.shadows.cascades},
                       {"split_lambda", scene.shadows.split_lambda},
                       {"cascade_blend", scene.shadows.cascade_blend}};

@@ -248,6 +248,49 @@ void OcclusionCuller::drawObjects(Traversal& t, std::span<const std::uint32_t> o
   ++t.stats.drawCalls;
 }
 
+const std::vector<bool>& OcclusionCuller::queryAfterCull(std::span<const Aabb> boxes, std::span<const std::uint32_t> groupEnds) {
+  if (!stateOf_) throw Error("OcclusionCuller::queryAfterCull: no frame was culled");
+  for (std::size_t g = 0; g < groupEnds.size(); ++g)
+    if (groupEnds[g] > boxes.size() || (g > 0 && groupEnds[g] < groupEnds[g - 1]))
+      throw Error(fmt::format("OcclusionCuller::queryAfterCull: group {} ends at box {} of {}, before the previous group's end",
+                              g, groupEnds[g], boxes.size()));
+  afterCullVisible_.assign(groupEnds.size(), false);
+  if (groupEnds.empty()) return afterCullVisible_;
+  const auto start = std::chrono::steady_clock::now();
+  CullingStats& stats = result_.stats;
+  const double waitedBefore = stats.waitMilliseconds;
+  if (used_ + groupEnds.size() > slots_) {
+    // The traversal read every result it needed and dropped the rest: a larger, zeroed buffer
+    // loses nothing. Slots below used_ stay unused in it.
+    allocateResultSlots(std::max(2 * slots_, used_ + groupEnds.size()));
+    drawnSlots_ = readableSlots_ = used_;
+  }
+  afterCullSlots_.clear();
+  const NearSlab nearSlab(camera_);
+  constexpr std::size_t kNoQuery = ~std::size_t{0};
+  std::uint32_t first = 0;
+  for (const std::uint32_t end : groupEnds) {
+    const std::span<const Aabb> group = boxes.subspan(first, end - first);
+    first = end;
+    if (std::any_of(group.begin(), group.end(), [&](const Aabb& b) { return boxVisibleWithoutQuery(b, camera_, nearSlab); })) {
+      afterCullSlots_.push_back(kNoQuery);
+      continue;
+    }
+    afterCullSlots_.push_back(issueQuery(group));
+    ++stats.queriesIssued;
+    if (group.size() > 1) ++stats.multiQueries;
+  }
+  drawQueryBatch();
+  for (std::size_t g = 0; g < groupEnds.size(); ++g)
+    afterCullVisible_[g] = afterCullSlots_[g] == kNoQuery || waitResult(afterCullSlots_[g], stats);
+  endQueries();
+  for (const BatchFence& f : fences_) glDeleteSync(f.fence);
+  fences_.clear();
+  stats.cpuMilliseconds += 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() -
+                           (stats.waitMilliseconds - waitedBefore);
+  return afterCullVisible_;
+}
+
 void OcclusionCuller::pullUpVisibility(std::int32_t n) {
   // The node itself always (it may still carry last frame's flag); then its ancestors up to the
   // first one already visible this frame (the ones opened this frame were reset to invisible).
@@ -272,6 +315,7 @@ const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb>
   used_ = drawnSlots_ = readableSlots_ = 0;
   switches_ = 0;
   eye_ = camera.position;
+  camera_ = camera;
   const glm::dmat4 view = camera.view();
   viewProjectionRelative_ = camera.projection() * view * glm::translate(glm::dmat4(1.0), eye_);
   view_.viewProjectionRelative = glm::mat4(viewProjectionRelative_);

@@ -16,6 +16,13 @@
 
 namespace forest::culling {
 
+// Visible without a query (CHC++ §3.6): the box holds the eye (grown by z_n), or meets the near
+// slab, where the near plane could clip the faces its query needs (NearSlab).
+inline bool boxVisibleWithoutQuery(const Aabb& box, const Camera& camera, const NearSlab& nearSlab) {
+  const Aabb grown{box.min - glm::dvec3(camera.near), box.max + glm::dvec3(camera.near)};
+  return grown.contains(camera.position) || nearSlab.meets(box);
+}
+
 // CHC's query results are collected at batch boundaries, every kBatchSteps traversal steps: the
 // queries issued before the previous boundary are taken (waiting if need be), the newer ones stay
 // pending while traversal and drawing go on. Taking results at fixed points, not whenever the
@@ -165,11 +172,7 @@ struct OcclusionCuller::Traversal {
   Entry entry(std::int32_t n) const { return {bvh.nodes()[n].bounds.distanceTo(camera.position), n}; }
   // Visible without a query (§3.6): the box holds the eye (grown by z_n), or meets the near slab,
   // where the near plane could clip the faces its query needs (NearSlab).
-  bool visibleWithoutQuery(std::int32_t n) const {
-    const Aabb& box = bvh.nodes()[n].bounds;
-    const Aabb grown{box.min - glm::dvec3(camera.near), box.max + glm::dvec3(camera.near)};
-    return grown.contains(camera.position) || nearSlab.meets(box);
-  }
+  bool visibleWithoutQuery(std::int32_t n) const { return boxVisibleWithoutQuery(bvh.nodes()[n].bounds, camera, nearSlab); }
 };
 
 }  // namespace forest::culling

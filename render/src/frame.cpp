@@ -119,8 +119,8 @@ struct Frame::Passes {
   gl::UniformStream frameUniforms{kFrameBlockBinding, sizeof(FrameBlock)};  // FrameBlock, once per frame
 
   Passes(const SceneObjects& objects, const terrain::Terrain* terrain, const vegetation::Forest* forest,
-         const std::vector<PropBox>& props, int width, int height)
-      : geometry(objects, terrain, forest, props, width, height),
+         const std::vector<PropBox>& props, int width, int height, const CullingSettings& culling)
+      : geometry(objects, terrain, forest, props, width, height, culling),
         shadow(objects, terrain, forest, props),
         shadowTerm(width, height),
         blur(width, height),
@@ -134,7 +134,7 @@ Frame::Frame(const Scene& scene, int width, int height) : scene_(scene), width_(
     if (scene.vegetation) forest_ = std::make_unique<vegetation::Forest>(*scene.vegetation, *terrain_);
   }
   objects_ = std::make_unique<SceneObjects>(terrain_.get(), forest_.get(), scene.props);
-  passes_ = std::make_unique<Passes>(*objects_, terrain_.get(), forest_.get(), scene.props, width, height);
+  passes_ = std::make_unique<Passes>(*objects_, terrain_.get(), forest_.get(), scene.props, width, height, scene.culling);
   bvh_ = culling::Bvh(objects_->boxes(), scene.culling.leaf_size);
   visibleObjects_.reserve(objects_->boxes().size());  // the largest visible set: no growth per frame
   culler_.setParameters(scene_.culling);
@@ -167,6 +167,7 @@ void Frame::objectsMoved() {
 
 void Frame::resetHistory() {
   culler_.reset();
+  passes_->geometry.resetHistory();
   passes_->shadowSetup.reset();
   passes_->nearestDepth.reset();
   haveVisibleSet_ = false;

@@ -20,8 +20,9 @@ constexpr int kGroundCoverSide = 512;
 }  // namespace
 
 GeometryPass::GeometryPass(const SceneObjects& objects, const terrain::Terrain* terrain, const vegetation::Forest* forest,
-                           const std::vector<PropBox>& props, int width, int height)
+                           const std::vector<PropBox>& props, int width, int height, const CullingSettings& culling)
     : objects_(objects), width_(width), height_(height), gbuffer_(width, height) {
+  if (terrain && culling.terrain_blocks) blockVisibility_.emplace(*terrain, culling.visible_requery_frames);
   if (terrain) terrain_ = std::make_unique<TerrainRenderer>(*terrain, TerrainRenderer::Output::GBuffer, objects.terrainIdBase());
   if (terrain_ && forest && forest->stands()) {  // forest floor under the stands (terrain.frag)
     const terrain::Heightfield& h = terrain->heightfield();
@@ -52,8 +53,19 @@ const culling::CullingResult& GeometryPass::run(const Camera& camera, const Draw
   SceneDrawer& drawer = *drawer_;
   drawer.setView(eye, lod);
   frustum_.emplace(camera);
-  drawer.cullTerrainBlocks(&*frustum_);
-  if (!frozen) return culler.cull(bvh, objects_.boxes(), camera, strategy, drawer, objects_.queryShapes(lod));
+  const bool byBlock = !frozen && blockVisibility_ && lod && strategy != culling::CullingStrategy::None &&
+                       strategy != culling::CullingStrategy::Frustum;
+  drawer.cullTerrainBlocks(&*frustum_, byBlock ? &*blockVisibility_ : nullptr);
+  if (!frozen && !byBlock) return culler.cull(bvh, objects_.boxes(), camera, strategy, drawer, objects_.queryShapes(lod));
+  if (byBlock) {
+    blockVisibility_->beginFrame();
+    const culling::CullingResult& culled = culler.cull(bvh, objects_.boxes(), camera, strategy, drawer, objects_.queryShapes(lod));
+    const long long late = blockVisibility_->drawHeld(culler, drawer);  // counts its queries in culled.stats
+
+    blockResult_ = culled;
+    blockResult_.stats.trianglesDrawn += late;
+    return blockResult_;
+  }
   culling::CullingResult& visible = frozenResult_;
   visible.stats = culling::CullingStats{};
   visible.visibleObjects = *frozen;

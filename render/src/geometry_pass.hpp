@@ -29,15 +29,21 @@ struct GBuffer {
 class GeometryPass {
  public:
   GeometryPass(const SceneObjects& objects, const terrain::Terrain* terrain, const vegetation::Forest* forest,
-               const std::vector<PropBox>& props, int width, int height);
+               const std::vector<PropBox>& props, int width, int height, const CullingSettings& culling);
 
   // Clears the G-buffer and draws what the culler finds visible; with `frozen`, exactly those
-  // objects, without culling (FrameSettings::freezeCulling). The result is valid until the next run
+  // objects, without culling (FrameSettings::freezeCulling). With an occlusion strategy and
+  // [culling] terrain_blocks, a drawn tile draws its visible blocks (TerrainBlockVisibility); the
+  // result's stats count the blocks' queries and triangles. The result is valid until the next run
   // (the culler's or this pass's storage, reused).
   const culling::CullingResult& run(const Camera& camera, const DrawView& eye, const terrain::TerrainLod* lod,
                              culling::CullingStrategy strategy, culling::OcclusionCuller& culler, const culling::Bvh& bvh,
                              const std::vector<std::uint32_t>* frozen);
   void propsMoved(const std::vector<PropBox>& props) { props_->update(props); }
+  // Forgets which terrain blocks were visible (a camera cut).
+  void resetHistory() {
+    if (blockVisibility_) blockVisibility_->reset();
+  }
   const GBuffer& gbuffer() const { return gbuffer_; }
 
  private:
@@ -49,6 +55,8 @@ class GeometryPass {
   std::unique_ptr<PropRenderer> props_;
   std::unique_ptr<SceneDrawer> drawer_;
   culling::CullingResult frozenResult_;
+  std::optional<TerrainBlockVisibility> blockVisibility_;  // with terrain and [culling] terrain_blocks
+  culling::CullingResult blockResult_;  // the culler's result with the late blocks' triangles
   std::optional<Frustum> frustum_;  // this frame's eye frustum: terrain blocks outside it are not drawn
 };
 

@@ -133,6 +133,11 @@ long long SceneDrawer::drawGeometryQueries(std::span<const std::uint32_t> object
   return triangles;
 }
 
+long long SceneDrawer::drawTerrainBlocks(std::span<const terrain::TileBlock> blocks) {
+  if (!terrain_ || !lod_) throw Error("SceneDrawer::drawTerrainBlocks: no terrain renderer or LOD");
+  return terrain_->drawBlocks(view_, *lod_, blocks).triangles;
+}
+
 long long SceneDrawer::draw(std::span<const std::uint32_t> objects) {
   tiles_.clear();
   treeList_.clear();
@@ -158,9 +163,10 @@ long long SceneDrawer::draw(std::span<const std::uint32_t> objects) {
         const int level = terrain.tileLevel(tile, *lod_);
         const std::span<const Aabb> boxes = terrain.blockBoxes(tile, level);
         for (int b = 0; b < static_cast<int>(boxes.size()); ++b)
-          if (blockFrustum_->mayIntersect(boxes[static_cast<size_t>(b)])) blocks_.push_back({tile, level, b});
+          if (blockFrustum_->mayIntersect(boxes[static_cast<size_t>(b)]) && (!blockVisibility_ || blockVisibility_->drawNow(tile, level, b)))
+            blocks_.push_back({tile, level, b});
       }
-      triangles += terrain_->drawBlocks(view_, *lod_, blocks_).triangles;
+      if (!blocks_.empty()) triangles += terrain_->drawBlocks(view_, *lod_, blocks_).triangles;
     } else {
       triangles += terrain_->draw(view_, *lod_, tiles_).triangles;
     }

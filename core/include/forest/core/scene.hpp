@@ -165,6 +165,10 @@ struct CullingSettings {
   // before it is drawn, and visible leaves are re-queried so (a box sees through the gaps between
   // nearer crowns): fewer trees drawn, for queries that draw the candidates' triangles depth-tested only.
   bool geometry_queries = true;
+  // A drawn tile's terrain blocks are drawn only while visible: the others are queried by their
+  // boxes after the traversal (render::TerrainBlockVisibility); false: a drawn tile draws every
+  // block in the frustum.
+  bool terrain_blocks = true;
 };
 
 struct Scene {

@@ -143,6 +143,14 @@ class OcclusionCuller {
   // `shapes`: what a leaf's query draws instead of the leaf's box (none: the box).
   const CullingResult& cull(const Bvh& bvh, std::span<const Aabb> objectBoxes, const Camera& camera, CullingStrategy strategy,
                             ObjectDrawer& drawer, const QueryShapes& shapes = {});
+  // After cull(), in the same frame, framebuffer and state: one query per group of boxes against
+  // the depth drawn so far (group g draws boxes [groupEnds[g − 1], groupEnds[g]), from 0 for the
+  // first), all in one batch, then the results (deterministic: one wait; async: each fence
+  // polled). visible[g]: a sample of group g passed, or a box of it holds the eye or meets the
+  // near slab (visible without a query, as in the traversal). Counted in the frame's result's stats
+  // (queries, multiqueries, waits, CPU time). For parts of objects the traversal drew only in
+  // part (render::TerrainBlockVisibility); valid until the next call.
+  const std::vector<bool>& queryAfterCull(std::span<const Aabb> boxes, std::span<const std::uint32_t> groupEnds);
   // Forgets the previous frame's visibility (after a BVH rebuild or a camera cut).
   void reset();
   // The chc++ parameters (the scene file's [culling] section); takes effect next frame.
@@ -227,6 +235,7 @@ class OcclusionCuller {
   std::size_t readableSlots_ = 0;  // slots whose results the CPU may read
   std::vector<BatchFence> fences_;  // async: the drawn batches not yet known complete
   glm::dvec3 eye_{0.0};
+  Camera camera_;  // the last cull's
   glm::dmat4 viewProjectionRelative_{1.0};
   bool queryState_ = false;
 
@@ -237,6 +246,8 @@ class OcclusionCuller {
   // Reused every frame, so a steady-state frame allocates nothing (DESIGN §9).
   std::unique_ptr<Scratch> scratch_;
   CullingResult result_;
+  std::vector<std::size_t> afterCullSlots_;  // queryAfterCull's slots and results
+  std::vector<bool> afterCullVisible_;
   const Bvh* stateOf_ = nullptr;
   std::uint64_t frame_ = 0;
 };

@@ -15,6 +15,7 @@
 #include "forest/core/scene.hpp"
 #include "forest/culling/occlusion_culler.hpp"
 #include "forest/render/prop_renderer.hpp"
+#include "forest/render/terrain_block_visibility.hpp"
 #include "forest/render/terrain_renderer.hpp"
 #include "forest/render/tree_renderer.hpp"
 
@@ -97,7 +98,14 @@ class SceneDrawer : public culling::ObjectDrawer {
   // With a frustum (the eye's, kept by the caller), a terrain tile is drawn by its blocks at its
   // level (terrain::Terrain::blockBoxes) whose boxes meet the frustum: a block outside it gives no
   // fragment, so the image is the same. Null: tiles whole (the default).
-  void cullTerrainBlocks(const Frustum* frustum) { blockFrustum_ = frustum; }
+  // With `visibility` too, a tile's blocks it holds back are left to TerrainBlockVisibility::drawHeld
+  // (the eye's occlusion culling by block).
+  void cullTerrainBlocks(const Frustum* frustum, TerrainBlockVisibility* visibility = nullptr) {
+    blockFrustum_ = frustum;
+    blockVisibility_ = visibility;
+  }
+  // Blocks of tiles, each at its tile's level (TerrainRenderer::drawBlocks); returns the triangles.
+  long long drawTerrainBlocks(std::span<const terrain::TileBlock> blocks);
 
  private:
   const SceneObjects& objects_;
@@ -107,6 +115,7 @@ class SceneDrawer : public culling::ObjectDrawer {
   DrawView view_;
   const terrain::TerrainLod* lod_;
   const Frustum* blockFrustum_ = nullptr;
+  TerrainBlockVisibility* blockVisibility_ = nullptr;
   std::vector<int> tiles_;
   std::vector<terrain::TileBlock> blocks_;
   std::vector<std::uint32_t> treeList_, propList_, querySlots_, tileSlots_;

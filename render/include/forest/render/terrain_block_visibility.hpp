@@ -1,0 +1,92 @@
+#pragma once
+// Visibility of the terrain by block inside the tiles the culler draws. A tile is one culling
+// object: found visible, it would draw every block in the frustum — 8192 triangles at level 0 —
+// when one corner of it shows between the trunks. This unit keeps, per block of a tile at its
+// level (terrain::Terrain::blockBoxes: 16, 4 or 1 per tile), whether the block was visible:
+//   - a block found visible is drawn with its tile during the traversal (so it occludes what is
+//     queried after it), and every n_av frames its box is queried again after the traversal (CHC's
+//     assumption of coherence, Bittner et al. 2004, one level lower). Its own surface does not
+//     hide its box — the box holds it, so the box's front faces lie in front of it — so a block
+//     that still shows passes, and one hidden by nearer trees or terrain fails and is hidden from
+//     the next frame on;
+//   - a block found hidden is held back while its tile is drawn, and after the traversal the held
+//     blocks of a tile share one query of their boxes against the depth of everything drawn (most
+//     stay hidden: CHC++'s multiqueries, Mattausch et al. 2008 §3.4); the blocks of a query that
+//     saw a sample are drawn then, and asked one by one the next frame;
+//   - a block not known yet — its tile was not drawn the frame before — is drawn with its tile
+//     (as the whole tile was before: it occludes during the traversal) and its box is asked after.
+// All of a frame's block queries go out in one batch (OcclusionCuller::queryAfterCull).
+// Exact as the culler is: a block is either drawn during the traversal or drawn when its box,
+// which holds all of it, passed the depth test against everything else drawn — a subset of what
+// brute force draws in front of it. When a tile's level changes, its blocks take the visibility
+// of the blocks they overlap at the old level (levels 0–3 share their 16 blocks; a coarser block
+// is known when all the finer ones in it are).
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "forest/culling/occlusion_culler.hpp"
+#include "forest/terrain/terrain.hpp"
+
+namespace forest::render {
+
+class SceneDrawer;
+
+class TerrainBlockVisibility {
+ public:
+  // requeryFrames: n_av, ≥ 1 (CullingSettings::visible_requery_frames).
+  TerrainBlockVisibility(const terrain::Terrain& terrain, int requeryFrames);
+
+  // A new frame: nothing is held.
+  void beginFrame();
+  // Forgets every block's visibility (a camera cut): each tile starts again with its blocks hidden.
+  void reset();
+  // Whether block `block` of `tile`, drawn at `level` and meeting the frustum, is drawn now (it
+  // was visible or is not known); if not (it was hidden), it is held for drawHeld.
+  bool drawNow(int tile, int level, int block);
+  // After the culler's traversal of this frame: queries the held blocks and the visible ones due,
+  // draws the held ones found visible with `drawer` (SceneDrawer::drawTerrainBlocks). Returns the
+  // triangles drawn.
+  long long drawHeld(culling::OcclusionCuller& culler, SceneDrawer& drawer);
+
+  struct Stats {
+    int drawnInTraversal = 0;  // blocks drawn by drawNow
+    int held = 0;              // blocks held back
+    int requeried = 0;         // blocks drawn by drawNow whose boxes drawHeld queries (not known, or due)
+    int drawnAfter = 0;        // held blocks found visible and drawn by drawHeld
+  };
+  const Stats& stats() const { return stats_; }  // this frame's
+
+ private:
+  struct TileState {
+    int level = -1;               // the level the bits below are of (-1: none yet)
+    std::uint16_t known = 0;      // bit b: block b has been queried
+    std::uint16_t visible = 0;    // bit b: block b was visible at its last query
+    std::uint64_t drawn = 0;      // the last frame the tile was drawn in
+  };
+  struct Held {  // a held block, or (drawn) one drawn already whose box is queried
+    int tile, level, block;
+    bool drawn;
+  };
+  // A tile's bits mapped from level `from` to level `to`: a block is visible when a block of the
+  // other level overlapping it was (any), known when all of those were (all).
+  enum class Combine { Any, All };
+  static std::uint16_t mapLevel(std::uint16_t bits, int from, int to, Combine combine);
+  std::size_t slot(int tile, int block) const { return static_cast<std::size_t>(tile) * kBlocks + static_cast<std::size_t>(block); }
+
+  static constexpr int kBlocks = terrain::Terrain::kMaxBlockBoxes;
+  static_assert(kBlocks <= 16, "a tile's blocks are the bits of a 16-bit mask");
+  const terrain::Terrain& terrain_;
+  int requeryFrames_;
+  std::uint64_t frame_ = 0;
+  std::vector<TileState> tiles_;
+  std::vector<std::uint64_t> nextQuery_;  // per (tile, block): a visible block is asked again from this frame
+  std::vector<std::uint64_t> heldIn_;     // per (tile, block): the frame it was last held (held once a frame)
+  std::vector<Held> held_;
+  std::vector<Aabb> boxes_;
+  std::vector<std::uint32_t> groupEnds_;
+  std::vector<terrain::TileBlock> late_;
+  Stats stats_;
+};
+
+}  // namespace forest::render

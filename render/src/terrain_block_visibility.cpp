@@ -1,0 +1,131 @@
+#include "forest/render/terrain_block_visibility.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <tuple>
+
+#include "forest/core/error.hpp"
+#include "forest/render/scene_objects.hpp"
+
+namespace forest::render {
+
+TerrainBlockVisibility::TerrainBlockVisibility(const terrain::Terrain& terrain, int requeryFrames)
+    : terrain_(terrain),
+      requeryFrames_(requeryFrames),
+      tiles_(static_cast<std::size_t>(terrain.tileCount())),
+      nextQuery_(tiles_.size() * kBlocks, 0),
+      heldIn_(tiles_.size() * kBlocks, 0) {
+  if (requeryFrames < 1) throw Error(fmt::format("TerrainBlockVisibility: n_av = {}, expected at least 1", requeryFrames));
+  held_.reserve(nextQuery_.size());
+  boxes_.reserve(nextQuery_.size());
+  groupEnds_.reserve(nextQuery_.size());
+  late_.reserve(nextQuery_.size());
+}
+
+void TerrainBlockVisibility::beginFrame() {
+  ++frame_;
+  held_.clear();
+  stats_ = Stats{};
+}
+
+void TerrainBlockVisibility::reset() { std::fill(tiles_.begin(), tiles_.end(), TileState{}); }
+
+bool TerrainBlockVisibility::drawNow(int tile, int level, int block) {
+  if (tile < 0 || tile >= static_cast<int>(tiles_.size()) || block < 0 || block >= terrain::blocksPerTile(level))
+    throw Error(fmt::format("TerrainBlockVisibility: block {} of tile {} at level {} does not exist", block, tile, level));
+  TileState& t = tiles_[static_cast<std::size_t>(tile)];
+  if (t.drawn != frame_) {  // the tile's first block this frame
+    if (t.drawn + 1 != frame_) t.known = 0;  // not drawn the frame before: what it knew is stale
+    t.drawn = frame_;
+  }
+  if (t.level != level) {
+    if (t.level >= 0) {
+      t.visible = mapLevel(t.visible, t.level, level, Combine::Any);
+      t.known = mapLevel(t.known, t.level, level, Combine::All);
+    }
+    t.level = level;
+  }
+  const std::size_t s = slot(tile, block);
+  const bool listed = heldIn_[s] == frame_;
+  heldIn_[s] = frame_;
+  const bool known = (t.known >> block & 1u) != 0, visible = (t.visible >> block & 1u) != 0;
+  if (!known || visible) {
+    ++stats_.drawnInTraversal;
+    if ((!known || nextQuery_[s] <= frame_) && !listed) {
+      held_.push_back({tile, level, block, true});
+      ++stats_.requeried;
+    }
+    return true;
+  }
+  if (!listed) {
+    held_.push_back({tile, level, block, false});
+    ++stats_.held;
+  }
+  return false;
+}
+
+namespace {
+constexpr int perSide = terrain::kTileQuads / 16;  // blocks per tile side at levels 0–3
+}  // namespace
+
+std::uint16_t TerrainBlockVisibility::mapLevel(std::uint16_t bits, int from, int to, Combine combine) {
+  // Through the 4 × 4 blocks of levels 0–3: a block of blockQuads(level) quads spans
+  // blockQuads / 16 of them per side.
+  const auto blockOf = [](int region, int level) {
+    const int span = std::min(terrain::blockQuads(level) / 16, perSide);
+    const int blocks = perSide / span;
+    return (region / perSide / span) * blocks + (region % perSide) / span;
+  };
+  std::uint16_t any = 0, missing = 0;
+  for (int r = 0; r < perSide * perSide; ++r) {
+    const bool set = (bits >> blockOf(r, from) & 1u) != 0;
+    const auto bit = static_cast<std::uint16_t>(1u << blockOf(r, to));
+    if (set) any = static_cast<std::uint16_t>(any | bit);
+    else missing = static_cast<std::uint16_t>(missing | bit);
+  }
+  return combine == Combine::Any ? any : static_cast<std::uint16_t>(any & ~missing);
+}
+
+long long TerrainBlockVisibility::drawHeld(culling::OcclusionCuller& culler, SceneDrawer& drawer) {
+  if (held_.empty()) return 0;
+  // The hidden blocks of a tile side by side (one query), then the drawn ones (one each).
+  std::sort(held_.begin(), held_.end(), [](const Held& a, const Held& b) {
+    return std::tie(a.drawn, a.tile, a.block) < std::tie(b.drawn, b.tile, b.block);
+  });
+  boxes_.clear();
+  groupEnds_.clear();
+  for (std::size_t i = 0; i < held_.size(); ++i) {
+    const Held& h = held_[i];
+    boxes_.push_back(terrain_.blockBoxes(h.tile, h.level)[static_cast<std::size_t>(h.block)]);
+    const bool groupEnds = i + 1 == held_.size() || h.drawn || held_[i + 1].drawn || held_[i + 1].tile != h.tile;
+    if (groupEnds) groupEnds_.push_back(static_cast<std::uint32_t>(boxes_.size()));
+  }
+  const std::vector<bool>& visible = culler.queryAfterCull(boxes_, groupEnds_);
+  late_.clear();
+  std::size_t first = 0;
+  for (std::size_t g = 0; g < groupEnds_.size(); ++g) {
+    const std::size_t end = groupEnds_[g];
+    // A block seen on its own is asked again in n_av frames; the blocks of a group that saw a
+    // sample are all drawn and asked one by one next frame.
+    const std::uint64_t next = frame_ + (end - first == 1 ? static_cast<std::uint64_t>(requeryFrames_) : 1u);
+    for (std::size_t i = first; i < end; ++i) {
+      const Held& h = held_[i];
+      TileState& t = tiles_[static_cast<std::size_t>(h.tile)];
+      const auto bit = static_cast<std::uint16_t>(1u << h.block);
+      t.known = static_cast<std::uint16_t>(t.known | bit);
+      if (visible[g]) {
+        t.visible = static_cast<std::uint16_t>(t.visible | bit);
+        nextQuery_[slot(h.tile, h.block)] = next;
+        if (!h.drawn) late_.push_back({h.tile, h.level, h.block});
+      } else {
+        t.visible = static_cast<std::uint16_t>(t.visible & ~bit);
+      }
+    }
+    first = end;
+  }
+  stats_.drawnAfter = static_cast<int>(late_.size());
+  return late_.empty() ? 0 : drawer.drawTerrainBlocks(late_);
+}
+
+}  // namespace forest::render
