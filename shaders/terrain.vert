@@ -68,6 +68,12 @@ void main() {
   vRelativePosition = p;
 #ifdef OUTPUT_QUERY_STAMP
   vObjectId = uint(iTile.z >> QUERY_SLOT_SHIFT);
+#elif defined(OUTPUT_BLOCK_ID)
+  // TerrainRenderer::Output::BlockId, drawn by blocks (drawBlocks: the instance's block origin):
+  // uObjectIdBase + tile · 16 + block, blocks row-major as terrain::blockBoxes numbers them.
+  int quads = clamp(2 << level, 16, uTileQuads), perSide = uTileQuads / quads;
+  ivec2 block = ivec2(iTile.w & 255, iTile.w >> 8) / quads;
+  vObjectId = uObjectIdBase + uint((iTile.y * uTilesPerSide + iTile.x) * (uTileQuads / 16) * (uTileQuads / 16) + block.y * perSide + block.x);
 #else
   vObjectId = uObjectIdBase + uint(iTile.y * uTilesPerSide + iTile.x);
 #endif

@@ -4,7 +4,8 @@
 // (--path, sampled as forest walkthrough samples it) — in scenes of several
 // tree counts at equal density. Per frame: time (culling + geometry drawn, to glFinish), triangles,
 // draw calls, queries (single and multi), state switches, CPU wait. Against frustum culling and the
-// oracle: drawing exactly the visible set (from the brute-force object-ID buffer) with no queries.
+// oracle: drawing exactly the visible set — trees, props and terrain blocks with a pixel in a
+// brute-force object-ID buffer (bench_oracle.hpp) — with no queries.
 // Writes JSON, a Markdown table and a PNG of frame time along each path.
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -35,6 +36,7 @@
 #include "forest/gl/debug.hpp"
 #include "forest/render/offscreen_target.hpp"
 #include "forest/render/scene_objects.hpp"
+#include "bench_oracle.hpp"
 
 namespace forest::app {
 namespace {
@@ -339,7 +341,8 @@ int runBenchCulling(const BenchOptions& options) {
   std::string markdown = fmt::format(
       "# Culling benchmark\n\n{} at {}x{}, {} frames per path, {}.\nFrame = culling + the geometry it draws (lit, no shadows), "
       "timed by {}; the strategies take turns frame by frame; occlusion queries read {}. Oracle = drawing exactly the visible set "
-      "(from the brute-force object-ID buffer) with no queries. Triangles: those drawn (p50), and over the oracle's; geometry: "
+      "(from the brute-force object-ID buffer: trees, props and terrain blocks) with no queries. Terrain is drawn by the blocks "
+      "that meet the frustum (not by none), and by their visibility with chc and chc++ ([culling] terrain_blocks). Triangles: those drawn (p50), and over the oracle's; geometry: "
       "queries drawn with the trees' own triangles ([culling] geometry_queries), whose triangles are not counted as drawn.\n\n",
       scenePath, options.size.width, options.size.height, framesPerPath, device,
       modes.timing == gl::TimingMode::Profiling ? "glFinish and a clock (--timing profile)" : "GL timestamp queries (--timing queries)",
@@ -355,7 +358,9 @@ int runBenchCulling(const BenchOptions& options) {
     const terrain::Terrain terrain(*scene.terrain);
     const vegetation::Forest forest(*scene.vegetation, terrain);
     const render::SceneObjects objects(&terrain, &forest, scene.props);
-    const render::TerrainRenderer terrainLit(terrain), terrainIds(terrain, render::TerrainRenderer::Output::ObjectId, objects.terrainIdBase());
+    // The oracle's terrain IDs name blocks, from past the last object's ID on.
+    const auto blockIdBase = static_cast<std::uint32_t>(objects.objects().size() + 1);
+    const render::TerrainRenderer terrainLit(terrain), terrainBlockIds(terrain, render::TerrainRenderer::Output::BlockId, blockIdBase);
     const render::TreeRenderer treesLit(forest), treeIds(forest, render::TreeRenderer::Output::ObjectId, objects.treeIdBase());
     const render::PropRenderer propsLit(scene.props), propIds(scene.props, render::PropRenderer::Output::ObjectId, objects.propIdBase());
     const culling::Bvh bvh(objects.boxes(), leafSize);
@@ -364,11 +369,7 @@ int runBenchCulling(const BenchOptions& options) {
                             {"objects", objects.boxes().size()}, {"bvh_nodes", bvh.nodes().size()}};
 
     render::OffscreenTarget target(options.size.width, options.size.height);
-    gl::Texture idTexture(GL_R32UI, options.size.width, options.size.height), idDepth(GL_DEPTH_COMPONENT32F, options.size.width, options.size.height);
-    gl::Framebuffer idFramebuffer;
-    idFramebuffer.attach(GL_COLOR_ATTACHMENT0, idTexture);
-    idFramebuffer.attach(GL_DEPTH_ATTACHMENT, idDepth);
-    auto beginPass = [&](GLuint framebuffer, bool ids) {
+    auto beginPass = [&](GLuint framebuffer) {
       glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
       glViewport(0, 0, options.size.width, options.size.height);
       glClearDepth(0.0);
@@ -376,63 +377,38 @@ int runBenchCulling(const BenchOptions& options) {
       glDepthFunc(GL_GREATER);
       glEnable(GL_CULL_FACE);
       glCullFace(GL_BACK);
-      if (ids) {
-        const GLuint zero[4] = {0, 0, 0, 0};
-        glClearBufferuiv(GL_COLOR, 0, zero);
-        glClear(GL_DEPTH_BUFFER_BIT);
-      } else {
-        const glm::vec3 sky(scene.render.sky_color);
-        glClearColor(sky.r, sky.g, sky.b, 1.0f);
-        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-      }
+      const glm::vec3 sky(scene.render.sky_color);
+      glClearColor(sky.r, sky.g, sky.b, 1.0f);
+      glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     };
 
     for (const std::string& pathName : pathNames) {
       const double aspect = static_cast<double>(options.size.width) / options.size.height;
       const std::vector<Camera> path = cameraPath ? filePath(*cameraPath, scene, terrain, framesPerPath, options.fps, aspect)
                                                   : benchPath(pathName, scene, terrain, forest, options.length.frames, aspect);
-      // The visible set of every frame: objects with a pixel in the brute-force ID buffer. And the
-      // triangles of the objects visible in the frame before, hidden in this one and still in its
-      // view frustum: what a method that draws the previous frame's visible set untested (CHC,
-      // CHC++, with the frustum test) draws above the oracle at the least.
-      std::vector<std::vector<std::uint32_t>> visibleSets(path.size());
-      std::vector<long long> lagTriangles(path.size(), 0);
-      {
-        culling::OcclusionCuller culler;
-        std::vector<std::uint32_t> pixels(static_cast<size_t>(options.size.width) * options.size.height);
-        for (size_t f = 0; f < path.size(); ++f) {
-          const terrain::TerrainLod lod = terrain.lodFor(path[f], options.size.height);
-          beginPass(idFramebuffer.id(), true);
-          render::SceneDrawer ids(objects, &terrainIds, &treeIds, &propIds, path[f], &lod, 0.0, scene.sun);
-          culler.cull(bvh, objects.boxes(), path[f], CullingStrategy::None, ids);
-          glGetTextureImage(idTexture.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(pixels.size() * 4),
-                            pixels.data());
-          std::set<std::uint32_t> seen;
-          for (std::uint32_t id : pixels)
-            if (const std::int64_t o = objects.objectOfId(id); o >= 0) seen.insert(static_cast<std::uint32_t>(o));
-          visibleSets[f].assign(seen.begin(), seen.end());
-          if (f > 0) {
-            std::vector<std::uint32_t> gone, hiddenNow;
-            std::set_difference(visibleSets[f - 1].begin(), visibleSets[f - 1].end(), visibleSets[f].begin(), visibleSets[f].end(),
-                                std::back_inserter(gone));
-            const Frustum frustum(path[f]);
-            for (std::uint32_t o : gone)
-              if (frustum.mayIntersect(objects.boxes()[o])) hiddenNow.push_back(o);
-            lagTriangles[f] = ids.draw(hiddenNow);  // into the ID target, already read
-          }
-          showProgress("bench culling", "frames", ++done, total, std::chrono::duration<double>(Clock::now() - benchStart).count(), options.length.quiet);
-        }
-      }
+      // The visible set of every frame (bench_oracle.hpp): objects and terrain blocks with a pixel
+      // in the brute-force ID buffer, and the one-frame lag's triangles.
+      const std::vector<VisibleSet> visibleSets = bruteForceVisibleSets(
+          objects, terrain, terrainBlockIds, blockIdBase, &treeIds, &propIds, bvh, path, scene.sun, options.size.width,
+          options.size.height, [&] {
+            showProgress("bench culling", "frames", ++done, total, std::chrono::duration<double>(Clock::now() - benchStart).count(),
+                         options.length.quiet);
+          });
       // Frame by frame, every strategy (each with its own culler and so its own frame-to-frame
       // state) and the oracle in turn: a change in the machine's load hits them all alike.
       // Each strategy is a pass of the timer's frame f: timed by glFinish + clock (profile) or by
       // timestamp queries read frames later (queries), as --timing says.
       std::map<std::string, std::vector<FrameRecord>> records;
       std::vector<std::unique_ptr<culling::OcclusionCuller>> cullers;
+      std::vector<std::optional<render::TerrainBlockVisibility>> blockVisibility(strategies.size());
       for (size_t k = 0; k < strategies.size(); ++k) {
         cullers.push_back(std::make_unique<culling::OcclusionCuller>());
         cullers.back()->setParameters(scene.culling);
         cullers.back()->setQueryMode(modes.queries);
+        // As the frame's geometry pass: the query-driven strategies draw a tile's blocks by their
+        // visibility ([culling] terrain_blocks).
+        if (scene.culling.terrain_blocks && strategies[k] != CullingStrategy::None && strategies[k] != CullingStrategy::Frustum)
+          blockVisibility[k].emplace(terrain, scene.culling.visible_requery_frames);
       }
       gl::PassTimer timer(modes.timing);
       std::vector<gl::FrameTiming> timings;
@@ -443,15 +419,25 @@ int runBenchCulling(const BenchOptions& options) {
           const bool oracle = k == strategies.size();
           const std::string name = oracle ? std::string(kOracle) : std::string(culling::cullingStrategyName(strategies[k]));
           auto timed = timer.scope(name);
-          beginPass(target.framebuffer().id(), false);
+          beginPass(target.framebuffer().id());
           render::SceneDrawer lit(objects, &terrainLit, &treesLit, &propsLit, path[f], &lod, 0.0, scene.sun);
+          // Terrain by the blocks that meet the frustum, as the frame's geometry pass draws it;
+          // brute force (none) draws every tile whole.
+          const Frustum frustum(path[f]);
           FrameRecord r;
-          if (oracle) {  // exactly the visible set, one draw call, no queries
-            r.stats.trianglesDrawn = lit.draw(visibleSets[f]);
-            r.stats.objectsDrawn = static_cast<int>(visibleSets[f].size());
-            r.stats.drawCalls = 1;
+          if (oracle) {  // exactly the visible set (its blocks), no queries
+            r.stats.trianglesDrawn = drawVisibleSet(lit, visibleSets[f]);
+            r.stats.objectsDrawn = static_cast<int>(visibleSets[f].objects.size());
+            r.stats.drawCalls = 2;
           } else {
-            r.stats = cullers[k]->cull(bvh, objects.boxes(), path[f], strategies[k], lit, objects.queryShapes(&lod)).stats;
+            render::TerrainBlockVisibility* blocks = blockVisibility[k] ? &*blockVisibility[k] : nullptr;
+            if (strategies[k] != CullingStrategy::None) lit.cullTerrainBlocks(&frustum, blocks);
+            if (blocks) blocks->beginFrame();
+            const culling::CullingResult& culled =
+                cullers[k]->cull(bvh, objects.boxes(), path[f], strategies[k], lit, objects.queryShapes(&lod));
+            const long long late = blocks ? blocks->drawHeld(*cullers[k], lit) : 0;  // its queries go into culled.stats
+            r.stats = culled.stats;
+            r.stats.trianglesDrawn += late;
           }
           records[name].push_back(r);
           showProgress("bench culling", "frames", ++done, total, std::chrono::duration<double>(Clock::now() - benchStart).count(), options.length.quiet);
@@ -478,11 +464,15 @@ int runBenchCulling(const BenchOptions& options) {
       const double oracleTriangles = summaries[kOracle]["triangles_p50"].get<double>();
       double lagSum = 0.0, oracleSum = 0.0;
       for (size_t f = std::max<size_t>(1, static_cast<size_t>(warmup)); f < path.size(); ++f) {
-        lagSum += static_cast<double>(lagTriangles[f]);
+        lagSum += static_cast<double>(visibleSets[f].lagTriangles);
         oracleSum += static_cast<double>(records[kOracle][f].stats.trianglesDrawn);
       }
       const double lag = lagSum / std::max(1.0, oracleSum);
       entry["oracle_lag_triangles"] = lag;
+      std::vector<long long> oracleDrawn;
+      for (const FrameRecord& r : records[kOracle]) oracleDrawn.push_back(r.stats.trianglesDrawn);
+      const double wholeTiles = wholeTileOracleTrianglesP50(visibleSets, oracleDrawn, static_cast<size_t>(warmup));
+      entry["oracle_whole_tiles_triangles_p50"] = wholeTiles;
       const std::string lagLine = fmt::format(
           "the oracle's one-frame lag: {:.3f} of its triangles over the measured frames (visible in the frame before, hidden "
           "now, in the frustum: the least a method that draws the previous frame's visible set untested draws above them)", lag);
@@ -519,8 +509,12 @@ int runBenchCulling(const BenchOptions& options) {
         for (size_t f = 0; f < records[name].size(); ++f) series.points.push_back({static_cast<double>(f), records[name][f].milliseconds});
         panel.series.push_back(std::move(series));
       }
-      markdown += "\n" + lagLine + ".\n\n";
-      std::cout << "  " << lagLine << "\n";
+      const std::string wholeLine = fmt::format(
+          "the oracle with its tiles drawn whole (every block in the frustum, as before [culling] terrain_blocks): {:.0f} "
+          "triangles p50{}", wholeTiles, summaries.count("chc++") ? fmt::format(", chc++ {:.3f} of it",
+                                                                               summaries["chc++"]["triangles_p50"].get<double>() / std::max(1.0, wholeTiles)) : "");
+      markdown += "\n" + lagLine + ".\n\n" + wholeLine + ".\n\n";
+      std::cout << "  " << lagLine << "\n  " << wholeLine << "\n";
       panels.push_back(std::move(panel));
       if (pathName == "ground" && summaries.count("chc++")) groundChcPlusPlus[forest.trees().size()] = summaries["chc++"]["p50_ms"].get<double>();
     }

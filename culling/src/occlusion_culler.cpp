@@ -190,6 +190,10 @@ void OcclusionCuller::drawQueryBatch() {
     geometryObjects_.clear();
     geometrySlots_.clear();
   }
+  markQueriesDrawn();
+}
+
+void OcclusionCuller::markQueriesDrawn() {
   drawnSlots_ = used_;
   if (queryMode_ == QueryMode::Async) {
     // Shader writes reach a mapped buffer after this barrier and a fence (GL 4.5 §7.12.2); the
@@ -248,7 +252,8 @@ void OcclusionCuller::drawObjects(Traversal& t, std::span<const std::uint32_t> o
   ++t.stats.drawCalls;
 }
 
-const std::vector<bool>& OcclusionCuller::queryAfterCull(std::span<const Aabb> boxes, std::span<const std::uint32_t> groupEnds) {
+const std::vector<bool>& OcclusionCuller::queryAfterCull(std::span<const Aabb> boxes, std::span<const std::uint32_t> groupEnds,
+                                                         const SurfaceQueries& surfaces) {
   if (!stateOf_) throw Error("OcclusionCuller::queryAfterCull: no frame was culled");
   for (std::size_t g = 0; g < groupEnds.size(); ++g)
     if (groupEnds[g] > boxes.size() || (g > 0 && groupEnds[g] < groupEnds[g - 1]))
@@ -266,6 +271,8 @@ const std::vector<bool>& OcclusionCuller::queryAfterCull(std::span<const Aabb> b
     drawnSlots_ = readableSlots_ = used_;
   }
   afterCullSlots_.clear();
+  afterCullGroups_.clear();
+  afterCullGroupSlots_.clear();
   const NearSlab nearSlab(camera_);
   constexpr std::size_t kNoQuery = ~std::size_t{0};
   std::uint32_t first = 0;
@@ -276,9 +283,25 @@ const std::vector<bool>& OcclusionCuller::queryAfterCull(std::span<const Aabb> b
       afterCullSlots_.push_back(kNoQuery);
       continue;
     }
-    afterCullSlots_.push_back(issueQuery(group));
+    if (surfaces) {
+      const std::uint32_t slot = takeSlot(used_, slots_);
+      afterCullSlots_.push_back(slot);
+      afterCullGroups_.push_back(static_cast<std::uint32_t>(afterCullSlots_.size() - 1));
+      afterCullGroupSlots_.push_back(slot);
+      ++stats.geometryQueries;
+    } else {
+      afterCullSlots_.push_back(issueQuery(group));
+    }
     ++stats.queriesIssued;
     if (group.size() > 1) ++stats.multiQueries;
+  }
+  if (!afterCullGroups_.empty()) {
+    beginQueries();
+    glDepthFunc(GL_GEQUAL);  // as drawQueryBatch's geometry queries
+    stats.queryTriangles += surfaces(afterCullGroups_, afterCullGroupSlots_);
+    glDepthFunc(GL_GREATER);
+    endQueries();
+    if (batch_.empty()) markQueriesDrawn();  // else drawQueryBatch does
   }
   drawQueryBatch();
   for (std::size_t g = 0; g < groupEnds.size(); ++g)

@@ -138,6 +138,11 @@ long long SceneDrawer::drawTerrainBlocks(std::span<const terrain::TileBlock> blo
   return terrain_->drawBlocks(view_, *lod_, blocks).triangles;
 }
 
+long long SceneDrawer::drawTerrainBlockQueries(std::span<const terrain::TileBlock> blocks, std::span<const std::uint32_t> slots) {
+  if (!terrain_ || !lod_) throw Error("SceneDrawer::drawTerrainBlockQueries: no terrain renderer or LOD");
+  return terrain_->drawBlockQueries(view_, *lod_, blocks, slots).triangles;
+}
+
 long long SceneDrawer::draw(std::span<const std::uint32_t> objects) {
   tiles_.clear();
   treeList_.clear();

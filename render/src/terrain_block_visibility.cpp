@@ -21,6 +21,8 @@ TerrainBlockVisibility::TerrainBlockVisibility(const terrain::Terrain& terrain, 
   boxes_.reserve(nextQuery_.size());
   groupEnds_.reserve(nextQuery_.size());
   late_.reserve(nextQuery_.size());
+  queryBlocks_.reserve(nextQuery_.size());
+  querySlots_.reserve(nextQuery_.size());
 }
 
 void TerrainBlockVisibility::beginFrame() {
@@ -53,13 +55,13 @@ bool TerrainBlockVisibility::drawNow(int tile, int level, int block) {
   if (!known || visible) {
     ++stats_.drawnInTraversal;
     if ((!known || nextQuery_[s] <= frame_) && !listed) {
-      held_.push_back({tile, level, block, true});
+      held_.push_back({tile, level, block, Held::Drawn});
       ++stats_.requeried;
     }
     return true;
   }
   if (!listed) {
-    held_.push_back({tile, level, block, false});
+    held_.push_back({tile, level, block, Held::Hidden});
     ++stats_.held;
   }
   return false;
@@ -91,17 +93,32 @@ long long TerrainBlockVisibility::drawHeld(culling::OcclusionCuller& culler, Sce
   if (held_.empty()) return 0;
   // The hidden blocks of a tile side by side (one query), then the drawn ones (one each).
   std::sort(held_.begin(), held_.end(), [](const Held& a, const Held& b) {
-    return std::tie(a.drawn, a.tile, a.block) < std::tie(b.drawn, b.tile, b.block);
+    return std::tie(a.kind, a.tile, a.block) < std::tie(b.kind, b.tile, b.block);
   });
   boxes_.clear();
   groupEnds_.clear();
   for (std::size_t i = 0; i < held_.size(); ++i) {
     const Held& h = held_[i];
     boxes_.push_back(terrain_.blockBoxes(h.tile, h.level)[static_cast<std::size_t>(h.block)]);
-    const bool groupEnds = i + 1 == held_.size() || h.drawn || held_[i + 1].drawn || held_[i + 1].tile != h.tile;
+    const bool groupEnds = i + 1 == held_.size() || h.kind != Held::Hidden || held_[i + 1].kind != Held::Hidden || held_[i + 1].tile != h.tile;
     if (groupEnds) groupEnds_.push_back(static_cast<std::uint32_t>(boxes_.size()));
   }
-  const std::vector<bool>& visible = culler.queryAfterCull(boxes_, groupEnds_);
+  // Each group by its blocks' own triangles: a box sees over the crest in front of it and between
+  // trunks where the surface does not.
+  const auto surfaces = [&](std::span<const std::uint32_t> groups, std::span<const std::uint32_t> slots) {
+    queryBlocks_.clear();
+    querySlots_.clear();
+    for (std::size_t i = 0; i < groups.size(); ++i) {
+      const std::uint32_t g = groups[i];
+      for (std::uint32_t k = g == 0 ? 0 : groupEnds_[g - 1]; k < groupEnds_[g]; ++k) {
+        const Held& h = held_[k];
+        queryBlocks_.push_back({h.tile, h.level, h.block});
+        querySlots_.push_back(slots[i]);
+      }
+    }
+    return drawer.drawTerrainBlockQueries(queryBlocks_, querySlots_);
+  };
+  const std::vector<bool>& visible = culler.queryAfterCull(boxes_, groupEnds_, surfaces);
   late_.clear();
   std::size_t first = 0;
   for (std::size_t g = 0; g < groupEnds_.size(); ++g) {
@@ -117,7 +134,7 @@ long long TerrainBlockVisibility::drawHeld(culling::OcclusionCuller& culler, Sce
       if (visible[g]) {
         t.visible = static_cast<std::uint16_t>(t.visible | bit);
         nextQuery_[slot(h.tile, h.block)] = next;
-        if (!h.drawn) late_.push_back({h.tile, h.level, h.block});
+        if (h.kind != Held::Drawn) late_.push_back({h.tile, h.level, h.block});
       } else {
         t.visible = static_cast<std::uint16_t>(t.visible & ~bit);
       }

@@ -29,6 +29,8 @@ gl::Program loadTerrainProgram(TerrainRenderer::Output output, bool groundCover 
     case TerrainRenderer::Output::WorldPosition:
       return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::Lit, levels + "#define OUTPUT_POSITION 1\n");
     case TerrainRenderer::Output::ObjectId: return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::ObjectId, levels);
+    case TerrainRenderer::Output::BlockId:
+      return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::ObjectId, levels + "#define OUTPUT_BLOCK_ID 1\n");
     case TerrainRenderer::Output::GBuffer: return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::GBuffer, levels);
     case TerrainRenderer::Output::LightDepth:
       return loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::LightDepth, levels);
@@ -180,16 +182,11 @@ TerrainRenderer::Stats TerrainRenderer::drawBlocks(const DrawView& view, const t
   for (auto& level : byLevel_) level.clear();
   partBlocks_.clear();
   for (const terrain::TileBlock& b : blocks) {
-    if (b.level < 0 || b.level >= kLevels || b.block < 0 || b.block >= terrain::blocksPerTile(b.level) || b.tile < 0 ||
-        b.tile >= terrain_.tileCount())
-      throw Error(fmt::format("TerrainRenderer::drawBlocks: no block {} of tile {} at level {}", b.block, b.tile, b.level));
     const int cells = terrain::cellsPerBlock(b.level), end = std::min(b.cells.end, cells);
     if (b.cells.first < 0 || b.cells.first >= end)
       throw Error(fmt::format("TerrainRenderer::drawBlocks: cells [{}, {}) of block {} of tile {} at level {}: expected a non-empty "
                               "span within [0, {})", b.cells.first, b.cells.end, b.block, b.tile, b.level, cells));
-    const int quads = terrain::blockQuads(b.level), perSide = kTileQuads / quads;
-    const int origin = (b.block % perSide) * quads + 256 * ((b.block / perSide) * quads);  // terrain.vert's iTile.w
-    const glm::ivec4 instance(b.tile % terrain_.tilesPerSide(), b.tile / terrain_.tilesPerSide(), b.level, origin);
+    const glm::ivec4 instance = blockInstance(b, "drawBlocks");
     if (b.cells.first == 0 && end == cells)
       byLevel_[static_cast<size_t>(b.level)].push_back(instance);
     else
@@ -198,17 +195,51 @@ TerrainRenderer::Stats TerrainRenderer::drawBlocks(const DrawView& view, const t
   return drawByLevel(view, lod, true, program_);
 }
 
-TerrainRenderer::Stats TerrainRenderer::drawQueries(const DrawView& view, const terrain::TerrainLod& lod, std::span<const int> tiles,
-                                                    std::span<const std::uint32_t> slots) const {
-  if (tiles.size() != slots.size())
-    throw Error(fmt::format("TerrainRenderer::drawQueries: {} tiles, {} query slots", tiles.size(), slots.size()));
-  if (tiles.empty()) return {};
+glm::ivec4 TerrainRenderer::blockInstance(const terrain::TileBlock& b, const char* caller) const {
+  if (b.level < 0 || b.level >= kLevels || b.block < 0 || b.block >= terrain::blocksPerTile(b.level) || b.tile < 0 ||
+      b.tile >= terrain_.tileCount())
+    throw Error(fmt::format("TerrainRenderer::{}: no block {} of tile {} at level {}", caller, b.block, b.tile, b.level));
+  const int quads = terrain::blockQuads(b.level), perSide = kTileQuads / quads;
+  const int origin = (b.block % perSide) * quads + 256 * ((b.block / perSide) * quads);  // terrain.vert's iTile.w
+  return {b.tile % terrain_.tilesPerSide(), b.tile / terrain_.tilesPerSide(), b.level, origin};
+}
+
+const gl::Program& TerrainRenderer::queryProgram() const {
   if (!queryProgram_) {
     queryProgram_ = loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::QueryStamp,
                                        "#define TERRAIN_LEVELS " + std::to_string(kLevels) + "\n#define QUERY_SLOT_SHIFT " +
                                            std::to_string(kQuerySlotShift) + "\n");
     setProgramConstants(*queryProgram_);
   }
+  return *queryProgram_;
+}
+
+TerrainRenderer::Stats TerrainRenderer::drawBlockQueries(const DrawView& view, const terrain::TerrainLod& lod,
+                                                         std::span<const terrain::TileBlock> blocks,
+                                                         std::span<const std::uint32_t> slots) const {
+  if (blocks.size() != slots.size())
+    throw Error(fmt::format("TerrainRenderer::drawBlockQueries: {} blocks, {} query slots", blocks.size(), slots.size()));
+  if (blocks.empty()) return {};
+  const gl::Program& program = queryProgram();
+  // As drawBlocks(), with each block's query slot packed above its level (terrain.vert unpacks both).
+  for (auto& level : byLevel_) level.clear();
+  partBlocks_.clear();
+  for (size_t i = 0; i < blocks.size(); ++i) {
+    glm::ivec4 instance = blockInstance(blocks[i], "drawBlockQueries");
+    if (slots[i] > kMaxQuerySlot)
+      throw Error(fmt::format("TerrainRenderer::drawBlockQueries: query slot {}: at most {}", slots[i], kMaxQuerySlot));
+    instance.z |= static_cast<int>(slots[i] << kQuerySlotShift);
+    byLevel_[static_cast<size_t>(blocks[i].level)].push_back(instance);
+  }
+  return drawByLevel(view, lod, true, program);
+}
+
+TerrainRenderer::Stats TerrainRenderer::drawQueries(const DrawView& view, const terrain::TerrainLod& lod, std::span<const int> tiles,
+                                                    std::span<const std::uint32_t> slots) const {
+  if (tiles.size() != slots.size())
+    throw Error(fmt::format("TerrainRenderer::drawQueries: {} tiles, {} query slots", tiles.size(), slots.size()));
+  if (tiles.empty()) return {};
+  const gl::Program& program = queryProgram();
   // As draw(), with each tile's query slot packed above its level (terrain.vert unpacks both).
   for (auto& level : byLevel_) level.clear();
   for (size_t i = 0; i < tiles.size(); ++i) {
@@ -218,7 +249,7 @@ TerrainRenderer::Stats TerrainRenderer::drawQueries(const DrawView& view, const 
     const int packed = level | static_cast<int>(slots[i] << kQuerySlotShift);
     byLevel_[static_cast<size_t>(level)].emplace_back(t % terrain_.tilesPerSide(), t / terrain_.tilesPerSide(), packed, 0);
   }
-  return drawByLevel(view, lod, false, *queryProgram_);
+  return drawByLevel(view, lod, false, program);
 }
 
 TerrainRenderer::Stats TerrainRenderer::drawByLevel(const DrawView& view, const terrain::TerrainLod& lod, bool blocks,

@@ -45,6 +45,7 @@
 // geometry pass equals drawing everything (exactness). Boxes holding the eye (grown by z_n) or
 // crossing the near plane count as visible without a query.
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -144,13 +145,19 @@ class OcclusionCuller {
   const CullingResult& cull(const Bvh& bvh, std::span<const Aabb> objectBoxes, const Camera& camera, CullingStrategy strategy,
                             ObjectDrawer& drawer, const QueryShapes& shapes = {});
   // After cull(), in the same frame, framebuffer and state: one query per group of boxes against
-  // the depth drawn so far (group g draws boxes [groupEnds[g − 1], groupEnds[g]), from 0 for the
+  // the depth drawn so far (group g holds boxes [groupEnds[g − 1], groupEnds[g]), from 0 for the
   // first), all in one batch, then the results (deterministic: one wait; async: each fence
   // polled). visible[g]: a sample of group g passed, or a box of it holds the eye or meets the
-  // near slab (visible without a query, as in the traversal). Counted in the frame's result's stats
-  // (queries, multiqueries, waits, CPU time). For parts of objects the traversal drew only in
-  // part (render::TerrainBlockVisibility); valid until the next call.
-  const std::vector<bool>& queryAfterCull(std::span<const Aabb> boxes, std::span<const std::uint32_t> groupEnds);
+  // near slab (visible without a query, as in the traversal). With `surfaces`, a group is drawn
+  // by surfaces(groups, slots) — group groups[i]'s own triangles, writing the culler's stamp into
+  // slot slots[i] (query_stamp.frag), with GL_GEQUAL so that one drawn already passes where it is
+  // nearest — instead of its boxes; the boxes then only decide the visible-without-a-query rule.
+  // Counted in the frame's result's stats (queries, multiqueries, geometry queries and their
+  // triangles, waits, CPU time). For parts of objects the traversal drew in part
+  // (render::TerrainBlockVisibility); valid until the next call.
+  using SurfaceQueries = std::function<long long(std::span<const std::uint32_t> groups, std::span<const std::uint32_t> slots)>;
+  const std::vector<bool>& queryAfterCull(std::span<const Aabb> boxes, std::span<const std::uint32_t> groupEnds,
+                                          const SurfaceQueries& surfaces = {});
   // Forgets the previous frame's visibility (after a BVH rebuild or a camera cut).
   void reset();
   // The chc++ parameters (the scene file's [culling] section); takes effect next frame.
@@ -178,6 +185,8 @@ class OcclusionCuller {
   // Draws the boxes of the queries issued since the last batch, in one instanced call, and the
   // geometry queries' objects; async: fences them.
   void drawQueryBatch();
+  // The queries issued so far are drawn: their slots may be waited for (async: behind a fence).
+  void markQueriesDrawn();
   // Makes the results of every drawn query readable: waits for the GPU (deterministic) or for
   // the fence covering `slot` (async).
   void waitForResults(std::size_t slot, CullingStats& stats);
@@ -247,6 +256,7 @@ class OcclusionCuller {
   std::unique_ptr<Scratch> scratch_;
   CullingResult result_;
   std::vector<std::size_t> afterCullSlots_;  // queryAfterCull's slots and results
+  std::vector<std::uint32_t> afterCullGroups_, afterCullGroupSlots_;  // its surface queries
   std::vector<bool> afterCullVisible_;
   const Bvh* stateOf_ = nullptr;
   std::uint64_t frame_ = 0;

@@ -106,6 +106,9 @@ class SceneDrawer : public culling::ObjectDrawer {
   }
   // Blocks of tiles, each at its tile's level (TerrainRenderer::drawBlocks); returns the triangles.
   long long drawTerrainBlocks(std::span<const terrain::TileBlock> blocks);
+  // Occlusion queries with the blocks' own triangles, block i into slot slots[i]
+  // (TerrainRenderer::drawBlockQueries); returns the triangles.
+  long long drawTerrainBlockQueries(std::span<const terrain::TileBlock> blocks, std::span<const std::uint32_t> slots);
 
  private:
   const SceneObjects& objects_;

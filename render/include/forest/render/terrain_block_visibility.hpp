@@ -64,9 +64,9 @@ class TerrainBlockVisibility {
     std::uint16_t visible = 0;    // bit b: block b was visible at its last query
     std::uint64_t drawn = 0;      // the last frame the tile was drawn in
   };
-  struct Held {  // a held block, or (drawn) one drawn already whose box is queried
+  struct Held {  // a block held back, or one drawn already whose visibility is asked
     int tile, level, block;
-    bool drawn;
+    enum Kind { Hidden, Drawn } kind;
   };
   // A tile's bits mapped from level `from` to level `to`: a block is visible when a block of the
   // other level overlapping it was (any), known when all of those were (all).
@@ -85,7 +85,8 @@ class TerrainBlockVisibility {
   std::vector<Held> held_;
   std::vector<Aabb> boxes_;
   std::vector<std::uint32_t> groupEnds_;
-  std::vector<terrain::TileBlock> late_;
+  std::vector<terrain::TileBlock> late_, queryBlocks_;
+  std::vector<std::uint32_t> querySlots_;
   Stats stats_;
 };
 

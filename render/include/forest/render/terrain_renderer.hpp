@@ -25,8 +25,11 @@ class TerrainRenderer {
   // Lit: Lambert + ambient, grass blending to rock on steep slopes. WorldPosition: writes the
   // world-space position of the drawn surface to colour (a float target; tests, ground truth).
   // ObjectId: writes objectIdBase + tile index to a GL_R32UI colour target. GBuffer: the geometry
-  // pass's outputs (gbuffer.frag). LightDepth: the TSM shadow pass (light_depth.frag).
-  enum class Output { Lit, WorldPosition, ObjectId, GBuffer, LightDepth };
+  // pass's outputs (gbuffer.frag). LightDepth: the TSM shadow pass (light_depth.frag). BlockId:
+  // objectIdBase + 16 · tile + block (terrain::Terrain::blockBoxes' numbering) to a GL_R32UI
+  // target, for tiles drawn by blocks (drawBlocks; a whole tile's draw writes block 0): which
+  // blocks have a pixel (forest bench culling's oracle).
+  enum class Output { Lit, WorldPosition, ObjectId, GBuffer, LightDepth, BlockId };
 
   explicit TerrainRenderer(const terrain::Terrain& terrain, Output output = Output::Lit, std::uint32_t objectIdBase = 1);
 
@@ -52,6 +55,10 @@ class TerrainRenderer {
   // draw() makes, so a query is exactly as conservative as the depth test.
   Stats drawQueries(const DrawView& view, const terrain::TerrainLod& lod, std::span<const int> tiles,
                     std::span<const std::uint32_t> slots) const;
+  // The same for blocks (whole ones; drawBlocks' surface), block i into slot slots[i]
+  // (render::TerrainBlockVisibility's queries).
+  Stats drawBlockQueries(const DrawView& view, const terrain::TerrainLod& lod, std::span<const terrain::TileBlock> blocks,
+                         std::span<const std::uint32_t> slots) const;
   // The ground cover the lit and G-buffer materials read (terrain.frag): a side × side grid of the
   // forest's stand density D in [0, 1] over the terrain (StandField::densityGrid), row by row,
   // filtered linearly. Forest floor where D is high, meadow where it is low; without a call the
@@ -64,6 +71,9 @@ class TerrainRenderer {
 
  private:
   void setProgramConstants(const gl::Program& program) const;  // the uniforms that do not change with the view
+  const gl::Program& queryProgram() const;                      // loaded at the first query
+  // A block's instance (tx, tz, level, block origin), checked; throws naming `caller`.
+  glm::ivec4 blockInstance(const terrain::TileBlock& b, const char* caller) const;
   const terrain::Terrain& terrain_;
   std::uint32_t objectIdBase_;
   Output output_;

@@ -1,0 +1,114 @@
+#include "bench_oracle.hpp"
+
+#include <algorithm>
+#include <iterator>
+#include <set>
+#include <tuple>
+
+#include "forest/core/frustum.hpp"
+#include "forest/gl/objects.hpp"
+#include "forest/terrain/block_facing.hpp"
+#include "forest/culling/occlusion_culler.hpp"
+
+namespace forest::app {
+namespace {
+
+bool blockLess(const terrain::TileBlock& a, const terrain::TileBlock& b) {
+  return std::tie(a.tile, a.level, a.block) < std::tie(b.tile, b.level, b.block);
+}
+
+}  // namespace
+
+std::vector<VisibleSet> bruteForceVisibleSets(const render::SceneObjects& objects, const terrain::Terrain& terrain,
+                                              const render::TerrainRenderer& terrainBlockIds, std::uint32_t blockIdBase,
+                                              const render::TreeRenderer* treeIds, const render::PropRenderer* propIds,
+                                              const culling::Bvh& bvh, const std::vector<Camera>& path, const SunSettings& sun,
+                                              int width, int height, const std::function<void()>& progress) {
+  gl::Texture idTexture(GL_R32UI, width, height), idDepth(GL_DEPTH_COMPONENT32F, width, height);
+  gl::Framebuffer framebuffer;
+  framebuffer.attach(GL_COLOR_ATTACHMENT0, idTexture);
+  framebuffer.attach(GL_DEPTH_ATTACHMENT, idDepth);
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.id());
+  glViewport(0, 0, width, height);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_GREATER);  // reversed-Z
+  glEnable(GL_CULL_FACE);
+  glCullFace(GL_BACK);
+  culling::OcclusionCuller culler;
+  const std::uint32_t blocksPerTile = terrain::Terrain::kMaxBlockBoxes;
+  const std::uint32_t blockIdEnd = blockIdBase + static_cast<std::uint32_t>(objects.tileCount()) * blocksPerTile;
+  std::vector<std::uint32_t> pixels(static_cast<size_t>(width) * height);
+  std::vector<VisibleSet> sets(path.size());
+  for (size_t f = 0; f < path.size(); ++f) {
+    const terrain::TerrainLod lod = terrain.lodFor(path[f], height);
+    const GLuint none[4] = {0, 0, 0, 0};
+    glClearBufferuiv(GL_COLOR, 0, none);
+    const float farDepth = 0.0f;
+    glClearBufferfv(GL_DEPTH, 0, &farDepth);
+    render::SceneDrawer ids(objects, &terrainBlockIds, treeIds, propIds, path[f], &lod, 0.0, sun);
+    const Frustum frustum(path[f]);
+    ids.cullTerrainBlocks(&frustum);  // by blocks, so that each writes its own ID
+    culler.cull(bvh, objects.boxes(), path[f], culling::CullingStrategy::None, ids);
+    glGetTextureImage(idTexture.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(pixels.size() * 4), pixels.data());
+    std::set<std::uint32_t> seen;
+    std::set<std::pair<int, int>> seenBlocks;
+    for (std::uint32_t id : pixels) {
+      if (id >= blockIdBase && id < blockIdEnd) {
+        const std::uint32_t tile = (id - blockIdBase) / blocksPerTile;
+        seen.insert(tile);  // tiles are the first objects
+        seenBlocks.insert({static_cast<int>(tile), static_cast<int>((id - blockIdBase) % blocksPerTile)});
+      } else if (const std::int64_t o = objects.objectOfId(id); o >= 0) {
+        seen.insert(static_cast<std::uint32_t>(o));
+      }
+    }
+    VisibleSet& set = sets[f];
+    set.objects.assign(seen.begin(), seen.end());
+    for (std::uint32_t o : set.objects)
+      if (objects.objects()[o].kind != render::SceneObjects::Kind::Tile) set.notTerrain.push_back(o);
+    for (const auto& [tile, block] : seenBlocks) {
+      set.blocks.push_back({tile, terrain.tileLevel(tile, lod), block});
+      set.blockTriangles += 2LL * terrain::cellsPerBlock(set.blocks.back().level);
+    }
+    for (std::uint32_t o : set.objects) {
+      if (objects.objects()[o].kind != render::SceneObjects::Kind::Tile) continue;
+      const int level = terrain.tileLevel(static_cast<int>(o), lod);
+      for (const Aabb& box : terrain.blockBoxes(static_cast<int>(o), level))
+        if (frustum.mayIntersect(box)) set.wholeTileTriangles += 2LL * terrain::cellsPerBlock(level);
+    }
+    if (f > 0) {
+      const VisibleSet& before = sets[f - 1];
+      std::vector<std::uint32_t> gone, hiddenNow;
+      std::set_difference(before.notTerrain.begin(), before.notTerrain.end(), set.notTerrain.begin(), set.notTerrain.end(),
+                          std::back_inserter(gone));
+      for (std::uint32_t o : gone)
+        if (frustum.mayIntersect(objects.boxes()[o])) hiddenNow.push_back(o);
+      std::vector<terrain::TileBlock> goneBlocks, hiddenBlocks;
+      std::set_difference(before.blocks.begin(), before.blocks.end(), set.blocks.begin(), set.blocks.end(),
+                          std::back_inserter(goneBlocks), blockLess);
+      for (const terrain::TileBlock& b : goneBlocks)
+        if (b.level == terrain.tileLevel(b.tile, lod) &&
+            frustum.mayIntersect(terrain.blockBoxes(b.tile, b.level)[static_cast<size_t>(b.block)]))
+          hiddenBlocks.push_back(b);
+      // Into the ID target, already read.
+      set.lagTriangles = ids.draw(hiddenNow) + (hiddenBlocks.empty() ? 0 : ids.drawTerrainBlocks(hiddenBlocks));
+    }
+    progress();
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  return sets;
+}
+
+double wholeTileOracleTrianglesP50(const std::vector<VisibleSet>& sets, const std::vector<long long>& oracleTriangles, std::size_t from) {
+  std::vector<double> whole;
+  for (std::size_t f = from; f < sets.size() && f < oracleTriangles.size(); ++f)
+    whole.push_back(static_cast<double>(oracleTriangles[f] - sets[f].blockTriangles + sets[f].wholeTileTriangles));
+  if (whole.empty()) return 0.0;
+  std::nth_element(whole.begin(), whole.begin() + static_cast<std::ptrdiff_t>(whole.size() / 2), whole.end());
+  return whole[whole.size() / 2];
+}
+
+long long drawVisibleSet(render::SceneDrawer& drawer, const VisibleSet& visible) {
+  return drawer.draw(visible.notTerrain) + (visible.blocks.empty() ? 0 : drawer.drawTerrainBlocks(visible.blocks));
+}
+
+}  // namespace forest::app

@@ -1,0 +1,101 @@
+// Terrain visibility by block (render::TerrainBlockVisibility) on a scene whose answer is known in
+// closed form: one flat tile (16 blocks) seen from straight above through a roof of two slabs that
+// leaves only the corner block open. Once the blocks are known, CHC++ draws that block's
+// triangles and the slabs', nothing more; the image (depth and object IDs) equals brute force
+// every frame; and when the eye drops under the roof, the blocks held back are found and drawn in
+// that very frame.
+#include <vector>
+
+#include "forest/core/frustum.hpp"
+#include "forest/core/scene.hpp"
+#include "forest/culling/bvh.hpp"
+#include "forest/culling/occlusion_culler.hpp"
+#include "forest/render/scene_objects.hpp"
+#include "forest/render/terrain_block_visibility.hpp"
+#include "forest/terrain/block_facing.hpp"
+#include "gl_test_support.hpp"
+
+namespace forest::test {
+namespace {
+
+using glm::dvec3;
+
+class TerrainBlockVisibilityGl : public GlTest {};
+
+TEST_F(TerrainBlockVisibilityGl, OnlyTheBlockSeenThroughTheRoofIsDrawn) {
+  TerrainSettings settings;  // one 64-quad tile over [−32, 32]², 1 m a quad, all but flat
+  settings.size = 64.0;
+  settings.samples = 65;
+  settings.height_min = 0.0;
+  settings.height_max = 0.05;
+  settings.feature_size = 50.0;
+  settings.octaves = 2;
+  settings.seed = 3;
+  const terrain::Terrain terrain(settings);
+  ASSERT_EQ(terrain.tileCount(), 1);
+  // The roof at 5 m: x ≥ −16 everywhere, and z ≥ −16 for x < −16. Block 0 (x, z < −16) is open.
+  const std::vector<PropBox> roof = {{dvec3(-16, 5, -40), dvec3(40, 5.2, 40), dvec3(0.5)},
+                                     {dvec3(-40, 5, -16), dvec3(-16, 5.2, 40), dvec3(0.5)}};
+  const render::SceneObjects objects(&terrain, nullptr, roof);
+  const render::TerrainRenderer terrainIds(terrain, render::TerrainRenderer::Output::ObjectId, objects.terrainIdBase());
+  const render::PropRenderer propIds(roof, render::PropRenderer::Output::ObjectId, objects.propIdBase());
+  const culling::Bvh bvh(objects.boxes(), 1);
+  constexpr int kSide = 256;
+  const IdDepthTarget target(kSide, kSide);
+  Camera above;
+  above.position = {0.0, 60.0, 0.0};
+  above.pitch = glm::radians(-89.9);
+  above.fovy = glm::radians(90.0);
+  above.aspect = 1.0;
+  above.near = 0.1;
+  above.far = 200.0;
+  Camera under = above;  // under the roof: every block shows
+  under.position.y = 3.0;
+
+  culling::OcclusionCuller culler, bruteForce;
+  render::TerrainBlockVisibility blocks(terrain, 8);
+  const std::vector<Camera> frames = {above, above, above, above, under, under};
+  for (size_t f = 0; f < frames.size(); ++f) {
+    const Camera& camera = frames[f];
+    const terrain::TerrainLod lod = terrain.lodFor(camera, kSide);
+    const int level = terrain.tileLevel(0, lod);
+    const Frustum frustum(camera);
+    target.bindAndClear();
+    render::SceneDrawer all(objects, &terrainIds, nullptr, &propIds, camera, &lod, 0.0, SunSettings{});
+    (void)bruteForce.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::None, all);
+    const std::vector<std::uint32_t> expectedIds = target.readIds();
+    const std::vector<float> expectedDepth = target.readDepth();
+
+    target.bindAndClear();
+    render::SceneDrawer drawer(objects, &terrainIds, nullptr, &propIds, camera, &lod, 0.0, SunSettings{});
+    drawer.cullTerrainBlocks(&frustum, &blocks);
+    blocks.beginFrame();
+    const culling::CullingResult& r =
+        culler.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::ChcPlusPlus, drawer, objects.queryShapes(&lod));
+    const long long triangles = r.stats.trianglesDrawn + blocks.drawHeld(culler, drawer);
+    EXPECT_EQ(target.readIds(), expectedIds) << "frame " << f;
+    EXPECT_EQ(target.readDepth(), expectedDepth) << "frame " << f;
+
+    // Closed forms: a box is 12 triangles, a block 2 per cell at the tile's level.
+    const long long perBlock = 2LL * terrain::cellsPerBlock(level);
+    int blocksInFrustum = 0;
+    for (const Aabb& b : terrain.blockBoxes(0, level)) blocksInFrustum += frustum.mayIntersect(b) ? 1 : 0;
+    const int cornerInFrustum = frustum.mayIntersect(terrain.blockBoxes(0, level)[0]) ? 1 : 0;
+    ASSERT_EQ(terrain::blocksPerTile(level), 16) << "the roof is laid out for 16 blocks";
+    if (f == 0) {  // nothing known yet: every block in the frustum drawn, and asked
+      EXPECT_EQ(triangles, 2 * 12 + blocksInFrustum * perBlock);
+    } else if (f < 4) {  // the corner block alone
+      EXPECT_EQ(triangles, 2 * 12 + perBlock) << "frame " << f;
+      EXPECT_EQ(blocks.stats().drawnInTraversal, 1) << "frame " << f;
+      EXPECT_EQ(blocks.stats().held, blocksInFrustum - 1) << "frame " << f;
+      EXPECT_EQ(blocks.stats().drawnAfter, 0) << "frame " << f;
+    } else if (f == 4) {  // under the roof: the blocks held back are found and drawn after the traversal
+      EXPECT_GT(blocksInFrustum - cornerInFrustum, 0);
+      EXPECT_EQ(blocks.stats().drawnAfter, blocksInFrustum - cornerInFrustum);
+      EXPECT_EQ(triangles, blocksInFrustum * perBlock);  // the roof is behind the eye
+    }
+  }
+}
+
+}  // namespace
+}  // namespace forest::test
