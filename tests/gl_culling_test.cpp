@@ -2,8 +2,9 @@
 // forest — a ground-level walk, 20 under the canopy of the densest stand, above the canopy, facing a hill, facing the sky, the eye inside a
 // cluster's box, trees and props moving between frames — frustum, stop-and-wait, CHC and CHC++
 // (terrain drawn by the blocks that meet the frustum, as the frame does, and for the query-driven
-// ones by the blocks found visible: render::TerrainBlockVisibility, also CHC++ without it) draw the
-// same depth and object-ID images as drawing everything. The CHC and CHC++ visible sets
+// ones by the blocks found visible: render::TerrainBlockVisibility, their visible sets then asked
+// again: OcclusionCuller::refineVisibleSet; also CHC++ without both) draw the same depth and
+// object-ID images as drawing everything. The CHC and CHC++ visible sets
 // hold every object with a visible pixel, and z_f reaches the farthest depth drawn. A synthetic box scene (a wall
 // hiding rows of boxes) gives the expected visible sets and query counts.
 #include <algorithm>
@@ -75,7 +76,7 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongEightyViews) {
   // Each query-driven run keeps its blocks' visibility from view to view, as its culler does.
   std::vector<render::TerrainBlockVisibility> blockVisibility;
   for (size_t k = 0; k < std::size(runs); ++k) blockVisibility.emplace_back(terrain, scene.culling.visible_requery_frames);
-  int blocksHeld = 0, blocksDrawnAfter = 0, blocksHidden = 0;
+  int blocksHeld = 0, blocksDrawnAfter = 0, blocksHidden = 0, refinedAway = 0;
   int asyncPolls = 0;
   const GeometryTarget target;
 
@@ -165,9 +166,12 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongEightyViews) {
       const bool byBlock = runs[k].byBlock && s != CullingStrategy::None && s != CullingStrategy::Frustum;
       if (s != CullingStrategy::None) drawer.cullTerrainBlocks(&frustum, byBlock ? &blockVisibility[k] : nullptr);
       blockVisibility[k].beginFrame();
-      const culling::CullingResult r = cullers[k].cull(bvh, objects.boxes(), view.camera, s, drawer, objects.queryShapes(&lod));
-      if (byBlock) {
+      culling::CullingResult r = cullers[k].cull(bvh, objects.boxes(), view.camera, s, drawer, objects.queryShapes(&lod));
+      if (byBlock) {  // as the geometry pass: the blocks held back, then the visible set asked again
         (void)blockVisibility[k].drawHeld(cullers[k], drawer);
+        const std::size_t before = r.visibleObjects.size();
+        r = cullers[k].refineVisibleSet(objects.boxes(), objects.queryShapes(&lod));
+        refinedAway += static_cast<int>(before - r.visibleObjects.size());
         const render::TerrainBlockVisibility::Stats& b = blockVisibility[k].stats();
         blocksHeld += b.held;
         blocksDrawnAfter += b.drawnAfter;
@@ -215,6 +219,10 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongEightyViews) {
   std::printf("[culling] terrain blocks: %d held back, %d of them drawn after the traversal\n", blocksHeld, blocksDrawnAfter);
   EXPECT_GT(blocksHidden, 0);
   EXPECT_GT(blocksDrawnAfter, 0);
+  // The visible sets asked again after the frame's drawing lost objects (and still hold every
+  // object with a pixel, and z_f the farthest depth drawn: checked above).
+  std::printf("[culling] %d objects left the visible sets once asked again after the frame\n", refinedAway);
+  EXPECT_GT(refinedAway, 0);
 }
 
 // A wall 5 m ahead hides two rows of boxes; two boxes stand in front of it; one box lies far

@@ -314,6 +314,31 @@ const std::vector<bool>& OcclusionCuller::queryAfterCull(std::span<const Aabb> b
   return afterCullVisible_;
 }
 
+const CullingResult& OcclusionCuller::refineVisibleSet(std::span<const Aabb> objectBoxes, const QueryShapes& shapes) {
+  if (!stateOf_) throw Error("OcclusionCuller::refineVisibleSet: no frame was culled");
+  std::vector<std::uint32_t>& visible = result_.visibleObjects;
+  refineBoxes_.clear();
+  refineEnds_.clear();
+  for (std::uint32_t o : visible) {
+    if (o >= objectBoxes.size() || (!shapes.empty() && o >= shapes.ranges.size()))
+      throw Error(fmt::format("OcclusionCuller::refineVisibleSet: object {} has no box", o));
+    if (shapes.empty() || shapes.ranges[o].count == 0) {
+      refineBoxes_.push_back(objectBoxes[o]);
+    } else {
+      const auto first = shapes.boxes.begin() + shapes.ranges[o].first;
+      refineBoxes_.insert(refineBoxes_.end(), first, first + shapes.ranges[o].count);
+    }
+    refineEnds_.push_back(static_cast<std::uint32_t>(refineBoxes_.size()));
+  }
+  const std::vector<bool>& passed = queryAfterCull(refineBoxes_, refineEnds_);
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < visible.size(); ++i)
+    if (passed[i]) visible[kept++] = visible[i];
+  visible.resize(kept);
+  result_.farDepth = farDepthOf(visible, objectBoxes, camera_);
+  return result_;
+}
+
 void OcclusionCuller::pullUpVisibility(std::int32_t n) {
   // The node itself always (it may still carry last frame's flag); then its ancestors up to the
   // first one already visible this frame (the ones opened this frame were reset to invisible).

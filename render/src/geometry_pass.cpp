@@ -61,7 +61,8 @@ const culling::CullingResult& GeometryPass::run(const Camera& camera, const Draw
     blockVisibility_->beginFrame();
     const culling::CullingResult& culled = culler.cull(bvh, objects_.boxes(), camera, strategy, drawer, objects_.queryShapes(lod));
     const long long late = blockVisibility_->drawHeld(culler, drawer);  // counts its queries in culled.stats
-
+    // Objects found visible before the blocks held back were drawn may be hidden behind them.
+    (void)culler.refineVisibleSet(objects_.boxes(), objects_.queryShapes(lod));
     blockResult_ = culled;
     blockResult_.stats.trianglesDrawn += late;
     return blockResult_;

@@ -158,6 +158,14 @@ class OcclusionCuller {
   using SurfaceQueries = std::function<long long(std::span<const std::uint32_t> groups, std::span<const std::uint32_t> slots)>;
   const std::vector<bool>& queryAfterCull(std::span<const Aabb> boxes, std::span<const std::uint32_t> groupEnds,
                                           const SurfaceQueries& surfaces = {});
+  // After cull() and every other draw of the frame: asks each object of the frame's visible set
+  // again, by its query shapes (or its box), against the final depth, in one batch
+  // (queryAfterCull), and keeps those that pass or are visible without a query; z_f again from
+  // them. The final depth holds the object itself, but behind its boxes' front faces, so an
+  // object with a visible pixel passes: the set stays a superset of what shows. Objects the
+  // traversal found visible against a depth that lacked later occluders (terrain blocks drawn
+  // after it: render::TerrainBlockVisibility) drop out. Returns the frame's result.
+  const CullingResult& refineVisibleSet(std::span<const Aabb> objectBoxes, const QueryShapes& shapes = {});
   // Forgets the previous frame's visibility (after a BVH rebuild or a camera cut).
   void reset();
   // The chc++ parameters (the scene file's [culling] section); takes effect next frame.
@@ -258,6 +266,8 @@ class OcclusionCuller {
   std::vector<std::size_t> afterCullSlots_;  // queryAfterCull's slots and results
   std::vector<std::uint32_t> afterCullGroups_, afterCullGroupSlots_;  // its surface queries
   std::vector<bool> afterCullVisible_;
+  std::vector<Aabb> refineBoxes_;  // refineVisibleSet's queries
+  std::vector<std::uint32_t> refineEnds_;
   const Bvh* stateOf_ = nullptr;
   std::uint64_t frame_ = 0;
 };
