@@ -314,6 +314,19 @@ const std::vector<bool>& OcclusionCuller::queryAfterCull(std::span<const Aabb> b
   return afterCullVisible_;
 }
 
+void OcclusionCuller::reserveAfterCull(std::size_t queries, std::size_t boxes) {
+  afterCullQueries_ = std::max(afterCullQueries_, queries);
+  afterCullSlots_.reserve(queries);
+  afterCullGroups_.reserve(queries);
+  afterCullGroupSlots_.reserve(queries);
+  refineEnds_.reserve(queries);
+  afterCullVisible_.reserve(queries);
+  refineBoxes_.reserve(boxes);
+  batch_.reserve(boxes);
+  if (stateOf_ && slots_ < 3 * stateOf_->nodes().size() + 2 + afterCullQueries_)
+    allocateResultSlots(3 * stateOf_->nodes().size() + 2 + afterCullQueries_);
+}
+
 const CullingResult& OcclusionCuller::refineVisibleSet(std::span<const Aabb> objectBoxes, const QueryShapes& shapes) {
   if (!stateOf_) throw Error("OcclusionCuller::refineVisibleSet: no frame was culled");
   std::vector<std::uint32_t>& visible = result_.visibleObjects;
@@ -374,7 +387,7 @@ const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb>
     state_.assign(bvh.nodes().size(), NodeState{});
     stateOf_ = &bvh;
     scratch_->reserve(bvh.nodes().size(), bvh.objectCount(), shapes.boxes.size(), result_.visibleObjects);
-    allocateResultSlots(3 * bvh.nodes().size() + 2);
+    allocateResultSlots(3 * bvh.nodes().size() + 2 + afterCullQueries_);
     geometryObjects_.reserve(bvh.objectCount());
     geometrySlots_.reserve(bvh.objectCount());
   }

@@ -23,6 +23,7 @@ GeometryPass::GeometryPass(const SceneObjects& objects, const terrain::Terrain* 
                            const std::vector<PropBox>& props, int width, int height, const CullingSettings& culling)
     : objects_(objects), width_(width), height_(height), gbuffer_(width, height) {
   if (terrain && culling.terrain_blocks) blockVisibility_.emplace(*terrain, culling.visible_requery_frames);
+  blockResult_.visibleObjects.reserve(objects.boxes().size());  // copied into every frame: never grown
   if (terrain) terrain_ = std::make_unique<TerrainRenderer>(*terrain, TerrainRenderer::Output::GBuffer, objects.terrainIdBase());
   if (terrain_ && forest && forest->stands()) {  // forest floor under the stands (terrain.frag)
     const terrain::Heightfield& h = terrain->heightfield();
@@ -58,6 +59,9 @@ const culling::CullingResult& GeometryPass::run(const Camera& camera, const Draw
   drawer.cullTerrainBlocks(&*frustum_, byBlock ? &*blockVisibility_ : nullptr);
   if (!frozen && !byBlock) return culler.cull(bvh, objects_.boxes(), camera, strategy, drawer, objects_.queryShapes(lod));
   if (byBlock) {
+    // After the traversal: at most every object and every block, and their boxes.
+    const std::size_t blocks = objects_.tileCount() * terrain::Terrain::kMaxBlockBoxes;
+    culler.reserveAfterCull(objects_.boxes().size() + blocks, objects_.queryBoxCount() + blocks);
     blockVisibility_->beginFrame();
     const culling::CullingResult& culled = culler.cull(bvh, objects_.boxes(), camera, strategy, drawer, objects_.queryShapes(lod));
     const long long late = blockVisibility_->drawHeld(culler, drawer);  // counts its queries in culled.stats

@@ -166,6 +166,10 @@ class OcclusionCuller {
   // traversal found visible against a depth that lacked later occluders (terrain blocks drawn
   // after it: render::TerrainBlockVisibility) drop out. Returns the frame's result.
   const CullingResult& refineVisibleSet(std::span<const Aabb> objectBoxes, const QueryShapes& shapes = {});
+  // Room for `queries` queries after each cull (queryAfterCull, refineVisibleSet: the visible
+  // set's objects and their boxes count) and `boxes` boxes, so that a steady frame allocates
+  // nothing; more grows the buffers when asked.
+  void reserveAfterCull(std::size_t queries, std::size_t boxes);
   // Forgets the previous frame's visibility (after a BVH rebuild or a camera cut).
   void reset();
   // The chc++ parameters (the scene file's [culling] section); takes effect next frame.
@@ -268,6 +272,7 @@ class OcclusionCuller {
   std::vector<bool> afterCullVisible_;
   std::vector<Aabb> refineBoxes_;  // refineVisibleSet's queries
   std::vector<std::uint32_t> refineEnds_;
+  std::size_t afterCullQueries_ = 0;  // reserveAfterCull's
   const Bvh* stateOf_ = nullptr;
   std::uint64_t frame_ = 0;
 };

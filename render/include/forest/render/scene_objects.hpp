@@ -36,6 +36,7 @@ class SceneObjects {
   // (terrain::Terrain::blockBoxes; without a LOD, its box), a prop's box. Valid until the next call.
   culling::QueryShapes queryShapes(const terrain::TerrainLod* lod) const;
   const std::vector<Object>& objects() const { return objects_; }
+  std::size_t queryBoxCount() const { return queryBoxes_.size(); }  // every object's query shapes
   // The boxes whose union holds a tree or a prop at all times (a tree's height slabs, a prop's
   // box): what its queries draw. Not for a tile, whose blocks depend on the LOD (queryShapes).
   std::span<const Aabb> shapeBoxes(std::uint32_t object) const;
