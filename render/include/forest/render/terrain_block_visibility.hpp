@@ -2,25 +2,27 @@
 // Visibility of the terrain by block inside the tiles the culler draws. A tile is one culling
 // object: found visible, it would draw every block in the frustum — 8192 triangles at level 0 —
 // when one corner of it shows between the trunks. This unit keeps, per block of a tile at its
-// level (terrain::Terrain::blockBoxes: 16, 4 or 1 per tile), whether the block was visible:
+// level (terrain::Terrain::blockBoxes: 16, 4 or 1 per tile), whether the block was visible. Its
+// queries draw the block's own triangles (TerrainRenderer::drawBlockQueries: a box sees over the
+// crest in front of it where the surface does not):
 //   - a block found visible is drawn with its tile during the traversal (so it occludes what is
-//     queried after it), and every n_av frames its box is queried again after the traversal (CHC's
-//     assumption of coherence, Bittner et al. 2004, one level lower). Its own surface does not
-//     hide its box — the box holds it, so the box's front faces lie in front of it — so a block
-//     that still shows passes, and one hidden by nearer trees or terrain fails and is hidden from
-//     the next frame on;
+//     queried after it), and every n_av frames it is queried again after the traversal (CHC's
+//     assumption of coherence, Bittner et al. 2004, one level lower) with GL_GEQUAL, so that where
+//     its own surface is still the nearest it passes; one hidden by nearer trees or terrain fails
+//     and is hidden from the next frame on;
 //   - a block found hidden is held back while its tile is drawn, and after the traversal the held
-//     blocks of a tile share one query of their boxes against the depth of everything drawn (most
-//     stay hidden: CHC++'s multiqueries, Mattausch et al. 2008 §3.4); the blocks of a query that
-//     saw a sample are drawn then, and asked one by one the next frame;
+//     blocks of a tile share one query against the depth of everything drawn (most stay hidden:
+//     CHC++'s multiqueries, Mattausch et al. 2008 §3.4); the blocks of a query that saw a sample
+//     are drawn then, and asked one by one the next frame;
 //   - a block not known yet — its tile was not drawn the frame before — is drawn with its tile
-//     (as the whole tile was before: it occludes during the traversal) and its box is asked after.
-// All of a frame's block queries go out in one batch (OcclusionCuller::queryAfterCull).
-// Exact as the culler is: a block is either drawn during the traversal or drawn when its box,
-// which holds all of it, passed the depth test against everything else drawn — a subset of what
-// brute force draws in front of it. When a tile's level changes, its blocks take the visibility
-// of the blocks they overlap at the old level (levels 0–3 share their 16 blocks; a coarser block
-// is known when all the finer ones in it are).
+//     (as the whole tile was before: it occludes during the traversal) and asked after.
+// All of a frame's block queries go out in one batch (OcclusionCuller::queryAfterCull); a block
+// whose box holds the eye or meets the near slab counts as visible without one.
+// Exact as the culler is: a block is either drawn during the traversal or drawn when its
+// triangles passed the depth test against everything else drawn — a subset of what brute force
+// draws in front of them. When a tile's level changes, its blocks take the visibility of the
+// blocks they overlap at the old level (levels 0–3 share their 16 blocks; a coarser block is
+// known when all the finer ones in it are).
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -39,7 +41,7 @@ class TerrainBlockVisibility {
 
   // A new frame: nothing is held.
   void beginFrame();
-  // Forgets every block's visibility (a camera cut): each tile starts again with its blocks hidden.
+  // Forgets every block's visibility (a camera cut): each tile starts again with its blocks not known.
   void reset();
   // Whether block `block` of `tile`, drawn at `level` and meeting the frustum, is drawn now (it
   // was visible or is not known); if not (it was hidden), it is held for drawHeld.
@@ -52,7 +54,7 @@ class TerrainBlockVisibility {
   struct Stats {
     int drawnInTraversal = 0;  // blocks drawn by drawNow
     int held = 0;              // blocks held back
-    int requeried = 0;         // blocks drawn by drawNow whose boxes drawHeld queries (not known, or due)
+    int requeried = 0;         // blocks drawn by drawNow that drawHeld queries (not known, or due)
     int drawnAfter = 0;        // held blocks found visible and drawn by drawHeld
   };
   const Stats& stats() const { return stats_; }  // this frame's
