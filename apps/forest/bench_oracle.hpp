@@ -23,7 +23,7 @@ struct VisibleSet {
   // frame's visible set untested (CHC, CHC++) draws above the oracle at the least.
   long long lagTriangles = 0;
   // The terrain triangles of `blocks`, and of the visible tiles drawn whole (every block of them
-  // that meets the frustum, as a tile was drawn before [culling] terrain_blocks).
+  // that meets the frustum, as the frame draws a tile without [culling] terrain_blocks).
   long long blockTriangles = 0, wholeTileTriangles = 0;
 };
 

@@ -342,7 +342,7 @@ int runBenchCulling(const BenchOptions& options) {
       "# Culling benchmark\n\n{} at {}x{}, {} frames per path, {}.\nFrame = culling + the geometry it draws (lit, no shadows), "
       "timed by {}; the strategies take turns frame by frame; occlusion queries read {}. Oracle = drawing exactly the visible set "
       "(from the brute-force object-ID buffer: trees, props and terrain blocks) with no queries. Terrain is drawn by the blocks "
-      "that meet the frustum (not by none), and by their visibility with chc and chc++ ([culling] terrain_blocks). Triangles: those drawn (p50), and over the oracle's; geometry: "
+      "that meet the frustum (not by none), and by their visibility with the query-driven strategies when [culling] terrain_blocks is on. Triangles: those drawn (p50), and over the oracle's; geometry: "
       "queries drawn with the trees' own triangles ([culling] geometry_queries), whose triangles are not counted as drawn.\n\n",
       scenePath, options.size.width, options.size.height, framesPerPath, device,
       modes.timing == gl::TimingMode::Profiling ? "glFinish and a clock (--timing profile)" : "GL timestamp queries (--timing queries)",
@@ -510,7 +510,7 @@ int runBenchCulling(const BenchOptions& options) {
         panel.series.push_back(std::move(series));
       }
       const std::string wholeLine = fmt::format(
-          "the oracle with its tiles drawn whole (every block in the frustum, as before [culling] terrain_blocks): {:.0f} "
+          "the oracle with its tiles drawn whole (every block in the frustum, as the frame draws them without [culling] terrain_blocks): {:.0f} "
           "triangles p50{}", wholeTiles, summaries.count("chc++") ? fmt::format(", chc++ {:.3f} of it",
                                                                                summaries["chc++"]["triangles_p50"].get<double>() / std::max(1.0, wholeTiles)) : "");
       markdown += "\n" + lagLine + ".\n\n" + wholeLine + ".\n\n";
