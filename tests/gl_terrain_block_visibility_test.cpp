@@ -6,6 +6,7 @@
 // that very frame.
 #include <vector>
 
+#include "forest/core/error.hpp"
 #include "forest/core/frustum.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/culling/bvh.hpp"
@@ -95,6 +96,41 @@ TEST_F(TerrainBlockVisibilityGl, OnlyTheBlockSeenThroughTheRoofIsDrawn) {
       EXPECT_EQ(triangles, blocksInFrustum * perBlock);  // the roof is behind the eye
     }
   }
+}
+
+
+// OcclusionCuller::queryAfterCull, the batch the blocks' queries go out in: a box behind a wall
+// fails, one in front of it passes, one holding the eye passes without a query; malformed groups
+// and a call before any cull are refused.
+TEST_F(TerrainBlockVisibilityGl, QueriesAfterTheCullSeeTheFinalDepth) {
+  const std::vector<PropBox> wall = {{dvec3(-50, -10, -6), dvec3(50, 30, -5), dvec3(0.5)}};
+  const render::SceneObjects objects(nullptr, nullptr, wall);
+  const render::PropRenderer propIds(wall, render::PropRenderer::Output::ObjectId, objects.propIdBase());
+  const culling::Bvh bvh(objects.boxes(), 1);
+  Camera camera;
+  camera.aspect = 1.0;
+  camera.far = 100.0;
+  const IdDepthTarget target(64, 64);
+  culling::OcclusionCuller culler;
+  const std::vector<Aabb> boxes = {Aabb{dvec3(-1, -1, -12), dvec3(1, 1, -10)},   // behind the wall
+                                   Aabb{dvec3(-1, -1, -4), dvec3(1, 1, -3)},     // in front of it
+                                   Aabb{dvec3(-1, -1, -1), dvec3(1, 1, 1)}};     // holds the eye
+  const std::vector<std::uint32_t> oneEach = {1, 2, 3};
+  EXPECT_THROW((void)culler.queryAfterCull(boxes, oneEach), Error);  // no frame culled yet
+  target.bindAndClear();
+  render::SceneDrawer drawer(objects, nullptr, nullptr, &propIds, camera, nullptr, 0.0, SunSettings{});
+  const int queriesBefore = culler.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::Chc, drawer).stats.queriesIssued;
+  const std::vector<bool> visible = culler.queryAfterCull(boxes, oneEach);
+  EXPECT_EQ(visible, (std::vector<bool>{false, true, true}));
+  // Two queries went out (the box holding the eye needs none), and the refinement asks the wall
+  // again (one more) and keeps it: all counted in the frame's stats.
+  const culling::CullingResult& refined = culler.refineVisibleSet(objects.boxes());
+  EXPECT_EQ(refined.visibleObjects, std::vector<std::uint32_t>{0});
+  EXPECT_EQ(refined.stats.queriesIssued, queriesBefore + 2 + 1);
+  EXPECT_TRUE(culler.queryAfterCull({}, {}).empty());
+  const std::vector<std::uint32_t> shrinking = {2, 1, 3}, pastTheEnd = {4};
+  EXPECT_THROW((void)culler.queryAfterCull(boxes, shrinking), Error);
+  EXPECT_THROW((void)culler.queryAfterCull(boxes, pastTheEnd), Error);
 }
 
 }  // namespace

@@ -257,8 +257,8 @@ const std::vector<bool>& OcclusionCuller::queryAfterCull(std::span<const Aabb> b
   if (!stateOf_) throw Error("OcclusionCuller::queryAfterCull: no frame was culled");
   for (std::size_t g = 0; g < groupEnds.size(); ++g)
     if (groupEnds[g] > boxes.size() || (g > 0 && groupEnds[g] < groupEnds[g - 1]))
-      throw Error(fmt::format("OcclusionCuller::queryAfterCull: group {} ends at box {} of {}, before the previous group's end",
-                              g, groupEnds[g], boxes.size()));
+      throw Error(fmt::format("OcclusionCuller::queryAfterCull: group {} ends at box {}: expected ends that do not decrease, "
+                              "within the {} boxes", g, groupEnds[g], boxes.size()));
   afterCullVisible_.assign(groupEnds.size(), false);
   if (groupEnds.empty()) return afterCullVisible_;
   const auto start = std::chrono::steady_clock::now();
@@ -293,7 +293,6 @@ const std::vector<bool>& OcclusionCuller::queryAfterCull(std::span<const Aabb> b
       afterCullSlots_.push_back(issueQuery(group));
     }
     ++stats.queriesIssued;
-    if (group.size() > 1) ++stats.multiQueries;
   }
   if (!afterCullGroups_.empty()) {
     beginQueries();

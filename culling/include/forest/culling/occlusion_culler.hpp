@@ -152,8 +152,8 @@ class OcclusionCuller {
   // by surfaces(groups, slots) — group groups[i]'s own triangles, writing the culler's stamp into
   // slot slots[i] (query_stamp.frag), with GL_GEQUAL so that one drawn already passes where it is
   // nearest — instead of its boxes; the boxes then only decide the visible-without-a-query rule.
-  // Counted in the frame's result's stats (queries, multiqueries, geometry queries and their
-  // triangles, waits, CPU time). For parts of objects the traversal drew in part
+  // Counted in the frame's result's stats (queries, geometry queries and their triangles, waits,
+  // CPU time). For parts of objects the traversal drew in part
   // (render::TerrainBlockVisibility); valid until the next call.
   using SurfaceQueries = std::function<long long(std::span<const std::uint32_t> groups, std::span<const std::uint32_t> slots)>;
   const std::vector<bool>& queryAfterCull(std::span<const Aabb> boxes, std::span<const std::uint32_t> groupEnds,
