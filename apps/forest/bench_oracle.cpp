@@ -63,17 +63,18 @@ std::vector<VisibleSet> bruteForceVisibleSets(const render::SceneObjects& object
     }
     VisibleSet& set = sets[f];
     set.objects.assign(seen.begin(), seen.end());
-    for (std::uint32_t o : set.objects)
-      if (objects.objects()[o].kind != render::SceneObjects::Kind::Tile) set.notTerrain.push_back(o);
-    for (const auto& [tile, block] : seenBlocks) {
-      set.blocks.push_back({tile, terrain.tileLevel(tile, lod), block});
-      set.blockTriangles += 2LL * terrain::cellsPerBlock(set.blocks.back().level);
-    }
     for (std::uint32_t o : set.objects) {
-      if (objects.objects()[o].kind != render::SceneObjects::Kind::Tile) continue;
+      if (objects.objects()[o].kind != render::SceneObjects::Kind::Tile) {
+        set.notTerrain.push_back(o);
+        continue;
+      }
       const int level = terrain.tileLevel(static_cast<int>(o), lod);
       for (const Aabb& box : terrain.blockBoxes(static_cast<int>(o), level))
         if (frustum.mayIntersect(box)) set.wholeTileTriangles += 2LL * terrain::cellsPerBlock(level);
+    }
+    for (const auto& [tile, block] : seenBlocks) {
+      set.blocks.push_back({tile, terrain.tileLevel(tile, lod), block});
+      set.blockTriangles += 2LL * terrain::cellsPerBlock(set.blocks.back().level);
     }
     if (f > 0) {
       const VisibleSet& before = sets[f - 1];

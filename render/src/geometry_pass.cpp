@@ -57,16 +57,17 @@ const culling::CullingResult& GeometryPass::run(const Camera& camera, const Draw
   const bool byBlock = !frozen && blockVisibility_ && lod && strategy != culling::CullingStrategy::None &&
                        strategy != culling::CullingStrategy::Frustum;
   drawer.cullTerrainBlocks(&*frustum_, byBlock ? &*blockVisibility_ : nullptr);
-  if (!frozen && !byBlock) return culler.cull(bvh, objects_.boxes(), camera, strategy, drawer, objects_.queryShapes(lod));
-  if (byBlock) {
+  if (!frozen) {
+    const culling::QueryShapes shapes = objects_.queryShapes(lod);  // rewritten per call: once a frame
+    if (!byBlock) return culler.cull(bvh, objects_.boxes(), camera, strategy, drawer, shapes);
     // After the traversal: at most every object and every block, and their boxes.
     const std::size_t blocks = objects_.tileCount() * terrain::Terrain::kMaxBlockBoxes;
     culler.reserveAfterCull(objects_.boxes().size() + blocks, objects_.queryBoxCount() + blocks);
     blockVisibility_->beginFrame();
-    const culling::CullingResult& culled = culler.cull(bvh, objects_.boxes(), camera, strategy, drawer, objects_.queryShapes(lod));
+    const culling::CullingResult& culled = culler.cull(bvh, objects_.boxes(), camera, strategy, drawer, shapes);
     const long long late = blockVisibility_->drawHeld(culler, drawer);  // counts its queries in culled.stats
     // Objects found visible before the blocks held back were drawn may be hidden behind them.
-    (void)culler.refineVisibleSet(objects_.boxes(), objects_.queryShapes(lod));
+    (void)culler.refineVisibleSet(objects_.boxes(), shapes);
     blockResult_ = culled;
     blockResult_.stats.trianglesDrawn += late;
     return blockResult_;

@@ -204,6 +204,11 @@ glm::ivec4 TerrainRenderer::blockInstance(const terrain::TileBlock& b, const cha
   return {b.tile % terrain_.tilesPerSide(), b.tile / terrain_.tilesPerSide(), b.level, origin};
 }
 
+int TerrainRenderer::levelWithSlot(int level, std::uint32_t slot, const char* caller) {
+  if (slot > kMaxQuerySlot) throw Error(fmt::format("TerrainRenderer::{}: query slot {}: at most {}", caller, slot, kMaxQuerySlot));
+  return level | static_cast<int>(slot << kQuerySlotShift);
+}
+
 const gl::Program& TerrainRenderer::queryProgram() const {
   if (!queryProgram_) {
     queryProgram_ = loadSurfaceProgram("terrain.vert", "terrain.frag", SurfaceOutput::QueryStamp,
@@ -226,9 +231,7 @@ TerrainRenderer::Stats TerrainRenderer::drawBlockQueries(const DrawView& view, c
   partBlocks_.clear();
   for (size_t i = 0; i < blocks.size(); ++i) {
     glm::ivec4 instance = blockInstance(blocks[i], "drawBlockQueries");
-    if (slots[i] > kMaxQuerySlot)
-      throw Error(fmt::format("TerrainRenderer::drawBlockQueries: query slot {}: at most {}", slots[i], kMaxQuerySlot));
-    instance.z |= static_cast<int>(slots[i] << kQuerySlotShift);
+    instance.z = levelWithSlot(blocks[i].level, slots[i], "drawBlockQueries");
     byLevel_[static_cast<size_t>(blocks[i].level)].push_back(instance);
   }
   return drawByLevel(view, lod, true, program);
@@ -244,10 +247,8 @@ TerrainRenderer::Stats TerrainRenderer::drawQueries(const DrawView& view, const 
   for (auto& level : byLevel_) level.clear();
   for (size_t i = 0; i < tiles.size(); ++i) {
     const int t = tiles[i], level = terrain_.tileLevel(t, lod);
-    if (slots[i] > kMaxQuerySlot)
-      throw Error(fmt::format("TerrainRenderer::drawQueries: query slot {} of tile {}: at most {}", slots[i], t, kMaxQuerySlot));
-    const int packed = level | static_cast<int>(slots[i] << kQuerySlotShift);
-    byLevel_[static_cast<size_t>(level)].emplace_back(t % terrain_.tilesPerSide(), t / terrain_.tilesPerSide(), packed, 0);
+    byLevel_[static_cast<size_t>(level)].emplace_back(t % terrain_.tilesPerSide(), t / terrain_.tilesPerSide(),
+                                                      levelWithSlot(level, slots[i], "drawQueries"), 0);
   }
   return drawByLevel(view, lod, false, program);
 }

@@ -74,6 +74,9 @@ class TerrainRenderer {
   const gl::Program& queryProgram() const;                      // loaded at the first query
   // A block's instance (tx, tz, level, block origin), checked; throws naming `caller`.
   glm::ivec4 blockInstance(const terrain::TileBlock& b, const char* caller) const;
+  // A query instance's level with its slot packed above it (terrain.vert unpacks both); throws
+  // naming `caller` when the slot does not fit.
+  static int levelWithSlot(int level, std::uint32_t slot, const char* caller);
   const terrain::Terrain& terrain_;
   std::uint32_t objectIdBase_;
   Output output_;
