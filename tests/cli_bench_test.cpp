@@ -135,6 +135,24 @@ TEST(ForestCli, BenchCullingWritesEveryStrategyAndTheOracle) {
             EXPECT_LE(cpu, s[name]["p50_ms"].get<double>()) << name;
           }
         }
+        // The trees and props each strategy drew, sorted by the oracle's sets (bench_oracle.hpp).
+        // Brute force draws all of them every frame: the four parts add up to the scene's trees
+        // (forest.toml has no props), none is fresh (each hidden one was drawn the frame before),
+        // and its visible and lag are the oracle's sets' sizes (|V_f|, |V_f-1 \ V_f|). Exact
+        // culling draws every visible one, so all strategies have the oracle's `visible`.
+        const auto& all = s["none"]["trees_and_props_drawn"];
+        const auto& sets = s["oracle"]["trees_and_props_drawn"];
+        EXPECT_DOUBLE_EQ(all["visible"].get<double>(), sets["visible"].get<double>()) << trees << " " << path;
+        EXPECT_DOUBLE_EQ(all["lag"].get<double>(), sets["lag"].get<double>()) << trees << " " << path;
+        const double sceneTrees = j["scenes"][trees]["trees"].get<double>();
+        EXPECT_NEAR(all["visible"].get<double>() + all["lag"].get<double>() + all["carried"].get<double>(), sceneTrees, 1e-9 * sceneTrees)
+            << trees << " " << path;
+        EXPECT_EQ(all["fresh"].get<double>(), 0.0);
+        for (const char* name : {"frustum", "stop-and-wait", "chc", "chc++"}) {
+          const auto& d = s[name]["trees_and_props_drawn"];
+          EXPECT_DOUBLE_EQ(d["visible"].get<double>(), all["visible"].get<double>()) << name;
+          for (const char* part : {"lag", "carried", "fresh"}) EXPECT_GE(d[part].get<double>(), 0.0) << name << " " << part;
+        }
         chcPlusPlusGeometryQueries += s["chc++"]["geometry_queries_p50"].get<double>();
       }
     }
@@ -185,6 +203,11 @@ TEST(ForestCli, BenchCullingRunsACameraPathFile) {
   ASSERT_EQ(runs.size(), 1u);
   ASSERT_TRUE(runs.contains("still"));
   EXPECT_EQ(runs["still"]["oracle_lag_triangles"].get<double>(), 0.0);
+  // Nothing is visible in one frame and hidden in the next, and frustum culling draws the same
+  // set every frame: no lag, and nothing it draws is fresh.
+  for (const char* name : {"frustum", "chc++"})
+    EXPECT_EQ(runs["still"]["strategies"][name]["trees_and_props_drawn"]["lag"].get<double>(), 0.0) << name;
+  EXPECT_EQ(runs["still"]["strategies"]["frustum"]["trees_and_props_drawn"]["fresh"].get<double>(), 0.0);
   EXPECT_GT(runs["still"]["strategies"]["oracle"]["triangles_p50"].get<double>(), 0.0);
 
   const Result both = runForest(fmt::format("bench culling --path {} --paths ground --out {}", still.string(), (out / "both").string()));

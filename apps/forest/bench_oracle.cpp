@@ -112,4 +112,61 @@ long long drawVisibleSet(render::SceneDrawer& drawer, const VisibleSet& visible)
   return drawer.draw(visible.notTerrain) + (visible.blocks.empty() ? 0 : drawer.drawTerrainBlocks(visible.blocks));
 }
 
+double oracleLagShare(const std::vector<VisibleSet>& sets, const std::vector<long long>& oracleTriangles, std::size_t from) {
+  double lag = 0.0, oracle = 0.0;
+  for (std::size_t f = std::max<std::size_t>(1, from); f < sets.size() && f < oracleTriangles.size(); ++f) {
+    lag += static_cast<double>(sets[f].lagTriangles);
+    oracle += static_cast<double>(oracleTriangles[f]);
+  }
+  return lag / std::max(1.0, oracle);
+}
+
+DrawnBreakdown oracleTreesAndProps(const std::vector<VisibleSet>& sets, std::size_t from) {
+  DrawnBreakdown sum;
+  int frames = 0;
+  std::vector<std::uint32_t> gone;
+  for (std::size_t f = std::max<std::size_t>(1, from); f < sets.size(); ++f, ++frames) {
+    gone.clear();
+    std::set_difference(sets[f - 1].notTerrain.begin(), sets[f - 1].notTerrain.end(), sets[f].notTerrain.begin(),
+                        sets[f].notTerrain.end(), std::back_inserter(gone));
+    sum.visible += static_cast<double>(sets[f].notTerrain.size());
+    sum.lag += static_cast<double>(gone.size());
+  }
+  const double n = std::max(1, frames);
+  return {sum.visible / n, sum.lag / n, 0.0, 0.0};
+}
+
+void DrawnRecorder::beginFrame(render::SceneDrawer& drawer) {
+  drawer_ = &drawer;
+  drawn_.clear();
+}
+
+long long DrawnRecorder::draw(std::span<const std::uint32_t> objects) {
+  for (std::uint32_t o : objects)
+    if (objects_.objects()[o].kind != render::SceneObjects::Kind::Tile) drawn_.push_back(o);
+  return drawer_->draw(objects);
+}
+
+void DrawnRecorder::endFrame(const VisibleSet& now, const VisibleSet* before, bool measured) {
+  std::sort(drawn_.begin(), drawn_.end());
+  drawn_.erase(std::unique(drawn_.begin(), drawn_.end()), drawn_.end());
+  if (before && measured) {
+    const auto in = [](const std::vector<std::uint32_t>& set, std::uint32_t o) { return std::binary_search(set.begin(), set.end(), o); };
+    for (std::uint32_t o : drawn_) {
+      if (in(now.notTerrain, o)) sum_.visible += 1.0;
+      else if (in(before->notTerrain, o)) sum_.lag += 1.0;
+      else if (in(drawnBefore_, o)) sum_.carried += 1.0;
+      else sum_.fresh += 1.0;
+    }
+    ++frames_;
+  }
+  std::swap(drawn_, drawnBefore_);
+  drawer_ = nullptr;
+}
+
+DrawnBreakdown DrawnRecorder::meanPerFrame() const {
+  const double n = std::max(1, frames_);
+  return {sum_.visible / n, sum_.lag / n, sum_.carried / n, sum_.fresh / n};
+}
+
 }  // namespace forest::app

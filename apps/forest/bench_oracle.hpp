@@ -43,4 +43,49 @@ std::vector<VisibleSet> bruteForceVisibleSets(const render::SceneObjects& object
 // The oracle's frame: exactly the visible set, in two draws (trees and props, then the blocks).
 long long drawVisibleSet(render::SceneDrawer& drawer, const VisibleSet& visible);
 
+// The share of the oracle's triangles over frames [max(1, from), …) that its one-frame lag draws
+// (VisibleSet::lagTriangles; oracleTriangles[f]: the oracle's frame f as drawn).
+double oracleLagShare(const std::vector<VisibleSet>& sets, const std::vector<long long>& oracleTriangles, std::size_t from);
+
+// What a strategy drew of the trees and props, per frame on average, sorted by the oracle's
+// visible sets of that frame (V_f) and the one before (V_f-1):
+//   visible — in V_f;
+//   lag     — not in V_f, in V_f-1: the one-frame lag (the least a CHC-type method draws above V_f);
+//   carried — in neither, and drawn by the strategy the frame before as well: kept drawn by
+//             coherence (CHC++'s n_av frames without a query) or found visible again;
+//   fresh   — in neither, not drawn the frame before: a query that passed this frame although
+//             the finished image hides the object (its depth then lacked nearer objects).
+struct DrawnBreakdown {
+  double visible = 0.0, lag = 0.0, carried = 0.0, fresh = 0.0;
+};
+
+// The oracle's own trees and props per frame on average over frames [max(1, from), …): visible
+// (|V_f|) and lag (|V_f-1 \ V_f|, in the frustum or not); carried and fresh stay 0.
+DrawnBreakdown oracleTreesAndProps(const std::vector<VisibleSet>& sets, std::size_t from);
+
+// Forwards a culler's draws to the frame's drawer and records the trees and props among them.
+class DrawnRecorder : public culling::ObjectDrawer {
+ public:
+  explicit DrawnRecorder(const render::SceneObjects& objects) : objects_(objects) {}
+  // Frame f: draws go to `drawer` until endFrame.
+  void beginFrame(render::SceneDrawer& drawer);
+  // Sorts frame f's draws against the oracle's sets (`before`: V_f-1, null for the first frame),
+  // counted in the breakdown when `measured`.
+  void endFrame(const VisibleSet& now, const VisibleSet* before, bool measured);
+  DrawnBreakdown meanPerFrame() const;
+
+  long long draw(std::span<const std::uint32_t> objects) override;
+  bool queriesOwnGeometry(std::uint32_t object) const override { return drawer_->queriesOwnGeometry(object); }
+  long long drawGeometryQueries(std::span<const std::uint32_t> objects, std::span<const std::uint32_t> slots) override {
+    return drawer_->drawGeometryQueries(objects, slots);
+  }
+
+ private:
+  const render::SceneObjects& objects_;
+  render::SceneDrawer* drawer_ = nullptr;
+  std::vector<std::uint32_t> drawn_, drawnBefore_;  // trees and props; sorted once the frame ends
+  DrawnBreakdown sum_;
+  int frames_ = 0;
+};
+
 }  // namespace forest::app

@@ -19,7 +19,6 @@
 #include <map>
 #include <memory>
 #include <optional>
-#include <set>
 
 #include "commands.hpp"
 #include "forest/core/camera_path.hpp"
@@ -401,6 +400,7 @@ int runBenchCulling(const BenchOptions& options) {
       std::map<std::string, std::vector<FrameRecord>> records;
       std::vector<std::unique_ptr<culling::OcclusionCuller>> cullers;
       std::vector<std::optional<render::TerrainBlockVisibility>> blockVisibility(strategies.size());
+      std::vector<DrawnRecorder> recorders(strategies.size(), DrawnRecorder(objects));  // what each draws of V_f, V_f-1
       for (size_t k = 0; k < strategies.size(); ++k) {
         cullers.push_back(std::make_unique<culling::OcclusionCuller>());
         cullers.back()->setParameters(scene.culling);
@@ -433,9 +433,11 @@ int runBenchCulling(const BenchOptions& options) {
             render::TerrainBlockVisibility* blocks = blockVisibility[k] ? &*blockVisibility[k] : nullptr;
             if (strategies[k] != CullingStrategy::None) lit.cullTerrainBlocks(&frustum, blocks);
             if (blocks) blocks->beginFrame();
+            recorders[k].beginFrame(lit);
             const culling::CullingResult& culled =
-                cullers[k]->cull(bvh, objects.boxes(), path[f], strategies[k], lit, objects.queryShapes(&lod));
+                cullers[k]->cull(bvh, objects.boxes(), path[f], strategies[k], recorders[k], objects.queryShapes(&lod));
             const long long late = blocks ? blocks->drawHeld(*cullers[k], lit) : 0;  // its queries go into culled.stats
+            recorders[k].endFrame(visibleSets[f], f > 0 ? &visibleSets[f - 1] : nullptr, f >= static_cast<size_t>(warmup));
             r.stats = culled.stats;
             r.stats.trianglesDrawn += late;
           }
@@ -462,15 +464,15 @@ int runBenchCulling(const BenchOptions& options) {
       const double oracleMs = summaries[kOracle]["p50_ms"].get<double>();
       const double frustumMs = summaries.count("frustum") ? summaries["frustum"]["p50_ms"].get<double>() : 0.0;
       const double oracleTriangles = summaries[kOracle]["triangles_p50"].get<double>();
-      double lagSum = 0.0, oracleSum = 0.0;
-      for (size_t f = std::max<size_t>(1, static_cast<size_t>(warmup)); f < path.size(); ++f) {
-        lagSum += static_cast<double>(visibleSets[f].lagTriangles);
-        oracleSum += static_cast<double>(records[kOracle][f].stats.trianglesDrawn);
-      }
-      const double lag = lagSum / std::max(1.0, oracleSum);
-      entry["oracle_lag_triangles"] = lag;
       std::vector<long long> oracleDrawn;
       for (const FrameRecord& r : records[kOracle]) oracleDrawn.push_back(r.stats.trianglesDrawn);
+      const double lag = oracleLagShare(visibleSets, oracleDrawn, static_cast<size_t>(warmup));
+      entry["oracle_lag_triangles"] = lag;
+      for (size_t k = 0; k <= strategies.size(); ++k) {
+        const DrawnBreakdown d = k < strategies.size() ? recorders[k].meanPerFrame() : oracleTreesAndProps(visibleSets, static_cast<size_t>(warmup));
+        summaries[k < strategies.size() ? options.strategies[k] : kOracle]["trees_and_props_drawn"] = {
+            {"visible", d.visible}, {"lag", d.lag}, {"carried", d.carried}, {"fresh", d.fresh}};
+      }
       const double wholeTiles = wholeTileOracleTrianglesP50(visibleSets, oracleDrawn, static_cast<size_t>(warmup));
       entry["oracle_whole_tiles_triangles_p50"] = wholeTiles;
       const std::string lagLine = fmt::format(
@@ -513,8 +515,13 @@ int runBenchCulling(const BenchOptions& options) {
           "the oracle with its tiles drawn whole (every block in the frustum, as the frame draws them without [culling] terrain_blocks): {:.0f} "
           "triangles p50{}", wholeTiles, summaries.count("chc++") ? fmt::format(", chc++ {:.3f} of it",
                                                                                summaries["chc++"]["triangles_p50"].get<double>() / std::max(1.0, wholeTiles)) : "");
-      markdown += "\n" + lagLine + ".\n\n" + wholeLine + ".\n\n";
-      std::cout << "  " << lagLine << "\n  " << wholeLine << "\n";
+      const ordered_json& drawn = summaries.count("chc++") ? summaries["chc++"]["trees_and_props_drawn"] : ordered_json();
+      const std::string drawnLine = drawn.is_null() ? std::string() : fmt::format(
+          "chc++'s trees and props per frame (bench_oracle.hpp): {:.1f} visible; hidden now: {:.1f} visible the frame before (lag), {:.1f} "
+          "drawn the frame before too (carried), {:.1f} others (fresh)", drawn["visible"].get<double>(), drawn["lag"].get<double>(),
+          drawn["carried"].get<double>(), drawn["fresh"].get<double>());
+      markdown += "\n" + lagLine + ".\n\n" + wholeLine + ".\n\n" + (drawnLine.empty() ? "" : drawnLine + ".\n\n");
+      std::cout << "  " << lagLine << "\n  " << wholeLine << "\n" << (drawnLine.empty() ? "" : "  " + drawnLine + "\n");
       panels.push_back(std::move(panel));
       if (pathName == "ground" && summaries.count("chc++")) groundChcPlusPlus[forest.trees().size()] = summaries["chc++"]["p50_ms"].get<double>();
     }
