@@ -75,6 +75,7 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
   FifoQueue<PendingQuery>& pending = scratch.pending;
   std::vector<std::int32_t>& invisibleQueue = scratch.invisibleQueue;
   std::vector<std::int32_t>& visibleQueue = scratch.visibleQueue;
+  std::vector<std::int32_t>& confirmQueue = scratch.confirmQueue;
   std::vector<std::int32_t>& renderQueue = scratch.renderQueue;
   std::vector<std::int32_t>& groupNodes = scratch.groupNodes;
   std::vector<std::uint32_t>& objects = scratch.drawList;
@@ -210,15 +211,14 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     pullUpVisibility(n);
     s.invisibleFrames = 0;
     if (nodes[n].leaf()) {
-      t.markVisible(n);
-      // A query of a leaf not yet drawn tests this frame's depth before all of it is drawn, so a
-      // leaf it finds visible may be hidden in the finished image. Beyond the paper: it is asked
-      // again next frame (after the render queue, §3.2), and only then gets §3.3's random interval,
-      // so a leaf found too early is drawn one frame more instead of up to n_av.
-      if (wasInvisible) {
-        s.nextQueryFrame = frame_ + 1;
-        s.newlyVisible = true;
-      }
+      // A query of a leaf not yet drawn tests this frame's depth before all of it is drawn (the
+      // leaves found visible in the same batch are not drawn yet), so a leaf it finds visible may
+      // be hidden in the finished image. Beyond the paper: it is drawn now and asked again once
+      // everything is drawn (the c-queue, with the v-queue's last queries); only a pass there puts
+      // it in the visible set, and gives it §3.3's random interval. A leaf found too early is then
+      // drawn in this frame only, not in the next one as well.
+      if (wasInvisible) confirmQueue.push_back(n);
+      else t.markVisible(n);
     }
     if (wasInvisible) traverseNode(n);
   };
@@ -296,9 +296,18 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     }
   }
   flushRender();
-  // The remaining visible leaves' queries (for the next frame); their results complete this frame's state.
+  // The remaining visible leaves' queries (for the next frame), and the c-queue: the leaves found
+  // visible this frame, asked against the finished depth, each with a random first interval
+  // (§3.3) to spread the re-queries of leaves that became visible together. Their results
+  // complete this frame's state and visible set.
   for (std::int32_t n : visibleQueue) issueVisible(n);
   visibleQueue.clear();
+  for (std::int32_t n : confirmQueue) {
+    state_[n].nextQueryFrame = frame_ + 1;
+    state_[n].newlyVisible = true;
+    issueVisible(n);
+  }
+  confirmQueue.clear();
   while (!pending.empty()) takeResult();
 }
 

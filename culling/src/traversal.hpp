@@ -99,20 +99,21 @@ struct OcclusionCuller::Scratch {
   std::vector<std::int32_t> groupNodes;  // the nodes of the pending queries
   std::vector<std::int32_t> invisibleQueue, visibleQueue, renderQueue, group;
   std::vector<std::int32_t> geometryQueue;  // chc++: leaves waiting for a geometry query
+  std::vector<std::int32_t> confirmQueue;   // chc++: leaves found visible this frame, asked again at its end
   std::vector<std::int32_t> level, next, best;  // chc++'s tight query boxes
   std::vector<std::tuple<int, int, std::int32_t>> order;  // chc++: the i-queue sorted by p_keep
   std::vector<std::uint32_t> drawList;  // chc++: the render queue's objects
   std::vector<Aabb> boxes;
   // Room for the largest frame a BVH of `nodes` nodes over `objects` objects can make: each node
-  // is queued, opened and queried at most three times (a multiquery, then on its own, then a
-  // leaf with its own triangles), each object drawn and marked visible at most twice; so no frame
-  // grows a list.
+  // is queued, opened and queried at most four times (a multiquery, then on its own, then a
+  // leaf with its own triangles, then once drawn), each object drawn and marked visible at most
+  // twice; so no frame grows a list.
   void reserve(std::size_t nodes, std::size_t objects, std::size_t shapeBoxes, std::vector<std::uint32_t>& visible) {
-    for (auto* v : {&stack, &invisibleQueue, &visibleQueue, &renderQueue, &geometryQueue, &group, &level, &next, &best})
+    for (auto* v : {&stack, &invisibleQueue, &visibleQueue, &renderQueue, &geometryQueue, &confirmQueue, &group, &level, &next, &best})
       v->reserve(2 * nodes);
     traversal.items.reserve(2 * nodes);
-    pending.items.reserve(3 * nodes);
-    groupNodes.reserve(3 * nodes);
+    pending.items.reserve(4 * nodes);
+    groupNodes.reserve(4 * nodes);
     order.reserve(2 * nodes);
     boxes.reserve(2 * (nodes + shapeBoxes));
     drawList.reserve(2 * objects);
@@ -123,7 +124,7 @@ struct OcclusionCuller::Scratch {
     stack.clear();
     pending.clear();
     groupNodes.clear();
-    for (auto* v : {&invisibleQueue, &visibleQueue, &renderQueue, &geometryQueue, &group}) v->clear();
+    for (auto* v : {&invisibleQueue, &visibleQueue, &renderQueue, &geometryQueue, &confirmQueue, &group}) v->clear();
   }
 };
 

@@ -183,9 +183,9 @@ class OcclusionCuller {
     bool visible = false;
     std::uint64_t lastVisited = 0;
     int invisibleFrames = 0;          // chc++: frames found invisible in a row (p_keep's i)
+    bool newlyVisible = false;        // chc++: found visible this frame (asked again next frame, then at §3.3's random interval)
     std::uint64_t nextQueryFrame = 0;  // chc++: a visible leaf is queried again from this frame
     bool geometryHidden = false;  // chc++: a leaf whose own triangles were hidden at its last query
-    bool newlyVisible = false;    // chc++: found visible by a query against this frame's partial depth
   };
   struct Traversal;  // one frame's shared state (src/traversal.hpp)
   struct Scratch;    // the traversals' queues and lists, kept from frame to frame (src/traversal.hpp)
