@@ -2,9 +2,6 @@
 // Lighting (thesis §6.2): Phong — Lambert diffuse and a weak Blinn-Phong highlight from the sun,
 // both times the shadow term — plus a weak hemispheric ambient (sky above, ground bounce below);
 // distance haze; where nothing was drawn, a sky gradient with the sun's disc.
-// Two programs, two draws (lighting_pass.cpp): SKY_PIXELS, the sky alone, where the G-buffer's
-// depth is its clear value; else the lit surface, everywhere else. The depth test picks the pixels
-// before any shading, so neither pays for the other's work (llvmpipe runs both sides of a branch).
 // With the blur on, uShadowTerm is the horizontally blurred term and the vertical pass of the
 // blur happens here (blur_taps.frag), saving a full-screen pass; with the blur off, the term is
 // looked up here (shadow_lookup.frag) and no pass before writes it. The term used is written out.
@@ -60,10 +57,11 @@ vec3 hazeRadiance(vec3 d, vec3 zenith, vec3 toSun, vec3 sunColor, bool sunUp) {
   return horizonRadiance(zenith) + (sunUp ? 0.25 * sunColor * pow8(max(dot(d, toSun), 0.0)) : vec3(0.0));
 }
 
-#ifndef SKY_PIXELS
-// The lit surface's radiance (linear); term.g is its eye depth.
-vec3 surfaceRadiance(uvec4 surface, vec2 term, vec3 view, vec3 zenith, vec3 toSun, vec3 sunColor, bool sunUp, float ambient,
-                     float hazeDensity) {
+// The pixel's radiance (linear): the sky where nothing was drawn (term.g, its eye depth, is 0),
+// else the lit surface. One display encoding for both in main: llvmpipe runs both sides of the branch.
+vec3 surfaceOrSky(uvec4 surface, vec2 term, vec3 view, vec3 zenith, vec3 toSun, vec3 sunColor, bool sunUp, float ambient,
+                  float hazeDensity) {
+  if (term.g == 0.0) return skyRadiance(view, zenith, toSun, sunColor, sunUp);
   vec3 albedo = albedoOf(surface);
   vec3 n = shadingNormalOf(surface);
   float shadow = term.r;
@@ -102,15 +100,5 @@ void main() {
 #endif
   usedTerm = term;
   vec3 view = normalize(vRay);
-  fragColor = vec4(displayFromLinear(surfaceRadiance(surface, term, view, zenith, toSun, sunColor, sunUp, ambient, hazeDensity)), 1.0);
+  fragColor = vec4(displayFromLinear(surfaceOrSky(surface, term, view, zenith, toSun, sunColor, sunUp, ambient, hazeDensity)), 1.0);
 }
-#else
-// The sky: nothing was drawn here. The term used is the lookup's for the sky, (1, eye depth 0)
-// (shadow_lookup.frag; the blur keeps a sky texel as it is, blur_taps.frag).
-void main() {
-  bool sunUp = uFrame.toSunUp.w != 0.0;
-  usedTerm = vec2(1.0, 0.0);
-  vec3 sky = skyRadiance(normalize(vRay), uFrame.skyFog.rgb, uFrame.toSunUp.xyz, uFrame.sunColorAmbient.rgb, sunUp);
-  fragColor = vec4(displayFromLinear(sky), 1.0);
-}
-#endif

@@ -124,7 +124,7 @@ struct Frame::Passes {
         shadow(objects, terrain, forest, props),
         shadowTerm(width, height),
         blur(width, height),
-        lighting(width, height, geometry.gbuffer().depth) {}
+        lighting(width, height) {}
 };
 
 Frame::Frame(const Scene& scene, int width, int height) : scene_(scene), width_(width), height_(height) {

@@ -2,8 +2,7 @@
 // Pass 5 of the frame (thesis §6.2, DESIGN §4): Phong lighting from the G-buffer with a weak
 // global ambient, the shadow term (the blur's vertical half when the blur is on, the lookup itself
 // when it is off), fog and the sky colour. Targets: the lit colour (RGBA8) and, when asked, the term
-// it used (RG16F). Two draws split the pixels by the G-buffer's depth, read-only: the lit surface
-// where something was drawn, the sky where the depth kept its clear value (shaders/lighting.frag).
+// it used (RG16F).
 #include <glm/glm.hpp>
 
 #include <array>
@@ -21,8 +20,7 @@ namespace forest::render {
 
 class LightingPass {
  public:
-  // `surfaceDepth`: the G-buffer's depth (GBuffer::depth), width × height, tested, never written.
-  LightingPass(int width, int height, const gl::Texture& surfaceDepth);
+  LightingPass(int width, int height);
   // With the blur on, `term` is the horizontally blurred shadow term; with it off (null), the
   // term is looked up in `shadowMap`. The sun, sky, fog and blur come from the frame block
   // (frame_uniforms.hpp), bound; `haze`: whether its haze density is above 0. `keepTerm`: also
@@ -45,7 +43,6 @@ class LightingPass {
   // horizontal pass (compiled on first use), and those looking it up here.
   std::array<std::optional<gl::Program>, 2> blurred_;
   std::array<ShadowLookupPrograms, 2> lookup_;
-  gl::Program sky_;  // SKY_PIXELS
   FullScreenTriangle triangle_;
 };
 
