@@ -215,8 +215,10 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
       // leaves found visible in the same batch are not drawn yet), so a leaf it finds visible may
       // be hidden in the finished image. Beyond the paper: it is drawn now and asked again once
       // everything is drawn (the c-queue, with the v-queue's last queries); only a pass there puts
-      // it in the visible set, and gives it §3.3's random interval. A leaf found too early is then
-      // drawn in this frame only, not in the next one as well.
+      // it in the visible set. A leaf found too early is then drawn in this frame only, not in the
+      // next one as well. One that passes is asked once more the next frame (it may have been
+      // found late in a round of leaves that hide it next frame), and only then gets §3.3's
+      // random interval.
       if (wasInvisible) confirmQueue.push_back(n);
       else t.markVisible(n);
     }
@@ -297,9 +299,8 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
   }
   flushRender();
   // The remaining visible leaves' queries (for the next frame), and the c-queue: the leaves found
-  // visible this frame, asked against the finished depth, each with a random first interval
-  // (§3.3) to spread the re-queries of leaves that became visible together. Their results
-  // complete this frame's state and visible set.
+  // visible this frame, asked against the finished depth (and again next frame, newlyVisible).
+  // Their results complete this frame's state and visible set.
   for (std::int32_t n : visibleQueue) issueVisible(n);
   visibleQueue.clear();
   for (std::int32_t n : confirmQueue) {
