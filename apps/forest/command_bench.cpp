@@ -468,11 +468,11 @@ int runBenchCulling(const BenchOptions& options) {
       for (const FrameRecord& r : records[kOracle]) oracleDrawn.push_back(r.stats.trianglesDrawn);
       const double lag = oracleLagShare(visibleSets, oracleDrawn, static_cast<size_t>(warmup));
       entry["oracle_lag_triangles"] = lag;
-      for (size_t k = 0; k <= strategies.size(); ++k) {
-        const DrawnBreakdown d = k < strategies.size() ? recorders[k].meanPerFrame() : oracleTreesAndProps(visibleSets, static_cast<size_t>(warmup));
-        summaries[k < strategies.size() ? options.strategies[k] : kOracle]["trees_and_props_drawn"] = {
-            {"visible", d.visible}, {"lag", d.lag}, {"carried", d.carried}, {"fresh", d.fresh}};
-      }
+      const auto breakdown = [](const DrawnBreakdown& d) {
+        return ordered_json{{"visible", d.visible}, {"lag", d.lag}, {"carried", d.carried}, {"fresh", d.fresh}};
+      };
+      for (size_t k = 0; k < strategies.size(); ++k) summaries[options.strategies[k]]["trees_and_props_drawn"] = breakdown(recorders[k].meanPerFrame());
+      summaries[kOracle]["trees_and_props_drawn"] = breakdown(oracleTreesAndProps(visibleSets, static_cast<size_t>(warmup)));
       const double wholeTiles = wholeTileOracleTrianglesP50(visibleSets, oracleDrawn, static_cast<size_t>(warmup));
       entry["oracle_whole_tiles_triangles_p50"] = wholeTiles;
       const std::string lagLine = fmt::format(

@@ -137,9 +137,10 @@ void OcclusionCuller::endQueries() {
 }
 
 namespace {
-// At most three per node and frame: a node enters the traversal once, and is queried once for
-// itself, once more when a multiquery that held it found something, and once with its own
-// triangles (a leaf's geometry query).
+// At most 3N + 1 per frame for a BVH of N nodes: a node enters the traversal once, and is queried
+// once for itself, once more when a multiquery that held it found something; a leaf also once
+// with its own triangles (its geometry query) and, found visible, once more after the frame is
+// drawn (chc++'s c-queue). With L leaves and L − 1 inner nodes that is 4L + 2(L − 1) = 3N + 1.
 std::uint32_t takeSlot(std::size_t& used, std::size_t slots) {
   if (used == slots) throw Error(fmt::format("OcclusionCuller: more than {} queries in a frame", slots));
   return static_cast<std::uint32_t>(used++);
