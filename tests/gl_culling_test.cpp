@@ -2,8 +2,9 @@
 // forest — a ground-level walk, 20 under the canopy of the densest stand, above the canopy, facing a hill, facing the sky, the eye inside a
 // cluster's box, trees and props moving between frames — frustum, stop-and-wait, CHC and CHC++
 // (terrain drawn by the blocks that meet the frustum, as the frame does, and for the query-driven
-// ones by the blocks found visible: render::TerrainBlockVisibility, their visible sets then asked
-// again: OcclusionCuller::refineVisibleSet; also CHC++ without both) draw the same depth and
+// ones by the blocks found visible: render::TerrainBlockVisibility, queried with the traversal's
+// last batch, the visible sets of all but CHC++ then asked again: OcclusionCuller::refineVisibleSet;
+// also CHC++ without both) draw the same depth and
 // object-ID images as drawing everything. The CHC and CHC++ visible sets
 // hold every object with a visible pixel, and z_f reaches the farthest depth drawn. A synthetic box scene (a wall
 // hiding rows of boxes) gives the expected visible sets and query counts.
@@ -165,13 +166,16 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongEightyViews) {
       const Frustum frustum(view.camera);
       const bool byBlock = runs[k].byBlock && s != CullingStrategy::None && s != CullingStrategy::Frustum;
       if (s != CullingStrategy::None) drawer.cullTerrainBlocks(&frustum, byBlock ? &blockVisibility[k] : nullptr);
-      blockVisibility[k].beginFrame();
-      culling::CullingResult r = cullers[k].cull(bvh, objects.boxes(), view.camera, s, drawer, objects.queryShapes(&lod));
-      if (byBlock) {  // as the geometry pass: the blocks held back, then the visible set asked again
-        (void)blockVisibility[k].drawHeld(cullers[k], drawer);
-        const std::size_t before = r.visibleObjects.size();
-        r = cullers[k].refineVisibleSet(objects.boxes(), objects.queryShapes(&lod));
-        refinedAway += static_cast<int>(before - r.visibleObjects.size());
+      blockVisibility[k].beginFrame(drawer);
+      culling::CullingResult r = cullers[k].cull(bvh, objects.boxes(), view.camera, s, drawer, objects.queryShapes(&lod),
+                                                 byBlock ? &blockVisibility[k] : nullptr);
+      if (byBlock) {  // as the geometry pass: the blocks held back, then (but chc++) the visible set asked again
+        (void)blockVisibility[k].drawLate(cullers[k]);
+        if (s != CullingStrategy::ChcPlusPlus) {
+          const std::size_t before = r.visibleObjects.size();
+          r = cullers[k].refineVisibleSet(objects.boxes(), objects.queryShapes(&lod));
+          refinedAway += static_cast<int>(before - r.visibleObjects.size());
+        }
         const render::TerrainBlockVisibility::Stats& b = blockVisibility[k].stats();
         blocksHeld += b.held;
         blocksDrawnAfter += b.drawnAfter;

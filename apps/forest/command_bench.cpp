@@ -432,11 +432,11 @@ int runBenchCulling(const BenchOptions& options) {
           } else {
             render::TerrainBlockVisibility* blocks = blockVisibility[k] ? &*blockVisibility[k] : nullptr;
             if (strategies[k] != CullingStrategy::None) lit.cullTerrainBlocks(&frustum, blocks);
-            if (blocks) blocks->beginFrame();
+            if (blocks) blocks->beginFrame(lit);
             recorders[k].beginFrame(lit);
             const culling::CullingResult& culled =
-                cullers[k]->cull(bvh, objects.boxes(), path[f], strategies[k], recorders[k], objects.queryShapes(&lod));
-            const long long late = blocks ? blocks->drawHeld(*cullers[k], lit) : 0;  // its queries go into culled.stats
+                cullers[k]->cull(bvh, objects.boxes(), path[f], strategies[k], recorders[k], objects.queryShapes(&lod), blocks);
+            const long long late = blocks ? blocks->drawLate(*cullers[k]) : 0;  // its queries go into culled.stats
             recorders[k].endFrame(visibleSets[f], f > 0 ? &visibleSets[f - 1] : nullptr, f >= static_cast<size_t>(warmup));
             r.stats = culled.stats;
             r.stats.trianglesDrawn += late;

@@ -309,6 +309,7 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     issueVisible(n);
   }
   confirmQueue.clear();
+  issueAfterTraversal();  // in the same batch: answered by the same wait
   while (!pending.empty()) takeResult();
 }
 

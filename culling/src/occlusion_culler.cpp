@@ -206,6 +206,7 @@ void OcclusionCuller::markQueriesDrawn() {
 }
 
 void OcclusionCuller::waitForResults(std::size_t slot, CullingStats& stats) {
+  ++stats.waits;
   if (queryMode_ == QueryMode::Deterministic) {
     // One barrier and wait for everything drawn so far: the next reads need none (llvmpipe's
     // barrier is a glFinish already).
@@ -255,27 +256,41 @@ void OcclusionCuller::drawObjects(Traversal& t, std::span<const std::uint32_t> o
 
 const std::vector<bool>& OcclusionCuller::queryAfterCull(std::span<const Aabb> boxes, std::span<const std::uint32_t> groupEnds,
                                                          const SurfaceQueries& surfaces) {
-  if (!stateOf_) throw Error("OcclusionCuller::queryAfterCull: no frame was culled");
+  issueAfterCull(boxes, groupEnds, surfaces);
+  return afterCullResults();
+}
+
+namespace {
+constexpr std::size_t kNoQuery = ~std::size_t{0};  // a group visible without a query
+}  // namespace
+
+void OcclusionCuller::issueAfterCull(std::span<const Aabb> boxes, std::span<const std::uint32_t> groupEnds,
+                                     const SurfaceQueries& surfaces) {
+  if (!stateOf_) throw Error("OcclusionCuller::issueAfterCull: no frame was culled");
+  if (afterCullIssued_) throw Error("OcclusionCuller::issueAfterCull: the previous queries' results were not taken");
   for (std::size_t g = 0; g < groupEnds.size(); ++g)
     if (groupEnds[g] > boxes.size() || (g > 0 && groupEnds[g] < groupEnds[g - 1]))
       throw Error(fmt::format("OcclusionCuller::queryAfterCull: group {} ends at box {}: expected ends that do not decrease, "
                               "within the {} boxes", g, groupEnds[g], boxes.size()));
+  afterCullIssued_ = true;
+  afterCullSlots_.clear();
   afterCullVisible_.assign(groupEnds.size(), false);
-  if (groupEnds.empty()) return afterCullVisible_;
+  if (groupEnds.empty()) return;
   const auto start = std::chrono::steady_clock::now();
   CullingStats& stats = result_.stats;
-  const double waitedBefore = stats.waitMilliseconds;
   if (used_ + groupEnds.size() > slots_) {
-    // The traversal read every result it needed and dropped the rest: a larger, zeroed buffer
-    // loses nothing. Slots below used_ stay unused in it.
+    // Inside a cull, results still to be read live in the buffer: reserveAfterCull made too little room.
+    if (inCull_)
+      throw Error(fmt::format("OcclusionCuller::issueAfterCull: {} queries after a traversal that used {} of {} slots: more "
+                              "than the {} QueriesAfterTraversal::maxQueries promised", groupEnds.size(), used_, slots_, afterCullQueries_));
+    // After it, the traversal read every result it needed and dropped the rest: a larger, zeroed
+    // buffer loses nothing. Slots below used_ stay unused in it.
     allocateResultSlots(std::max(2 * slots_, used_ + groupEnds.size()));
     drawnSlots_ = readableSlots_ = used_;
   }
-  afterCullSlots_.clear();
   afterCullGroups_.clear();
   afterCullGroupSlots_.clear();
   const NearSlab nearSlab(camera_);
-  constexpr std::size_t kNoQuery = ~std::size_t{0};
   std::uint32_t first = 0;
   for (const std::uint32_t end : groupEnds) {
     const std::span<const Aabb> group = boxes.subspan(first, end - first);
@@ -301,10 +316,20 @@ const std::vector<bool>& OcclusionCuller::queryAfterCull(std::span<const Aabb> b
     stats.queryTriangles += surfaces(afterCullGroups_, afterCullGroupSlots_);
     glDepthFunc(GL_GREATER);
     endQueries();
-    if (batch_.empty()) markQueriesDrawn();  // else drawQueryBatch does
+    if (batch_.empty() && geometryObjects_.empty()) markQueriesDrawn();  // else drawQueryBatch does
   }
   drawQueryBatch();
-  for (std::size_t g = 0; g < groupEnds.size(); ++g)
+  // Inside a cull its own clock counts this.
+  if (!inCull_) stats.cpuMilliseconds += 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+const std::vector<bool>& OcclusionCuller::afterCullResults() {
+  if (!afterCullIssued_) throw Error("OcclusionCuller::afterCullResults: no queries were issued after the cull");
+  afterCullIssued_ = false;
+  const auto start = std::chrono::steady_clock::now();
+  CullingStats& stats = result_.stats;
+  const double waitedBefore = stats.waitMilliseconds;
+  for (std::size_t g = 0; g < afterCullSlots_.size(); ++g)
     afterCullVisible_[g] = afterCullSlots_[g] == kNoQuery || waitResult(afterCullSlots_[g], stats);
   endQueries();
   for (const BatchFence& f : fences_) glDeleteSync(f.fence);
@@ -352,6 +377,12 @@ const CullingResult& OcclusionCuller::refineVisibleSet(std::span<const Aabb> obj
   return result_;
 }
 
+void OcclusionCuller::issueAfterTraversal() {
+  QueriesAfterTraversal* after = afterTraversal_;
+  afterTraversal_ = nullptr;
+  if (after) after->issue(*this);
+}
+
 void OcclusionCuller::pullUpVisibility(std::int32_t n) {
   // The node itself always (it may still carry last frame's flag); then its ancestors up to the
   // first one already visible this frame (the ones opened this frame were reset to invisible).
@@ -361,7 +392,8 @@ void OcclusionCuller::pullUpVisibility(std::int32_t n) {
 }
 
 const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb> objectBoxes, const Camera& camera,
-                                           CullingStrategy strategy, ObjectDrawer& drawer, const QueryShapes& shapes) {
+                                           CullingStrategy strategy, ObjectDrawer& drawer, const QueryShapes& shapes,
+                                           QueriesAfterTraversal* after) {
   if (!shapes.empty() && shapes.ranges.size() != objectBoxes.size())
     throw Error(fmt::format("OcclusionCuller: query shapes for {} objects, expected {}", shapes.ranges.size(), objectBoxes.size()));
   if (objectBoxes.size() != bvh.objectCount())
@@ -373,6 +405,9 @@ const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb>
   Scratch& scratch = *scratch_;
   scratch.clear();
   ++frame_;
+  for (const BatchFence& f : fences_) glDeleteSync(f.fence);  // left by after-cull queries whose results were not taken
+  fences_.clear();
+  afterCullIssued_ = false;
   used_ = drawnSlots_ = readableSlots_ = 0;
   switches_ = 0;
   eye_ = camera.position;
@@ -391,8 +426,11 @@ const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb>
     geometryObjects_.reserve(bvh.objectCount());
     geometrySlots_.reserve(bvh.objectCount());
   }
+  if (after && after->maxQueries() > afterCullQueries_) reserveAfterCull(after->maxQueries(), 0);
   drawer_ = &drawer;
   stats_ = &result.stats;
+  afterTraversal_ = after;
+  inCull_ = true;
   Traversal t{bvh, camera, Frustum(camera), drawer, result.stats, result.visibleObjects, scratch, shapes,
               parameters_.tight_box_area_ratio, NearSlab(camera)};
   const std::vector<BvhNode>& nodes = bvh.nodes();
@@ -448,12 +486,16 @@ const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb>
     case CullingStrategy::Chc: cullChc(t); break;
     case CullingStrategy::ChcPlusPlus: cullChcPlusPlus(t); break;
   }
+  issueAfterTraversal();  // chc++ did before its last wait
   drawQueryBatch();  // none left unread by the strategies; kept for a query issued last
   endQueries();
   drawer_ = nullptr;  // geometry queries only within a cull
   stats_ = nullptr;
-  for (const BatchFence& f : fences_) glDeleteSync(f.fence);
-  fences_.clear();
+  inCull_ = false;
+  if (!afterCullIssued_) {  // else afterCullResults may still need the fences
+    for (const BatchFence& f : fences_) glDeleteSync(f.fence);
+    fences_.clear();
+  }
   result.stats.stateSwitches = switches_;
 
   std::vector<std::uint32_t>& visible = t.visible;

@@ -63,11 +63,14 @@ const culling::CullingResult& GeometryPass::run(const Camera& camera, const Draw
     // After the traversal: at most every object and every block, and their boxes.
     const std::size_t blocks = objects_.tileCount() * terrain::Terrain::kMaxBlockBoxes;
     culler.reserveAfterCull(objects_.boxes().size() + blocks, objects_.queryBoxCount() + blocks);
-    blockVisibility_->beginFrame();
-    const culling::CullingResult& culled = culler.cull(bvh, objects_.boxes(), camera, strategy, drawer, shapes);
-    const long long late = blockVisibility_->drawHeld(culler, drawer);  // counts its queries in culled.stats
+    blockVisibility_->beginFrame(drawer);
+    // The blocks' queries go out with the traversal's last batch (chc++: no wait of their own).
+    const culling::CullingResult& culled = culler.cull(bvh, objects_.boxes(), camera, strategy, drawer, shapes, &*blockVisibility_);
+    const long long late = blockVisibility_->drawLate(culler);  // its queries are counted in culled.stats
     // Objects found visible before the blocks held back were drawn may be hidden behind them.
-    (void)culler.refineVisibleSet(objects_.boxes(), shapes);
+    // chc++ asks each leaf it found this frame again once the traversal is drawn (its c-queue), so
+    // only objects behind the late blocks remain; the other strategies ask their set again here.
+    if (strategy != culling::CullingStrategy::ChcPlusPlus) (void)culler.refineVisibleSet(objects_.boxes(), shapes);
     blockResult_ = culled;
     blockResult_.stats.trianglesDrawn += late;
     return blockResult_;

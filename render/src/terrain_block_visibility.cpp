@@ -25,10 +25,12 @@ TerrainBlockVisibility::TerrainBlockVisibility(const terrain::Terrain& terrain, 
   querySlots_.reserve(nextQuery_.size());
 }
 
-void TerrainBlockVisibility::beginFrame() {
+void TerrainBlockVisibility::beginFrame(SceneDrawer& drawer) {
   ++frame_;
   held_.clear();
   stats_ = Stats{};
+  drawer_ = &drawer;
+  issued_ = false;
 }
 
 void TerrainBlockVisibility::reset() { std::fill(tiles_.begin(), tiles_.end(), TileState{}); }
@@ -89,8 +91,9 @@ std::uint16_t TerrainBlockVisibility::mapLevel(std::uint16_t bits, int from, int
   return combine == Combine::Any ? any : static_cast<std::uint16_t>(any & ~missing);
 }
 
-long long TerrainBlockVisibility::drawHeld(culling::OcclusionCuller& culler, SceneDrawer& drawer) {
-  if (held_.empty()) return 0;
+void TerrainBlockVisibility::issue(culling::OcclusionCuller& culler) {
+  if (!drawer_) throw Error("TerrainBlockVisibility::issue: no frame begun");
+  if (held_.empty()) return;
   // The hidden blocks of a tile side by side (one query), then the drawn ones (one each).
   std::sort(held_.begin(), held_.end(), [](const Held& a, const Held& b) {
     return std::tie(a.kind, a.tile, a.block) < std::tie(b.kind, b.tile, b.block);
@@ -105,7 +108,8 @@ long long TerrainBlockVisibility::drawHeld(culling::OcclusionCuller& culler, Sce
   }
   // Each group by its blocks' own triangles: a box sees over the crest in front of it and between
   // trunks where the surface does not.
-  const auto surfaces = [&](std::span<const std::uint32_t> groups, std::span<const std::uint32_t> slots) {
+  SceneDrawer& drawer = *drawer_;
+  const auto surfaces = [this, &drawer](std::span<const std::uint32_t> groups, std::span<const std::uint32_t> slots) {
     queryBlocks_.clear();
     querySlots_.clear();
     for (std::size_t i = 0; i < groups.size(); ++i) {
@@ -118,7 +122,14 @@ long long TerrainBlockVisibility::drawHeld(culling::OcclusionCuller& culler, Sce
     }
     return drawer.drawTerrainBlockQueries(queryBlocks_, querySlots_);
   };
-  const std::vector<bool>& visible = culler.queryAfterCull(boxes_, groupEnds_, surfaces);
+  culler.issueAfterCull(boxes_, groupEnds_, surfaces);
+  issued_ = true;
+}
+
+long long TerrainBlockVisibility::drawLate(culling::OcclusionCuller& culler) {
+  if (!issued_) return 0;  // nothing held
+  issued_ = false;
+  const std::vector<bool>& visible = culler.afterCullResults();
   late_.clear();
   std::size_t first = 0;
   for (std::size_t g = 0; g < groupEnds_.size(); ++g) {
@@ -142,7 +153,7 @@ long long TerrainBlockVisibility::drawHeld(culling::OcclusionCuller& culler, Sce
     first = end;
   }
   stats_.drawnAfter = static_cast<int>(late_.size());
-  return late_.empty() ? 0 : drawer.drawTerrainBlocks(late_);
+  return late_.empty() ? 0 : drawer_->drawTerrainBlocks(late_);
 }
 
 }  // namespace forest::render

@@ -98,6 +98,23 @@ struct QueryShapes {
   bool empty() const { return ranges.empty(); }
 };
 
+class OcclusionCuller;
+
+// Queries of parts of the objects a cull draws (render::TerrainBlockVisibility: the blocks of the
+// terrain tiles it draws), asked against the depth of everything the traversal drew. Handed to
+// cull(), they are issued after the traversal's last draw and go out with its last batch of
+// queries (chc++: the v-queue's last queries and the c-queue), so their results come with that
+// batch's and the frame waits for the GPU no more often than without them.
+class QueriesAfterTraversal {
+ public:
+  virtual ~QueriesAfterTraversal() = default;
+  // Called once in every cull, after its last draw and before it waits for its last results:
+  // issues the queries with culler.issueAfterCull. Their results: culler.afterCullResults().
+  virtual void issue(OcclusionCuller& culler) = 0;
+  // The most queries issue() makes in a frame: the culler keeps that many result slots free.
+  virtual std::size_t maxQueries() const = 0;
+};
+
 enum class QueryMode { Deterministic, Async };
 QueryMode parseQueryMode(std::string_view name);  // "deterministic", "async"; throws InputError
 std::string_view queryModeName(QueryMode mode);
@@ -113,6 +130,7 @@ struct CullingStats {
   int objectsDrawn = 0;
   long long trianglesDrawn = 0;
   double waitMilliseconds = 0.0;  // CPU time blocked on query results (async: polling until available)
+  int waits = 0;                  // times the CPU waited for the GPU's query results
   // The cull call's own CPU time, less the waits: traversal, queues and GL submission (on a
   // software renderer the submitting thread's share of the draws' vertex work too).
   double cpuMilliseconds = 0.0;
@@ -142,8 +160,9 @@ class OcclusionCuller {
   // leave, since they draw the boxes' front faces only. The result is the culler's, valid until
   // its next frame (its storage is reused: no allocation per frame).
   // `shapes`: what a leaf's query draws instead of the leaf's box (none: the box).
+  // `after`: queries issued after the traversal's last draw, answered with its last batch.
   const CullingResult& cull(const Bvh& bvh, std::span<const Aabb> objectBoxes, const Camera& camera, CullingStrategy strategy,
-                            ObjectDrawer& drawer, const QueryShapes& shapes = {});
+                            ObjectDrawer& drawer, const QueryShapes& shapes = {}, QueriesAfterTraversal* after = nullptr);
   // After cull(), in the same frame, framebuffer and state: one query per group of boxes against
   // the depth drawn so far (group g holds boxes [groupEnds[g − 1], groupEnds[g]), from 0 for the
   // first), all in one batch, then the results (deterministic: one wait; async: each fence
@@ -158,6 +177,11 @@ class OcclusionCuller {
   using SurfaceQueries = std::function<long long(std::span<const std::uint32_t> groups, std::span<const std::uint32_t> slots)>;
   const std::vector<bool>& queryAfterCull(std::span<const Aabb> boxes, std::span<const std::uint32_t> groupEnds,
                                           const SurfaceQueries& surfaces = {});
+  // queryAfterCull in two halves: issue the queries (from QueriesAfterTraversal::issue, inside the
+  // cull, or after it), then take their results (waiting only for what the cull's last wait did
+  // not cover). Inside a cull at most `after->maxQueries()` (or reserveAfterCull's count).
+  void issueAfterCull(std::span<const Aabb> boxes, std::span<const std::uint32_t> groupEnds, const SurfaceQueries& surfaces = {});
+  const std::vector<bool>& afterCullResults();
   // After cull() and every other draw of the frame: asks each object of the frame's visible set
   // again, by its query shapes (or its box), against the final depth, in one batch
   // (queryAfterCull), and keeps those that pass or are visible without a query; z_f again from
@@ -273,6 +297,12 @@ class OcclusionCuller {
   std::vector<Aabb> refineBoxes_;  // refineVisibleSet's queries
   std::vector<std::uint32_t> refineEnds_;
   std::size_t afterCullQueries_ = 0;  // reserveAfterCull's
+  bool afterCullIssued_ = false;      // issueAfterCull was called, afterCullResults not yet
+  QueriesAfterTraversal* afterTraversal_ = nullptr;  // the current cull's, until issued
+  bool inCull_ = false;
+  // Issues the current cull's QueriesAfterTraversal once (chc++: before its last wait; the other
+  // strategies: at the end of the cull).
+  void issueAfterTraversal();
   const Bvh* stateOf_ = nullptr;
   std::uint64_t frame_ = 0;
 };

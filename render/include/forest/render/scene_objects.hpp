@@ -99,8 +99,8 @@ class SceneDrawer : public culling::ObjectDrawer {
   // With a frustum (the eye's, kept by the caller), a terrain tile is drawn by its blocks at its
   // level (terrain::Terrain::blockBoxes) whose boxes meet the frustum: a block outside it gives no
   // fragment, so the image is the same. Null: tiles whole (the default).
-  // With `visibility` too, a tile's blocks it holds back are left to TerrainBlockVisibility::drawHeld
-  // (the eye's occlusion culling by block).
+  // With `visibility` too, a tile's blocks it holds back are left to TerrainBlockVisibility (the
+  // eye's occlusion culling by block: queried after the traversal, drawn by its drawLate).
   void cullTerrainBlocks(const Frustum* frustum, TerrainBlockVisibility* visibility = nullptr) {
     blockFrustum_ = frustum;
     blockVisibility_ = visibility;

@@ -16,7 +16,8 @@
 //     are drawn then, and asked one by one the next frame;
 //   - a block not known yet — its tile was not drawn the frame before — is drawn with its tile
 //     (as the whole tile was before: it occludes during the traversal) and asked after.
-// All of a frame's block queries go out in one batch (OcclusionCuller::queryAfterCull); a block
+// All of a frame's block queries go out after the traversal's last draw, in the culler's last
+// batch (culling::QueriesAfterTraversal: answered by the wait the culler makes anyway); a block
 // whose box holds the eye or meets the near slab counts as visible without one.
 // Exact as the culler is: a block is either drawn during the traversal or drawn when its
 // triangles passed the depth test against everything else drawn — a subset of what brute force
@@ -34,28 +35,31 @@ namespace forest::render {
 
 class SceneDrawer;
 
-class TerrainBlockVisibility {
+class TerrainBlockVisibility final : public culling::QueriesAfterTraversal {
  public:
   // requeryFrames: n_av, ≥ 1 (CullingSettings::visible_requery_frames).
   TerrainBlockVisibility(const terrain::Terrain& terrain, int requeryFrames);
 
-  // A new frame: nothing is held.
-  void beginFrame();
+  // A new frame, drawn by `drawer` (the SceneDrawer the cull draws with): nothing is held.
+  void beginFrame(SceneDrawer& drawer);
   // Forgets every block's visibility (a camera cut): each tile starts again with its blocks not known.
   void reset();
   // Whether block `block` of `tile`, drawn at `level` and meeting the frustum, is drawn now (it
-  // was visible or is not known); if not (it was hidden), it is held for drawHeld.
+  // was visible or is not known); if not (it was hidden), it is held until issue() asks it.
   bool drawNow(int tile, int level, int block);
-  // After the culler's traversal of this frame: queries the held blocks and the visible ones due,
-  // draws the held ones found visible with `drawer` (SceneDrawer::drawTerrainBlocks). Returns the
-  // triangles drawn.
-  long long drawHeld(culling::OcclusionCuller& culler, SceneDrawer& drawer);
+  // Handed to OcclusionCuller::cull, which calls it after its traversal's last draw: queries the
+  // held blocks and the visible ones due, in the culler's last batch.
+  void issue(culling::OcclusionCuller& culler) override;
+  std::size_t maxQueries() const override { return nextQuery_.size(); }  // every block its own
+  // After the cull: takes those results and draws the held blocks found visible
+  // (SceneDrawer::drawTerrainBlocks). Returns the triangles drawn.
+  long long drawLate(culling::OcclusionCuller& culler);
 
   struct Stats {
     int drawnInTraversal = 0;  // blocks drawn by drawNow
     int held = 0;              // blocks held back
-    int requeried = 0;         // blocks drawn by drawNow that drawHeld queries (not known, or due)
-    int drawnAfter = 0;        // held blocks found visible and drawn by drawHeld
+    int requeried = 0;         // blocks drawn by drawNow that issue queries (not known, or due)
+    int drawnAfter = 0;        // held blocks found visible and drawn by drawLate
   };
   const Stats& stats() const { return stats_; }  // this frame's
 
@@ -81,6 +85,8 @@ class TerrainBlockVisibility {
   const terrain::Terrain& terrain_;
   int requeryFrames_;
   std::uint64_t frame_ = 0;
+  SceneDrawer* drawer_ = nullptr;  // this frame's (beginFrame)
+  bool issued_ = false;            // this frame's queries went out: drawLate takes their results
   std::vector<TileState> tiles_;
   std::vector<std::uint64_t> nextQuery_;  // per (tile, block): a visible block is asked again from this frame
   std::vector<std::uint64_t> heldIn_;     // per (tile, block): the frame it was last held (held once a frame)
