@@ -2,8 +2,10 @@
 // closed form: one flat tile (16 blocks) seen from straight above through a roof of two slabs that
 // leaves only the corner block open. Once the blocks are known, CHC++ draws that block's
 // triangles and the slabs', nothing more; the image (depth and object IDs) equals brute force
-// every frame; and when the eye drops under the roof, the blocks held back are found and drawn in
-// that very frame.
+// every frame; when the eye drops under the roof, the blocks held back are found and drawn in
+// that very frame; and seen from the side through the opening, the held blocks drawn are exactly
+// those with a pixel in brute force's block-ID image (each asked on its own).
+#include <set>
 #include <vector>
 
 #include "forest/core/error.hpp"
@@ -22,6 +24,8 @@ namespace {
 using glm::dvec3;
 
 class TerrainBlockVisibilityGl : public GlTest {};
+
+constexpr std::uint32_t kBlockIdBase = 1000;  // block IDs apart from the objects' (1–3)
 
 TEST_F(TerrainBlockVisibilityGl, OnlyTheBlockSeenThroughTheRoofIsDrawn) {
   TerrainSettings settings;  // one 64-quad tile over [−32, 32]², 1 m a quad, all but flat
@@ -52,12 +56,27 @@ TEST_F(TerrainBlockVisibilityGl, OnlyTheBlockSeenThroughTheRoofIsDrawn) {
   above.far = 200.0;
   Camera under = above;  // under the roof: every block shows
   under.position.y = 3.0;
+  // Far to the side, low: through the open corner it sees the ground of the corner block and of
+  // the block beside it (the roof is 5 m up), and no other block.
+  Camera oblique = above;
+  oblique.position = {-100.0, 40.0, -24.0};
+  oblique.yaw = glm::radians(-90.0);  // along +x
+  oblique.pitch = std::atan2(-40.0, 92.0);
+  const render::TerrainRenderer blockIds(terrain, render::TerrainRenderer::Output::BlockId, kBlockIdBase);
 
   culling::OcclusionCuller culler, bruteForce;
   render::TerrainBlockVisibility blocks(terrain, 8);
-  const std::vector<Camera> frames = {above, above, above, above, under, under};
+  // Frames 0–5 from above, then under the roof; at frame 6 everything is forgotten (a camera
+  // cut), and frames 6–9 are from above again, then from the side.
+  constexpr size_t kUnder = 4, kCut = 6, kOblique = 10;
+  const std::vector<Camera> frames = {above, above, above, above, under, under, above, above, above, above, oblique, oblique};
   for (size_t f = 0; f < frames.size(); ++f) {
     const Camera& camera = frames[f];
+    if (f == kCut) {
+      culler.reset();
+      blocks.reset();
+    }
+    const size_t sinceCut = f < kCut ? f : f - kCut;  // frames from above since the last cut: 0–3
     const terrain::TerrainLod lod = terrain.lodFor(camera, kSide);
     const int level = terrain.tileLevel(0, lod);
     const Frustum frustum(camera);
@@ -79,7 +98,7 @@ TEST_F(TerrainBlockVisibilityGl, OnlyTheBlockSeenThroughTheRoofIsDrawn) {
     // (frames 0 and 1: the leaves found visible are asked again at the end of the frame, then the
     // next frame), their results came with it; elsewhere they take at most one wait.
     EXPECT_LE(r.stats.waits, waitsInCull + 1) << "frame " << f;
-    if (f < 2) {
+    if (sinceCut < 2) {
       EXPECT_EQ(r.stats.waits, waitsInCull) << "frame " << f;
     }
     EXPECT_EQ(target.readIds(), expectedIds) << "frame " << f;
@@ -91,14 +110,33 @@ TEST_F(TerrainBlockVisibilityGl, OnlyTheBlockSeenThroughTheRoofIsDrawn) {
     for (const Aabb& b : terrain.blockBoxes(0, level)) blocksInFrustum += frustum.mayIntersect(b) ? 1 : 0;
     const int cornerInFrustum = frustum.mayIntersect(terrain.blockBoxes(0, level)[0]) ? 1 : 0;
     ASSERT_EQ(terrain::blocksPerTile(level), 16) << "the roof is laid out for 16 blocks";
-    if (f == 0) {  // nothing known yet: every block in the frustum drawn, and asked
+    if (sinceCut == 0) {  // nothing known yet: every block in the frustum drawn, and asked
       EXPECT_EQ(triangles, 2 * 12 + blocksInFrustum * perBlock);
-    } else if (f < 4) {  // the corner block alone
+    } else if (sinceCut < 4) {  // the corner block alone
       EXPECT_EQ(triangles, 2 * 12 + perBlock) << "frame " << f;
       EXPECT_EQ(blocks.stats().drawnInTraversal, 1) << "frame " << f;
       EXPECT_EQ(blocks.stats().held, blocksInFrustum - 1) << "frame " << f;
       EXPECT_EQ(blocks.stats().drawnAfter, 0) << "frame " << f;
-    } else if (f == 4) {  // under the roof: the blocks held back are found and drawn after the traversal
+    } else if (f == kOblique) {
+      // The blocks with a pixel in brute force's block-ID image: the corner block was visible and
+      // is drawn in the traversal; of the blocks held back, those with a pixel are drawn after it,
+      // each on its own — not every held block of the tile because one of them shows.
+      target.bindAndClear();
+      std::vector<terrain::TileBlock> inFrustum;
+      for (int b = 0; b < terrain::blocksPerTile(level); ++b)
+        if (frustum.mayIntersect(terrain.blockBoxes(0, level)[static_cast<size_t>(b)])) inFrustum.push_back({0, level, b});
+      (void)blockIds.drawBlocks(render::DrawView::fromCamera(camera, 0.0, SunSettings{}), lod, inFrustum);
+      const std::uint32_t slabs[] = {1, 2};
+      (void)all.draw(slabs);
+      std::set<int> withPixels;
+      for (std::uint32_t id : target.readIds())
+        if (id >= kBlockIdBase && id < kBlockIdBase + 16) withPixels.insert(static_cast<int>(id - kBlockIdBase));
+      ASSERT_TRUE(withPixels.count(0) == 1 && withPixels.size() >= 2) << "the view should see the corner block and another";
+      ASSERT_LT(withPixels.size() + 1, inFrustum.size()) << "the view should leave blocks in the frustum hidden";
+      EXPECT_EQ(blocks.stats().drawnInTraversal, 1) << "the corner block";
+      EXPECT_EQ(blocks.stats().held, static_cast<int>(inFrustum.size()) - 1);
+      EXPECT_EQ(blocks.stats().drawnAfter, static_cast<int>(withPixels.size()) - 1);
+    } else if (f == kUnder) {  // under the roof: the blocks held back are found and drawn after the traversal
       EXPECT_GT(blocksInFrustum - cornerInFrustum, 0);
       EXPECT_EQ(blocks.stats().drawnAfter, blocksInFrustum - cornerInFrustum);
       EXPECT_EQ(triangles, blocksInFrustum * perBlock);  // the roof is behind the eye

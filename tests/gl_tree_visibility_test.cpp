@@ -5,11 +5,13 @@
 // trees chc++ draws with geometry queries against the trees in the brute-force ID image.
 #include <algorithm>
 #include <cstdio>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "forest/core/camera_path.hpp"
+#include "forest/core/frustum.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/culling/bvh.hpp"
 #include "forest/culling/occlusion_culler.hpp"
@@ -71,6 +73,13 @@ struct CountingDrawer : culling::ObjectDrawer {
     primitives += static_cast<long long>(generated);
     return triangles;
   }
+  bool queriesOwnGeometry(std::uint32_t object) const override { return inner.queriesOwnGeometry(object); }
+  long long drawGeometryQueries(std::span<const std::uint32_t> objects, std::span<const std::uint32_t> slots,
+                                culling::QueryGeometry geometry) override {
+    for (std::uint32_t o : objects) ++(geometry == culling::QueryGeometry::Exact ? exactQueries : hullQueries)[o];
+    return inner.drawGeometryQueries(objects, slots, geometry);
+  }
+  std::map<std::uint32_t, int> exactQueries, hullQueries;  // per object: geometry queries drawn
 };
 
 // The batched draw: a list of trees of both species at every LOD becomes as many instances as
@@ -168,6 +177,72 @@ TEST_F(TreeVisibilityGl, OneVisibleTreeOfAClusterDrawsThatTreeOnly) {
   }
 }
 
+// A tree whose box holds the eye but none of whose triangles is in view: the eye stands in a
+// corner of its box, 1 m above the ground, looking away from it. CHC++ §3.6 takes a leaf whose box
+// holds the eye (or meets the near rectangle) as visible without a query — its box's faces, or a
+// hull's, are cut by the near plane and would miss fragments — so such a tree was drawn every
+// frame. Its own triangles are clipped there exactly as its draw is: asked with them
+// (QueryGeometry::Exact), it is not drawn at all, and the image still equals brute force's.
+TEST_F(TreeVisibilityGl, ATreeWhoseBoxHoldsTheEyeIsDrawnOnlyWhenItsTrianglesShow) {
+  Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/thesis-demo.toml");
+  scene.terrain->size = 64.0;
+  scene.terrain->samples = 65;
+  scene.terrain->height_max = 1.0;
+  scene.terrain->feature_size = 40.0;
+  scene.vegetation->grid = 4;  // 16 trees, 16 m apart
+  ASSERT_TRUE(scene.culling.geometry_queries);
+  const terrain::Terrain terrain(*scene.terrain);
+  const vegetation::Forest forest(*scene.vegetation, terrain);
+  const render::SceneObjects objects(&terrain, &forest, scene.props);
+  const render::TerrainRenderer terrainIds(terrain, render::TerrainRenderer::Output::ObjectId, objects.terrainIdBase());
+  const render::TreeRenderer treeIds(forest, render::TreeRenderer::Output::ObjectId, objects.treeIdBase());
+  const culling::Bvh bvh(objects.boxes(), scene.culling.leaf_size);
+
+  // The tree nearest the centre; the eye 1 m above the ground in the corner of its box (outside
+  // the cone, whose footprint is the circle inscribed in the box), looking out of the corner.
+  std::uint32_t target = 0;
+  for (std::uint32_t t = 1; t < forest.trees().size(); ++t)
+    if (glm::length(forest.trees()[t].position) < glm::length(forest.trees()[target].position)) target = t;
+  const std::uint32_t targetObject = static_cast<std::uint32_t>(objects.tileCount()) + target;
+  const Aabb box = objects.boxes()[targetObject];
+  Camera camera = scene.startCamera();
+  camera.aspect = static_cast<double>(kWidth) / kHeight;
+  const double inset = 0.15 * (box.max.x - box.min.x);  // well beyond the near plane's 0.1 m
+  camera.position = dvec3(box.min.x + inset, 0.0, box.min.z + inset);
+  camera.position.y = terrain.heightAt(camera.position.x, camera.position.z) + 1.0;
+  ASSERT_TRUE(box.contains(camera.position)) << "the eye should stand in the tree's box";
+  camera.yaw = std::atan2(1.0, 1.0);  // along (−1, 0, −1): out of the box's corner
+  camera.pitch = 0.0;
+  ASSERT_TRUE(Frustum(camera).mayIntersect(box)) << "the box should reach into the view";
+  const terrain::TerrainLod lod = terrain.lodFor(camera, kHeight);
+
+  const IdDepthTarget image(kWidth, kHeight);
+  image.bindAndClear();
+  {
+    render::SceneDrawer all(objects, &terrainIds, &treeIds, nullptr, camera, &lod, 0.0, scene.sun);
+    culling::OcclusionCuller none;
+    none.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::None, all, objects.queryShapes(&lod));
+  }
+  const std::vector<std::uint32_t> bruteIds = image.readIds();
+  const std::vector<float> bruteDepth = image.readDepth();
+  ASSERT_EQ(std::count(bruteIds.begin(), bruteIds.end(), objects.treeIdBase() + target), 0) << "the tree should have no pixel";
+
+  culling::OcclusionCuller culler;
+  culler.setParameters(scene.culling);
+  for (int frame = 0; frame < scene.culling.visible_requery_frames + 2; ++frame) {
+    image.bindAndClear();
+    render::SceneDrawer drawer(objects, &terrainIds, &treeIds, nullptr, camera, &lod, 0.0, scene.sun);
+    CountingDrawer counting(drawer, objects.boxes().size());
+    const culling::CullingResult& r =
+        culler.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::ChcPlusPlus, counting, objects.queryShapes(&lod));
+    EXPECT_EQ(image.readIds(), bruteIds) << "frame " << frame;
+    EXPECT_EQ(image.readDepth(), bruteDepth) << "frame " << frame;
+    EXPECT_EQ(counting.timesDrawn[targetObject], 0) << "frame " << frame;
+    EXPECT_FALSE(std::binary_search(r.visibleObjects.begin(), r.visibleObjects.end(), targetObject)) << "frame " << frame;
+    EXPECT_GE(counting.exactQueries[targetObject], 1) << "frame " << frame << ": asked with its own triangles";
+    EXPECT_EQ(counting.hullQueries[targetObject], 0) << "frame " << frame << ": never with its hull";
+  }
+}
 
 // Geometry queries ([culling] geometry_queries): a box sees through the gaps between nearer crowns,
 // and a tile's block boxes over the crest of the hill in front of it; a tree's or a tile's own
@@ -254,27 +329,39 @@ TEST_F(TreeVisibilityGl, GeometryQueriesDrawExactlyTheTreesAndTilesWithPixelsOnA
 }
 
 // A scene drawer that adds up what its geometry queries should draw, from the queried objects
-// alone: a thesis tree's query hull, 90 triangles; a terrain tile, its level's grid (the level the
-// LOD gives the tile, terrain::tileGridIndices).
+// alone: a thesis tree's query hull, 90 triangles, or where the query must be exact (a tree beside
+// the eye) the mesh of the tree's LOD; a terrain tile, its level's grid (the level the LOD gives
+// the tile, terrain::tileGridIndices).
 struct QueryTallyDrawer : render::SceneDrawer {
-  QueryTallyDrawer(const render::SceneObjects& objects, const render::TerrainRenderer* terrainRenderer,
+  QueryTallyDrawer(const render::SceneObjects& objects, const vegetation::Forest& forest, const render::TerrainRenderer* terrainRenderer,
                    const render::TreeRenderer* treeRenderer, const Camera& camera, const terrain::TerrainLod& lod, const SunSettings& sun)
-      : SceneDrawer(objects, terrainRenderer, treeRenderer, nullptr, camera, &lod, 0.0, sun), sceneObjects(objects), eyeLod(lod) {}
-  long long drawGeometryQueries(std::span<const std::uint32_t> objects, std::span<const std::uint32_t> slots) override {
+      : SceneDrawer(objects, terrainRenderer, treeRenderer, nullptr, camera, &lod, 0.0, sun),
+        sceneObjects(objects),
+        trees(forest),
+        eye(camera.position),
+        eyeLod(lod) {}
+  long long drawGeometryQueries(std::span<const std::uint32_t> objects, std::span<const std::uint32_t> slots,
+                                culling::QueryGeometry geometry) override {
     for (std::uint32_t o : objects) {
       if (o < sceneObjects.tileCount()) {
         ++tiles;
         triangles += static_cast<long long>(terrain::tileGridIndices(sceneObjects.terrain()->tileLevel(static_cast<int>(o), eyeLod)).size() / 3);
-      } else {
-        ++trees;
+      } else if (geometry == culling::QueryGeometry::HullOrOwn) {
+        ++treeQueries;
         triangles += 90;
+      } else {
+        ++treeQueries;
+        ++exactTreeQueries;
+        triangles += meshTriangles(trees, {&sceneObjects.objects()[o].index, 1}, eye);
       }
     }
-    return SceneDrawer::drawGeometryQueries(objects, slots);
+    return SceneDrawer::drawGeometryQueries(objects, slots, geometry);
   }
   const render::SceneObjects& sceneObjects;
+  const vegetation::Forest& trees;
+  dvec3 eye;
   const terrain::TerrainLod& eyeLod;
-  long long trees = 0, tiles = 0, triangles = 0;
+  long long treeQueries = 0, exactTreeQueries = 0, tiles = 0, triangles = 0;
 };
 
 // Geometry queries with the thesis trees' query hulls (vegetation::SpeciesModel::queryHull, 90
@@ -307,7 +394,7 @@ TEST_F(TreeVisibilityGl, HullQueriesKeepTheThesisWalkExactAndDrawFewerTreesThanB
     run.culler.setParameters(settings);
     run.culler.setQueryMode(run.mode);
   }
-  long long geometryQueries = 0, tileQueries = 0;
+  long long geometryQueries = 0, exactQueries = 0, tileQueries = 0;
   int views = 0;
   for (int f = 0; f < 120; f += 3, ++views) {
     const CameraPose pose = path.at(path.startTime() + f / 30.0);
@@ -328,22 +415,24 @@ TEST_F(TreeVisibilityGl, HullQueriesKeepTheThesisWalkExactAndDrawFewerTreesThanB
       SCOPED_TRACE(std::string(run.hulls ? "hull" : "box") + " queries, " + std::string(culling::queryModeName(run.mode)) +
                    ", frame " + std::to_string(f));
       target.bindAndClear();
-      QueryTallyDrawer drawer(objects, &terrainIds, &treeIds, camera, lod, scene.sun);
+      QueryTallyDrawer drawer(objects, forest, &terrainIds, &treeIds, camera, lod, scene.sun);
       const culling::CullingResult& r =
           run.culler.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::ChcPlusPlus, drawer, objects.queryShapes(&lod));
       EXPECT_EQ(target.readIds(), bruteIds);
       EXPECT_EQ(target.readDepth(), bruteDepth);
-      EXPECT_EQ(r.stats.geometryQueries, drawer.trees + drawer.tiles);  // leaves of one object each
+      EXPECT_EQ(r.stats.geometryQueries, drawer.treeQueries + drawer.tiles);  // leaves of one object each
       EXPECT_EQ(r.stats.queryTriangles, drawer.triangles);
       if (run.hulls && run.mode == culling::QueryMode::Deterministic) {
-        geometryQueries += drawer.trees;
+        geometryQueries += drawer.treeQueries;
+        exactQueries += drawer.exactTreeQueries;
         tileQueries += drawer.tiles;
       }
       for (std::uint32_t o : r.visibleObjects) run.treesDrawn += o >= objects.tileCount() ? 1 : 0;
     }
   }
-  std::printf("[hull queries] %d views of the thesis walk: %lld tree and %lld tile geometry queries; trees drawn %lld with hulls, "
-              "%lld with boxes\n", views, geometryQueries, tileQueries, runs[0].treesDrawn, runs[2].treesDrawn);
+  std::printf("[hull queries] %d views of the thesis walk: %lld tree (%lld of them exact, beside the eye) and %lld tile geometry "
+              "queries; trees drawn %lld with hulls, %lld with boxes\n", views, geometryQueries, exactQueries, tileQueries,
+              runs[0].treesDrawn, runs[2].treesDrawn);
   EXPECT_GT(geometryQueries, 0);
   EXPECT_GT(tileQueries, 0);
   EXPECT_LT(runs[0].treesDrawn, runs[2].treesDrawn);

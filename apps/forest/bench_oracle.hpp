@@ -76,8 +76,9 @@ class DrawnRecorder : public culling::ObjectDrawer {
 
   long long draw(std::span<const std::uint32_t> objects) override;
   bool queriesOwnGeometry(std::uint32_t object) const override { return drawer_->queriesOwnGeometry(object); }
-  long long drawGeometryQueries(std::span<const std::uint32_t> objects, std::span<const std::uint32_t> slots) override {
-    return drawer_->drawGeometryQueries(objects, slots);
+  long long drawGeometryQueries(std::span<const std::uint32_t> objects, std::span<const std::uint32_t> slots,
+                                culling::QueryGeometry geometry) override {
+    return drawer_->drawGeometryQueries(objects, slots, geometry);
   }
 
  private:

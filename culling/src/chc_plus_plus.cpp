@@ -114,10 +114,17 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
       if (!t.drawer.queriesOwnGeometry(o)) return false;
     return true;
   };
+  // Beyond the paper: a leaf whose box meets the near slab (or holds the eye) is asked with its
+  // exact triangles, which the near plane clips as it clips the leaf's draw; §3.6 takes such a
+  // leaf as visible without a query, since its box's (or hull's) clipped faces would miss
+  // fragments. A tree beside the walker whose box reaches into the near rectangle is then drawn
+  // only when a triangle of it shows.
+  auto nearGeometry = [&](std::int32_t n) { return ownGeometry(n) && t.visibleWithoutQuery(n); };
   auto issueGeometry = [&](std::int32_t n, bool drawnAlready) {
     ++t.stats.queriesIssued;
     ++t.stats.geometryQueries;
-    const std::size_t slot = issueGeometryQuery(t.objectsOf(n));
+    const std::size_t slot =
+        issueGeometryQuery(t.objectsOf(n), t.visibleWithoutQuery(n) ? QueryGeometry::Exact : QueryGeometry::HullOrOwn);
     const std::size_t first = groupNodes.size();
     groupNodes.push_back(n);
     pending.push({first, 1, slot, drawnAlready, 0, true});
@@ -261,7 +268,7 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     NodeState& s = state_[n];
     const bool wasVisible = s.visible && s.lastVisited + 1 == frame_;
     s.lastVisited = frame_;
-    if (t.visibleWithoutQuery(n)) {  // §3.6: the camera is in (or at) the box
+    if (t.visibleWithoutQuery(n) && !nearGeometry(n)) {  // §3.6: the camera is in (or at) the box
       pullUpVisibility(n);
       s.invisibleFrames = 0;
       if (nodes[n].leaf()) t.markVisible(n);
@@ -270,7 +277,8 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     }
     if (!wasVisible) {  // §3.1: wait in the i-queue for a batch
       s.visible = false;
-      if (s.geometryHidden && ownGeometry(n)) {  // its box saw past what hid it: ask its triangles again
+      // Its box saw past what hid it, or meets the near slab: ask its triangles.
+      if (ownGeometry(n) && (s.geometryHidden || t.visibleWithoutQuery(n))) {
         geometryQueue.push_back(n);
         continue;
       }

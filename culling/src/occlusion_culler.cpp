@@ -147,10 +147,11 @@ std::uint32_t takeSlot(std::size_t& used, std::size_t slots) {
 }
 }  // namespace
 
-std::size_t OcclusionCuller::issueGeometryQuery(std::span<const std::uint32_t> objects) {
+std::size_t OcclusionCuller::issueGeometryQuery(std::span<const std::uint32_t> objects, QueryGeometry geometry) {
   const std::uint32_t slot = takeSlot(used_, slots_);
-  geometryObjects_.insert(geometryObjects_.end(), objects.begin(), objects.end());
-  geometrySlots_.insert(geometrySlots_.end(), objects.size(), slot);
+  GeometryQueries& queries = geometryQueries_[static_cast<std::size_t>(geometry)];
+  queries.objects.insert(queries.objects.end(), objects.begin(), objects.end());
+  queries.slots.insert(queries.slots.end(), objects.size(), slot);
   return slot;
 }
 
@@ -168,7 +169,7 @@ std::size_t OcclusionCuller::issueQuery(std::span<const Aabb> boxes) {
 }
 
 void OcclusionCuller::drawQueryBatch() {
-  if (batch_.empty() && geometryObjects_.empty()) return;
+  if (batch_.empty() && !geometryQueriesPending()) return;
   if (!batch_.empty()) {
     beginQueries();
     const GLuint ringBefore = boxes_->id();
@@ -179,17 +180,21 @@ void OcclusionCuller::drawQueryBatch() {
                                         static_cast<GLuint>(part.offset / sizeof(QueryBox)));
     batch_.clear();
   }
-  if (!geometryObjects_.empty()) {
+  if (geometryQueriesPending()) {
     // The objects' own triangles, as their draw places them; GL_GEQUAL, so that a leaf drawn
     // already this frame (a visible leaf's re-query) passes where its own depth is still the
     // nearest. The drawer binds its own program: the box program is bound again next time.
     beginQueries();
     glDepthFunc(GL_GEQUAL);
-    stats_->queryTriangles += drawer_->drawGeometryQueries(geometryObjects_, geometrySlots_);
+    for (const QueryGeometry geometry : {QueryGeometry::HullOrOwn, QueryGeometry::Exact}) {
+      GeometryQueries& queries = geometryQueries_[static_cast<std::size_t>(geometry)];
+      if (queries.objects.empty()) continue;
+      stats_->queryTriangles += drawer_->drawGeometryQueries(queries.objects, queries.slots, geometry);
+      queries.objects.clear();
+      queries.slots.clear();
+    }
     glDepthFunc(GL_GREATER);
     endQueries();
-    geometryObjects_.clear();
-    geometrySlots_.clear();
   }
   markQueriesDrawn();
 }
@@ -316,7 +321,7 @@ void OcclusionCuller::issueAfterCull(std::span<const Aabb> boxes, std::span<cons
     stats.queryTriangles += surfaces(afterCullGroups_, afterCullGroupSlots_);
     glDepthFunc(GL_GREATER);
     endQueries();
-    if (batch_.empty() && geometryObjects_.empty()) markQueriesDrawn();  // else drawQueryBatch does
+    if (batch_.empty() && !geometryQueriesPending()) markQueriesDrawn();  // else drawQueryBatch does
   }
   drawQueryBatch();
   // Inside a cull its own clock counts this.
@@ -423,8 +428,10 @@ const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb>
     stateOf_ = &bvh;
     scratch_->reserve(bvh.nodes().size(), bvh.objectCount(), shapes.boxes.size(), result_.visibleObjects);
     allocateResultSlots(3 * bvh.nodes().size() + 2 + afterCullQueries_);
-    geometryObjects_.reserve(bvh.objectCount());
-    geometrySlots_.reserve(bvh.objectCount());
+    for (GeometryQueries& queries : geometryQueries_) {
+      queries.objects.reserve(bvh.objectCount());
+      queries.slots.reserve(bvh.objectCount());
+    }
   }
   if (after && after->maxQueries() > afterCullQueries_) reserveAfterCull(after->maxQueries(), 0);
   drawer_ = &drawer;

@@ -111,7 +111,8 @@ bool SceneDrawer::queriesOwnGeometry(std::uint32_t object) const {
   return false;
 }
 
-long long SceneDrawer::drawGeometryQueries(std::span<const std::uint32_t> objects, std::span<const std::uint32_t> slots) {
+long long SceneDrawer::drawGeometryQueries(std::span<const std::uint32_t> objects, std::span<const std::uint32_t> slots,
+                                           culling::QueryGeometry geometry) {
   treeList_.clear();
   querySlots_.clear();
   tiles_.clear();
@@ -128,7 +129,8 @@ long long SceneDrawer::drawGeometryQueries(std::span<const std::uint32_t> object
     }
   }
   long long triangles = 0;
-  if (!treeList_.empty()) triangles += trees_->drawQueries(view_, treeList_, querySlots_).triangles;
+  if (!treeList_.empty())
+    triangles += trees_->drawQueries(view_, treeList_, querySlots_, geometry == culling::QueryGeometry::HullOrOwn).triangles;
   if (!tiles_.empty()) triangles += terrain_->drawQueries(view_, *lod_, tiles_, tileSlots_).triangles;
   return triangles;
 }

@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <tuple>
 
 #include "forest/core/error.hpp"
 #include "forest/render/scene_objects.hpp"
@@ -22,7 +21,6 @@ TerrainBlockVisibility::TerrainBlockVisibility(const terrain::Terrain& terrain, 
   groupEnds_.reserve(nextQuery_.size());
   late_.reserve(nextQuery_.size());
   queryBlocks_.reserve(nextQuery_.size());
-  querySlots_.reserve(nextQuery_.size());
 }
 
 void TerrainBlockVisibility::beginFrame(SceneDrawer& drawer) {
@@ -94,33 +92,23 @@ std::uint16_t TerrainBlockVisibility::mapLevel(std::uint16_t bits, int from, int
 void TerrainBlockVisibility::issue(culling::OcclusionCuller& culler) {
   if (!drawer_) throw Error("TerrainBlockVisibility::issue: no frame begun");
   if (held_.empty()) return;
-  // The hidden blocks of a tile side by side (one query), then the drawn ones (one each).
-  std::sort(held_.begin(), held_.end(), [](const Held& a, const Held& b) {
-    return std::tie(a.kind, a.tile, a.block) < std::tie(b.kind, b.tile, b.block);
-  });
+  // One query per block. A query draws its block's own triangles (below), so a query for several
+  // blocks would draw as many triangles as theirs one by one, and one that saw a sample would
+  // draw them all (CHC++'s multiqueries save what a query costs beyond its pixels, which the
+  // culler's stamped queries do not have).
   boxes_.clear();
   groupEnds_.clear();
-  for (std::size_t i = 0; i < held_.size(); ++i) {
-    const Held& h = held_[i];
+  for (const Held& h : held_) {
     boxes_.push_back(terrain_.blockBoxes(h.tile, h.level)[static_cast<std::size_t>(h.block)]);
-    const bool groupEnds = i + 1 == held_.size() || h.kind != Held::Hidden || held_[i + 1].kind != Held::Hidden || held_[i + 1].tile != h.tile;
-    if (groupEnds) groupEnds_.push_back(static_cast<std::uint32_t>(boxes_.size()));
+    groupEnds_.push_back(static_cast<std::uint32_t>(boxes_.size()));
   }
-  // Each group by its blocks' own triangles: a box sees over the crest in front of it and between
-  // trunks where the surface does not.
+  // Each block by its own triangles: a box sees over the crest in front of it and between trunks
+  // where the surface does not.
   SceneDrawer& drawer = *drawer_;
-  const auto surfaces = [this, &drawer](std::span<const std::uint32_t> groups, std::span<const std::uint32_t> slots) {
+  const auto surfaces = [this, &drawer](std::span<const std::uint32_t> blocks, std::span<const std::uint32_t> slots) {
     queryBlocks_.clear();
-    querySlots_.clear();
-    for (std::size_t i = 0; i < groups.size(); ++i) {
-      const std::uint32_t g = groups[i];
-      for (std::uint32_t k = g == 0 ? 0 : groupEnds_[g - 1]; k < groupEnds_[g]; ++k) {
-        const Held& h = held_[k];
-        queryBlocks_.push_back({h.tile, h.level, h.block});
-        querySlots_.push_back(slots[i]);
-      }
-    }
-    return drawer.drawTerrainBlockQueries(queryBlocks_, querySlots_);
+    for (const std::uint32_t b : blocks) queryBlocks_.push_back({held_[b].tile, held_[b].level, held_[b].block});
+    return drawer.drawTerrainBlockQueries(queryBlocks_, slots);
   };
   culler.issueAfterCull(boxes_, groupEnds_, surfaces);
   issued_ = true;
@@ -131,26 +119,19 @@ long long TerrainBlockVisibility::drawLate(culling::OcclusionCuller& culler) {
   issued_ = false;
   const std::vector<bool>& visible = culler.afterCullResults();
   late_.clear();
-  std::size_t first = 0;
-  for (std::size_t g = 0; g < groupEnds_.size(); ++g) {
-    const std::size_t end = groupEnds_[g];
-    // A block seen on its own is asked again in n_av frames; the blocks of a group that saw a
-    // sample are all drawn and asked one by one next frame.
-    const std::uint64_t next = frame_ + (end - first == 1 ? static_cast<std::uint64_t>(requeryFrames_) : 1u);
-    for (std::size_t i = first; i < end; ++i) {
-      const Held& h = held_[i];
-      TileState& t = tiles_[static_cast<std::size_t>(h.tile)];
-      const auto bit = static_cast<std::uint16_t>(1u << h.block);
-      t.known = static_cast<std::uint16_t>(t.known | bit);
-      if (visible[g]) {
-        t.visible = static_cast<std::uint16_t>(t.visible | bit);
-        nextQuery_[slot(h.tile, h.block)] = next;
-        if (h.kind != Held::Drawn) late_.push_back({h.tile, h.level, h.block});
-      } else {
-        t.visible = static_cast<std::uint16_t>(t.visible & ~bit);
-      }
+  for (std::size_t i = 0; i < held_.size(); ++i) {
+    const Held& h = held_[i];
+    TileState& t = tiles_[static_cast<std::size_t>(h.tile)];
+    const auto bit = static_cast<std::uint16_t>(1u << h.block);
+    t.known = static_cast<std::uint16_t>(t.known | bit);
+    if (visible[i]) {
+      // Asked again in n_av frames (CHC's assumption of coherence).
+      t.visible = static_cast<std::uint16_t>(t.visible | bit);
+      nextQuery_[slot(h.tile, h.block)] = frame_ + static_cast<std::uint64_t>(requeryFrames_);
+      if (h.kind != Held::Drawn) late_.push_back({h.tile, h.level, h.block});
+    } else {
+      t.visible = static_cast<std::uint16_t>(t.visible & ~bit);
     }
-    first = end;
   }
   stats_.drawnAfter = static_cast<int>(late_.size());
   return late_.empty() ? 0 : drawer_->drawTerrainBlocks(late_);

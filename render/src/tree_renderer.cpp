@@ -82,9 +82,9 @@ TreeRenderer::Stats TreeRenderer::draw(const DrawView& view, std::span<const std
 }
 
 TreeRenderer::Stats TreeRenderer::drawQueries(const DrawView& view, std::span<const std::uint32_t> trees,
-                                              std::span<const std::uint32_t> slots) const {
+                                              std::span<const std::uint32_t> slots, bool hulls) const {
   if (!queryProgram_) queryProgram_ = loadSurfaceProgram("trees.vert", "trees.frag", SurfaceOutput::QueryStamp);
-  return drawInstances(view, trees, slots, *queryProgram_, true);
+  return drawInstances(view, trees, slots, *queryProgram_, hulls);
 }
 
 TreeRenderer::Stats TreeRenderer::drawInstances(const DrawView& view, std::span<const std::uint32_t> trees,

@@ -44,6 +44,7 @@
 // far, which only gets nearer as more is drawn: a box found hidden holds nothing visible, so the
 // geometry pass equals drawing everything (exactness). Boxes holding the eye (grown by z_n) or
 // crossing the near plane count as visible without a query.
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -68,6 +69,12 @@ CullingStrategy parseCullingStrategy(std::string_view name);  // throws InputErr
 std::string_view cullingStrategyName(CullingStrategy strategy);
 std::vector<std::string> cullingStrategyNames();  // "none", "frustum", "stop-and-wait", "chc", "chc++"
 
+// What a geometry query draws: a shape that holds the object's triangles where the object has one
+// (a tree's query hull), or exactly the triangles draw() draws. A leaf whose box meets the near
+// plane is asked with its exact triangles: clipped there, a hull's front faces leave holes that
+// its culled back faces do not fill, while the object's own triangles are clipped as its draw is.
+enum class QueryGeometry { HullOrOwn, Exact };
+
 // What the renderer implements: draw these objects (indices into the BVH's object boxes) into the
 // bound framebuffer with the pass's state; return the triangles drawn.
 class ObjectDrawer {
@@ -77,11 +84,12 @@ class ObjectDrawer {
   // Geometry queries (optional; chc++ with CullingSettings::geometry_queries): whether `object`
   // can be queried with its own triangles.
   virtual bool queriesOwnGeometry(std::uint32_t /*object*/) const { return false; }
-  // Draws objects[i]'s triangles, exactly as draw() would place them, with a fragment program
-  // that writes the culler's frame stamp into result slot slots[i] (query_stamp.frag: the results
-  // buffer and the stamp's block are bound by the culler, as are the depth function and masks).
-  // Returns the triangles drawn.
-  virtual long long drawGeometryQueries(std::span<const std::uint32_t> /*objects*/, std::span<const std::uint32_t> /*slots*/) {
+  // Draws objects[i]'s triangles, exactly as draw() would place them (or, with HullOrOwn, a hull
+  // holding them), with a fragment program that writes the culler's frame stamp into result slot
+  // slots[i] (query_stamp.frag: the results buffer and the stamp's block are bound by the culler,
+  // as are the depth function and masks). Returns the triangles drawn.
+  virtual long long drawGeometryQueries(std::span<const std::uint32_t> /*objects*/, std::span<const std::uint32_t> /*slots*/,
+                                        QueryGeometry /*geometry*/) {
     return 0;
   }
 };
@@ -217,7 +225,7 @@ class OcclusionCuller {
   std::size_t issueQuery(std::span<const Aabb> boxes);
   // Issues one query drawn with the objects' own triangles (ObjectDrawer::drawGeometryQueries),
   // with the next batch; returns its result slot.
-  std::size_t issueGeometryQuery(std::span<const std::uint32_t> objects);
+  std::size_t issueGeometryQuery(std::span<const std::uint32_t> objects, QueryGeometry geometry);
   // Draws the boxes of the queries issued since the last batch, in one instanced call, and the
   // geometry queries' objects; async: fences them.
   void drawQueryBatch();
@@ -266,8 +274,13 @@ class OcclusionCuller {
   // The boxes of a batch, camera-relative, written once into a mapped ring (DESIGN §9).
   std::unique_ptr<gl::StreamRing> boxes_;
   std::vector<QueryBox> batch_;  // the boxes of the queries issued since the last batch was drawn
-  // The geometry queries issued since the last batch was drawn: each object and its query's slot.
-  std::vector<std::uint32_t> geometryObjects_, geometrySlots_;
+  // The geometry queries issued since the last batch was drawn: each object and its query's slot,
+  // per QueryGeometry.
+  struct GeometryQueries {
+    std::vector<std::uint32_t> objects, slots;
+  };
+  std::array<GeometryQueries, 2> geometryQueries_;
+  bool geometryQueriesPending() const { return !geometryQueries_[0].objects.empty() || !geometryQueries_[1].objects.empty(); }
   ObjectDrawer* drawer_ = nullptr;  // the current cull's (geometry queries)
   CullingStats* stats_ = nullptr;   // the current cull's (the geometry queries' triangles)
   // Per slot, the stamp of the last frame in which a sample of its query passed (query_box.frag):

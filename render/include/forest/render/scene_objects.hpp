@@ -85,11 +85,13 @@ class SceneDrawer : public culling::ObjectDrawer {
               const SunSettings& sun)
       : SceneDrawer(objects, terrain, trees, props, DrawView::fromCamera(camera, time, sun), lod) {}
   long long draw(std::span<const std::uint32_t> objects) override;
-  // Trees (TreeRenderer::drawQueries: the species' query hull where it has one) and, with a LOD,
-  // terrain tiles (TerrainRenderer::drawQueries) can be queried with their own triangles; props
-  // are queried with boxes.
+  // Trees (TreeRenderer::drawQueries: with HullOrOwn the species' query hull where it has one)
+  // and, with a LOD, terrain tiles (TerrainRenderer::drawQueries: the tile's triangles at its
+  // level, all of them: those draw() leaves out are outside the frustum) can be queried with their
+  // own triangles; props are queried with boxes.
   bool queriesOwnGeometry(std::uint32_t object) const override;
-  long long drawGeometryQueries(std::span<const std::uint32_t> objects, std::span<const std::uint32_t> slots) override;
+  long long drawGeometryQueries(std::span<const std::uint32_t> objects, std::span<const std::uint32_t> slots,
+                                culling::QueryGeometry geometry) override;
   // Draws from another view from now on (a pass keeps its drawer, and so its lists, from frame to
   // frame: no allocation per frame).
   void setView(const DrawView& view, const terrain::TerrainLod* lod) {

@@ -10,10 +10,10 @@
 //     assumption of coherence, Bittner et al. 2004, one level lower) with GL_GEQUAL, so that where
 //     its own surface is still the nearest it passes; one hidden by nearer trees or terrain fails
 //     and is hidden from the next frame on;
-//   - a block found hidden is held back while its tile is drawn, and after the traversal the held
-//     blocks of a tile share one query against the depth of everything drawn (most stay hidden:
-//     CHC++'s multiqueries, Mattausch et al. 2008 §3.4); the blocks of a query that saw a sample
-//     are drawn then, and asked one by one the next frame;
+//   - a block found hidden is held back while its tile is drawn, and after the traversal it is
+//     asked against the depth of everything drawn, on its own (a query draws its block's
+//     triangles, so CHC++'s multiqueries, §3.4, would save no work here, and a multiquery that
+//     saw a sample would draw every block in it); one that passes is drawn then;
 //   - a block not known yet — its tile was not drawn the frame before — is drawn with its tile
 //     (as the whole tile was before: it occludes during the traversal) and asked after.
 // All of a frame's block queries go out after the traversal's last draw, in the culler's last
@@ -94,7 +94,6 @@ class TerrainBlockVisibility final : public culling::QueriesAfterTraversal {
   std::vector<Aabb> boxes_;
   std::vector<std::uint32_t> groupEnds_;
   std::vector<terrain::TileBlock> late_, queryBlocks_;
-  std::vector<std::uint32_t> querySlots_;
   Stats stats_;
 };
 

@@ -41,10 +41,12 @@ class TreeRenderer {
   Stats draw(const DrawView& view, std::span<const std::uint32_t> trees) const;
   // Occlusion queries drawn with the trees' own triangles (culling::ObjectDrawer's geometry
   // queries): trees[i] exactly as draw() places it, each passing fragment writing the culler's
-  // stamp into result slot slots[i] (SurfaceOutput::QueryStamp) — or, for a species with a query
-  // hull (vegetation::SpeciesModel::queryHull), its hull under the same transform, which holds
-  // every LOD. The caller sets the depth test and masks and binds the culler's block and buffer.
-  Stats drawQueries(const DrawView& view, std::span<const std::uint32_t> trees, std::span<const std::uint32_t> slots) const;
+  // stamp into result slot slots[i] (SurfaceOutput::QueryStamp) — or, with `hulls` and for a
+  // species with a query hull (vegetation::SpeciesModel::queryHull), its hull under the same
+  // transform, which holds every LOD. The caller sets the depth test and masks and binds the
+  // culler's block and buffer.
+  Stats drawQueries(const DrawView& view, std::span<const std::uint32_t> trees, std::span<const std::uint32_t> slots,
+                    bool hulls = true) const;
   // Trees whose boxes meet the camera's frustum.
   std::vector<std::uint32_t> treesInFrustum(const Camera& camera) const;
 
