@@ -40,14 +40,14 @@ TEST(SceneFile, RoundTripsThroughToml) {
   scene.culling.leaf_size = 5;
   scene.culling.multiqueries = false;
   scene.culling.geometry_queries = false;
-  scene.culling.terrain_blocks = true;  // not the default
+  scene.culling.terrain_blocks = false;  // not the default
   scene.culling.tight_box_area_ratio = 1.0 / 3.0;
   const Scene back = parseScene(sceneToToml(scene), "roundtrip.toml");
   EXPECT_EQ(back.culling.batch_size, 17);
   EXPECT_EQ(back.culling.leaf_size, 5);
   EXPECT_FALSE(back.culling.multiqueries);
   EXPECT_FALSE(back.culling.geometry_queries);
-  EXPECT_TRUE(back.culling.terrain_blocks);
+  EXPECT_FALSE(back.culling.terrain_blocks);
   EXPECT_EQ(back.culling.tight_box_area_ratio, scene.culling.tight_box_area_ratio);
   EXPECT_EQ(back.culling.visible_requery_frames, scene.culling.visible_requery_frames);
   EXPECT_EQ(back.camera.position, scene.camera.position);

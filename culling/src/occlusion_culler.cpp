@@ -270,13 +270,16 @@ constexpr std::size_t kNoQuery = ~std::size_t{0};  // a group visible without a 
 }  // namespace
 
 void OcclusionCuller::issueAfterCull(std::span<const Aabb> boxes, std::span<const std::uint32_t> groupEnds,
-                                     const SurfaceQueries& surfaces) {
+                                     const SurfaceQueries& surfaces, std::span<const std::uint8_t> bySurface) {
   if (!stateOf_) throw Error("OcclusionCuller::issueAfterCull: no frame was culled");
   if (afterCullIssued_) throw Error("OcclusionCuller::issueAfterCull: the previous queries' results were not taken");
   for (std::size_t g = 0; g < groupEnds.size(); ++g)
     if (groupEnds[g] > boxes.size() || (g > 0 && groupEnds[g] < groupEnds[g - 1]))
       throw Error(fmt::format("OcclusionCuller::queryAfterCull: group {} ends at box {}: expected ends that do not decrease, "
                               "within the {} boxes", g, groupEnds[g], boxes.size()));
+  if (!bySurface.empty() && (!surfaces || bySurface.size() != groupEnds.size()))
+    throw Error(fmt::format("OcclusionCuller::issueAfterCull: {} surface flags for {} groups{}", bySurface.size(), groupEnds.size(),
+                            surfaces ? "" : " and no surfaces to draw"));
   afterCullIssued_ = true;
   afterCullSlots_.clear();
   afterCullVisible_.assign(groupEnds.size(), false);
@@ -297,14 +300,14 @@ void OcclusionCuller::issueAfterCull(std::span<const Aabb> boxes, std::span<cons
   afterCullGroupSlots_.clear();
   const NearSlab nearSlab(camera_);
   std::uint32_t first = 0;
-  for (const std::uint32_t end : groupEnds) {
-    const std::span<const Aabb> group = boxes.subspan(first, end - first);
-    first = end;
+  for (std::size_t g = 0; g < groupEnds.size(); ++g) {
+    const std::span<const Aabb> group = boxes.subspan(first, groupEnds[g] - first);
+    first = groupEnds[g];
     if (std::any_of(group.begin(), group.end(), [&](const Aabb& b) { return boxVisibleWithoutQuery(b, camera_, nearSlab); })) {
       afterCullSlots_.push_back(kNoQuery);
       continue;
     }
-    if (surfaces) {
+    if (surfaces && (bySurface.empty() || bySurface[g] != 0)) {
       const std::uint32_t slot = takeSlot(used_, slots_);
       afterCullSlots_.push_back(slot);
       afterCullGroups_.push_back(static_cast<std::uint32_t>(afterCullSlots_.size() - 1));

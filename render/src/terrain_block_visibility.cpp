@@ -14,13 +14,15 @@ TerrainBlockVisibility::TerrainBlockVisibility(const terrain::Terrain& terrain, 
       requeryFrames_(requeryFrames),
       tiles_(static_cast<std::size_t>(terrain.tileCount())),
       nextQuery_(tiles_.size() * kBlocks, 0),
-      heldIn_(tiles_.size() * kBlocks, 0) {
+      heldIn_(tiles_.size() * kBlocks, 0),
+      queryBy_(tiles_.size() * kBlocks, QueryBy::Box) {
   if (requeryFrames < 1) throw Error(fmt::format("TerrainBlockVisibility: n_av = {}, expected at least 1", requeryFrames));
   held_.reserve(nextQuery_.size());
   boxes_.reserve(nextQuery_.size());
   groupEnds_.reserve(nextQuery_.size());
   late_.reserve(nextQuery_.size());
   queryBlocks_.reserve(nextQuery_.size());
+  bySurface_.reserve(nextQuery_.size());
 }
 
 void TerrainBlockVisibility::beginFrame(SceneDrawer& drawer) {
@@ -31,7 +33,10 @@ void TerrainBlockVisibility::beginFrame(SceneDrawer& drawer) {
   issued_ = false;
 }
 
-void TerrainBlockVisibility::reset() { std::fill(tiles_.begin(), tiles_.end(), TileState{}); }
+void TerrainBlockVisibility::reset() {
+  std::fill(tiles_.begin(), tiles_.end(), TileState{});
+  std::fill(queryBy_.begin(), queryBy_.end(), QueryBy::Box);
+}
 
 bool TerrainBlockVisibility::drawNow(int tile, int level, int block) {
   if (tile < 0 || tile >= static_cast<int>(tiles_.size()) || block < 0 || block >= terrain::blocksPerTile(level))
@@ -92,25 +97,27 @@ std::uint16_t TerrainBlockVisibility::mapLevel(std::uint16_t bits, int from, int
 void TerrainBlockVisibility::issue(culling::OcclusionCuller& culler) {
   if (!drawer_) throw Error("TerrainBlockVisibility::issue: no frame begun");
   if (held_.empty()) return;
-  // One query per block. A query draws its block's own triangles (below), so a query for several
-  // blocks would draw as many triangles as theirs one by one, and one that saw a sample would
-  // draw them all (CHC++'s multiqueries save what a query costs beyond its pixels, which the
-  // culler's stamped queries do not have).
+  // One query per block: a query drawn with the block's triangles costs them whether it asks
+  // for one block or several, and a multiquery that saw a sample would draw every block in it.
+  // A block held back is asked with its box (12 triangles) unless its box has seen past what hid
+  // it before; a drawn block (due, or not known) with its own triangles, GL_GEQUAL — its box
+  // would pass in front of its own surface.
   boxes_.clear();
   groupEnds_.clear();
+  bySurface_.clear();
   for (const Held& h : held_) {
     boxes_.push_back(terrain_.blockBoxes(h.tile, h.level)[static_cast<std::size_t>(h.block)]);
     groupEnds_.push_back(static_cast<std::uint32_t>(boxes_.size()));
+    bySurface_.push_back(h.kind == Held::Drawn || queryBy_[slot(h.tile, h.block)] == QueryBy::Surface ? 1 : 0);
   }
-  // Each block by its own triangles: a box sees over the crest in front of it and between trunks
-  // where the surface does not.
+  // Surfaces: a box sees over the crest in front of it and between trunks where the surface does not.
   SceneDrawer& drawer = *drawer_;
   const auto surfaces = [this, &drawer](std::span<const std::uint32_t> blocks, std::span<const std::uint32_t> slots) {
     queryBlocks_.clear();
     for (const std::uint32_t b : blocks) queryBlocks_.push_back({held_[b].tile, held_[b].level, held_[b].block});
     return drawer.drawTerrainBlockQueries(queryBlocks_, slots);
   };
-  culler.issueAfterCull(boxes_, groupEnds_, surfaces);
+  culler.issueAfterCull(boxes_, groupEnds_, surfaces, bySurface_);
   issued_ = true;
 }
 
@@ -123,14 +130,24 @@ long long TerrainBlockVisibility::drawLate(culling::OcclusionCuller& culler) {
     const Held& h = held_[i];
     TileState& t = tiles_[static_cast<std::size_t>(h.tile)];
     const auto bit = static_cast<std::uint16_t>(1u << h.block);
+    const std::size_t s = slot(h.tile, h.block);
     t.known = static_cast<std::uint16_t>(t.known | bit);
     if (visible[i]) {
-      // Asked again in n_av frames (CHC's assumption of coherence).
       t.visible = static_cast<std::uint16_t>(t.visible | bit);
-      nextQuery_[slot(h.tile, h.block)] = frame_ + static_cast<std::uint64_t>(requeryFrames_);
+      if (bySurface_[i] != 0) {
+        // Asked again in n_av frames (CHC's assumption of coherence).
+        nextQuery_[s] = frame_ + static_cast<std::uint64_t>(requeryFrames_);
+        queryBy_[s] = QueryBy::Box;
+      } else {
+        // Its box saw a sample: drawn now, and asked with its triangles next frame.
+        nextQuery_[s] = frame_ + 1;
+        queryBy_[s] = QueryBy::BoxPassed;
+      }
       if (h.kind != Held::Drawn) late_.push_back({h.tile, h.level, h.block});
     } else {
       t.visible = static_cast<std::uint16_t>(t.visible & ~bit);
+      // Hidden by its triangles right after its box passed: the box sees past what hides it.
+      if (queryBy_[s] == QueryBy::BoxPassed) queryBy_[s] = QueryBy::Surface;
     }
   }
   stats_.drawnAfter = static_cast<int>(late_.size());

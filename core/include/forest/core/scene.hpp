@@ -166,11 +166,11 @@ struct CullingSettings {
   // nearer crowns): fewer trees drawn, for queries that draw the candidates' triangles depth-tested only.
   bool geometry_queries = true;
   // A drawn tile's terrain blocks are drawn only while visible: the others are queried after the
-  // traversal, and the visible set is asked again after them (render::TerrainBlockVisibility,
-  // OcclusionCuller::refineVisibleSet). Fewer triangles, but two more waits for the GPU a frame:
-  // on llvmpipe the thesis walk's frame got 13–30% slower, so off by default (docs/design.md).
+  // traversal, with its last batch of queries (render::TerrainBlockVisibility; no wait of their
+  // own), and those found visible drawn then; strategies without chc++'s end-of-frame
+  // confirmation ask their visible set again after them (OcclusionCuller::refineVisibleSet).
   // false: a drawn tile draws every block in the frustum.
-  bool terrain_blocks = false;
+  bool terrain_blocks = true;
 };
 
 struct Scene {

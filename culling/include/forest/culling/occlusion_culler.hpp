@@ -179,6 +179,8 @@ class OcclusionCuller {
   // by surfaces(groups, slots) — group groups[i]'s own triangles, writing the culler's stamp into
   // slot slots[i] (query_stamp.frag), with GL_GEQUAL so that one drawn already passes where it is
   // nearest — instead of its boxes; the boxes then only decide the visible-without-a-query rule.
+  // With `bySurface` too (one flag per group), only the flagged groups are drawn so; the others
+  // by their boxes.
   // Counted in the frame's result's stats (queries, geometry queries and their triangles, waits,
   // CPU time). For parts of objects the traversal drew in part
   // (render::TerrainBlockVisibility); valid until the next call.
@@ -188,7 +190,8 @@ class OcclusionCuller {
   // queryAfterCull in two halves: issue the queries (from QueriesAfterTraversal::issue, inside the
   // cull, or after it), then take their results (waiting only for what the cull's last wait did
   // not cover). Inside a cull at most `after->maxQueries()` (or reserveAfterCull's count).
-  void issueAfterCull(std::span<const Aabb> boxes, std::span<const std::uint32_t> groupEnds, const SurfaceQueries& surfaces = {});
+  void issueAfterCull(std::span<const Aabb> boxes, std::span<const std::uint32_t> groupEnds, const SurfaceQueries& surfaces = {},
+                      std::span<const std::uint8_t> bySurface = {});
   const std::vector<bool>& afterCullResults();
   // After cull() and every other draw of the frame: asks each object of the frame's visible set
   // again, by its query shapes (or its box), against the final depth, in one batch

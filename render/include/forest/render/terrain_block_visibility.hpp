@@ -90,6 +90,11 @@ class TerrainBlockVisibility final : public culling::QueriesAfterTraversal {
   std::vector<TileState> tiles_;
   std::vector<std::uint64_t> nextQuery_;  // per (tile, block): a visible block is asked again from this frame
   std::vector<std::uint64_t> heldIn_;     // per (tile, block): the frame it was last held (held once a frame)
+  // Per (tile, block): how it is asked when held back — by its box, or (its box saw past what hid
+  // it: found visible by the box, then hidden by its triangles) by its triangles.
+  enum class QueryBy : std::uint8_t { Box, BoxPassed, Surface };
+  std::vector<QueryBy> queryBy_;
+  std::vector<std::uint8_t> bySurface_;  // per held block this frame: asked with its triangles
   std::vector<Held> held_;
   std::vector<Aabb> boxes_;
   std::vector<std::uint32_t> groupEnds_;
