@@ -47,6 +47,12 @@ struct IdScene {
         terrainIds(terrain, render::TerrainRenderer::Output::ObjectId, objects.terrainIdBase()),
         treeIds(forest, render::TreeRenderer::Output::ObjectId, objects.treeIdBase()),
         bvh(objects.boxes(), 1) {}
+  // Brute force: every object drawn into the bound ID target.
+  void drawAll(const Camera& camera, const terrain::TerrainLod& lod, const SunSettings& sun) const {
+    render::SceneDrawer all(objects, &terrainIds, &treeIds, nullptr, camera, &lod, 0.0, sun);
+    culling::OcclusionCuller none;
+    none.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::None, all, objects.queryShapes(&lod));
+  }
   const terrain::Terrain terrain;
   const vegetation::Forest forest;
   const render::SceneObjects objects;
@@ -54,6 +60,17 @@ struct IdScene {
   const render::TreeRenderer treeIds;
   const culling::Bvh bvh;
 };
+
+// The thesis scene cut down to 16 trees, 16 m apart, on a 64 m tile of gentle terrain.
+Scene sixteenThesisTrees() {
+  Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/thesis-demo.toml");
+  scene.terrain->size = 64.0;
+  scene.terrain->samples = 65;
+  scene.terrain->height_max = 1.0;
+  scene.terrain->feature_size = 40.0;
+  scene.vegetation->grid = 4;
+  return scene;
+}
 
 // Wraps a drawer: counts how often each object is drawn and the primitives the GPU generated for
 // the draws (occlusion-query boxes are drawn outside them and not counted).
@@ -126,12 +143,7 @@ TEST_F(TreeVisibilityGl, TheBatchedDrawDrawsEachListedTreeOnce) {
 // view that holds one of them. Culling per tree draws that tree's triangles only, from the second
 // frame on (CHC++ has no history on the first); the whole cluster would be 16 trees' triangles.
 TEST_F(TreeVisibilityGl, OneVisibleTreeOfAClusterDrawsThatTreeOnly) {
-  Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/thesis-demo.toml");
-  scene.terrain->size = 64.0;
-  scene.terrain->samples = 65;
-  scene.terrain->height_max = 1.0;
-  scene.terrain->feature_size = 40.0;
-  scene.vegetation->grid = 4;  // 16 trees, 16 m apart
+  const Scene scene = sixteenThesisTrees();
   const terrain::Terrain terrain(*scene.terrain);
   const vegetation::Forest forest(*scene.vegetation, terrain);
   ASSERT_EQ(forest.trees().size(), 16u);
@@ -184,19 +196,11 @@ TEST_F(TreeVisibilityGl, OneVisibleTreeOfAClusterDrawsThatTreeOnly) {
 // frame. Its own triangles are clipped there exactly as its draw is: asked with them
 // (QueryGeometry::Exact), it is not drawn at all, and the image still equals brute force's.
 TEST_F(TreeVisibilityGl, ATreeWhoseBoxHoldsTheEyeIsDrawnOnlyWhenItsTrianglesShow) {
-  Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/thesis-demo.toml");
-  scene.terrain->size = 64.0;
-  scene.terrain->samples = 65;
-  scene.terrain->height_max = 1.0;
-  scene.terrain->feature_size = 40.0;
-  scene.vegetation->grid = 4;  // 16 trees, 16 m apart
+  const Scene scene = sixteenThesisTrees();
   ASSERT_TRUE(scene.culling.geometry_queries);
-  const terrain::Terrain terrain(*scene.terrain);
-  const vegetation::Forest forest(*scene.vegetation, terrain);
-  const render::SceneObjects objects(&terrain, &forest, scene.props);
-  const render::TerrainRenderer terrainIds(terrain, render::TerrainRenderer::Output::ObjectId, objects.terrainIdBase());
-  const render::TreeRenderer treeIds(forest, render::TreeRenderer::Output::ObjectId, objects.treeIdBase());
-  const culling::Bvh bvh(objects.boxes(), scene.culling.leaf_size);
+  ASSERT_EQ(scene.culling.leaf_size, 1);  // IdScene's
+  const IdScene built(scene);
+  [[maybe_unused]] const auto& [terrain, forest, objects, terrainIds, treeIds, bvh] = built;
 
   // The tree nearest the centre; the eye 1 m above the ground in the corner of its box (outside
   // the cone, whose footprint is the circle inscribed in the box), looking out of the corner.
@@ -218,11 +222,7 @@ TEST_F(TreeVisibilityGl, ATreeWhoseBoxHoldsTheEyeIsDrawnOnlyWhenItsTrianglesShow
 
   const IdDepthTarget image(kWidth, kHeight);
   image.bindAndClear();
-  {
-    render::SceneDrawer all(objects, &terrainIds, &treeIds, nullptr, camera, &lod, 0.0, scene.sun);
-    culling::OcclusionCuller none;
-    none.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::None, all, objects.queryShapes(&lod));
-  }
+  built.drawAll(camera, lod, scene.sun);
   const std::vector<std::uint32_t> bruteIds = image.readIds();
   const std::vector<float> bruteDepth = image.readDepth();
   ASSERT_EQ(std::count(bruteIds.begin(), bruteIds.end(), objects.treeIdBase() + target), 0) << "the tree should have no pixel";
@@ -274,11 +274,7 @@ TEST_F(TreeVisibilityGl, GeometryQueriesDrawExactlyTheTreesAndTilesWithPixelsOnA
   };
   // Brute force: every object drawn, the trees with a pixel.
   image.bindAndClear();
-  {
-    render::SceneDrawer all(objects, &terrainIds, &treeIds, nullptr, camera, &lod, 0.0, scene.sun);
-    culling::OcclusionCuller none;
-    none.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::None, all, objects.queryShapes(&lod));
-  }
+  built.drawAll(camera, lod, scene.sun);
   const std::set<std::uint32_t> withPixels = treesIn(image.readIds());
   const std::set<std::uint32_t> tilesWithPixels = tilesIn(image.readIds());
   ASSERT_GT(withPixels.size(), 100u) << "the view should look into the forest";
@@ -404,11 +400,7 @@ TEST_F(TreeVisibilityGl, HullQueriesKeepTheThesisWalkExactAndDrawFewerTreesThanB
     camera.yaw = glm::radians(pose.yaw_deg);
     const terrain::TerrainLod lod = terrain.lodFor(camera, kHeight);
     target.bindAndClear();
-    {
-      render::SceneDrawer all(objects, &terrainIds, &treeIds, nullptr, camera, &lod, 0.0, scene.sun);
-      culling::OcclusionCuller none;
-      none.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::None, all, objects.queryShapes(&lod));
-    }
+    built.drawAll(camera, lod, scene.sun);
     const std::vector<std::uint32_t> bruteIds = target.readIds();
     const std::vector<float> bruteDepth = target.readDepth();
     for (Run& run : runs) {
