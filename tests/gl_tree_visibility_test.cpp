@@ -90,7 +90,9 @@ struct CountingDrawer : culling::ObjectDrawer {
     primitives += static_cast<long long>(generated);
     return triangles;
   }
-  bool queriesOwnGeometry(std::uint32_t object) const override { return inner.queriesOwnGeometry(object); }
+  bool queriesOwnGeometry(std::uint32_t object, culling::QueryGeometry geometry) const override {
+    return inner.queriesOwnGeometry(object, geometry);
+  }
   long long drawGeometryQueries(std::span<const std::uint32_t> objects, std::span<const std::uint32_t> slots,
                                 culling::QueryGeometry geometry) override {
     for (std::uint32_t o : objects) ++(geometry == culling::QueryGeometry::Exact ? exactQueries : hullQueries)[o];

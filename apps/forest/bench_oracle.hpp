@@ -75,7 +75,9 @@ class DrawnRecorder : public culling::ObjectDrawer {
   DrawnBreakdown meanPerFrame() const;
 
   long long draw(std::span<const std::uint32_t> objects) override;
-  bool queriesOwnGeometry(std::uint32_t object) const override { return drawer_->queriesOwnGeometry(object); }
+  bool queriesOwnGeometry(std::uint32_t object, culling::QueryGeometry geometry) const override {
+    return drawer_->queriesOwnGeometry(object, geometry);
+  }
   long long drawGeometryQueries(std::span<const std::uint32_t> objects, std::span<const std::uint32_t> slots,
                                 culling::QueryGeometry geometry) override {
     return drawer_->drawGeometryQueries(objects, slots, geometry);

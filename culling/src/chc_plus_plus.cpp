@@ -108,10 +108,10 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
   // Geometry queries (beyond the paper; CullingSettings::geometry_queries): for leaves whose
   // objects the drawer can query with their own triangles.
   std::vector<std::int32_t>& geometryQueue = scratch.geometryQueue;
-  auto ownGeometry = [&](std::int32_t n) {
+  auto ownGeometry = [&](std::int32_t n, QueryGeometry geometry = QueryGeometry::HullOrOwn) {
     if (!p.geometry_queries || !nodes[n].leaf()) return false;
     for (std::uint32_t o : t.objectsOf(n))
-      if (!t.drawer.queriesOwnGeometry(o)) return false;
+      if (!t.drawer.queriesOwnGeometry(o, geometry)) return false;
     return true;
   };
   // Beyond the paper: a leaf whose box meets the near slab (or holds the eye) is asked with its
@@ -119,7 +119,7 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
   // leaf as visible without a query, since its box's (or hull's) clipped faces would miss
   // fragments. A tree beside the walker whose box reaches into the near rectangle is then drawn
   // only when a triangle of it shows.
-  auto nearGeometry = [&](std::int32_t n) { return ownGeometry(n) && t.visibleWithoutQuery(n); };
+  auto nearGeometry = [&](std::int32_t n) { return ownGeometry(n, QueryGeometry::Exact) && t.visibleWithoutQuery(n); };
   auto issueGeometry = [&](std::int32_t n, bool drawnAlready) {
     ++t.stats.queriesIssued;
     ++t.stats.geometryQueries;
@@ -278,7 +278,7 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     if (!wasVisible) {  // §3.1: wait in the i-queue for a batch
       s.visible = false;
       // Its box saw past what hid it, or meets the near slab: ask its triangles.
-      if (ownGeometry(n) && (s.geometryHidden || t.visibleWithoutQuery(n))) {
+      if (ownGeometry(n) && (s.geometryHidden || nearGeometry(n))) {
         geometryQueue.push_back(n);
         continue;
       }

@@ -102,10 +102,10 @@ SceneDrawer::SceneDrawer(const SceneObjects& objects, const TerrainRenderer* ter
   propList_.reserve(objects.propCount());
 }
 
-bool SceneDrawer::queriesOwnGeometry(std::uint32_t object) const {
+bool SceneDrawer::queriesOwnGeometry(std::uint32_t object, culling::QueryGeometry geometry) const {
   switch (objects_.objects()[object].kind) {
     case SceneObjects::Kind::Tree: return trees_ != nullptr;
-    case SceneObjects::Kind::Tile: return terrain_ != nullptr && lod_ != nullptr;
+    case SceneObjects::Kind::Tile: return terrain_ != nullptr && lod_ != nullptr && geometry == culling::QueryGeometry::HullOrOwn;
     case SceneObjects::Kind::Prop: break;
   }
   return false;
@@ -118,7 +118,7 @@ long long SceneDrawer::drawGeometryQueries(std::span<const std::uint32_t> object
   tiles_.clear();
   tileSlots_.clear();
   for (std::size_t i = 0; i < objects.size(); ++i) {
-    if (!queriesOwnGeometry(objects[i])) throw Error(fmt::format("SceneDrawer: a geometry query for object {}, which has none", objects[i]));
+    if (!queriesOwnGeometry(objects[i], geometry)) throw Error(fmt::format("SceneDrawer: a geometry query for object {}, which has none", objects[i]));
     const SceneObjects::Object& object = objects_.objects()[objects[i]];
     if (object.kind == SceneObjects::Kind::Tile) {
       tiles_.push_back(static_cast<int>(object.index));

@@ -82,8 +82,9 @@ class ObjectDrawer {
   virtual ~ObjectDrawer() = default;
   virtual long long draw(std::span<const std::uint32_t> objects) = 0;
   // Geometry queries (optional; chc++ with CullingSettings::geometry_queries): whether `object`
-  // can be queried with its own triangles.
-  virtual bool queriesOwnGeometry(std::uint32_t /*object*/) const { return false; }
+  // can be queried with its own triangles (HullOrOwn), and whether its exact triangles are worth
+  // asking where its box meets the near plane (Exact; else it counts as visible without a query).
+  virtual bool queriesOwnGeometry(std::uint32_t /*object*/, QueryGeometry /*geometry*/) const { return false; }
   // Draws objects[i]'s triangles, exactly as draw() would place them (or, with HullOrOwn, a hull
   // holding them), with a fragment program that writes the culler's frame stamp into result slot
   // slots[i] (query_stamp.frag: the results buffer and the stamp's block are bound by the culler,

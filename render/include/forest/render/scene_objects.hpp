@@ -88,8 +88,10 @@ class SceneDrawer : public culling::ObjectDrawer {
   // Trees (TreeRenderer::drawQueries: with HullOrOwn the species' query hull where it has one)
   // and, with a LOD, terrain tiles (TerrainRenderer::drawQueries: the tile's triangles at its
   // level, all of them: those draw() leaves out are outside the frustum) can be queried with their
-  // own triangles; props are queried with boxes.
-  bool queriesOwnGeometry(std::uint32_t object) const override;
+  // own triangles; props are queried with boxes. Exact near the eye: trees only — a tile whose box
+  // meets the near plane is the ground under the walker, in view, and its query would draw its
+  // finest level.
+  bool queriesOwnGeometry(std::uint32_t object, culling::QueryGeometry geometry) const override;
   long long drawGeometryQueries(std::span<const std::uint32_t> objects, std::span<const std::uint32_t> slots,
                                 culling::QueryGeometry geometry) override;
   // Draws from another view from now on (a pass keeps its drawer, and so its lists, from frame to
