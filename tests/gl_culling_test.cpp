@@ -171,7 +171,7 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongEightyViews) {
                                                  byBlock ? &blockVisibility[k] : nullptr);
       if (byBlock) {  // as the geometry pass: the blocks held back, then (but chc++) the visible set asked again
         (void)blockVisibility[k].drawLate(cullers[k]);
-        if (s != CullingStrategy::ChcPlusPlus) {
+        if (!culling::confirmsFoundLeaves(s)) {
           const std::size_t before = r.visibleObjects.size();
           r = cullers[k].refineVisibleSet(objects.boxes(), objects.queryShapes(&lod));
           refinedAway += static_cast<int>(before - r.visibleObjects.size());

@@ -123,8 +123,7 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
   auto issueGeometry = [&](std::int32_t n, bool drawnAlready) {
     ++t.stats.queriesIssued;
     ++t.stats.geometryQueries;
-    const std::size_t slot =
-        issueGeometryQuery(t.objectsOf(n), t.visibleWithoutQuery(n) ? QueryGeometry::Exact : QueryGeometry::HullOrOwn);
+    const std::size_t slot = issueGeometryQuery(t.objectsOf(n), nearGeometry(n) ? QueryGeometry::Exact : QueryGeometry::HullOrOwn);
     const std::size_t first = groupNodes.size();
     groupNodes.push_back(n);
     pending.push({first, 1, slot, drawnAlready, 0, true});

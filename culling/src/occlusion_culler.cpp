@@ -46,6 +46,8 @@ std::string_view cullingStrategyName(CullingStrategy strategy) {
 
 std::vector<std::string> cullingStrategyNames() { return {"none", "frustum", "stop-and-wait", "chc", "chc++"}; }
 
+bool confirmsFoundLeaves(CullingStrategy strategy) { return strategy == CullingStrategy::ChcPlusPlus; }
+
 QueryMode parseQueryMode(std::string_view name) {
   if (name == "deterministic") return QueryMode::Deterministic;
   if (name == "async") return QueryMode::Async;
@@ -310,7 +312,7 @@ void OcclusionCuller::issueAfterCull(std::span<const Aabb> boxes, std::span<cons
     if (surfaces && (bySurface.empty() || bySurface[g] != 0)) {
       const std::uint32_t slot = takeSlot(used_, slots_);
       afterCullSlots_.push_back(slot);
-      afterCullGroups_.push_back(static_cast<std::uint32_t>(afterCullSlots_.size() - 1));
+      afterCullGroups_.push_back(static_cast<std::uint32_t>(g));
       afterCullGroupSlots_.push_back(slot);
       ++stats.geometryQueries;
     } else {

@@ -68,9 +68,7 @@ const culling::CullingResult& GeometryPass::run(const Camera& camera, const Draw
     const culling::CullingResult& culled = culler.cull(bvh, objects_.boxes(), camera, strategy, drawer, shapes, &*blockVisibility_);
     const long long late = blockVisibility_->drawLate(culler);  // its queries are counted in culled.stats
     // Objects found visible before the blocks held back were drawn may be hidden behind them.
-    // chc++ asks each leaf it found this frame again once the traversal is drawn (its c-queue), so
-    // only objects behind the late blocks remain; the other strategies ask their set again here.
-    if (strategy != culling::CullingStrategy::ChcPlusPlus) (void)culler.refineVisibleSet(objects_.boxes(), shapes);
+    if (!culling::confirmsFoundLeaves(strategy)) (void)culler.refineVisibleSet(objects_.boxes(), shapes);
     blockResult_ = culled;
     blockResult_.stats.trianglesDrawn += late;
     return blockResult_;

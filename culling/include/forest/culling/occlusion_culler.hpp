@@ -68,6 +68,11 @@ enum class CullingStrategy { None, Frustum, StopAndWait, Chc, ChcPlusPlus };
 CullingStrategy parseCullingStrategy(std::string_view name);  // throws InputError
 std::string_view cullingStrategyName(CullingStrategy strategy);
 std::vector<std::string> cullingStrategyNames();  // "none", "frustum", "stop-and-wait", "chc", "chc++"
+// Whether the strategy asks each leaf it found visible in a frame again once everything it drew
+// is drawn (chc++'s c-queue): then parts drawn after the traversal (QueriesAfterTraversal) leave
+// only the objects behind those parts in its visible set, and OcclusionCuller::refineVisibleSet
+// is not worth its wait.
+bool confirmsFoundLeaves(CullingStrategy strategy);
 
 // What a geometry query draws: a shape that holds the object's triangles where the object has one
 // (a tree's query hull), or exactly the triangles draw() draws. A leaf whose box meets the near
