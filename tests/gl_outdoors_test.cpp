@@ -62,7 +62,9 @@ TEST_F(OutdoorsGl, SkyIsTheGradientOfItsClosedFormWithTheSunsDisc) {
 // L0 comes from the same view rendered without haze; the expected display value is within the two
 // images' 8-bit conversion (a level each, the clear one's carried through the fade) and the display
 // encoding's 0.12 of 255. A frame that leaves the haze out (e.g. the program compiled without it) is off by
-// tens of levels far away.
+// tens of levels far away. The pixels where nothing was drawn are the sky's closed form in both
+// frames (as in SkyIsTheGradientOfItsClosedFormWithTheSunsDisc; the sky has no haze): a lighting
+// pass that took a sky pixel for a surface, or the other way round, fails there.
 TEST_F(OutdoorsGl, HazeFadesTheGroundTowardItsColourByDistance) {
   Scene scene;
   scene.props.push_back({dvec3(-400, -1, -400), dvec3(400, 0, 400), dvec3(0.5, 0.45, 0.3)});  // the ground, top at y = 0
@@ -81,10 +83,22 @@ TEST_F(OutdoorsGl, HazeFadesTheGroundTowardItsColourByDistance) {
   const std::vector<float> depth = frame.readDepth();
   const dvec3 zenith = glm::pow(scene.render.sky_color, dvec3(2.2));
   const dvec3 horizon = zenith + 0.55 * (dvec3(0.75, 0.8, 0.85) - zenith);
-  int compared = 0, farOff = 0;
+  int compared = 0, farOff = 0, skyCompared = 0;
   for (int y = 0; y < kHeight; ++y)
     for (int x = 0; x < kWidth; ++x) {
       const size_t i = static_cast<size_t>(y) * kWidth + x;
+      if (ids[i] == 0) {  // nothing drawn: the sky
+        const dvec3 ray = glm::normalize(pixelPosition(camera, x, y, 0.5f, kWidth, kHeight) - camera.position);
+        if (const double c = glm::dot(ray, -scene.sun.direction); c > 0.99985 && c < 0.99990) continue;  // the disc's edge ramp
+        const dvec3 expected = skyDisplay(ray, scene.render.sky_color, -scene.sun.direction, scene.sun.color, true);
+        const size_t top = static_cast<size_t>(kHeight - 1 - y) * kWidth + static_cast<size_t>(x);
+        for (int k = 0; k < 3; ++k) {
+          ASSERT_NEAR(clear.pixels[top * 4 + static_cast<size_t>(k)], expected[k], 1.5) << "sky, clear, " << x << ", " << y;
+          ASSERT_NEAR(faded.pixels[top * 4 + static_cast<size_t>(k)], expected[k], 1.5) << "sky, hazy, " << x << ", " << y;
+        }
+        ++skyCompared;
+        continue;
+      }
       if (ids[i] != frame.objects().propIdBase()) continue;
       const dvec3 relative = pixelPosition(camera, x, y, depth[i], kWidth, kHeight) - camera.position;
       const dvec3 ray = glm::normalize(relative);
@@ -107,6 +121,7 @@ TEST_F(OutdoorsGl, HazeFadesTheGroundTowardItsColourByDistance) {
       ++compared;
     }
   EXPECT_GT(compared, kWidth * kHeight / 3);
+  EXPECT_GT(skyCompared, kWidth * kHeight / 4);
   EXPECT_GT(farOff, kWidth * kHeight / 20);  // the haze shows: far pixels move by over 20 levels
   EXPECT_EQ(gl::debugErrorCount(), 0u);
 }
