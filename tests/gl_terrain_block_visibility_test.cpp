@@ -145,6 +145,81 @@ TEST_F(TerrainBlockVisibilityGl, OnlyTheBlockSeenThroughTheRoofIsDrawn) {
 }
 
 
+// A block that comes into view hides what is behind it from the rest of the frame's queries
+// (QueriesAfterTraversal::issueDuring): the roof scene with 16 boxes buried 0.5–1.5 m under the
+// ground near the middle of the tile, hidden from above by the roof and from under it by the
+// ground. Once the eye drops under the roof, the blocks held back from above are asked with the
+// first batch of queries and drawn when its results are in; the buried boxes, asked in later
+// batches (they sit deeper in the hierarchy), are then hidden. Brute force's image has no pixel
+// of them, so the frame draws exactly the ground blocks in the frustum: 2 triangles a cell, and
+// no box's 12.
+TEST_F(TerrainBlockVisibilityGl, BlocksComingIntoViewHideWhatIsBehindThemInTheSameFrame) {
+  TerrainSettings settings;  // as above: one 64-quad tile over [−32, 32]², all but flat
+  settings.size = 64.0;
+  settings.samples = 65;
+  settings.height_min = 0.0;
+  settings.height_max = 0.05;
+  settings.feature_size = 50.0;
+  settings.octaves = 2;
+  settings.seed = 3;
+  const terrain::Terrain terrain(settings);
+  std::vector<PropBox> props = {{dvec3(-16, 5, -40), dvec3(40, 5.2, 40), dvec3(0.5)},
+                                {dvec3(-40, 5, -16), dvec3(-16, 5.2, 40), dvec3(0.5)}};
+  constexpr int kRoofProps = 2, kBuried = 16;
+  for (int i = 0; i < kBuried; ++i) {
+    const dvec3 corner(-2.0 + (i % 4), -1.5, -2.0 + (i / 4));
+    props.push_back({corner, corner + dvec3(0.5, 1.0, 0.5), dvec3(0.5)});
+  }
+  const render::SceneObjects objects(&terrain, nullptr, props);
+  const render::TerrainRenderer terrainIds(terrain, render::TerrainRenderer::Output::ObjectId, objects.terrainIdBase());
+  const render::PropRenderer propIds(props, render::PropRenderer::Output::ObjectId, objects.propIdBase());
+  const culling::Bvh bvh(objects.boxes(), 1);
+  constexpr int kSide = 256;
+  const IdDepthTarget target(kSide, kSide);
+  Camera above;
+  above.position = {0.0, 60.0, 0.0};
+  above.pitch = glm::radians(-89.9);
+  above.fovy = glm::radians(90.0);
+  above.aspect = 1.0;
+  above.near = 0.1;
+  above.far = 200.0;
+  Camera under = above;
+  under.position.y = 3.0;
+  culling::OcclusionCuller culler, bruteForce;
+  render::TerrainBlockVisibility blocks(terrain, 8);
+  const std::vector<Camera> frames = {above, above, above, under};
+  for (size_t f = 0; f < frames.size(); ++f) {
+    const Camera& camera = frames[f];
+    const terrain::TerrainLod lod = terrain.lodFor(camera, kSide);
+    const int level = terrain.tileLevel(0, lod);
+    const Frustum frustum(camera);
+    target.bindAndClear();
+    render::SceneDrawer all(objects, &terrainIds, nullptr, &propIds, camera, &lod, 0.0, SunSettings{});
+    (void)bruteForce.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::None, all);
+    const std::vector<std::uint32_t> expectedIds = target.readIds();
+    for (std::uint32_t id : expectedIds)
+      ASSERT_FALSE(id >= objects.propIdBase() + kRoofProps && id < objects.propIdBase() + kRoofProps + kBuried)
+          << "frame " << f << ": a buried box shows in brute force's image";
+
+    target.bindAndClear();
+    render::SceneDrawer drawer(objects, &terrainIds, nullptr, &propIds, camera, &lod, 0.0, SunSettings{});
+    drawer.cullTerrainBlocks(&frustum, &blocks);
+    blocks.beginFrame(drawer);
+    const culling::CullingResult& r = culler.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::ChcPlusPlus, drawer,
+                                                  objects.queryShapes(&lod), &blocks);
+    const long long triangles = r.stats.trianglesDrawn + blocks.drawLate(culler);
+    EXPECT_EQ(target.readIds(), expectedIds) << "frame " << f;
+    if (f + 1 < frames.size()) continue;
+    int blocksInFrustum = 0;
+    for (const Aabb& b : terrain.blockBoxes(0, level)) blocksInFrustum += frustum.mayIntersect(b) ? 1 : 0;
+    const int cornerInFrustum = frustum.mayIntersect(terrain.blockBoxes(0, level)[0]) ? 1 : 0;
+    ASSERT_GT(blocksInFrustum - cornerInFrustum, 0);
+    EXPECT_EQ(blocks.stats().drawnDuring, blocksInFrustum - cornerInFrustum);
+    EXPECT_EQ(blocks.stats().drawnAfter, 0);
+    EXPECT_EQ(triangles, blocksInFrustum * 2LL * terrain::cellsPerBlock(level)) << "12 triangles a buried box drawn";
+  }
+}
+
 // OcclusionCuller::queryAfterCull, the batch the blocks' queries go out in: a box behind a wall
 // fails, one in front of it passes, one holding the eye passes without a query; malformed groups
 // and a call before any cull are refused.

@@ -92,6 +92,12 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     renderQueue.clear();
     drawObjects(t, objects);
   };
+  // Before a batch of queries: what the draws held back (QueriesAfterTraversal::issueDuring) is
+  // asked with it, and drawn once its results are in (takeResult), before the next batch.
+  auto drawBeforeQueries = [&] {
+    flushRender();
+    issueDuringTraversal();
+  };
   const auto appendBoxes = [&t](std::int32_t n, std::vector<Aabb>& out) { t.appendQueryBoxes(n, out); };
   auto issue = [&](std::span<const std::int32_t> group, bool drawnAlready) {
     boxes.clear();
@@ -130,7 +136,7 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
   };
   // Like the i-queue, after the render queue: the depth buffer must hold everything known visible.
   auto issueGeometryQueue = [&] {
-    flushRender();
+    drawBeforeQueries();
     for (std::int32_t n : geometryQueue) issueGeometry(n, false);
     geometryQueue.clear();
   };
@@ -144,7 +150,7 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
   // grows (a single node is an ordinary query: cost 1).
   auto issueInvisibleQueue = [&] {
     if (invisibleQueue.empty()) return;
-    flushRender();
+    drawBeforeQueries();
     if (!p.multiqueries) {
       for (std::int32_t n : invisibleQueue) issueOne(n, false);
       invisibleQueue.clear();
@@ -234,6 +240,7 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     const PendingQuery q = pending.front();
     pending.pop();
     handleResult(q, waitResult(q.slot, t.stats));
+    takeDuringTraversal(t.stats, false);
   };
 
   if (!nodes.empty()) traversal.push(t.entry(0));
@@ -250,7 +257,7 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
       } else if (!pending.empty()) {
         // About to wait: issue the visible leaves' queries first (§3.2), then take a result.
         if (!visibleQueue.empty()) {
-          flushRender();
+          drawBeforeQueries();
           for (std::int32_t n : visibleQueue) issueVisible(n);
           visibleQueue.clear();
         }
@@ -304,6 +311,7 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
       t.markVisible(n);
     }
   }
+  takeDuringTraversal(t.stats, true);  // readable already: the loop's last wait covered them
   flushRender();
   // The remaining visible leaves' queries (for the next frame), and the c-queue: the leaves found
   // visible this frame, asked against the finished depth (and again next frame, newlyVisible).

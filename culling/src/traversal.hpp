@@ -1,5 +1,6 @@
 #pragma once
 // One culling frame's shared state and the helpers every traversal strategy uses (internal).
+#include <fmt/format.h>
 #include <glm/glm.hpp>
 
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "forest/core/error.hpp"
 #include "forest/core/frustum.hpp"
 #include "forest/core/near_slab.hpp"
 #include "forest/culling/occlusion_culler.hpp"
@@ -39,6 +41,15 @@ inline std::pair<double, double> depthRange(const Aabb& box, const glm::dmat4& v
     farthest = std::max(farthest, depth);
   }
   return {nearest, farthest};
+}
+
+// At most 3N + 1 per frame for a BVH of N nodes: a node enters the traversal once, and is queried
+// once for itself, once more when a multiquery that held it found something; a leaf also once
+// with its own triangles (its geometry query) and, found visible, once more after the frame is
+// drawn (chc++'s c-queue). With L leaves and L − 1 inner nodes that is 4L + 2(L − 1) = 3N + 1.
+inline std::uint32_t takeSlot(std::size_t& used, std::size_t slots) {
+  if (used == slots) throw Error(fmt::format("OcclusionCuller: more than {} queries in a frame", slots));
+  return static_cast<std::uint32_t>(used++);
 }
 
 // Traversal queue entry: nearest first.

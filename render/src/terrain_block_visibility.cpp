@@ -28,6 +28,8 @@ TerrainBlockVisibility::TerrainBlockVisibility(const terrain::Terrain& terrain, 
 void TerrainBlockVisibility::beginFrame(SceneDrawer& drawer) {
   ++frame_;
   held_.clear();
+  asking_.clear();
+  duringFrom_ = 0;
   stats_ = Stats{};
   drawer_ = &drawer;
   issued_ = false;
@@ -96,7 +98,36 @@ std::uint16_t TerrainBlockVisibility::mapLevel(std::uint16_t bits, int from, int
 
 void TerrainBlockVisibility::issue(culling::OcclusionCuller& culler) {
   if (!drawer_) throw Error("TerrainBlockVisibility::issue: no frame begun");
-  if (held_.empty()) return;
+  asking_.clear();
+  for (std::size_t i = 0; i < held_.size(); ++i)
+    if (!held_[i].asked) asking_.push_back(i);
+  if (asking_.empty()) return;
+  ask(culler);
+  issued_ = true;
+}
+
+bool TerrainBlockVisibility::issueDuring(culling::OcclusionCuller& culler) {
+  if (!drawer_) throw Error("TerrainBlockVisibility::issueDuring: no frame begun");
+  // Only the blocks held back: a drawn block's query asks whether it is hidden, which only the
+  // finished depth answers.
+  asking_.clear();
+  for (std::size_t i = duringFrom_; i < held_.size(); ++i)
+    if (held_[i].kind == Held::Hidden) asking_.push_back(i);
+  duringFrom_ = held_.size();
+  if (asking_.empty()) return false;
+  ask(culler);
+  // One found hidden now is hidden after the traversal too (the depth only gets nearer).
+  for (std::size_t i : asking_) held_[i].asked = true;
+  return true;
+}
+
+long long TerrainBlockVisibility::takeDuring(culling::OcclusionCuller& culler) {
+  takeResults(culler);
+  stats_.drawnDuring += static_cast<int>(late_.size());
+  return late_.empty() ? 0 : drawer_->drawTerrainBlocks(late_);
+}
+
+void TerrainBlockVisibility::ask(culling::OcclusionCuller& culler) {
   // One query per block: a query drawn with the block's triangles costs them whether it asks
   // for one block or several, and a multiquery that saw a sample would draw every block in it.
   // A block held back is asked with its box (12 triangles) unless its box has seen past what hid
@@ -105,36 +136,37 @@ void TerrainBlockVisibility::issue(culling::OcclusionCuller& culler) {
   boxes_.clear();
   groupEnds_.clear();
   bySurface_.clear();
-  for (const Held& h : held_) {
+  for (std::size_t i : asking_) {
+    const Held& h = held_[i];
     boxes_.push_back(terrain_.blockBoxes(h.tile, h.level)[static_cast<std::size_t>(h.block)]);
     groupEnds_.push_back(static_cast<std::uint32_t>(boxes_.size()));
     bySurface_.push_back(h.kind == Held::Drawn || queryBy_[slot(h.tile, h.block)] == QueryBy::Surface ? 1 : 0);
   }
   // Surfaces: a box sees over the crest in front of it and between trunks where the surface does not.
   SceneDrawer& drawer = *drawer_;
-  const auto surfaces = [this, &drawer](std::span<const std::uint32_t> blocks, std::span<const std::uint32_t> slots) {
+  const auto surfaces = [this, &drawer](std::span<const std::uint32_t> groups, std::span<const std::uint32_t> slots) {
     queryBlocks_.clear();
-    for (const std::uint32_t b : blocks) queryBlocks_.push_back({held_[b].tile, held_[b].level, held_[b].block});
+    for (const std::uint32_t g : groups) {
+      const Held& h = held_[asking_[g]];
+      queryBlocks_.push_back({h.tile, h.level, h.block});
+    }
     return drawer.drawTerrainBlockQueries(queryBlocks_, slots);
   };
   culler.issueAfterCull(boxes_, groupEnds_, surfaces, bySurface_);
-  issued_ = true;
 }
 
-long long TerrainBlockVisibility::drawLate(culling::OcclusionCuller& culler) {
-  if (!issued_) return 0;  // nothing held
-  issued_ = false;
+void TerrainBlockVisibility::takeResults(culling::OcclusionCuller& culler) {
   const std::vector<bool>& visible = culler.afterCullResults();
   late_.clear();
-  for (std::size_t i = 0; i < held_.size(); ++i) {
-    const Held& h = held_[i];
+  for (std::size_t k = 0; k < asking_.size(); ++k) {
+    Held& h = held_[asking_[k]];
     TileState& t = tiles_[static_cast<std::size_t>(h.tile)];
     const auto bit = static_cast<std::uint16_t>(1u << h.block);
     const std::size_t s = slot(h.tile, h.block);
     t.known = static_cast<std::uint16_t>(t.known | bit);
-    if (visible[i]) {
+    if (visible[k]) {
       t.visible = static_cast<std::uint16_t>(t.visible | bit);
-      if (bySurface_[i] != 0) {
+      if (bySurface_[k] != 0) {
         // Asked again in n_av frames (CHC's assumption of coherence).
         nextQuery_[s] = frame_ + static_cast<std::uint64_t>(requeryFrames_);
         queryBy_[s] = QueryBy::Box;
@@ -143,13 +175,24 @@ long long TerrainBlockVisibility::drawLate(culling::OcclusionCuller& culler) {
         nextQuery_[s] = frame_ + 1;
         queryBy_[s] = QueryBy::BoxPassed;
       }
-      if (h.kind != Held::Drawn) late_.push_back({h.tile, h.level, h.block});
+      if (h.kind != Held::Drawn) {
+        late_.push_back({h.tile, h.level, h.block});
+        // Drawn now; found during the traversal, it is asked again after it (issue()).
+        h.kind = Held::Drawn;
+        h.asked = false;
+      }
     } else {
       t.visible = static_cast<std::uint16_t>(t.visible & ~bit);
       // Hidden by its triangles right after its box passed: the box sees past what hides it.
       if (queryBy_[s] == QueryBy::BoxPassed) queryBy_[s] = QueryBy::Surface;
     }
   }
+}
+
+long long TerrainBlockVisibility::drawLate(culling::OcclusionCuller& culler) {
+  if (!issued_) return 0;  // nothing held
+  issued_ = false;
+  takeResults(culler);
   stats_.drawnAfter = static_cast<int>(late_.size());
   return late_.empty() ? 0 : drawer_->drawTerrainBlocks(late_);
 }

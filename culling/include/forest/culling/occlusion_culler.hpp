@@ -119,14 +119,29 @@ class OcclusionCuller;
 // cull(), they are issued after the traversal's last draw and go out with its last batch of
 // queries (chc++: the v-queue's last queries and the c-queue), so their results come with that
 // batch's and the frame waits for the GPU no more often than without them.
+// chc++ also asks the parts held back by its draws during the traversal (issueDuring), with the
+// batch of queries that follows each draw, and has the ones found visible drawn as soon as that
+// batch's results are in (takeDuring), before its next queries: a part of a drawn object that
+// comes into view (the ground in front of the walker, hidden the frame before behind a tree
+// beside the path) then hides what is behind it from the rest of the frame's queries, instead of
+// being drawn after all of them.
 class QueriesAfterTraversal {
  public:
   virtual ~QueriesAfterTraversal() = default;
   // Called once in every cull, after its last draw and before it waits for its last results:
   // issues the queries with culler.issueAfterCull. Their results: culler.afterCullResults().
   virtual void issue(OcclusionCuller& culler) = 0;
-  // The most queries issue() makes in a frame: the culler keeps that many result slots free.
+  // The most queries issueDuring() and issue() together make in a frame: the culler keeps that
+  // many result slots free.
   virtual std::size_t maxQueries() const = 0;
+  // chc++: called after each draw that comes before a batch of queries, while no earlier
+  // issueDuring's results are untaken: issues queries (culler.issueAfterCull) for what the draws
+  // since the last call held back. Returns whether it issued any (then takeDuring follows).
+  virtual bool issueDuring(OcclusionCuller& /*culler*/) { return false; }
+  // Once those results are readable (the culler waited for the batch they went out with), before
+  // the culler draws or queries again: takes them (culler.afterCullResults()) and draws what they
+  // found visible. Returns the triangles drawn.
+  virtual long long takeDuring(OcclusionCuller& /*culler*/) { return 0; }
 };
 
 enum class QueryMode { Deterministic, Async };
@@ -325,6 +340,12 @@ class OcclusionCuller {
   // Issues the current cull's QueriesAfterTraversal once (chc++: before its last wait; the other
   // strategies: at the end of the cull).
   void issueAfterTraversal();
+  // chc++: the current cull's QueriesAfterTraversal::issueDuring, after a draw; then
+  // takeDuringTraversal once its results are readable (`wait`: waiting for them if need be).
+  void issueDuringTraversal();
+  void takeDuringTraversal(CullingStats& stats, bool wait);
+  bool duringIssued_ = false;  // issueDuringTraversal issued queries whose results are not taken
+  std::size_t duringEnd_ = 0;  // the slots below this one hold them
   const Bvh* stateOf_ = nullptr;
   std::uint64_t frame_ = 0;
 };

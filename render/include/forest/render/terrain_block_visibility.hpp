@@ -10,15 +10,21 @@
 //     assumption of coherence, Bittner et al. 2004, one level lower) with GL_GEQUAL, so that where
 //     its own surface is still the nearest it passes; one hidden by nearer trees or terrain fails
 //     and is hidden from the next frame on;
-//   - a block found hidden is held back while its tile is drawn, and after the traversal it is
-//     asked against the depth of everything drawn, on its own (a query draws its block's
-//     triangles, so CHC++'s multiqueries, §3.4, would save no work here, and a multiquery that
-//     saw a sample would draw every block in it); one that passes is drawn then;
+//   - a block found hidden is held back while its tile is drawn and asked on its own (a query
+//     draws its block's triangles, so CHC++'s multiqueries, §3.4, would save no work here, and a
+//     multiquery that saw a sample would draw every block in it): with chc++, in the batch of
+//     queries that follows the tile's draw (issueDuring), and one that passes is drawn as soon
+//     as that batch's results are in (takeDuring), before the traversal's next queries, then
+//     asked again after the traversal like a drawn block; held by the traversal's last draw (or
+//     with another strategy), after the traversal, drawn then (drawLate);
 //   - a block not known yet — its tile was not drawn the frame before — is drawn with its tile
 //     (as the whole tile was before: it occludes during the traversal) and asked after.
-// All of a frame's block queries go out after the traversal's last draw, in the culler's last
-// batch (culling::QueriesAfterTraversal: answered by the wait the culler makes anyway); a block
-// whose box holds the eye or meets the near slab counts as visible without one.
+// The queries go out with batches the culler makes anyway (culling::QueriesAfterTraversal:
+// answered by waits it makes anyway); a block whose box holds the eye or meets the near slab
+// counts as visible without one. Asking the held blocks only after the traversal let a block
+// that came into view — the ground in front of the walker, hidden the frame before by a tree
+// beside the path — be drawn after every query behind it had passed: along the thesis walk at
+// 10 201 trees, one such frame drew 132 k triangles for the exactly visible set's 8.4 k.
 // Exact as the culler is: a block is either drawn during the traversal or drawn when its
 // triangles passed the depth test against everything else drawn — a subset of what brute force
 // draws in front of them. When a tile's level changes, its blocks take the visibility of the
@@ -48,10 +54,17 @@ class TerrainBlockVisibility final : public culling::QueriesAfterTraversal {
   // was visible or is not known); if not (it was hidden), it is held until issue() asks it.
   bool drawNow(int tile, int level, int block);
   // Handed to OcclusionCuller::cull, which calls it after its traversal's last draw: queries the
-  // held blocks and the visible ones due, in the culler's last batch.
+  // held blocks not asked yet, the visible ones due and those drawn by takeDuring, in the
+  // culler's last batch.
   void issue(culling::OcclusionCuller& culler) override;
-  std::size_t maxQueries() const override { return nextQuery_.size(); }  // every block its own
-  // After the cull: takes those results and draws the held blocks found visible
+  // Every block at most twice: held and asked during the traversal, then asked again at its end.
+  std::size_t maxQueries() const override { return 2 * nextQuery_.size(); }
+  // chc++, during its traversal: asks the blocks held back since the last call, with the batch of
+  // queries that follows (issueDuring); once their results are in, draws those found visible
+  // (takeDuring) — they are asked again after the traversal, with their triangles.
+  bool issueDuring(culling::OcclusionCuller& culler) override;
+  long long takeDuring(culling::OcclusionCuller& culler) override;
+  // After the cull: takes issue()'s results and draws the held blocks found visible
   // (SceneDrawer::drawTerrainBlocks). Returns the triangles drawn.
   long long drawLate(culling::OcclusionCuller& culler);
 
@@ -59,7 +72,8 @@ class TerrainBlockVisibility final : public culling::QueriesAfterTraversal {
     int drawnInTraversal = 0;  // blocks drawn by drawNow
     int held = 0;              // blocks held back
     int requeried = 0;         // blocks drawn by drawNow that issue queries (not known, or due)
-    int drawnAfter = 0;        // held blocks found visible and drawn by drawLate
+    int drawnDuring = 0;       // held blocks found visible during the traversal and drawn by takeDuring
+    int drawnAfter = 0;        // held blocks found visible after it and drawn by drawLate
   };
   const Stats& stats() const { return stats_; }  // this frame's
 
@@ -73,7 +87,13 @@ class TerrainBlockVisibility final : public culling::QueriesAfterTraversal {
   struct Held {  // a block held back, or one drawn already whose visibility is asked
     int tile, level, block;
     enum Kind { Hidden, Drawn } kind;
+    bool asked = false;  // its query went out during the traversal (issue() leaves it out)
   };
+  // Issues queries for held_[asking_[…]] (the current batch).
+  void ask(culling::OcclusionCuller& culler);
+  // Takes the current batch's results into the blocks' bits; the held-back blocks found visible
+  // go to late_ (and become Drawn, asked again by issue()).
+  void takeResults(culling::OcclusionCuller& culler);
   // A tile's bits mapped from level `from` to level `to`: a block is visible when a block of the
   // other level overlapping it was (any), known when all of those were (all).
   enum class Combine { Any, All };
@@ -96,6 +116,8 @@ class TerrainBlockVisibility final : public culling::QueriesAfterTraversal {
   std::vector<QueryBy> queryBy_;
   std::vector<std::uint8_t> bySurface_;  // per held block this frame: asked with its triangles
   std::vector<Held> held_;
+  std::vector<std::size_t> asking_;  // the held_ entries of the batch in flight
+  std::size_t duringFrom_ = 0;       // held_ entries from this one on were held after the last issueDuring
   std::vector<Aabb> boxes_;
   std::vector<std::uint32_t> groupEnds_;
   std::vector<terrain::TileBlock> late_, queryBlocks_;
