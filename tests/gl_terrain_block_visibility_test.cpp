@@ -27,8 +27,9 @@ class TerrainBlockVisibilityGl : public GlTest {};
 
 constexpr std::uint32_t kBlockIdBase = 1000;  // block IDs apart from the objects' (1–3)
 
-TEST_F(TerrainBlockVisibilityGl, OnlyTheBlockSeenThroughTheRoofIsDrawn) {
-  TerrainSettings settings;  // one 64-quad tile over [−32, 32]², 1 m a quad, all but flat
+// One 64-quad tile over [−32, 32]², 1 m a quad, all but flat.
+TerrainSettings flatTile() {
+  TerrainSettings settings;
   settings.size = 64.0;
   settings.samples = 65;
   settings.height_min = 0.0;
@@ -36,26 +37,80 @@ TEST_F(TerrainBlockVisibilityGl, OnlyTheBlockSeenThroughTheRoofIsDrawn) {
   settings.feature_size = 50.0;
   settings.octaves = 2;
   settings.seed = 3;
-  const terrain::Terrain terrain(settings);
+  return settings;
+}
+
+// The roof at 5 m: x ≥ −16 everywhere, and z ≥ −16 for x < −16. Block 0 (x, z < −16) is open.
+std::vector<PropBox> roof() {
+  return {{dvec3(-16, 5, -40), dvec3(40, 5.2, 40), dvec3(0.5)}, {dvec3(-40, 5, -16), dvec3(-16, 5.2, 40), dvec3(0.5)}};
+}
+
+// Straight down onto the tile's centre from `height` m, with a 90° square field of view.
+Camera lookingDown(double height) {
+  Camera camera;
+  camera.position = {0.0, height, 0.0};
+  camera.pitch = glm::radians(-89.9);
+  camera.fovy = glm::radians(90.0);
+  camera.aspect = 1.0;
+  camera.near = 0.1;
+  camera.far = 200.0;
+  return camera;
+}
+
+// A terrain and props with their ID renderers and BVH (one object a leaf), and one frame of them
+// drawn twice into a side × side target: by brute force (every object whole), then by chc++ with
+// terrain by block (`blocks`).
+struct BlockScene {
+  render::SceneObjects objects;
+  render::TerrainRenderer terrainIds;
+  render::PropRenderer propIds;
+  culling::Bvh bvh;
+  IdDepthTarget target;
+  BlockScene(const terrain::Terrain& terrain, const std::vector<PropBox>& props, int side)
+      : objects(&terrain, nullptr, props),
+        terrainIds(terrain, render::TerrainRenderer::Output::ObjectId, objects.terrainIdBase()),
+        propIds(props, render::PropRenderer::Output::ObjectId, objects.propIdBase()),
+        bvh(objects.boxes(), 1),
+        target(side, side) {}
+  struct Frame {
+    std::vector<std::uint32_t> expectedIds, ids;  // brute force's, chc++'s
+    std::vector<float> expectedDepth, depth;
+    int waitsInCull = 0, waits = 0;  // chc++'s waits in its cull, and with the late blocks' results
+    long long triangles = 0;         // chc++'s, with the late blocks'
+  };
+  Frame draw(const Camera& camera, const terrain::TerrainLod& lod, culling::OcclusionCuller& culler,
+             culling::OcclusionCuller& bruteForce, render::TerrainBlockVisibility& blocks) const {
+    Frame out;
+    target.bindAndClear();
+    render::SceneDrawer all(objects, &terrainIds, nullptr, &propIds, camera, &lod, 0.0, SunSettings{});
+    (void)bruteForce.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::None, all);
+    out.expectedIds = target.readIds();
+    out.expectedDepth = target.readDepth();
+    target.bindAndClear();
+    const Frustum frustum(camera);
+    render::SceneDrawer drawer(objects, &terrainIds, nullptr, &propIds, camera, &lod, 0.0, SunSettings{});
+    drawer.cullTerrainBlocks(&frustum, &blocks);
+    blocks.beginFrame(drawer);
+    const culling::CullingResult& r = culler.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::ChcPlusPlus, drawer,
+                                                  objects.queryShapes(&lod), &blocks);
+    out.waitsInCull = r.stats.waits;
+    out.triangles = r.stats.trianglesDrawn + blocks.drawLate(culler);
+    out.waits = r.stats.waits;
+    out.ids = target.readIds();
+    out.depth = target.readDepth();
+    return out;
+  }
+};
+
+TEST_F(TerrainBlockVisibilityGl, OnlyTheBlockSeenThroughTheRoofIsDrawn) {
+  const terrain::Terrain terrain(flatTile());
   ASSERT_EQ(terrain.tileCount(), 1);
-  // The roof at 5 m: x ≥ −16 everywhere, and z ≥ −16 for x < −16. Block 0 (x, z < −16) is open.
-  const std::vector<PropBox> roof = {{dvec3(-16, 5, -40), dvec3(40, 5.2, 40), dvec3(0.5)},
-                                     {dvec3(-40, 5, -16), dvec3(-16, 5.2, 40), dvec3(0.5)}};
-  const render::SceneObjects objects(&terrain, nullptr, roof);
-  const render::TerrainRenderer terrainIds(terrain, render::TerrainRenderer::Output::ObjectId, objects.terrainIdBase());
-  const render::PropRenderer propIds(roof, render::PropRenderer::Output::ObjectId, objects.propIdBase());
-  const culling::Bvh bvh(objects.boxes(), 1);
   constexpr int kSide = 256;
-  const IdDepthTarget target(kSide, kSide);
-  Camera above;
-  above.position = {0.0, 60.0, 0.0};
-  above.pitch = glm::radians(-89.9);
-  above.fovy = glm::radians(90.0);
-  above.aspect = 1.0;
-  above.near = 0.1;
-  above.far = 200.0;
-  Camera under = above;  // under the roof: every block shows
-  under.position.y = 3.0;
+  const BlockScene scene(terrain, roof(), kSide);
+  const render::SceneObjects& objects = scene.objects;
+  const IdDepthTarget& target = scene.target;
+  const Camera above = lookingDown(60.0);
+  const Camera under = lookingDown(3.0);  // under the roof: every block shows
   // Far to the side, low: through the open corner it sees the ground of the corner block and of
   // the block beside it (the roof is 5 m up), and no other block.
   Camera oblique = above;
@@ -80,29 +135,17 @@ TEST_F(TerrainBlockVisibilityGl, OnlyTheBlockSeenThroughTheRoofIsDrawn) {
     const terrain::TerrainLod lod = terrain.lodFor(camera, kSide);
     const int level = terrain.tileLevel(0, lod);
     const Frustum frustum(camera);
-    target.bindAndClear();
-    render::SceneDrawer all(objects, &terrainIds, nullptr, &propIds, camera, &lod, 0.0, SunSettings{});
-    (void)bruteForce.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::None, all);
-    const std::vector<std::uint32_t> expectedIds = target.readIds();
-    const std::vector<float> expectedDepth = target.readDepth();
-
-    target.bindAndClear();
-    render::SceneDrawer drawer(objects, &terrainIds, nullptr, &propIds, camera, &lod, 0.0, SunSettings{});
-    drawer.cullTerrainBlocks(&frustum, &blocks);
-    blocks.beginFrame(drawer);
-    const culling::CullingResult& r = culler.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::ChcPlusPlus, drawer,
-                                                  objects.queryShapes(&lod), &blocks);
-    const int waitsInCull = r.stats.waits;
-    const long long triangles = r.stats.trianglesDrawn + blocks.drawLate(culler);
+    const BlockScene::Frame frame = scene.draw(camera, lod, culler, bruteForce, blocks);
+    const long long triangles = frame.triangles;
     // The blocks' queries went out with chc++'s last batch: where the cull ended waiting for it
     // (frames 0 and 1: the leaves found visible are asked again at the end of the frame, then the
     // next frame), their results came with it; elsewhere they take at most one wait.
-    EXPECT_LE(r.stats.waits, waitsInCull + 1) << "frame " << f;
+    EXPECT_LE(frame.waits, frame.waitsInCull + 1) << "frame " << f;
     if (sinceCut < 2) {
-      EXPECT_EQ(r.stats.waits, waitsInCull) << "frame " << f;
+      EXPECT_EQ(frame.waits, frame.waitsInCull) << "frame " << f;
     }
-    EXPECT_EQ(target.readIds(), expectedIds) << "frame " << f;
-    EXPECT_EQ(target.readDepth(), expectedDepth) << "frame " << f;
+    EXPECT_EQ(frame.ids, frame.expectedIds) << "frame " << f;
+    EXPECT_EQ(frame.depth, frame.expectedDepth) << "frame " << f;
 
     // Closed forms: a box is 12 triangles, a block 2 per cell at the tile's level.
     const long long perBlock = 2LL * terrain::cellsPerBlock(level);
@@ -126,8 +169,9 @@ TEST_F(TerrainBlockVisibilityGl, OnlyTheBlockSeenThroughTheRoofIsDrawn) {
       for (int b = 0; b < terrain::blocksPerTile(level); ++b)
         if (frustum.mayIntersect(terrain.blockBoxes(0, level)[static_cast<size_t>(b)])) inFrustum.push_back({0, level, b});
       (void)blockIds.drawBlocks(render::DrawView::fromCamera(camera, 0.0, SunSettings{}), lod, inFrustum);
-      const std::uint32_t slabs[] = {1, 2};
-      (void)all.draw(slabs);
+      const std::uint32_t roofObjects[] = {1, 2};
+      render::SceneDrawer all(objects, &scene.terrainIds, nullptr, &scene.propIds, camera, &lod, 0.0, SunSettings{});
+      (void)all.draw(roofObjects);
       std::set<int> withPixels;
       for (std::uint32_t id : target.readIds())
         if (id >= kBlockIdBase && id < kBlockIdBase + 16) withPixels.insert(static_cast<int>(id - kBlockIdBase));
@@ -154,37 +198,17 @@ TEST_F(TerrainBlockVisibilityGl, OnlyTheBlockSeenThroughTheRoofIsDrawn) {
 // of them, so the frame draws exactly the ground blocks in the frustum: 2 triangles a cell, and
 // no box's 12.
 TEST_F(TerrainBlockVisibilityGl, BlocksComingIntoViewHideWhatIsBehindThemInTheSameFrame) {
-  TerrainSettings settings;  // as above: one 64-quad tile over [−32, 32]², all but flat
-  settings.size = 64.0;
-  settings.samples = 65;
-  settings.height_min = 0.0;
-  settings.height_max = 0.05;
-  settings.feature_size = 50.0;
-  settings.octaves = 2;
-  settings.seed = 3;
-  const terrain::Terrain terrain(settings);
-  std::vector<PropBox> props = {{dvec3(-16, 5, -40), dvec3(40, 5.2, 40), dvec3(0.5)},
-                                {dvec3(-40, 5, -16), dvec3(-16, 5.2, 40), dvec3(0.5)}};
+  const terrain::Terrain terrain(flatTile());
+  std::vector<PropBox> props = roof();
   constexpr int kRoofProps = 2, kBuried = 16;
   for (int i = 0; i < kBuried; ++i) {
     const dvec3 corner(-2.0 + (i % 4), -1.5, -2.0 + (i / 4));
     props.push_back({corner, corner + dvec3(0.5, 1.0, 0.5), dvec3(0.5)});
   }
-  const render::SceneObjects objects(&terrain, nullptr, props);
-  const render::TerrainRenderer terrainIds(terrain, render::TerrainRenderer::Output::ObjectId, objects.terrainIdBase());
-  const render::PropRenderer propIds(props, render::PropRenderer::Output::ObjectId, objects.propIdBase());
-  const culling::Bvh bvh(objects.boxes(), 1);
   constexpr int kSide = 256;
-  const IdDepthTarget target(kSide, kSide);
-  Camera above;
-  above.position = {0.0, 60.0, 0.0};
-  above.pitch = glm::radians(-89.9);
-  above.fovy = glm::radians(90.0);
-  above.aspect = 1.0;
-  above.near = 0.1;
-  above.far = 200.0;
-  Camera under = above;
-  under.position.y = 3.0;
+  const BlockScene scene(terrain, props, kSide);
+  const render::SceneObjects& objects = scene.objects;
+  const Camera above = lookingDown(60.0), under = lookingDown(3.0);
   culling::OcclusionCuller culler, bruteForce;
   render::TerrainBlockVisibility blocks(terrain, 8);
   const std::vector<Camera> frames = {above, above, above, under};
@@ -193,22 +217,12 @@ TEST_F(TerrainBlockVisibilityGl, BlocksComingIntoViewHideWhatIsBehindThemInTheSa
     const terrain::TerrainLod lod = terrain.lodFor(camera, kSide);
     const int level = terrain.tileLevel(0, lod);
     const Frustum frustum(camera);
-    target.bindAndClear();
-    render::SceneDrawer all(objects, &terrainIds, nullptr, &propIds, camera, &lod, 0.0, SunSettings{});
-    (void)bruteForce.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::None, all);
-    const std::vector<std::uint32_t> expectedIds = target.readIds();
-    for (std::uint32_t id : expectedIds)
+    const BlockScene::Frame frame = scene.draw(camera, lod, culler, bruteForce, blocks);
+    for (std::uint32_t id : frame.expectedIds)
       ASSERT_FALSE(id >= objects.propIdBase() + kRoofProps && id < objects.propIdBase() + kRoofProps + kBuried)
           << "frame " << f << ": a buried box shows in brute force's image";
-
-    target.bindAndClear();
-    render::SceneDrawer drawer(objects, &terrainIds, nullptr, &propIds, camera, &lod, 0.0, SunSettings{});
-    drawer.cullTerrainBlocks(&frustum, &blocks);
-    blocks.beginFrame(drawer);
-    const culling::CullingResult& r = culler.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::ChcPlusPlus, drawer,
-                                                  objects.queryShapes(&lod), &blocks);
-    const long long triangles = r.stats.trianglesDrawn + blocks.drawLate(culler);
-    EXPECT_EQ(target.readIds(), expectedIds) << "frame " << f;
+    EXPECT_EQ(frame.ids, frame.expectedIds) << "frame " << f;
+    EXPECT_EQ(frame.depth, frame.expectedDepth) << "frame " << f;
     if (f + 1 < frames.size()) continue;
     int blocksInFrustum = 0;
     for (const Aabb& b : terrain.blockBoxes(0, level)) blocksInFrustum += frustum.mayIntersect(b) ? 1 : 0;
@@ -216,7 +230,7 @@ TEST_F(TerrainBlockVisibilityGl, BlocksComingIntoViewHideWhatIsBehindThemInTheSa
     ASSERT_GT(blocksInFrustum - cornerInFrustum, 0);
     EXPECT_EQ(blocks.stats().drawnDuring, blocksInFrustum - cornerInFrustum);
     EXPECT_EQ(blocks.stats().drawnAfter, 0);
-    EXPECT_EQ(triangles, blocksInFrustum * 2LL * terrain::cellsPerBlock(level)) << "12 triangles a buried box drawn";
+    EXPECT_EQ(frame.triangles, blocksInFrustum * 2LL * terrain::cellsPerBlock(level)) << "12 triangles a buried box drawn";
   }
 }
 
