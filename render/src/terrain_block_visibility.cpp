@@ -18,6 +18,7 @@ TerrainBlockVisibility::TerrainBlockVisibility(const terrain::Terrain& terrain, 
       queryBy_(tiles_.size() * kBlocks, QueryBy::Box) {
   if (requeryFrames < 1) throw Error(fmt::format("TerrainBlockVisibility: n_av = {}, expected at least 1", requeryFrames));
   held_.reserve(nextQuery_.size());
+  asking_.reserve(nextQuery_.size());
   boxes_.reserve(nextQuery_.size());
   groupEnds_.reserve(nextQuery_.size());
   late_.reserve(nextQuery_.size());
