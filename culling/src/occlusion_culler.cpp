@@ -138,7 +138,6 @@ void OcclusionCuller::endQueries() {
   glBindVertexArray(0);
 }
 
-
 std::size_t OcclusionCuller::issueGeometryQuery(std::span<const std::uint32_t> objects, QueryGeometry geometry) {
   const std::uint32_t slot = takeSlot(used_, slots_);
   GeometryQueries& queries = geometryQueries_[static_cast<std::size_t>(geometry)];
