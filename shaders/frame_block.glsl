@@ -13,4 +13,8 @@ layout(std140, binding = 2) uniform FrameBlock {
   ivec4 modes;                 // x: PCF radius; y: tsm linear depth (1/0); z: slices (1 to 4) — x and z
                                // are also the lookup program's PCF_RADIUS and SHADOW_SLICES;
                                // w: the map holds the sun's shadows (1/0; 0: the term is 0 everywhere)
+  uvec4 imageRecord;           // x: this frame's stamp (0: record nothing), y: tiles per side, z: tiles
+                               // (IDs 1 to z), w: the first block's slot (lighting.frag's recordShown)
+  vec4 imageTerrain;           // xy: the eye in terrain samples from the heightfield's origin (x, z);
+                               // z: 1 / sample spacing; w: quads per tile side
 } uFrame;

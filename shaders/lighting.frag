@@ -30,6 +30,26 @@ vec2 shadowTermOf(uvec4 surface);
 
 vec3 displayFromLinear(vec3 linear);  // γ 2.2 (display_gamma.frag)
 
+// What shows in this image (render/src/image_visibility.hpp), for the next frame's culling: each
+// pixel writes the frame's stamp into its object's slot (the G-buffer's ID) and, on a terrain
+// tile, into the slot of its block of the 4 × 4 at levels 0–3 (terrain::Terrain::blockBoxes,
+// row-major), found from the pixel's position. A pixel within rounding of a block's edge may mark
+// the neighbour: the culler then asks one and draws the other untested, both exact.
+layout(std430, binding = 7) writeonly buffer ImageRecord { uint shownStamp[]; };
+float eyeDepthOf(uvec4 surface);  // gbuffer_read.frag
+void recordShown(uvec4 surface) {
+  uint stamp = uFrame.imageRecord.x, id = surface.w;
+  if (stamp == 0u || id == 0u) return;
+  shownStamp[id] = stamp;
+  if (id > uFrame.imageRecord.z) return;
+  uint tile = id - 1u, tilesPerSide = uFrame.imageRecord.y;
+  int quads = int(uFrame.imageTerrain.w);
+  vec2 samples = uFrame.imageTerrain.xy + eyeDepthOf(surface) * vRay.xz * uFrame.imageTerrain.z;
+  ivec2 inTile = clamp(ivec2(floor(samples)) - ivec2(tile % tilesPerSide, tile / tilesPerSide) * quads, ivec2(0), ivec2(quads - 1));
+  ivec2 block = inTile / (quads / 4);
+  shownStamp[uFrame.imageRecord.w + tile * 16u + uint(block.y * 4 + block.x)] = stamp;
+}
+
 // x^8 by squaring: llvmpipe runs both sides of a branch, so the sky's terms are paid at every pixel,
 // and pow is exp2(log2) there.
 float pow8(float x) { x *= x; x *= x; return x * x; }
@@ -99,6 +119,7 @@ void main() {
   vec2 term = shadowTermOf(surface);
 #endif
   usedTerm = term;
+  recordShown(surface);
   vec3 view = normalize(vRay);
   fragColor = vec4(displayFromLinear(surfaceOrSky(surface, term, view, zenith, toSun, sunColor, sunUp, ambient, hazeDensity)), 1.0);
 }

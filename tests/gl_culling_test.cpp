@@ -62,6 +62,7 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongEightyViews) {
     CullingStrategy strategy;
     culling::QueryMode mode;
     bool byBlock = true;  // query-driven: terrain blocks by their visibility (as the frame draws them)
+    bool lastImage = false;  // chc++: given what showed in the view before (setShownInLastImage), a quarter of it flipped
   };
   const Run runs[] = {{CullingStrategy::None, culling::QueryMode::Deterministic},
                       {CullingStrategy::Frustum, culling::QueryMode::Deterministic},
@@ -71,7 +72,9 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongEightyViews) {
                       {CullingStrategy::Chc, culling::QueryMode::Async},
                       {CullingStrategy::ChcPlusPlus, culling::QueryMode::Deterministic},
                       {CullingStrategy::ChcPlusPlus, culling::QueryMode::Async},
-                      {CullingStrategy::ChcPlusPlus, culling::QueryMode::Deterministic, false}};
+                      {CullingStrategy::ChcPlusPlus, culling::QueryMode::Deterministic, false},
+                      {CullingStrategy::ChcPlusPlus, culling::QueryMode::Deterministic, true, true},
+                      {CullingStrategy::ChcPlusPlus, culling::QueryMode::Async, true, true}};
   std::vector<culling::OcclusionCuller> cullers(std::size(runs));
   for (size_t k = 0; k < std::size(runs); ++k) cullers[k].setQueryMode(runs[k].mode);
   // Each query-driven run keeps its blocks' visibility from view to view, as its culler does.
@@ -134,6 +137,18 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongEightyViews) {
 
   int differingPixels = 0, compared = 0;
   std::map<CullingStrategy, int> queries;
+  // The record of the view before (objects with a pixel in brute force's ID image; blocks: every
+  // bit at random), a quarter of its flags flipped: the record only decides between drawing
+  // untested and asking first, so exactness must not depend on it being right.
+  std::vector<std::uint8_t> shownBefore(objects.boxes().size(), 0), shownNow(objects.boxes().size(), 0);
+  std::vector<std::uint16_t> blocksBefore(static_cast<std::size_t>(terrain.tileCount()), 0);
+  std::uint64_t noise = 0x2545F4914F6CDD1Dull;
+  auto random = [&noise] {
+    noise ^= noise << 13;
+    noise ^= noise >> 7;
+    noise ^= noise << 17;
+    return noise;
+  };
   for (size_t v = 0; v < views.size(); ++v) {
     const View& view = views[v];
     if (view.moveObjects) {
@@ -155,6 +170,10 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongEightyViews) {
     }
     const terrain::TerrainLod lod = terrain.lodFor(view.camera, kHeight);
     const double time = 0.1 * static_cast<double>(v);
+    shownBefore = shownNow;  // the view before's (brute force runs first in each view)
+    for (std::uint8_t& shown : shownBefore)
+      if (random() % 4 == 0) shown ^= 1;
+    for (std::uint16_t& bits : blocksBefore) bits = static_cast<std::uint16_t>(random());
     std::vector<std::uint32_t> noneIds;
     std::vector<float> noneDepth;
     for (size_t k = 0; k < std::size(runs); ++k) {
@@ -167,6 +186,10 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongEightyViews) {
       const bool byBlock = runs[k].byBlock && s != CullingStrategy::None && s != CullingStrategy::Frustum;
       if (s != CullingStrategy::None) drawer.cullTerrainBlocks(&frustum, byBlock ? &blockVisibility[k] : nullptr);
       blockVisibility[k].beginFrame(drawer);
+      if (runs[k].lastImage && v > 0) {
+        cullers[k].setShownInLastImage(shownBefore);
+        blockVisibility[k].setShownInLastImage(blocksBefore);
+      }
       culling::CullingResult r = cullers[k].cull(bvh, objects.boxes(), view.camera, s, drawer, objects.queryShapes(&lod),
                                                  byBlock ? &blockVisibility[k] : nullptr);
       if (byBlock) {  // as the geometry pass: the blocks held back, then (but chc++) the visible set asked again
@@ -190,6 +213,9 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongEightyViews) {
       if (s == CullingStrategy::None) {
         noneIds = ids;
         noneDepth = depth;
+        std::fill(shownNow.begin(), shownNow.end(), 0);
+        for (std::uint32_t id : ids)
+          if (const std::int64_t o = objects.objectOfId(id); o >= 0) shownNow[static_cast<std::size_t>(o)] = 1;
         continue;
       }
       int differ = 0;
@@ -447,6 +473,49 @@ TEST_F(CullingGl, ALeafFoundVisibleBeforeItsOccluderWasDrawnIsAskedAgainOnceTheF
       EXPECT_GT(f.drawn.size(), seen.size()) << "the premise: the first batch finds boxes behind the undrawn wall";
     } else {
       EXPECT_EQ(f.drawn, seen) << "frame " << frame;
+    }
+  }
+}
+
+// With the last image's record (OcclusionCuller::setShownInLastImage: what the lighting pass
+// marks, render/src/image_visibility.hpp), a leaf drawn in the frame before without a pixel is
+// asked before it is drawn again: once the eye has stepped behind a wall, chc++ draws exactly the
+// objects with pixels from the second frame on, even with n_av = 100. Without the record the box
+// behind the wall, visible before, stays drawn untested until its re-query is due.
+TEST_F(CullingGl, ALeafWithoutAPixelInTheLastImageIsAskedBeforeItIsDrawnAgain) {
+  std::vector<PropBox> props;
+  props.push_back({dvec3(-3, -3, -5.1), dvec3(3, 3, -5.0), dvec3(0.5)});  // 0: a wall 5 m ahead of the origin
+  props.push_back({dvec3(-1, -1, -21), dvec3(1, 1, -20), dvec3(0.3)});    // 1: a box behind it
+  PropScene scene(props);
+  const dvec3 aside(6.0, 0.0, 0.0), behindTheWall(0.0);
+  scene.camera.position = aside;
+  const std::set<std::uint32_t> seenAside = scene.withPixels();
+  ASSERT_EQ(seenAside, (std::set<std::uint32_t>{0, 1})) << "from the side both show";
+  scene.camera.position = behindTheWall;
+  const std::set<std::uint32_t> seenBehind = scene.withPixels();
+  ASSERT_EQ(seenBehind, std::set<std::uint32_t>{0}) << "behind the wall the box is hidden";
+
+  CullingSettings settings;
+  settings.visible_requery_frames = 100;
+  for (bool record : {false, true}) {
+    culling::OcclusionCuller culler;
+    culler.setParameters(settings);
+    std::vector<std::uint8_t> shown(scene.objects.boxes().size(), 0);
+    auto frame = [&](const dvec3& eye, const std::set<std::uint32_t>& withPixels) {
+      scene.camera.position = eye;
+      if (record) culler.setShownInLastImage(shown);
+      const PropScene::CulledFrame f = scene.cullFrame(culler, CullingStrategy::ChcPlusPlus);
+      std::fill(shown.begin(), shown.end(), 0);  // this frame's image: exactly brute force's (exactness)
+      for (std::uint32_t o : withPixels) shown[o] = 1;
+      return f.drawn;
+    };
+    for (int k = 0; k < 4; ++k) EXPECT_EQ(frame(aside, seenAside), seenAside) << "record " << record << ", frame " << k;
+    // The step behind the wall: the box, visible the frame before, is drawn (CHC's one-frame lag).
+    EXPECT_EQ(frame(behindTheWall, seenBehind), seenAside) << "record " << record;
+    for (int k = 0; k < 3; ++k) {
+      const std::set<std::uint32_t> drawn = frame(behindTheWall, seenBehind);
+      if (record) EXPECT_EQ(drawn, seenBehind) << "frame " << k << " behind the wall";
+      else EXPECT_EQ(drawn, seenAside) << "the premise: without the record the box is drawn untested, frame " << k;
     }
   }
 }

@@ -108,6 +108,15 @@ double wholeTileOracleTrianglesP50(const std::vector<VisibleSet>& sets, const st
   return whole[whole.size() / 2];
 }
 
+void recordShown(const VisibleSet& visible, std::size_t objects, std::size_t tiles, ShownRecord& out) {
+  out.objects.assign(objects, 0);
+  for (std::uint32_t o : visible.objects) out.objects[o] = 1;
+  out.blocks.assign(tiles, 0);
+  for (const terrain::TileBlock& b : visible.blocks)
+    out.blocks[static_cast<std::size_t>(b.tile)] |= render::TerrainBlockVisibility::mapLevel(
+        static_cast<std::uint16_t>(1u << b.block), b.level, 0, render::TerrainBlockVisibility::Combine::Any);
+}
+
 long long drawVisibleSet(render::SceneDrawer& drawer, const VisibleSet& visible) {
   return drawer.draw(visible.notTerrain) + (visible.blocks.empty() ? 0 : drawer.drawTerrainBlocks(visible.blocks));
 }

@@ -40,6 +40,16 @@ std::vector<VisibleSet> bruteForceVisibleSets(const render::SceneObjects& object
                                               const culling::Bvh& bvh, const std::vector<Camera>& path, const SunSettings& sun,
                                               int width, int height, const std::function<void()>& progress);
 
+// What the frame's lighting pass records of frame f's image for the next frame's culling
+// ([culling] image_visibility; render/src/image_visibility.hpp): the objects of its visible set,
+// and per tile its blocks as the 4 × 4 of levels 0–3 — the frame's image is brute force's
+// (exactness), so the record is the oracle's set. `objects`, `tiles`: the scene's counts.
+struct ShownRecord {
+  std::vector<std::uint8_t> objects;   // OcclusionCuller::setShownInLastImage
+  std::vector<std::uint16_t> blocks;   // TerrainBlockVisibility::setShownInLastImage
+};
+void recordShown(const VisibleSet& visible, std::size_t objects, std::size_t tiles, ShownRecord& out);
+
 // The oracle's frame: exactly the visible set, in two draws (trees and props, then the blocks).
 long long drawVisibleSet(render::SceneDrawer& drawer, const VisibleSet& visible);
 

@@ -335,18 +335,23 @@ int runBenchCulling(const BenchOptions& options) {
                                 {"multiqueries", base.culling.multiqueries},
                                 {"tight_box_depth", base.culling.tight_box_depth},
                                 {"tight_box_area_ratio", base.culling.tight_box_area_ratio},
-                                {"geometry_queries", base.culling.geometry_queries}};
+                                {"geometry_queries", base.culling.geometry_queries},
+                                {"image_visibility", base.culling.image_visibility}};
   std::vector<PlotPanel> panels;
   std::string markdown = fmt::format(
       "# Culling benchmark\n\n{} at {}x{}, {} frames per path, {}.\nFrame = culling + the geometry it draws (lit, no shadows), "
       "timed by {}; the strategies take turns frame by frame; occlusion queries read {}. Oracle = drawing exactly the visible set "
       "(from the brute-force object-ID buffer: trees, props and terrain blocks) with no queries. Terrain is drawn by the blocks "
       "that meet the frustum (not by none), and by their visibility with the query-driven strategies when [culling] terrain_blocks is on. Triangles: those drawn (p50), and over the oracle's; geometry: "
-      "queries drawn with the trees' own triangles ([culling] geometry_queries), whose triangles are not counted as drawn.\n\n",
+      "queries drawn with the trees' own triangles ([culling] geometry_queries), whose triangles are not counted as drawn.{}\n\n",
       scenePath, options.size.width, options.size.height, framesPerPath, device,
       modes.timing == gl::TimingMode::Profiling ? "glFinish and a clock (--timing profile)" : "GL timestamp queries (--timing queries)",
       modes.queries == culling::QueryMode::Deterministic ? "at points the traversal fixes — chc every 64 steps, chc++ when its queue runs dry (--queries deterministic)"
-                                                          : "when available (--queries async)");
+                                                          : "when available (--queries async)",
+      base.culling.image_visibility
+          ? " With [culling] image_visibility, chc++ is given each frame the objects and blocks with a pixel in the frame before — "
+            "the oracle's set, which is what the frame's lighting pass records — at no cost here (the walkthrough pays its record)."
+          : "");
   const int total = static_cast<int>(options.trees.size() * pathNames.size()) * framesPerPath * static_cast<int>(strategies.size() + 2);
   int done = 0;
   const auto benchStart = Clock::now();
@@ -412,8 +417,10 @@ int runBenchCulling(const BenchOptions& options) {
       }
       gl::PassTimer timer(modes.timing);
       std::vector<gl::FrameTiming> timings;
+      ShownRecord lastImage;
       for (size_t f = 0; f < path.size(); ++f) {
         const terrain::TerrainLod lod = terrain.lodFor(path[f], options.size.height);
+        if (f > 0) recordShown(visibleSets[f - 1], objects.boxes().size(), static_cast<std::size_t>(terrain.tileCount()), lastImage);
         timer.beginFrame();
         for (size_t k = 0; k <= strategies.size(); ++k) {
           const bool oracle = k == strategies.size();
@@ -434,6 +441,11 @@ int runBenchCulling(const BenchOptions& options) {
             if (strategies[k] != CullingStrategy::None) lit.cullTerrainBlocks(&frustum, blocks);
             if (blocks) blocks->beginFrame(lit);
             recorders[k].beginFrame(lit);
+            // What the frame's lighting pass recorded of the frame before ([culling] image_visibility).
+            if (scene.culling.image_visibility && f > 0) {
+              cullers[k]->setShownInLastImage(lastImage.objects);
+              if (blocks) blocks->setShownInLastImage(lastImage.blocks);
+            }
             const culling::CullingResult& culled =
                 cullers[k]->cull(bvh, objects.boxes(), path[f], strategies[k], recorders[k], objects.queryShapes(&lod), blocks);
             const long long late = blocks ? blocks->drawLate(*cullers[k]) : 0;  // its queries go into culled.stats

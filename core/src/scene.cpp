@@ -67,6 +67,7 @@ void readCulling(TomlSection& s, CullingSettings& c) {
   c.tight_box_area_ratio = s.number("tight_box_area_ratio", c.tight_box_area_ratio, detail::closed(0.1, 10.0));
   c.geometry_queries = s.boolean("geometry_queries", c.geometry_queries);
   c.terrain_blocks = s.boolean("terrain_blocks", c.terrain_blocks);
+  c.image_visibility = s.boolean("image_visibility", c.image_visibility);
   s.finish();
 }
 
@@ -249,7 +250,8 @@ std::string sceneToToml(const Scene& scene) {
                       {"tight_box_depth", c.tight_box_depth},
                       {"tight_box_area_ratio", c.tight_box_area_ratio},
                       {"geometry_queries", c.geometry_queries},
-                      {"terrain_blocks", c.terrain_blocks}};
+                      {"terrain_blocks", c.terrain_blocks},
+                      {"image_visibility", c.image_visibility}};
   toml::table shadows{{"cascades", scene.shadows.cascades},
                       {"split_lambda", scene.shadows.split_lambda},
                       {"cascade_blend", scene.shadows.cascade_blend}};

@@ -184,6 +184,11 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     group.clear();
     invisibleQueue.clear();
   };
+  auto shownInImage = [&](std::span<const std::uint32_t> leafObjects) {
+    for (std::uint32_t o : leafObjects)
+      if (o < shownInLastImage_.size() && shownInLastImage_[o] != 0) return true;
+    return false;
+  };
   auto traverseNode = [&](std::int32_t n) {
     if (nodes[n].leaf()) {
       renderQueue.push_back(n);
@@ -212,6 +217,7 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
       if (q.geometry) s.geometryHidden = true;
       return;
     }
+
     const bool wasInvisible = !q.drawnAlready;
     // A box that sees something may see it through the gaps of nearer crowns: before the leaf is
     // drawn, its own triangles are asked.
@@ -295,6 +301,26 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     if (!nodes[n].leaf()) {  // opened without a query; a visible descendant pulls visibility up again
       s.visible = false;
       traverseNode(n);
+      continue;
+    }
+    // Beyond the paper: with the last image's object IDs (setShownInLastImage) a drawn leaf's
+    // visibility then is known. Without a pixel it is asked before it is drawn, as a hidden leaf
+    // whose triangles were hidden; with one it is drawn and needs no re-query.
+    if (!shownInLastImage_.empty()) {
+      if (!shownInImage(t.objectsOf(n))) {
+        s.visible = false;
+        if (ownGeometry(n)) {
+          s.geometryHidden = true;
+          geometryQueue.push_back(n);
+        } else {
+          invisibleQueue.push_back(n);
+          if (static_cast<int>(invisibleQueue.size()) >= p.batch_size) issueInvisibleQueue();
+        }
+        continue;
+      }
+      renderQueue.push_back(n);
+      pullUpVisibility(n);
+      t.markVisible(n);
       continue;
     }
     // A visible leaf is drawn; it is queried again only every n_av frames (§3.3), else assumed visible.

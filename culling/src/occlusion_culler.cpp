@@ -359,6 +359,7 @@ const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb>
   drawQueryBatch();  // none left unread by the strategies; kept for a query issued last
   endQueries();
   drawer_ = nullptr;  // geometry queries only within a cull
+  shownInLastImage_ = {};  // setShownInLastImage's flags are for one cull
   stats_ = nullptr;
   inCull_ = false;
   if (!afterCullIssued_) {  // else afterCullResults may still need the fences

@@ -9,6 +9,7 @@
 #include "forest/core/error.hpp"
 #include "frame_uniforms.hpp"
 #include "geometry_pass.hpp"
+#include "image_visibility.hpp"
 #include "lighting_pass.hpp"
 #include "nearest_depth_pass.hpp"
 #include "receiver_pixels.hpp"
@@ -116,6 +117,7 @@ struct Frame::Passes {
   ShadowTermPass shadowTerm;
   BlurPass blur;
   LightingPass lighting;
+  ImageVisibility imageVisibility;  // what the lighting pass saw, for the next frame's culling
   gl::UniformStream frameUniforms{kFrameBlockBinding, sizeof(FrameBlock)};  // FrameBlock, once per frame
 
   Passes(const SceneObjects& objects, const terrain::Terrain* terrain, const vegetation::Forest* forest,
@@ -124,7 +126,8 @@ struct Frame::Passes {
         shadow(objects, terrain, forest, props),
         shadowTerm(width, height),
         blur(width, height),
-        lighting(width, height) {}
+        lighting(width, height),
+        imageVisibility(objects) {}
 };
 
 Frame::Frame(const Scene& scene, int width, int height) : scene_(scene), width_(width), height_(height) {
@@ -170,6 +173,7 @@ void Frame::resetHistory() {
   passes_->geometry.resetHistory();
   passes_->shadowSetup.reset();
   passes_->nearestDepth.reset();
+  passes_->imageVisibility.forget();
   haveVisibleSet_ = false;
 }
 
@@ -244,6 +248,12 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   {
     auto timed = timer.scope(kFramePassNames[0]);
     const bool frozen = settings.freezeCulling && haveVisibleSet_;
+    // What showed in the last frame's image ([culling] image_visibility; ImageVisibility): read
+    // once its lighting pass is done — waited for in deterministic mode, else if done already.
+    const bool shown =
+        scene_.culling.image_visibility && p.imageVisibility.collect(settings.queries == culling::QueryMode::Deterministic);
+    culler_.setShownInLastImage(shown ? p.imageVisibility.shownObjects() : std::span<const std::uint8_t>{});
+    p.geometry.setShownBlocksInLastImage(shown ? p.imageVisibility.shownBlocks() : std::span<const std::uint16_t>{});
     culled = &p.geometry.run(camera, eye, eyeLod, settings.culling, culler_, bvh_, frozen ? &visibleObjects_ : nullptr);
   }
   const culling::CullingResult& visible = *culled;
@@ -284,7 +294,9 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   const gl::Texture* blurredTerm = nullptr;
   {
     auto timed = timer.scope(kFramePassNames[3]);
-    p.frameUniforms.bind(frameBlock(camera, p.plan, settings, scene_, l, !stats.sunBelowHorizon));
+    FrameBlock block = frameBlock(camera, p.plan, settings, scene_, l, !stats.sunBelowHorizon);
+    if (scene_.culling.image_visibility) p.imageVisibility.beginRecord(block, camera);
+    p.frameUniforms.bind(block);
     if (blurred) p.shadowTerm.run(p.geometry.gbuffer(), p.shadow.map(), lookupShape);
   }
   {
@@ -297,6 +309,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   {
     auto timed = timer.scope(kFramePassNames[5]);
     p.lighting.run(p.geometry.gbuffer(), blurredTerm, p.shadow.map(), lookupShape, haze, settings.keepShadowTerm);
+    if (scene_.culling.image_visibility) p.imageVisibility.endRecord();
     usedTermKept_ = settings.keepShadowTerm;
   }
   timer.endFrame();
@@ -364,6 +377,12 @@ std::vector<std::uint32_t> Frame::readObjectIds() const {
   std::vector<std::uint32_t> v(surface.size());
   for (size_t i = 0; i < surface.size(); ++i) v[i] = surface[i].w;  // the object ID (shaders/gbuffer.frag)
   return v;
+}
+
+Frame::ShownInImage Frame::readShownInImage() {
+  ImageVisibility& record = passes_->imageVisibility;
+  if (!record.collect(true)) throw Error("Frame::readShownInImage: no frame recorded what showed ([culling] image_visibility)");
+  return {{record.shownObjects().begin(), record.shownObjects().end()}, {record.shownBlocks().begin(), record.shownBlocks().end()}};
 }
 
 int Frame::shadowMapSize() const { return passes_->shadow.size(); }

@@ -4,6 +4,7 @@
 // the visible set with its z_f.
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "forest/culling/bvh.hpp"
@@ -40,6 +41,11 @@ class GeometryPass {
                              culling::CullingStrategy strategy, culling::OcclusionCuller& culler, const culling::Bvh& bvh,
                              const std::vector<std::uint32_t>* frozen);
   void propsMoved(const std::vector<PropBox>& props) { props_->update(props); }
+  // The blocks with a pixel in the last frame's image, for the next run only
+  // (TerrainBlockVisibility::setShownInLastImage).
+  void setShownBlocksInLastImage(std::span<const std::uint16_t> shown) {
+    if (blockVisibility_) blockVisibility_->setShownInLastImage(shown);
+  }
   // Forgets which terrain blocks were visible (a camera cut).
   void resetHistory() {
     if (blockVisibility_) blockVisibility_->reset();

@@ -46,7 +46,17 @@ bool TerrainBlockVisibility::drawNow(int tile, int level, int block) {
     throw Error(fmt::format("TerrainBlockVisibility: block {} of tile {} at level {} does not exist", block, tile, level));
   TileState& t = tiles_[static_cast<std::size_t>(tile)];
   if (t.drawn != frame_) {  // the tile's first block this frame
-    if (t.drawn + 1 != frame_) t.known = 0;  // not drawn the frame before: what it knew is stale
+    t.fromImage = false;
+    if (t.drawn + 1 != frame_) {
+      t.known = 0;  // not drawn the frame before: what it knew is stale
+    } else if (static_cast<std::size_t>(tile) < shownInLastImage_.size()) {
+      // The blocks drawn the frame before are visible exactly when they showed in its image.
+      const std::uint16_t shown = mapLevel(shownInLastImage_[static_cast<std::size_t>(tile)], 0, t.level, Combine::Any);
+      t.visible = static_cast<std::uint16_t>((t.visible & ~t.drawnBlocks) | (t.drawnBlocks & shown));
+      t.known = static_cast<std::uint16_t>(t.known | t.drawnBlocks);
+      t.fromImage = true;
+    }
+    t.drawnBlocks = 0;
     t.drawn = frame_;
   }
   if (t.level != level) {
@@ -62,7 +72,8 @@ bool TerrainBlockVisibility::drawNow(int tile, int level, int block) {
   const bool known = (t.known >> block & 1u) != 0, visible = (t.visible >> block & 1u) != 0;
   if (!known || visible) {
     ++stats_.drawnInTraversal;
-    if ((!known || nextQuery_[s] <= frame_) && !listed) {
+    t.drawnBlocks = static_cast<std::uint16_t>(t.drawnBlocks | 1u << block);
+    if ((!known || (!t.fromImage && nextQuery_[s] <= frame_)) && !listed) {
       held_.push_back({tile, level, block, Held::Drawn});
       ++stats_.requeried;
     }
@@ -178,6 +189,7 @@ void TerrainBlockVisibility::takeResults(culling::OcclusionCuller& culler) {
       }
       if (h.kind != Held::Drawn) {
         late_.push_back({h.tile, h.level, h.block});
+        t.drawnBlocks = static_cast<std::uint16_t>(t.drawnBlocks | bit);
         // Drawn now; found during the traversal, it is asked again after it (issue()).
         h.kind = Held::Drawn;
         h.asked = false;
@@ -191,6 +203,7 @@ void TerrainBlockVisibility::takeResults(culling::OcclusionCuller& culler) {
 }
 
 long long TerrainBlockVisibility::drawLate(culling::OcclusionCuller& culler) {
+  shownInLastImage_ = {};  // one frame's
   if (!issued_) return 0;  // nothing held
   issued_ = false;
   takeResults(culler);

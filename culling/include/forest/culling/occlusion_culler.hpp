@@ -22,6 +22,9 @@
 //                   multiquery, grouped greedily by p_keep(i) = 0.99 − 0.7·e^(−i) after i invisible
 //                   frames — a visible multiquery re-queries its nodes one by one (§3.4); queries
 //                   draw the boxes of a node's descendants when they are tighter (§3.5).
+//                   Beyond the paper (setShownInLastImage): given which objects had a pixel in
+//                   the last image, a drawn leaf without one is asked before it is drawn again
+//                   and one with a pixel is not re-queried at all.
 //                   Beyond the paper (geometry queries, CullingSettings::geometry_queries): a leaf
 //                   whose box query found it visible is queried once more with its objects' own
 //                   triangles before it is drawn, and visible leaves are re-queried so; a leaf
@@ -226,6 +229,13 @@ class OcclusionCuller {
   // set's objects and their boxes count) and `boxes` boxes, so that a steady frame allocates
   // nothing; more grows the buffers when asked.
   void reserveAfterCull(std::size_t queries, std::size_t boxes);
+  // Which objects had a pixel in the image of the frame drawn with the previous cull (one flag
+  // per object, the geometry pass's object IDs: render::ImageVisibility), for the next cull only;
+  // an empty span (the default) when not known. Beyond the paper (chc++): a leaf drawn then
+  // without a pixel is not drawn untested again — it is asked first, as a hidden leaf; a leaf
+  // with a pixel is drawn and needs no re-query (§3.3's n_av interval stands in for exactly this
+  // knowledge). Exact whatever the flags say: they only decide between drawing untested and asking.
+  void setShownInLastImage(std::span<const std::uint8_t> shown) { shownInLastImage_ = shown; }
   // Forgets the previous frame's visibility (after a BVH rebuild or a camera cut).
   void reset();
   // The chc++ parameters (the scene file's [culling] section); takes effect next frame.
@@ -325,6 +335,7 @@ class OcclusionCuller {
   QueryMode queryMode_ = QueryMode::Deterministic;
   int switches_ = 0;
   std::vector<NodeState> state_;
+  std::span<const std::uint8_t> shownInLastImage_;  // setShownInLastImage's, for one cull
   // Reused every frame, so a steady-state frame allocates nothing (DESIGN §9).
   std::unique_ptr<Scratch> scratch_;
   CullingResult result_;

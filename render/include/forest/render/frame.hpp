@@ -198,6 +198,15 @@ class Frame {
   // Both throw forest::Error where the last frame did not keep the term they read (keepShadowTerm).
   std::vector<std::uint32_t> readObjectIds() const;  // bottom row first, 0 = sky
   std::vector<float> readDepth() const;           // bottom row first, reversed-Z
+  // What the last frame's lighting pass recorded as showing ([culling] image_visibility; the next
+  // frame's culling reads it): per object, 1 where it had a pixel; per terrain tile, bit b where
+  // its block b of the 4 × 4 at levels 0–3 had one. Waits for that pass; the next frame then
+  // culls without the record. Throws forest::Error where no record is pending.
+  struct ShownInImage {
+    std::vector<std::uint8_t> objects;
+    std::vector<std::uint16_t> blocks;
+  };
+  ShownInImage readShownInImage();
   // The last shadow map (of slice `slice`): depth in [0, 1] (0 nearest the light), size × size,
   // bottom row first.
   std::vector<float> readShadowMap(int slice = 0) const;

@@ -25,6 +25,8 @@
 // that came into view — the ground in front of the walker, hidden the frame before by a tree
 // beside the path — be drawn after every query behind it had passed: along the thesis walk at
 // 10 201 trees, one such frame drew 132 k triangles for the exactly visible set's 8.4 k.
+// With the last image's record (setShownInLastImage; [culling] image_visibility) a block drawn the
+// frame before is visible exactly when it had a pixel then, and is not asked again while it has.
 // Exact as the culler is: a block is either drawn during the traversal or drawn when its
 // triangles passed the depth test against everything else drawn — a subset of what brute force
 // draws in front of them. When a tile's level changes, its blocks take the visibility of the
@@ -48,6 +50,13 @@ class TerrainBlockVisibility final : public culling::QueriesAfterTraversal {
 
   // A new frame, drawn by `drawer` (the SceneDrawer the cull draws with): nothing is held.
   void beginFrame(SceneDrawer& drawer);
+  // Which blocks had a pixel in the image of the frame before (render::ImageVisibility): per
+  // tile, bit b for block b of the 4 × 4 at levels 0–3 (a coarser level's block has a pixel when
+  // one of the blocks it covers has). For the next frame only (until drawLate); empty (the
+  // default): not known.
+  // A block drawn in that frame then counts as visible exactly when it showed, and no visible
+  // block of such a tile is asked again (the image answers what n_av's re-query asks).
+  void setShownInLastImage(std::span<const std::uint16_t> shownBlocks) { shownInLastImage_ = shownBlocks; }
   // Forgets every block's visibility (a camera cut): each tile starts again with its blocks not known.
   void reset();
   // Whether block `block` of `tile`, drawn at `level` and meeting the frustum, is drawn now (it
@@ -68,6 +77,11 @@ class TerrainBlockVisibility final : public culling::QueriesAfterTraversal {
   // (SceneDrawer::drawTerrainBlocks). Returns the triangles drawn.
   long long drawLate(culling::OcclusionCuller& culler);
 
+  // A tile's bits mapped from level `from` to level `to`: a block is visible when a block of the
+  // other level overlapping it was (any), known when all of those were (all).
+  enum class Combine { Any, All };
+  static std::uint16_t mapLevel(std::uint16_t bits, int from, int to, Combine combine);
+
   struct Stats {
     int drawnInTraversal = 0;  // blocks drawn by drawNow
     int held = 0;              // blocks held back
@@ -83,6 +97,8 @@ class TerrainBlockVisibility final : public culling::QueriesAfterTraversal {
     std::uint16_t known = 0;      // bit b: block b has been queried
     std::uint16_t visible = 0;    // bit b: block b was visible at its last query
     std::uint64_t drawn = 0;      // the last frame the tile was drawn in
+    std::uint16_t drawnBlocks = 0;  // bit b: block b was drawn in that frame (at `level`)
+    bool fromImage = false;         // this frame's bits of the blocks drawn the frame before come from its image
   };
   struct Held {  // a block held back, or one drawn already whose visibility is asked
     int tile, level, block;
@@ -94,10 +110,6 @@ class TerrainBlockVisibility final : public culling::QueriesAfterTraversal {
   // Takes the current batch's results into the blocks' bits; the held-back blocks found visible
   // go to late_ (and become Drawn, asked again by issue()).
   void takeResults(culling::OcclusionCuller& culler);
-  // A tile's bits mapped from level `from` to level `to`: a block is visible when a block of the
-  // other level overlapping it was (any), known when all of those were (all).
-  enum class Combine { Any, All };
-  static std::uint16_t mapLevel(std::uint16_t bits, int from, int to, Combine combine);
   std::size_t slot(int tile, int block) const { return static_cast<std::size_t>(tile) * kBlocks + static_cast<std::size_t>(block); }
 
   static constexpr int kBlocks = terrain::Terrain::kMaxBlockBoxes;
@@ -122,6 +134,7 @@ class TerrainBlockVisibility final : public culling::QueriesAfterTraversal {
   std::vector<std::uint32_t> groupEnds_;
   std::vector<terrain::TileBlock> late_, queryBlocks_;
   Stats stats_;
+  std::span<const std::uint16_t> shownInLastImage_;  // setShownInLastImage's, for one frame
 };
 
 }  // namespace forest::render

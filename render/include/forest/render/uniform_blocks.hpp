@@ -41,6 +41,10 @@ struct FrameBlock {
   glm::vec4 cascadeEnds{0.0f};            // eye depth (m) where slice 0, 1, 2, 3 ends
   glm::vec4 cascadeBlend{0.0f};           // x: the blend band's share of a split's distance
   glm::ivec4 modes{0};                    // PCF radius, tsm linear depth, slices, shadowed
+  // The lighting pass's record of what shows (render/src/image_visibility.hpp): this frame's stamp
+  // (0: none), tiles per side, tiles (IDs 1 to this are tiles), the first block's slot.
+  glm::uvec4 imageRecord{0u};
+  glm::vec4 imageTerrain{0.0f};  // the eye in terrain samples from the heightfield's origin (x, z), 1 / spacing, quads per tile
 };
 constexpr GLuint kFrameBlockBinding = 2;
 

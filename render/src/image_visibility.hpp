@@ -1,0 +1,58 @@
+#pragma once
+// What showed in the last lit image, for the next frame's culling (beyond CHC++; [culling]
+// image_visibility). The lighting pass reads every pixel's G-buffer texel anyway; it writes the
+// frame's stamp into a slot of its object (the ID) and, on terrain, of its block
+// (shaders/lighting.frag, recordShown). The next frame reads the slots back once that pass has
+// finished: an object or block drawn then had a pixel exactly when its slot holds that stamp.
+// CHC's assumption of coherence (§3.3's n_av frames without a query) stands in for exactly this
+// knowledge, and one frame late at best: a tree drawn without a pixel was drawn again for up to
+// n_av frames. With the record it is asked before it is drawn again, and a tree with a pixel needs
+// no re-query. Exact either way: the record only decides between drawing untested what showed
+// and asking first.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "forest/core/camera.hpp"
+#include "forest/gl/objects.hpp"
+#include "forest/render/scene_objects.hpp"
+#include "forest/render/uniform_blocks.hpp"
+
+namespace forest::render {
+
+class ImageVisibility {
+ public:
+  explicit ImageVisibility(const SceneObjects& objects);
+  ~ImageVisibility();
+  ImageVisibility(const ImageVisibility&) = delete;
+  ImageVisibility& operator=(const ImageVisibility&) = delete;
+
+  // Before the lighting pass: a new stamp into the frame block (FrameBlock::imageRecord,
+  // imageTerrain, with the eye's terrain position) and the record's buffer bound (binding 7).
+  void beginRecord(FrameBlock& block, const Camera& camera);
+  // After the lighting pass's draw: fenced, so that collect() knows when it is complete.
+  void endRecord();
+  // Before the next frame's culling: whether the last record is complete — waiting for it with
+  // `wait`, else one poll of its fence — and then its flags (shownObjects, shownBlocks). False
+  // when nothing was recorded since the last forget() or it is not complete: no flags.
+  bool collect(bool wait);
+  // Per object: 1 when it had a pixel (culling::OcclusionCuller::setShownInLastImage).
+  std::span<const std::uint8_t> shownObjects() const { return shownObjects_; }
+  // Per tile: bit b when its block b of the 4 × 4 at levels 0–3 had a pixel
+  // (TerrainBlockVisibility::setShownInLastImage).
+  std::span<const std::uint16_t> shownBlocks() const { return shownBlocks_; }
+  // Drops the last record (a camera cut).
+  void forget();
+
+ private:
+  const SceneObjects& objects_;
+  std::size_t blockSlots_ = 0;      // the first block's slot: after the sky's 0 and every object's ID
+  gl::Buffer record_;               // one stamp per slot, persistently mapped
+  const std::uint32_t* stamps_ = nullptr;
+  std::uint32_t stamp_ = 0;         // the last record's (0: none)
+  GLsync fence_ = nullptr;          // the last record's lighting pass
+  std::vector<std::uint8_t> shownObjects_;
+  std::vector<std::uint16_t> shownBlocks_;
+};
+
+}  // namespace forest::render

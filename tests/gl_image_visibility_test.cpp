@@ -1,0 +1,102 @@
+// What the lighting pass records as showing (render/src/image_visibility.hpp; [culling]
+// image_visibility), which the next frame's chc++ reads. Along the default forest's walk, the
+// objects it marks are exactly the objects of the frame's own ID image (Frame::readObjectIds), and
+// the terrain blocks it marks — placed by each pixel's position — are those of a brute-force
+// block-ID image (TerrainRenderer::Output::BlockId), but for blocks next to one with a pixel: a
+// pixel within rounding of a block's edge may land in its neighbour, which only decides whether
+// the culler asks a block or draws it untested.
+#include <bit>
+#include <cstdio>
+#include <cstdlib>
+#include <set>
+#include <vector>
+
+#include "forest/core/frustum.hpp"
+#include "forest/core/scene.hpp"
+#include "forest/culling/bvh.hpp"
+#include "forest/culling/occlusion_culler.hpp"
+#include "forest/render/frame.hpp"
+#include "forest/render/scene_objects.hpp"
+#include "gl_test_support.hpp"
+#include "test_paths.hpp"
+
+namespace forest::test {
+namespace {
+
+constexpr int kWidth = 320, kHeight = 180;
+
+class ImageVisibilityGl : public GlTest {};
+
+// Blocks a and b of one tile's 4 × 4 touch (share an edge or a corner).
+bool touching(int a, int b) { return std::abs(a % 4 - b % 4) <= 1 && std::abs(a / 4 - b / 4) <= 1; }
+
+TEST_F(ImageVisibilityGl, TheLightingPassMarksExactlyTheObjectsAndBlocksWithPixels) {
+  const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
+  render::Frame frame(scene, kWidth, kHeight);
+  const terrain::Terrain& terrain = *frame.terrain();
+  const render::SceneObjects& objects = frame.objects();
+  // The brute-force block-ID image: every object with its ID, every tile by its blocks, each
+  // block with an ID of its own past the objects' (as bench culling's oracle).
+  const auto blockIdBase = static_cast<std::uint32_t>(objects.objects().size() + 1);
+  const render::TerrainRenderer blockIds(terrain, render::TerrainRenderer::Output::BlockId, blockIdBase);
+  const render::TreeRenderer treeIds(*frame.forest(), render::TreeRenderer::Output::ObjectId, objects.treeIdBase());
+  const render::PropRenderer propIds(scene.props, render::PropRenderer::Output::ObjectId, objects.propIdBase());
+  const culling::Bvh bvh(objects.boxes(), 1);
+  const IdDepthTarget target(kWidth, kHeight);
+  constexpr int kBlocks = terrain::Terrain::kMaxBlockBoxes;
+
+  Camera camera = frame.startCamera();
+  camera.aspect = static_cast<double>(kWidth) / kHeight;
+  int objectsMarked = 0, blocksMarked = 0, blocksBesideOnly = 0;
+  for (int v = 0; v < 12; ++v) {
+    stepForestView(camera, terrain, 3 * v);
+    frame.render(camera, 0.0, render::FrameSettings{});
+    const render::Frame::ShownInImage shown = frame.readShownInImage();
+    ASSERT_EQ(shown.objects.size(), objects.boxes().size());
+    ASSERT_EQ(shown.blocks.size(), static_cast<std::size_t>(terrain.tileCount()));
+
+    std::vector<std::uint8_t> expected(objects.boxes().size(), 0);
+    for (std::uint32_t id : frame.readObjectIds())
+      if (const std::int64_t o = objects.objectOfId(id); o >= 0) expected[static_cast<std::size_t>(o)] = 1;
+    EXPECT_EQ(shown.objects, expected) << "view " << v;
+    for (std::uint8_t s : shown.objects) objectsMarked += s;
+
+    target.bindAndClear();
+    const terrain::TerrainLod lod = terrain.lodFor(camera, kHeight);
+    render::SceneDrawer ids(objects, &blockIds, &treeIds, &propIds, camera, &lod, 0.0, scene.sun);
+    const Frustum frustum(camera);
+    ids.cullTerrainBlocks(&frustum);  // by blocks, so that each writes its own ID
+    culling::OcclusionCuller bruteForce;
+    bruteForce.cull(bvh, objects.boxes(), camera, culling::CullingStrategy::None, ids);
+    // Per tile, the blocks with a pixel, numbered as the 4 × 4 of levels 0–3 (a coarser level's
+    // block covers several).
+    std::vector<std::uint16_t> withPixels(static_cast<std::size_t>(terrain.tileCount()), 0);
+    for (std::uint32_t id : target.readIds()) {
+      if (id < blockIdBase) continue;
+      const int tile = static_cast<int>((id - blockIdBase) / kBlocks), block = static_cast<int>((id - blockIdBase) % kBlocks);
+      const auto fine = render::TerrainBlockVisibility::mapLevel(static_cast<std::uint16_t>(1u << block), terrain.tileLevel(tile, lod), 0,
+                                                                 render::TerrainBlockVisibility::Combine::Any);
+      // At levels 0–3 the block is its own fine block; coarser, the fine ones it covers.
+      withPixels[static_cast<std::size_t>(tile)] |= terrain.tileLevel(tile, lod) <= 3 ? static_cast<std::uint16_t>(1u << block) : fine;
+    }
+    for (int t = 0; t < terrain.tileCount(); ++t) {
+      const std::uint16_t marked = shown.blocks[static_cast<std::size_t>(t)], truth = withPixels[static_cast<std::size_t>(t)];
+      EXPECT_EQ(marked != 0, truth != 0) << "view " << v << ", tile " << t << ": a tile with pixels marks a block";
+      for (int b = 0; b < kBlocks; ++b) {
+        if ((marked >> b & 1u) == 0 || (truth >> b & 1u) != 0) continue;
+        bool beside = false;
+        for (int c = 0; c < kBlocks; ++c) beside = beside || ((truth >> c & 1u) != 0 && touching(b, c));
+        EXPECT_TRUE(beside) << "view " << v << ", tile " << t << ": block " << b << " marked, no pixel in it or beside it";
+        ++blocksBesideOnly;
+      }
+      blocksMarked += std::popcount(marked);
+    }
+  }
+  std::printf("[image visibility] %d objects and %d blocks marked over 12 views, %d blocks only beside a block with pixels\n",
+              objectsMarked, blocksMarked, blocksBesideOnly);
+  EXPECT_GT(objectsMarked, 12 * 50);
+  EXPECT_GT(blocksMarked, 12 * 4);
+}
+
+}  // namespace
+}  // namespace forest::test
