@@ -98,13 +98,7 @@ OcclusionCuller::OcclusionCuller()
 }
 
 void OcclusionCuller::allocateResultSlots(std::size_t slots) {
-  const GLbitfield access = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
-  results_ = gl::Buffer(slots * sizeof(std::uint32_t), nullptr, access | GL_DYNAMIC_STORAGE_BIT);
-  const GLuint zero = 0;  // no frame's stamp
-  glClearNamedBufferData(results_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-  resultStamps_ = static_cast<const std::uint32_t*>(
-      glMapNamedBufferRange(results_.id(), 0, static_cast<GLsizeiptr>(slots * sizeof(std::uint32_t)), access));
-  if (!resultStamps_) throw Error("OcclusionCuller: cannot map the query results");
+  results_ = gl::ReadMappedStamps(slots);
   slots_ = slots;
 }
 
@@ -238,7 +232,7 @@ bool OcclusionCuller::waitResult(std::size_t slot, CullingStats& stats) {
   const auto start = std::chrono::steady_clock::now();
   if (slot >= readableSlots_) waitForResults(slot, stats);
   stats.waitMilliseconds += 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return resultStamps_[slot] == view_.frameStamp.x;
+  return results_[slot] == view_.frameStamp.x;
 }
 
 void OcclusionCuller::drawObjects(Traversal& t, std::span<const std::uint32_t> objects) {

@@ -49,6 +49,17 @@ void Buffer::release() {
 
 Buffer::~Buffer() { release(); }
 
+ReadMappedStamps::ReadMappedStamps(std::size_t count) {
+  const GLbitfield access = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
+  buffer_ = Buffer(count * sizeof(std::uint32_t), nullptr, access | GL_DYNAMIC_STORAGE_BIT);
+  const GLuint zero = 0;  // no frame's stamp
+  glClearNamedBufferData(buffer_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  stamps_ = static_cast<const std::uint32_t*>(
+      glMapNamedBufferRange(buffer_.id(), 0, static_cast<GLsizeiptr>(count * sizeof(std::uint32_t)), access));
+  if (!stamps_) throw Error(fmt::format("gl::ReadMappedStamps: cannot map a buffer of {} stamps", count));
+  count_ = count;
+}
+
 Buffer& Buffer::operator=(Buffer&& other) noexcept {
   if (this != &other) {
     release();

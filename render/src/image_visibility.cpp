@@ -18,14 +18,7 @@ ImageVisibility::ImageVisibility(const SceneObjects& objects)
       blockSlots_(objects.boxes().size() + 1),
       shownObjects_(objects.boxes().size(), 0),
       shownBlocks_(objects.tileCount(), 0) {
-  const std::size_t slots = blockSlots_ + objects.tileCount() * kBlocksPerTile;
-  const GLbitfield access = GL_MAP_READ_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
-  record_ = gl::Buffer(slots * sizeof(std::uint32_t), nullptr, access | GL_DYNAMIC_STORAGE_BIT);
-  const GLuint zero = 0;  // no frame's stamp
-  glClearNamedBufferData(record_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
-  stamps_ = static_cast<const std::uint32_t*>(
-      glMapNamedBufferRange(record_.id(), 0, static_cast<GLsizeiptr>(slots * sizeof(std::uint32_t)), access));
-  if (!stamps_) throw Error("ImageVisibility: cannot map the record buffer");
+  record_ = gl::ReadMappedStamps(blockSlots_ + objects.tileCount() * kBlocksPerTile);
 }
 
 ImageVisibility::~ImageVisibility() { forget(); }
@@ -64,12 +57,12 @@ bool ImageVisibility::collect(bool wait) {
   if (status == GL_TIMEOUT_EXPIRED) return false;  // async: not finished; asked again next frame
   glDeleteSync(fence_);
   fence_ = nullptr;
-  for (std::size_t o = 0; o < shownObjects_.size(); ++o) shownObjects_[o] = stamps_[o + 1] == stamp_ ? 1 : 0;
+  for (std::size_t o = 0; o < shownObjects_.size(); ++o) shownObjects_[o] = record_[o + 1] == stamp_ ? 1 : 0;
   for (std::size_t t = 0; t < shownBlocks_.size(); ++t) {
     std::uint16_t bits = 0;
-    const std::uint32_t* tile = stamps_ + blockSlots_ + t * kBlocksPerTile;
-    for (int b = 0; b < kBlocksPerTile; ++b)
-      if (tile[b] == stamp_) bits = static_cast<std::uint16_t>(bits | 1u << b);
+    const std::size_t tile = blockSlots_ + t * kBlocksPerTile;
+    for (std::size_t b = 0; b < static_cast<std::size_t>(kBlocksPerTile); ++b)
+      if (record_[tile + b] == stamp_) bits = static_cast<std::uint16_t>(bits | 1u << b);
     shownBlocks_[t] = bits;
   }
   return true;

@@ -47,8 +47,7 @@ class ImageVisibility {
  private:
   const SceneObjects& objects_;
   std::size_t blockSlots_ = 0;      // the first block's slot: after the sky's 0 and every object's ID
-  gl::Buffer record_;               // one stamp per slot, persistently mapped
-  const std::uint32_t* stamps_ = nullptr;
+  gl::ReadMappedStamps record_;     // one stamp per slot
   std::uint32_t stamp_ = 0;         // the last record's (0: none)
   GLsync fence_ = nullptr;          // the last record's lighting pass
   std::vector<std::uint8_t> shownObjects_;

@@ -319,8 +319,7 @@ class OcclusionCuller {
   CullingStats* stats_ = nullptr;   // the current cull's (the geometry queries' triangles)
   // Per slot, the stamp of the last frame in which a sample of its query passed (query_box.frag):
   // persistently and coherently mapped for reading.
-  gl::Buffer results_;
-  const std::uint32_t* resultStamps_ = nullptr;
+  gl::ReadMappedStamps results_;
   std::size_t slots_ = 0;          // the buffer's capacity: three queries per BVH node
   std::size_t used_ = 0;           // slots issued this frame
   std::size_t drawnSlots_ = 0;     // slots whose boxes have been drawn

@@ -73,6 +73,23 @@ class Buffer {
   std::size_t bytes_ = 0;
 };
 
+// `count` unsigned integers, zeroed, in a buffer persistently and coherently mapped for reading:
+// shaders write frame stamps into it (query results, the lighting pass's record of what showed),
+// the CPU reads them once a client-mapped-buffer barrier and a fence after the writes signalled.
+class ReadMappedStamps {
+ public:
+  ReadMappedStamps() = default;
+  explicit ReadMappedStamps(std::size_t count);
+  GLuint id() const { return buffer_.id(); }
+  std::size_t size() const { return count_; }
+  std::uint32_t operator[](std::size_t i) const { return stamps_[i]; }
+
+ private:
+  Buffer buffer_;
+  const std::uint32_t* stamps_ = nullptr;
+  std::size_t count_ = 0;
+};
+
 // Immutable-storage 2D texture (glTextureStorage2D), or a 2D array texture of `layers` layers
 // (glTextureStorage3D; layers = 0: a plain 2D texture).
 class Texture {
