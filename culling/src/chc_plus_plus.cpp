@@ -215,6 +215,16 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     if (!visible) {
       foundInvisible(n);
       if (q.geometry) s.geometryHidden = true;
+      if (q.drawnAlready && s.newlyVisible) s.unconfirmed = true;  // the c-queue's query failed
+      return;
+    }
+    s.unconfirmed = false;
+    if (q.late) {  // against the finished depth (but the other late leaves): drawn now, after the traversal
+      if (q.geometry) s.geometryHidden = false;
+      pullUpVisibility(n);
+      s.invisibleFrames = 0;
+      t.markVisible(n);
+      renderQueue.push_back(n);
       return;
     }
 
@@ -289,6 +299,15 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     }
     if (!wasVisible) {  // §3.1: wait in the i-queue for a batch
       s.visible = false;
+      // Beyond the paper: a leaf whose confirming query failed, hidden since, passed a query of
+      // its round against a depth without the leaves found in the same round; asked again so,
+      // it would be drawn again for nothing (dense stands: hundreds of trees a frame). It is
+      // asked after the traversal's last draw instead, with the c-queue (no wait of its own),
+      // and drawn then if it shows.
+      if (s.unconfirmed && nodes[n].leaf()) {
+        scratch.lateQueue.push_back(n);
+        continue;
+      }
       // Its box saw past what hid it, or meets the near slab: ask its triangles.
       if (ownGeometry(n) && (s.geometryHidden || nearGeometry(n))) {
         geometryQueue.push_back(n);
@@ -350,8 +369,15 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     issueVisible(n);
   }
   confirmQueue.clear();
+  for (std::int32_t n : scratch.lateQueue) {
+    if (ownGeometry(n)) issueGeometry(n, false);
+    else issueOne(n, false);
+    pending.items.back().late = true;
+    ++t.stats.lateQueries;
+  }
   issueAfterTraversal();  // in the same batch: answered by the same wait
   while (!pending.empty()) takeResult();
+  flushRender();  // the late leaves that showed
 }
 
 }  // namespace forest::culling

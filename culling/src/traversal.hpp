@@ -100,6 +100,7 @@ struct PendingQuery {
   bool drawnAlready = false;  // a visible leaf's query: drawn this frame, asks about the next
   int step = 0;               // traversal step at which it was issued (CHC's batches)
   bool geometry = false;      // drawn with the leaf's own triangles (chc++'s geometry queries)
+  bool late = false;          // chc++: asked after the traversal's last draw (lateQueue)
 };
 
 // Every list the traversals use, kept by the culler so a steady-state frame allocates nothing.
@@ -111,6 +112,7 @@ struct OcclusionCuller::Scratch {
   std::vector<std::int32_t> invisibleQueue, visibleQueue, renderQueue, group;
   std::vector<std::int32_t> geometryQueue;  // chc++: leaves waiting for a geometry query
   std::vector<std::int32_t> confirmQueue;   // chc++: leaves found visible this frame, asked again at its end
+  std::vector<std::int32_t> lateQueue;      // chc++: leaves drawn without a pixel twice running, asked at its end
   std::vector<std::int32_t> level, next, best;  // chc++'s tight query boxes
   std::vector<std::tuple<int, int, std::int32_t>> order;  // chc++: the i-queue sorted by p_keep
   std::vector<std::uint32_t> drawList;  // chc++: the render queue's objects
@@ -120,7 +122,7 @@ struct OcclusionCuller::Scratch {
   // leaf with its own triangles, then once drawn), each object drawn and marked visible at most
   // twice; so no frame grows a list.
   void reserve(std::size_t nodes, std::size_t objects, std::size_t shapeBoxes, std::vector<std::uint32_t>& visible) {
-    for (auto* v : {&stack, &invisibleQueue, &visibleQueue, &renderQueue, &geometryQueue, &confirmQueue, &group, &level, &next, &best})
+    for (auto* v : {&stack, &invisibleQueue, &visibleQueue, &renderQueue, &geometryQueue, &confirmQueue, &lateQueue, &group, &level, &next, &best})
       v->reserve(2 * nodes);
     traversal.items.reserve(2 * nodes);
     pending.items.reserve(4 * nodes);
@@ -135,7 +137,7 @@ struct OcclusionCuller::Scratch {
     stack.clear();
     pending.clear();
     groupNodes.clear();
-    for (auto* v : {&invisibleQueue, &visibleQueue, &renderQueue, &geometryQueue, &confirmQueue, &group}) v->clear();
+    for (auto* v : {&invisibleQueue, &visibleQueue, &renderQueue, &geometryQueue, &confirmQueue, &lateQueue, &group}) v->clear();
   }
 };
 

@@ -33,7 +33,7 @@ void TerrainBlockVisibility::beginFrame(SceneDrawer& drawer) {
   duringFrom_ = 0;
   stats_ = Stats{};
   drawer_ = &drawer;
-  issued_ = false;
+  issued_ = traversalEnded_ = false;
 }
 
 void TerrainBlockVisibility::reset() {
@@ -65,6 +65,11 @@ bool TerrainBlockVisibility::drawNow(int tile, int level, int block) {
       t.known = mapLevel(t.known, t.level, level, Combine::All);
     }
     t.level = level;
+  }
+  if (traversalEnded_) {  // a tile drawn after the last queries went out (chc++'s late leaves): whole
+    t.drawnBlocks = static_cast<std::uint16_t>(t.drawnBlocks | 1u << block);
+    ++stats_.drawnInTraversal;
+    return true;
   }
   const std::size_t s = slot(tile, block);
   const bool listed = heldIn_[s] == frame_;
@@ -110,6 +115,7 @@ std::uint16_t TerrainBlockVisibility::mapLevel(std::uint16_t bits, int from, int
 
 void TerrainBlockVisibility::issue(culling::OcclusionCuller& culler) {
   if (!drawer_) throw Error("TerrainBlockVisibility::issue: no frame begun");
+  traversalEnded_ = true;
   asking_.clear();
   for (std::size_t i = 0; i < held_.size(); ++i)
     if (!held_[i].asked) asking_.push_back(i);

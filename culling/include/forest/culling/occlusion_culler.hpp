@@ -24,7 +24,9 @@
 //                   draw the boxes of a node's descendants when they are tighter (§3.5).
 //                   Beyond the paper (setShownInLastImage): given which objects had a pixel in
 //                   the last image, a drawn leaf without one is asked before it is drawn again
-//                   and one with a pixel is not re-queried at all.
+//                   and one with a pixel is not re-queried at all. A leaf found visible whose
+//                   confirming query then failed is asked, while hidden, only after the
+//                   traversal's last draw (with the c-queue), against the finished depth.
 //                   Beyond the paper (geometry queries, CullingSettings::geometry_queries): a leaf
 //                   whose box query found it visible is queried once more with its objects' own
 //                   triangles before it is drawn, and visible leaves are re-queried so; a leaf
@@ -156,6 +158,7 @@ struct CullingStats {
   int queriesIssued = 0;     // all queries, multiqueries included
   int multiQueries = 0;      // queries covering several nodes (chc++)
   int geometryQueries = 0;   // queries drawn with the objects' own triangles (chc++)
+  int lateQueries = 0;       // chc++: leaves asked after the traversal's last draw (unconfirmed before)
   long long queryTriangles = 0;  // triangles those queries drew (the boxes' are not counted)
   int stateSwitches = 0;     // changes between drawing and querying (colour/depth writes, program)
   int drawCalls = 0;         // ObjectDrawer::draw calls
@@ -252,6 +255,7 @@ class OcclusionCuller {
     bool newlyVisible = false;        // chc++: found visible this frame (asked again next frame, then at §3.3's random interval)
     std::uint64_t nextQueryFrame = 0;  // chc++: a visible leaf is queried again from this frame
     bool geometryHidden = false;  // chc++: a leaf whose own triangles were hidden at its last query
+    bool unconfirmed = false;  // chc++: found visible, then hidden at its frame's end (c-queue), and hidden since
   };
   struct Traversal;  // one frame's shared state (src/traversal.hpp)
   struct Scratch;    // the traversals' queues and lists, kept from frame to frame (src/traversal.hpp)

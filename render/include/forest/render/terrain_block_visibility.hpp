@@ -60,7 +60,8 @@ class TerrainBlockVisibility final : public culling::QueriesAfterTraversal {
   // Forgets every block's visibility (a camera cut): each tile starts again with its blocks not known.
   void reset();
   // Whether block `block` of `tile`, drawn at `level` and meeting the frustum, is drawn now (it
-  // was visible or is not known); if not (it was hidden), it is held until issue() asks it.
+  // was visible or is not known); if not (it was hidden), it is held until issue() asks it. After
+  // issue() (a tile drawn after the traversal's last queries: chc++'s late leaves) always.
   bool drawNow(int tile, int level, int block);
   // Handed to OcclusionCuller::cull, which calls it after its traversal's last draw: queries the
   // held blocks not asked yet, the visible ones due and those drawn by takeDuring, in the
@@ -119,6 +120,7 @@ class TerrainBlockVisibility final : public culling::QueriesAfterTraversal {
   std::uint64_t frame_ = 0;
   SceneDrawer* drawer_ = nullptr;  // this frame's (beginFrame)
   bool issued_ = false;            // this frame's queries went out: drawLate takes their results
+  bool traversalEnded_ = false;    // issue() was called: a tile drawn after it draws every block asked for
   std::vector<TileState> tiles_;
   std::vector<std::uint64_t> nextQuery_;  // per (tile, block): a visible block is asked again from this frame
   std::vector<std::uint64_t> heldIn_;     // per (tile, block): the frame it was last held (held once a frame)
