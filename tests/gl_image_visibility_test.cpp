@@ -74,10 +74,8 @@ TEST_F(ImageVisibilityGl, TheLightingPassMarksExactlyTheObjectsAndBlocksWithPixe
     for (std::uint32_t id : target.readIds()) {
       if (id < blockIdBase) continue;
       const int tile = static_cast<int>((id - blockIdBase) / kBlocks), block = static_cast<int>((id - blockIdBase) % kBlocks);
-      const auto fine = render::TerrainBlockVisibility::mapLevel(static_cast<std::uint16_t>(1u << block), terrain.tileLevel(tile, lod), 0,
-                                                                 render::TerrainBlockVisibility::Combine::Any);
-      // At levels 0–3 the block is its own fine block; coarser, the fine ones it covers.
-      withPixels[static_cast<std::size_t>(tile)] |= terrain.tileLevel(tile, lod) <= 3 ? static_cast<std::uint16_t>(1u << block) : fine;
+      withPixels[static_cast<std::size_t>(tile)] |= render::TerrainBlockVisibility::mapLevel(
+          static_cast<std::uint16_t>(1u << block), terrain.tileLevel(tile, lod), 0, render::TerrainBlockVisibility::Combine::Any);
     }
     for (int t = 0; t < terrain.tileCount(); ++t) {
       const std::uint16_t marked = shown.blocks[static_cast<std::size_t>(t)], truth = withPixels[static_cast<std::size_t>(t)];

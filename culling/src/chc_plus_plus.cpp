@@ -289,6 +289,11 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     ++t.stats.nodesVisited;
     NodeState& s = state_[n];
     const bool wasVisible = s.visible && s.lastVisited + 1 == frame_;
+    // Beyond the paper: with the last image's object IDs (setShownInLastImage) a drawn leaf's
+    // visibility then is known. Without a pixel it is asked before it is drawn, as a hidden leaf
+    // whose triangles were hidden; with one it is drawn and needs no re-query.
+    const bool imageKnown = !shownInLastImage_.empty() && nodes[n].leaf();
+    const bool hiddenInImage = wasVisible && imageKnown && !shownInImage(t.objectsOf(n));
     s.lastVisited = frame_;
     if (t.visibleWithoutQuery(n) && !nearGeometry(n)) {  // §3.6: the camera is in (or at) the box
       pullUpVisibility(n);
@@ -297,14 +302,15 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
       traverseNode(n);
       continue;
     }
-    if (!wasVisible) {  // §3.1: wait in the i-queue for a batch
+    if (!wasVisible || hiddenInImage) {  // §3.1: wait in the i-queue for a batch
       s.visible = false;
+      if (hiddenInImage) s.geometryHidden = true;
       // Beyond the paper: a leaf whose confirming query failed, hidden since, passed a query of
       // its round against a depth without the leaves found in the same round; asked again so,
       // it would be drawn again for nothing (dense stands: hundreds of trees a frame). It is
       // asked after the traversal's last draw instead, with the c-queue (no wait of its own),
       // and drawn then if it shows.
-      if (s.unconfirmed && nodes[n].leaf()) {
+      if (!wasVisible && s.unconfirmed && nodes[n].leaf()) {
         scratch.lateQueue.push_back(n);
         continue;
       }
@@ -322,29 +328,10 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
       traverseNode(n);
       continue;
     }
-    // Beyond the paper: with the last image's object IDs (setShownInLastImage) a drawn leaf's
-    // visibility then is known. Without a pixel it is asked before it is drawn, as a hidden leaf
-    // whose triangles were hidden; with one it is drawn and needs no re-query.
-    if (!shownInLastImage_.empty()) {
-      if (!shownInImage(t.objectsOf(n))) {
-        s.visible = false;
-        if (ownGeometry(n)) {
-          s.geometryHidden = true;
-          geometryQueue.push_back(n);
-        } else {
-          invisibleQueue.push_back(n);
-          if (static_cast<int>(invisibleQueue.size()) >= p.batch_size) issueInvisibleQueue();
-        }
-        continue;
-      }
-      renderQueue.push_back(n);
-      pullUpVisibility(n);
-      t.markVisible(n);
-      continue;
-    }
-    // A visible leaf is drawn; it is queried again only every n_av frames (§3.3), else assumed visible.
+    // A visible leaf is drawn; it is queried again only every n_av frames (§3.3), else assumed
+    // visible — with the last image's record, never.
     renderQueue.push_back(n);
-    if (frame_ >= s.nextQueryFrame) {
+    if (!imageKnown && frame_ >= s.nextQueryFrame) {
       s.visible = false;
       // §3.3: a random first interval after the confirming query spreads the re-queries of the
       // leaves that became visible together; n_av after that.

@@ -112,7 +112,7 @@ struct OcclusionCuller::Scratch {
   std::vector<std::int32_t> invisibleQueue, visibleQueue, renderQueue, group;
   std::vector<std::int32_t> geometryQueue;  // chc++: leaves waiting for a geometry query
   std::vector<std::int32_t> confirmQueue;   // chc++: leaves found visible this frame, asked again at its end
-  std::vector<std::int32_t> lateQueue;      // chc++: leaves drawn without a pixel twice running, asked at its end
+  std::vector<std::int32_t> lateQueue;      // chc++: leaves hidden since their confirming query failed, asked at its end
   std::vector<std::int32_t> level, next, best;  // chc++'s tight query boxes
   std::vector<std::tuple<int, int, std::int32_t>> order;  // chc++: the i-queue sorted by p_keep
   std::vector<std::uint32_t> drawList;  // chc++: the render queue's objects
