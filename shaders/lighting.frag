@@ -30,6 +30,7 @@ vec2 shadowTermOf(uvec4 surface);
 
 vec3 displayFromLinear(vec3 linear);  // γ 2.2 (display_gamma.frag)
 
+#ifdef RECORD_SHOWN
 // What shows in this image (render/src/image_visibility.hpp), for the next frame's culling: each
 // pixel writes the frame's stamp into its object's slot (the G-buffer's ID) and, on a terrain
 // tile, into the slot of its block of the 4 × 4 at levels 0–3 (terrain::Terrain::blockBoxes,
@@ -49,6 +50,7 @@ void recordShown(uvec4 surface) {
   ivec2 block = inTile / (quads / 4);
   shownStamp[uFrame.imageRecord.w + tile * 16u + uint(block.y * 4 + block.x)] = stamp;
 }
+#endif
 
 // x^8 by squaring: llvmpipe runs both sides of a branch, so the sky's terms are paid at every pixel,
 // and pow is exp2(log2) there.
@@ -119,7 +121,9 @@ void main() {
   vec2 term = shadowTermOf(surface);
 #endif
   usedTerm = term;
+#ifdef RECORD_SHOWN  // (LightingPass: only where the frame does not take the record from its read-back)
   recordShown(surface);
+#endif
   vec3 view = normalize(vRay);
   fragColor = vec4(displayFromLinear(surfaceOrSky(surface, term, view, zenith, toSun, sunColor, sunUp, ambient, hazeDensity)), 1.0);
 }

@@ -1,10 +1,12 @@
-// What the lighting pass records as showing (render/src/image_visibility.hpp; [culling]
-// image_visibility), which the next frame's chc++ reads. Along the default forest's walk, the
-// objects it marks are exactly the objects of the frame's own ID image (Frame::readObjectIds), and
-// the terrain blocks it marks — placed by each pixel's position — are those of a brute-force
-// block-ID image (TerrainRenderer::Output::BlockId), but for blocks next to one with a pixel: a
-// pixel within rounding of a block's edge may land in its neighbour, which only decides whether
-// the culler asks a block or draws it untested.
+// What the frame records as showing (render/src/image_visibility.hpp; [culling] image_visibility),
+// which the next frame's chc++ reads — written by the lighting pass, or, where the frame reads its
+// G-buffer back for the receiver mask (CasterSelection::ReceiverPixels), taken from that read on
+// the CPU. Either way, along the default forest's walk, the objects marked are exactly the objects
+// of the frame's own ID image (Frame::readObjectIds), and the terrain blocks marked — placed by
+// each pixel's position — are those of a brute-force block-ID image
+// (TerrainRenderer::Output::BlockId), but for blocks next to one with a pixel: a pixel within
+// rounding of a block's edge may land in its neighbour, which only decides whether the culler asks
+// a block or draws it untested.
 #include <bit>
 #include <cstdio>
 #include <cstdlib>
@@ -30,7 +32,11 @@ class ImageVisibilityGl : public GlTest {};
 // Blocks a and b of one tile's 4 × 4 touch (share an edge or a corner).
 bool touching(int a, int b) { return std::abs(a % 4 - b % 4) <= 1 && std::abs(a / 4 - b / 4) <= 1; }
 
-TEST_F(ImageVisibilityGl, TheLightingPassMarksExactlyTheObjectsAndBlocksWithPixels) {
+class ImageVisibilityByRecord : public ImageVisibilityGl, public ::testing::WithParamInterface<render::CasterSelection> {};
+
+TEST_P(ImageVisibilityByRecord, MarksExactlyTheObjectsAndBlocksWithPixels) {
+  render::FrameSettings settings;
+  settings.casters = GetParam();  // ReceiverPixels: the record from the read-back; else the lighting pass's
   const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
   render::Frame frame(scene, kWidth, kHeight);
   const terrain::Terrain& terrain = *frame.terrain();
@@ -50,7 +56,7 @@ TEST_F(ImageVisibilityGl, TheLightingPassMarksExactlyTheObjectsAndBlocksWithPixe
   int objectsMarked = 0, blocksMarked = 0, blocksBesideOnly = 0;
   for (int v = 0; v < 12; ++v) {
     stepForestView(camera, terrain, 3 * v);
-    frame.render(camera, 0.0, render::FrameSettings{});
+    frame.render(camera, 0.0, settings);
     const render::Frame::ShownInImage shown = frame.readShownInImage();
     ASSERT_EQ(shown.objects.size(), objects.boxes().size());
     ASSERT_EQ(shown.blocks.size(), static_cast<std::size_t>(terrain.tileCount()));
@@ -90,11 +96,17 @@ TEST_F(ImageVisibilityGl, TheLightingPassMarksExactlyTheObjectsAndBlocksWithPixe
       blocksMarked += std::popcount(marked);
     }
   }
-  std::printf("[image visibility] %d objects and %d blocks marked over 12 views, %d blocks only beside a block with pixels\n",
-              objectsMarked, blocksMarked, blocksBesideOnly);
+  std::printf("[image visibility, casters %s] %d objects and %d blocks marked over 12 views, %d blocks only beside a block with pixels\n",
+              std::string(render::casterSelectionName(GetParam())).c_str(), objectsMarked, blocksMarked, blocksBesideOnly);
   EXPECT_GT(objectsMarked, 12 * 50);
   EXPECT_GT(blocksMarked, 12 * 4);
 }
+
+INSTANTIATE_TEST_SUITE_P(LightingPassAndReadBack, ImageVisibilityByRecord,
+                         ::testing::Values(render::CasterSelection::Receivers, render::CasterSelection::ReceiverPixels),
+                         [](const ::testing::TestParamInfo<render::CasterSelection>& param) {
+                           return param.param == render::CasterSelection::ReceiverPixels ? "FromTheReadBack" : "FromTheLightingPass";
+                         });
 
 }  // namespace
 }  // namespace forest::test

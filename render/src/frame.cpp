@@ -108,6 +108,7 @@ std::string_view casterSelectionName(CasterSelection selection) {
 
 // The passes in the order they run (DESIGN §1), with their GPU resources.
 struct Frame::Passes {
+  WorkerThreads cpuWorkers{hardwareParts()};  // the CPU's parallel work: the receiver mask, the record from pixels
   GeometryPass geometry;
   NearestDepthPass nearestDepth;  // for the cascades' splits
   ReceiverPixels receiverPixels;  // for CasterSelection::ReceiverPixels
@@ -123,6 +124,7 @@ struct Frame::Passes {
   Passes(const SceneObjects& objects, const terrain::Terrain* terrain, const vegetation::Forest* forest,
          const std::vector<PropBox>& props, int width, int height, const CullingSettings& culling)
       : geometry(objects, terrain, forest, props, width, height, culling),
+        shadowSetup(cpuWorkers),
         shadow(objects, terrain, forest, props),
         shadowTerm(width, height),
         blur(width, height),
@@ -235,7 +237,11 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   const bool blurred = settings.blurRadius > 0.0;
   const bool haze = hazeDensityOf(settings, scene_) > 0.0;
   if (blurred) p.shadowTerm.prepare(lookupShape);
-  p.lighting.prepare(blurred, lookupShape, haze);
+  // The G-buffer read back for the receiver mask; the record of what showed comes from that read
+  // then, else from the lighting pass (ImageVisibility).
+  const bool readsPixels = settings.casters == CasterSelection::ReceiverPixels && !stats.sunBelowHorizon;
+  const bool recordInLighting = scene_.culling.image_visibility && !readsPixels;
+  p.lighting.prepare(blurred, lookupShape, haze, recordInLighting);
 
   if (!timer_ || timer_->mode() != settings.timing) timer_ = std::make_unique<gl::PassTimer>(settings.timing, 3, framesRendered_);
   gl::PassTimer& timer = *timer_;
@@ -270,9 +276,10 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
     std::optional<double> nearest;
     if (cascades.cascades > 1) nearest = p.nearestDepth.run(p.geometry.gbuffer().depth, camera);
     const ReceiverPixels* receiverPixels = nullptr;
-    if (settings.casters == CasterSelection::ReceiverPixels && !stats.sunBelowHorizon) {
+    if (readsPixels) {
       p.receiverPixels.read(p.geometry.gbuffer(), width_, height_, camera);
       receiverPixels = &p.receiverPixels;
+      if (scene_.culling.image_visibility) p.imageVisibility.recordFromPixels(p.receiverPixels, p.cpuWorkers);  // the cull took the last
     }
     p.shadowSetup.run(camera, visible, settings, cascades, nearest, l, stats.sunBelowHorizon, *objects_, eyeLod, sceneBounds_,
                       receiverPixels, p.plan, stats);
@@ -295,7 +302,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   {
     auto timed = timer.scope(kFramePassNames[3]);
     FrameBlock block = frameBlock(camera, p.plan, settings, scene_, l, !stats.sunBelowHorizon);
-    if (scene_.culling.image_visibility) p.imageVisibility.beginRecord(block, camera);
+    if (recordInLighting) p.imageVisibility.beginRecord(block, camera);
     p.frameUniforms.bind(block);
     if (blurred) p.shadowTerm.run(p.geometry.gbuffer(), p.shadow.map(), lookupShape);
   }
@@ -308,8 +315,8 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   // 5. Lighting.
   {
     auto timed = timer.scope(kFramePassNames[5]);
-    p.lighting.run(p.geometry.gbuffer(), blurredTerm, p.shadow.map(), lookupShape, haze, settings.keepShadowTerm);
-    if (scene_.culling.image_visibility) p.imageVisibility.endRecord();
+    p.lighting.run(p.geometry.gbuffer(), blurredTerm, p.shadow.map(), lookupShape, haze, settings.keepShadowTerm, recordInLighting);
+    if (recordInLighting) p.imageVisibility.endRecord();
     usedTermKept_ = settings.keepShadowTerm;
   }
   timer.endFrame();

@@ -1,5 +1,7 @@
 #include "image_visibility.hpp"
 
+#include <algorithm>
+#include <bit>
 #include <cstdint>
 #include <limits>
 
@@ -40,6 +42,70 @@ void ImageVisibility::beginRecord(FrameBlock& block, const Camera& camera) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kRecordBinding, record_.id());
 }
 
+void ImageVisibility::recordFromPixels(const ReceiverPixels& pixels, WorkerThreads& workers) {
+  forget();
+  fromPixels_ = true;
+  // Rows dealt in turn to the workers' bands, each marking its own flags (band 0: the record's),
+  // then merged.
+  const int bands = workers.count();
+  const std::size_t objectCount = shownObjects_.size(), tiles = shownBlocks_.size();
+  bandObjects_.resize(static_cast<std::size_t>(bands));
+  bandBlocks_.resize(static_cast<std::size_t>(bands));
+  workers.run([&](int band) {
+    std::vector<std::uint8_t>& objects = band == 0 ? shownObjects_ : bandObjects_[static_cast<std::size_t>(band)];
+    std::vector<std::uint16_t>& blocks = band == 0 ? shownBlocks_ : bandBlocks_[static_cast<std::size_t>(band)];
+    objects.assign(objectCount, 0);
+    blocks.assign(tiles, 0);
+    for (int y = band; y < pixels.height(); y += bands) markRow(pixels, y, objects, blocks);
+  });
+  for (std::size_t band = 1; band < static_cast<std::size_t>(bands); ++band) {
+    for (std::size_t o = 0; o < shownObjects_.size(); ++o) shownObjects_[o] |= bandObjects_[band][o];
+    for (std::size_t t = 0; t < shownBlocks_.size(); ++t) shownBlocks_[t] = static_cast<std::uint16_t>(shownBlocks_[t] | bandBlocks_[band][t]);
+  }
+}
+
+void ImageVisibility::markRow(const ReceiverPixels& pixels, int y, std::vector<std::uint8_t>& objects,
+                              std::vector<std::uint16_t>& blocks) const {
+  const std::size_t objectCount = objects.size(), tiles = blocks.size();
+  const terrain::Terrain* terrain = objects_.terrain();
+  // A terrain pixel's block, as lighting.frag's recordShown places it: its position (the eye plus
+  // its eye depth times its ray at depth 1) in heightfield samples, within its tile's quads, in
+  // the tile's 4 × 4 blocks.
+  const double spacing = terrain ? terrain->heightfield().spacing() : 1.0;
+  const glm::dvec2 origin = terrain ? terrain->heightfield().origin() : glm::dvec2(0.0);
+  const std::size_t tilesPerSide = terrain ? static_cast<std::size_t>(terrain->tilesPerSide()) : 1;
+  constexpr int quads = terrain::kTileQuads, blockQuads = quads / 4;
+  const shadows::EyeRays& rays = pixels.rays();
+  const glm::dvec2 eye = (glm::dvec2(rays.eye.x, rays.eye.z) - origin) / spacing;
+  const glm::dvec3 rowRay = rays.forward + static_cast<double>(pixels.row(y)) * rays.up;
+  const glm::dvec2 rowXz = glm::dvec2(rowRay.x, rowRay.z) / spacing, rightXz = glm::dvec2(rays.right.x, rays.right.z) / spacing;
+  const std::span<const float> columns = pixels.columns();
+  std::uint32_t last = 0;
+  std::size_t lastTile = tiles;
+  glm::dvec2 tileFirst(0.0);  // the last tile's first sample
+  for (int x = 0; x < pixels.width(); ++x) {
+    const glm::uvec4& surface = pixels.surface(x, y);
+    const std::uint32_t id = surface.w;  // object o + 1; 0: the sky
+    if (id == last || id == 0 || id > objectCount) continue;  // a tree or prop repeats over its pixels
+    const std::size_t object = id - 1;
+    objects[object] = 1;
+    if (object >= tiles) {
+      last = id;
+      continue;
+    }
+    if (object != lastTile) {
+      lastTile = object;
+      tileFirst = glm::dvec2(static_cast<double>(object % tilesPerSide), static_cast<double>(object / tilesPerSide)) * static_cast<double>(quads);
+    }
+    const double z = std::bit_cast<float>(surface.x);
+    const glm::dvec2 samples = eye + z * (rowXz + static_cast<double>(columns[static_cast<std::size_t>(x)]) * rightXz) - tileFirst;
+    // The quad (floor of the sample position) clamped into the tile: clamping first, the
+    // truncation of a non-negative value is its floor.
+    const int ix = static_cast<int>(std::clamp(samples.x, 0.0, quads - 1.0)), iz = static_cast<int>(std::clamp(samples.y, 0.0, quads - 1.0));
+    blocks[object] = static_cast<std::uint16_t>(blocks[object] | 1u << (iz / blockQuads * 4 + ix / blockQuads));
+  }
+}
+
 void ImageVisibility::endRecord() {
   if (fence_) glDeleteSync(fence_);
   // Shader writes reach a mapped buffer after this barrier and a fence (GL 4.5 §7.12.2); the
@@ -50,6 +116,10 @@ void ImageVisibility::endRecord() {
 }
 
 bool ImageVisibility::collect(bool wait) {
+  if (fromPixels_) {
+    fromPixels_ = false;
+    return true;
+  }
   if (!fence_) return false;
   const GLuint64 timeout = wait ? std::numeric_limits<GLuint64>::max() : 0;
   const GLenum status = glClientWaitSync(fence_, GL_SYNC_FLUSH_COMMANDS_BIT, timeout);
@@ -71,6 +141,7 @@ bool ImageVisibility::collect(bool wait) {
 void ImageVisibility::forget() {
   if (fence_) glDeleteSync(fence_);
   fence_ = nullptr;
+  fromPixels_ = false;
 }
 
 }  // namespace forest::render

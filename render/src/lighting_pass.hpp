@@ -7,6 +7,7 @@
 
 #include <array>
 #include <optional>
+#include <string>
 
 #include "forest/core/scene.hpp"
 #include "forest/gl/objects.hpp"
@@ -24,11 +25,12 @@ class LightingPass {
   // With the blur on, `term` is the horizontally blurred shadow term; with it off (null), the
   // term is looked up in `shadowMap`. The sun, sky, fog and blur come from the frame block
   // (frame_uniforms.hpp), bound; `haze`: whether its haze density is above 0. `keepTerm`: also
-  // write the term used into usedTerm().
+  // write the term used into usedTerm(). `record`: record what shows (ImageVisibility::beginRecord
+  // has bound its buffer; a program that can write it is slower on llvmpipe even when it does not).
   void run(const GBuffer& gbuffer, const gl::Texture* term, const gl::Texture& shadowMap, const ShadowLookupShape& shape,
-           bool haze, bool keepTerm);
+           bool haze, bool keepTerm, bool record);
   // Compiles the program run() will use now (before any pass is timed).
-  void prepare(bool blurred, const ShadowLookupShape& shape, bool haze) { program(blurred, shape, haze); }
+  void prepare(bool blurred, const ShadowLookupShape& shape, bool haze, bool record) { program(blurred, shape, haze, record); }
 
   const gl::Texture& color() const { return color_; }
   const gl::Texture& usedTerm() const { return usedTerm_; }
@@ -38,11 +40,12 @@ class LightingPass {
   int width_, height_;
   gl::Texture usedTerm_, color_;
   gl::Framebuffer framebuffer_;
-  const gl::Program& program(bool blurred, const ShadowLookupShape& shape, bool haze);
-  // Indexed by haze (0: without, 1: with HAZE): the programs taking the term from the blur's
-  // horizontal pass (compiled on first use), and those looking it up here.
-  std::array<std::optional<gl::Program>, 2> blurred_;
-  std::array<ShadowLookupPrograms, 2> lookup_;
+  const gl::Program& program(bool blurred, const ShadowLookupShape& shape, bool haze, bool record);
+  // Indexed by haze + 2 record (HAZE, RECORD_SHOWN): the programs taking the term from the blur's
+  // horizontal pass, and those looking it up here (compiled on first use).
+  static std::string defines(bool haze, bool record);
+  std::array<std::optional<gl::Program>, 4> blurred_;
+  std::array<std::optional<ShadowLookupPrograms>, 4> lookup_;
   FullScreenTriangle triangle_;
 };
 

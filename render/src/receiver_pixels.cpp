@@ -10,9 +10,10 @@ void ReceiverPixels::read(const GBuffer& gbuffer, int width, int height, const C
   const size_t pixels = static_cast<size_t>(width) * height;
   surface_.resize(pixels);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  // The surface's x and y (shaders/gbuffer.frag): eye depth, and albedo with the sun-facing flag.
-  glGetTextureImage(gbuffer.surface.id(), 0, GL_RG_INTEGER, GL_UNSIGNED_INT,
-                    static_cast<GLsizei>(pixels * sizeof(glm::uvec2)), surface_.data());
+  // The whole surface (shaders/gbuffer.frag): eye depth, albedo with the sun-facing flag, the
+  // object ID (ImageVisibility::recordFromPixels).
+  glGetTextureImage(gbuffer.surface.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
+                    static_cast<GLsizei>(pixels * sizeof(glm::uvec4)), surface_.data());
   // The pixel centre's ray: eye depth z → camera position + z · (forward + x tan(fovx/2) right + y tan(fovy/2) up).
   const double tanY = std::tan(0.5 * camera.fovy), tanX = tanY * camera.aspect;
   rays_ = {camera.position, camera.forward(), camera.right(), camera.up()};
@@ -23,7 +24,7 @@ void ReceiverPixels::read(const GBuffer& gbuffer, int width, int height, const C
 }
 
 void ReceiverPixels::rowDepths(int y, std::span<float> depths) const {
-  const glm::uvec2* row = surface_.data() + static_cast<size_t>(y) * columns_.size();
+  const glm::uvec4* row = surface_.data() + static_cast<size_t>(y) * columns_.size();
   const size_t count = std::min(depths.size(), columns_.size());
   for (size_t x = 0; x < count; ++x) {
     const float z = std::bit_cast<float>(row[x].x);  // 0: sky, the cleared surface

@@ -164,11 +164,10 @@ void ShadowSetupPass::fillReceiverMask(const ShadowSlice& slice, const FrameSett
   // A mask per band of rows (rows dealt in turn: the ground and the sky shared alike), each filled
   // on a thread of its own, then merged.
   const int height = receiverPixels.height();
-  if (!workers_) workers_ = std::make_unique<WorkerThreads>(hardwareParts());
-  const int bands = workers_->count();
+  const int bands = workers_.count();
   bandMasks_.resize(static_cast<size_t>(bands));
   bandRows_.resize(static_cast<size_t>(bands));
-  workers_->run([&](int band) {
+  workers_.run([&](int band) {
     shadows::ReceiverMask& mask = band == 0 ? mask_ : bandMasks_[static_cast<size_t>(band)];
     mask.reset(slice.setup, settings.shadowMapSize, cells);
     std::vector<float>& depths = bandRows_[static_cast<size_t>(band)];
@@ -179,7 +178,7 @@ void ShadowSetupPass::fillReceiverMask(const ShadowSlice& slice, const FrameSett
                      slice.camera.far);
     }
   });
-  workers_->run([&](int part) {  // each thread merges a share of the cells
+  workers_.run([&](int part) {  // each thread merges a share of the cells
     for (size_t band = 1; band < bandMasks_.size(); ++band) mask_.merge(bandMasks_[band], part, bands);
   });
 }

@@ -51,6 +51,8 @@ struct ShadowPlan {
 
 class ShadowSetupPass {
  public:
+  // `workers`: the frame's CPU threads (the receiver mask's bands).
+  explicit ShadowSetupPass(WorkerThreads& workers) : workers_(workers) {}
   // Fills `plan` (and the shadow statistics) for this frame's visible set. `l`: the unit light
   // direction; `sceneBounds`: S; `nearestDepth`: the nearest visible eye depth when known (the
   // first slice's split scheme starts there).
@@ -99,7 +101,7 @@ class ShadowSetupPass {
   shadows::ReceiverMask mask_;
   std::vector<shadows::ReceiverMask> bandMasks_;  // [1, bands): the other bands' masks (fillReceiverMask)
   std::vector<std::vector<float>> bandRows_;      // per band: a row's receiver depths (fillReceiverMask)
-  std::unique_ptr<WorkerThreads> workers_;        // the bands' threads, started on first use
+  WorkerThreads& workers_;                        // the bands' threads
 };
 
 }  // namespace forest::render
