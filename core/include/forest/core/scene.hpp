@@ -171,8 +171,9 @@ struct CullingSettings {
   // confirmation ask their visible set again after them (OcclusionCuller::refineVisibleSet).
   // false: a drawn tile draws every block in the frustum.
   bool terrain_blocks = true;
-  // chc++ reads which objects and terrain blocks had a pixel in the frame before (the lighting
-  // pass records them from the G-buffer's IDs: render/src/image_visibility.hpp): a leaf or block
+  // chc++ reads which objects and terrain blocks had a pixel in the frame before (recorded from the
+  // G-buffer's IDs by the lighting pass, or from the receiver mask's read-back of them:
+  // render/src/image_visibility.hpp): a leaf or block
   // drawn then without one is asked before it is drawn again, one with a pixel needs no re-query.
   bool image_visibility = true;
 };

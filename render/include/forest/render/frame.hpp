@@ -198,10 +198,11 @@ class Frame {
   // Both throw forest::Error where the last frame did not keep the term they read (keepShadowTerm).
   std::vector<std::uint32_t> readObjectIds() const;  // bottom row first, 0 = sky
   std::vector<float> readDepth() const;           // bottom row first, reversed-Z
-  // What the last frame's lighting pass recorded as showing ([culling] image_visibility; the next
-  // frame's culling reads it): per object, 1 where it had a pixel; per terrain tile, bit b where
-  // its block b of the 4 × 4 at levels 0–3 had one. Waits for that pass; the next frame then
-  // culls without the record. Throws forest::Error where no record is pending.
+  // What the last frame recorded as showing ([culling] image_visibility; the next frame's culling
+  // reads it; from the G-buffer's read-back with CasterSelection::ReceiverPixels, else from the
+  // lighting pass): per object, 1 where it had a pixel; per terrain tile, bit b where its block b
+  // of the 4 × 4 at levels 0–3 had one. Waits for the lighting pass where that records; the next
+  // frame then culls without the record. Throws forest::Error where no record is pending.
   struct ShownInImage {
     std::vector<std::uint8_t> objects;
     std::vector<std::uint16_t> blocks;
