@@ -219,19 +219,10 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
       return;
     }
     s.unconfirmed = false;
-    if (q.late) {  // against the finished depth (but the other late leaves): drawn now, after the traversal
-      if (q.geometry) s.geometryHidden = false;
-      pullUpVisibility(n);
-      s.invisibleFrames = 0;
-      t.markVisible(n);
-      renderQueue.push_back(n);
-      return;
-    }
-
     const bool wasInvisible = !q.drawnAlready;
     // A box that sees something may see it through the gaps of nearer crowns: before the leaf is
-    // drawn, its own triangles are asked.
-    if (wasInvisible && !q.geometry && ownGeometry(n)) {
+    // drawn, its own triangles are asked (a late leaf was asked with them already).
+    if (wasInvisible && !q.late && !q.geometry && ownGeometry(n)) {
       geometryQueue.push_back(n);
       return;
     }
@@ -246,8 +237,9 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
       // it in the visible set. A leaf found too early is then drawn in this frame only, not in the
       // next one as well. One that passes is asked once more the next frame (it may have been
       // found late in a round of leaves that hide it next frame), and only then gets §3.3's
-      // random interval.
-      if (wasInvisible) confirmQueue.push_back(n);
+      // random interval. A late leaf was asked against the finished depth (but the other late
+      // leaves'): it is visible, drawn after the traversal.
+      if (wasInvisible && !q.late) confirmQueue.push_back(n);
       else t.markVisible(n);
     }
     if (wasInvisible) traverseNode(n);

@@ -118,7 +118,7 @@ struct Frame::Passes {
   ShadowTermPass shadowTerm;
   BlurPass blur;
   LightingPass lighting;
-  ImageVisibility imageVisibility;  // what the lighting pass saw, for the next frame's culling
+  ImageVisibility imageVisibility;  // what showed (lighting pass or read-back), for the next frame's culling
   gl::UniformStream frameUniforms{kFrameBlockBinding, sizeof(FrameBlock)};  // FrameBlock, once per frame
 
   Passes(const SceneObjects& objects, const terrain::Terrain* terrain, const vegetation::Forest* forest,
