@@ -1,11 +1,13 @@
 #include "bench_oracle.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <iterator>
 #include <set>
 #include <tuple>
 
 #include "forest/core/frustum.hpp"
+#include "forest/culling/reprojected_image.hpp"
 #include "forest/gl/objects.hpp"
 #include "forest/terrain/block_facing.hpp"
 #include "forest/culling/occlusion_culler.hpp"
@@ -38,6 +40,9 @@ std::vector<VisibleSet> bruteForceVisibleSets(const render::SceneObjects& object
   const std::uint32_t blocksPerTile = terrain::Terrain::kMaxBlockBoxes;
   const std::uint32_t blockIdEnd = blockIdBase + static_cast<std::uint32_t>(objects.tileCount()) * blocksPerTile;
   std::vector<std::uint32_t> pixels(static_cast<size_t>(width) * height);
+  std::vector<float> depths(pixels.size());
+  std::vector<culling::ImageSample> samples;  // the frame before's
+  culling::ReprojectedImage reprojected;
   std::vector<VisibleSet> sets(path.size());
   for (size_t f = 0; f < path.size(); ++f) {
     const terrain::TerrainLod lod = terrain.lodFor(path[f], height);
@@ -50,6 +55,7 @@ std::vector<VisibleSet> bruteForceVisibleSets(const render::SceneObjects& object
     ids.cullTerrainBlocks(&frustum);  // by blocks, so that each writes its own ID
     culler.cull(bvh, objects.boxes(), path[f], culling::CullingStrategy::None, ids);
     glGetTextureImage(idTexture.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(pixels.size() * 4), pixels.data());
+    glGetTextureImage(idDepth.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, static_cast<GLsizei>(depths.size() * 4), depths.data());
     std::set<std::uint32_t> seen;
     std::set<std::pair<int, int>> seenBlocks;
     for (std::uint32_t id : pixels) {
@@ -92,6 +98,33 @@ std::vector<VisibleSet> bruteForceVisibleSets(const render::SceneObjects& object
           hiddenBlocks.push_back(b);
       // Into the ID target, already read.
       set.lagTriangles = ids.draw(hiddenNow) + (hiddenBlocks.empty() ? 0 : ids.drawTerrainBlocks(hiddenBlocks));
+      // The frame before's samples moved into this view.
+      const int stride = culling::ReprojectedImage::kSampleStride;
+      std::vector<std::uint8_t> shown(objects.boxes().size(), 0);
+      for (std::uint32_t o : before.notTerrain) shown[o] = 1;
+      reprojected.begin(path[f], std::max(1, width / stride), std::max(1, height / stride), shown, 0);
+      reprojected.splat(samples);
+      reprojected.clearHidden(shown);
+      for (std::uint32_t o : before.notTerrain)
+        if (shown[o] == 0) set.hiddenByReprojection.push_back(o);
+    }
+    // This frame's samples: a pixel's surface point from its depth (reversed-Z) along its ray.
+    samples.clear();
+    const Camera& camera = path[f];
+    const double tanY = std::tan(0.5 * camera.fovy), tanX = tanY * camera.aspect;
+    const int stride = culling::ReprojectedImage::kSampleStride;
+    for (int y = 0; y < height; y += stride) {
+      const glm::dvec3 rowRay = camera.forward() + (2.0 * (y + 0.5) / height - 1.0) * tanY * camera.up();
+      for (int x = 0; x < width; x += stride) {
+        const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x);
+        std::int64_t o = -1;
+        if (pixels[i] >= blockIdBase && pixels[i] < blockIdEnd) o = (pixels[i] - blockIdBase) / blocksPerTile;
+        else o = objects.objectOfId(pixels[i]);
+        if (o < 0 || depths[i] <= 0.0f) continue;
+        const double z = camera.eyeDepthOfReversedZ(depths[i]);
+        const glm::dvec3 point = camera.position + z * (rowRay + (2.0 * (x + 0.5) / width - 1.0) * tanX * camera.right());
+        samples.push_back({glm::vec3(point), static_cast<std::uint32_t>(o)});
+      }
     }
     progress();
   }
@@ -115,6 +148,10 @@ void recordShown(const VisibleSet& visible, std::size_t objects, std::size_t til
   for (const terrain::TileBlock& b : visible.blocks)
     out.blocks[static_cast<std::size_t>(b.tile)] |= render::TerrainBlockVisibility::mapLevel(
         static_cast<std::uint16_t>(1u << b.block), b.level, 0, render::TerrainBlockVisibility::Combine::Any);
+}
+
+void clearHiddenByReprojection(const VisibleSet& now, ShownRecord& record) {
+  for (std::uint32_t o : now.hiddenByReprojection) record.objects[o] = 0;
 }
 
 long long drawVisibleSet(render::SceneDrawer& drawer, const VisibleSet& visible) {

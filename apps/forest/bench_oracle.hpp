@@ -25,6 +25,10 @@ struct VisibleSet {
   // The terrain triangles of `blocks`, and of the visible tiles drawn whole (every block of them
   // that meets the frustum, as the frame draws a tile without [culling] terrain_blocks).
   long long blockTriangles = 0, wholeTileTriangles = 0;
+  // The trees and props of the frame before's set that its samples, moved into this frame's view,
+  // guess hidden (culling::ReprojectedImage, as the frame's render::ImageVisibility samples its
+  // read-back: ReprojectedImage::kSampleStride). Sorted.
+  std::vector<std::uint32_t> hiddenByReprojection;
 };
 
 // The median over sets[from…] of the oracle's triangles (oracleTriangles[f], as drawn) with each
@@ -49,6 +53,8 @@ struct ShownRecord {
   std::vector<std::uint16_t> blocks;   // TerrainBlockVisibility::setShownInLastImage
 };
 void recordShown(const VisibleSet& visible, std::size_t objects, std::size_t tiles, ShownRecord& out);
+// With [culling] image_reprojection: the record's objects less those `now` guesses hidden.
+void clearHiddenByReprojection(const VisibleSet& now, ShownRecord& record);
 
 // The oracle's frame: exactly the visible set, in two draws (trees and props, then the blocks).
 long long drawVisibleSet(render::SceneDrawer& drawer, const VisibleSet& visible);

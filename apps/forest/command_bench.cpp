@@ -336,14 +336,15 @@ int runBenchCulling(const BenchOptions& options) {
                                 {"tight_box_depth", base.culling.tight_box_depth},
                                 {"tight_box_area_ratio", base.culling.tight_box_area_ratio},
                                 {"geometry_queries", base.culling.geometry_queries},
-                                {"image_visibility", base.culling.image_visibility}};
+                                {"image_visibility", base.culling.image_visibility},
+                                {"image_reprojection", base.culling.image_reprojection}};
   std::vector<PlotPanel> panels;
   std::string markdown = fmt::format(
       "# Culling benchmark\n\n{} at {}x{}, {} frames per path, {}.\nFrame = culling + the geometry it draws (lit, no shadows), "
       "timed by {}; the strategies take turns frame by frame; occlusion queries read {}. Oracle = drawing exactly the visible set "
       "(from the brute-force object-ID buffer: trees, props and terrain blocks) with no queries. Terrain is drawn by the blocks "
       "that meet the frustum (not by none), and by their visibility with the query-driven strategies when [culling] terrain_blocks is on. Triangles: those drawn (p50), and over the oracle's; geometry: "
-      "queries drawn with the trees' own triangles ([culling] geometry_queries), whose triangles are not counted as drawn.{}\n\n",
+      "queries drawn with the trees' own triangles ([culling] geometry_queries), whose triangles are not counted as drawn.{}{}\n\n",
       scenePath, options.size.width, options.size.height, framesPerPath, device,
       modes.timing == gl::TimingMode::Profiling ? "glFinish and a clock (--timing profile)" : "GL timestamp queries (--timing queries)",
       modes.queries == culling::QueryMode::Deterministic ? "at points the traversal fixes — chc every 64 steps, chc++ when its queue runs dry (--queries deterministic)"
@@ -351,6 +352,10 @@ int runBenchCulling(const BenchOptions& options) {
       base.culling.image_visibility
           ? " With [culling] image_visibility, chc++ is given each frame the objects and blocks with a pixel in the frame before — "
             "the oracle's set, which is what the frame's lighting pass records — at no cost here (the walkthrough pays its record)."
+          : "",
+      base.culling.image_visibility && base.culling.image_reprojection
+          ? " With [culling] image_reprojection, less the trees that the frame before's samples (its depth and IDs), moved into "
+            "this view, guess hidden (culling::ReprojectedImage; the walkthrough pays for the guess on its CPU)."
           : "");
   const int total = static_cast<int>(options.trees.size() * pathNames.size()) * framesPerPath * static_cast<int>(strategies.size() + 2);
   int done = 0;
@@ -420,7 +425,10 @@ int runBenchCulling(const BenchOptions& options) {
       ShownRecord lastImage;
       for (size_t f = 0; f < path.size(); ++f) {
         const terrain::TerrainLod lod = terrain.lodFor(path[f], options.size.height);
-        if (f > 0) recordShown(visibleSets[f - 1], objects.boxes().size(), static_cast<std::size_t>(terrain.tileCount()), lastImage);
+        if (f > 0) {
+          recordShown(visibleSets[f - 1], objects.boxes().size(), static_cast<std::size_t>(terrain.tileCount()), lastImage);
+          if (scene.culling.image_reprojection) clearHiddenByReprojection(visibleSets[f], lastImage);
+        }
         timer.beginFrame();
         for (size_t k = 0; k <= strategies.size(); ++k) {
           const bool oracle = k == strategies.size();

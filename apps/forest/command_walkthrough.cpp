@@ -60,6 +60,7 @@ nlohmann::ordered_json frameRecord(int index, double time, bool warmup, const Ca
   r["passes_ms"] = {{"geometry", s.geometryMs}, {"shadow_setup", s.shadowSetupMs}, {"shadow", s.shadowMs},
                     {"shadow_term", s.shadowTermMs}, {"blur", s.blurMs}, {"lighting", s.lightingMs}};
   r["visible_objects"] = s.visibleObjects;
+  r["hidden_by_reprojection"] = s.hiddenByReprojection;
   r["casters"] = s.casterObjects;
   r["triangles"] = {{"geometry", s.geometryTriangles}, {"shadow", s.shadowTriangles}};
   r["queries"] = s.culling.queriesIssued;

@@ -68,6 +68,7 @@ void readCulling(TomlSection& s, CullingSettings& c) {
   c.geometry_queries = s.boolean("geometry_queries", c.geometry_queries);
   c.terrain_blocks = s.boolean("terrain_blocks", c.terrain_blocks);
   c.image_visibility = s.boolean("image_visibility", c.image_visibility);
+  c.image_reprojection = s.boolean("image_reprojection", c.image_reprojection);
   s.finish();
 }
 
@@ -251,7 +252,8 @@ std::string sceneToToml(const Scene& scene) {
                       {"tight_box_area_ratio", c.tight_box_area_ratio},
                       {"geometry_queries", c.geometry_queries},
                       {"terrain_blocks", c.terrain_blocks},
-                      {"image_visibility", c.image_visibility}};
+                      {"image_visibility", c.image_visibility},
+                      {"image_reprojection", c.image_reprojection}};
   toml::table shadows{{"cascades", scene.shadows.cascades},
                       {"split_lambda", scene.shadows.split_lambda},
                       {"cascade_blend", scene.shadows.cascade_blend}};

@@ -258,6 +258,8 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
     // once its lighting pass is done — waited for in deterministic mode, else if done already.
     const bool shown =
         scene_.culling.image_visibility && p.imageVisibility.collect(settings.queries == culling::QueryMode::Deterministic);
+    // Of those, the ones its samples moved into this view say are hidden now (culling::ReprojectedImage).
+    if (shown && scene_.culling.image_reprojection) stats.hiddenByReprojection = p.imageVisibility.hideByReprojection(camera);
     culler_.setShownInLastImage(shown ? p.imageVisibility.shownObjects() : std::span<const std::uint8_t>{});
     p.geometry.setShownBlocksInLastImage(shown ? p.imageVisibility.shownBlocks() : std::span<const std::uint16_t>{});
     culled = &p.geometry.run(camera, eye, eyeLod, settings.culling, culler_, bvh_, frozen ? &visibleObjects_ : nullptr);

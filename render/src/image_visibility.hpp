@@ -14,12 +14,15 @@
 // lighting pass is compiled without it: on llvmpipe a fragment shader that writes a buffer at all
 // cost the thesis walk's lighting pass ~2.2 ms of its ~9.5 (800 × 600), the CPU record ~0.5 ms.
 // Both record the same objects; a pixel within rounding of a block's edge may mark the neighbour
-// in either.
+// in either. The record from pixels also keeps a sample of the image's surface points (every
+// culling::ReprojectedImage::kSampleStride-th pixel of every such row), so that the next frame can guess which
+// objects that showed are hidden in its view (hideByReprojection; culling::ReprojectedImage).
 #include <cstdint>
 #include <span>
 #include <vector>
 
 #include "forest/core/camera.hpp"
+#include "forest/culling/reprojected_image.hpp"
 #include "forest/gl/objects.hpp"
 #include "forest/render/scene_objects.hpp"
 #include "forest/render/uniform_blocks.hpp"
@@ -55,6 +58,10 @@ class ImageVisibility {
   std::span<const std::uint16_t> shownBlocks() const { return shownBlocks_; }
   // Drops the last record (a camera cut).
   void forget();
+  // After collect(), with a record from pixels: clears the flags of the trees and props whose
+  // samples of that image, moved into `next`'s view, are all behind others' (render ahead of
+  // chc++: asked before they are drawn again). Returns how many; 0 without samples.
+  int hideByReprojection(const Camera& next);
 
  private:
   const SceneObjects& objects_;
@@ -67,8 +74,13 @@ class ImageVisibility {
   std::vector<std::uint16_t> shownBlocks_;
   // recordFromPixels: row y's objects and blocks into `objects`, `blocks`; the other bands' flags.
   void markRow(const ReceiverPixels& pixels, int y, std::vector<std::uint8_t>& objects, std::vector<std::uint16_t>& blocks) const;
+  // Row y's samples (every culling::ReprojectedImage::kSampleStride-th pixel that is not sky) onto `samples`.
+  static void sampleRow(const ReceiverPixels& pixels, int y, std::vector<culling::ImageSample>& samples);
   std::vector<std::vector<std::uint8_t>> bandObjects_;
   std::vector<std::vector<std::uint16_t>> bandBlocks_;
+  std::vector<std::vector<culling::ImageSample>> bandSamples_;  // the last record's, per band
+  int sampledWidth_ = 0, sampledHeight_ = 0;                     // its image's size; 0: no samples
+  culling::ReprojectedImage reprojected_;
 };
 
 }  // namespace forest::render

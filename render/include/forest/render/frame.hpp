@@ -136,6 +136,7 @@ struct FrameStats {
   // blurMs: the blur's horizontal pass; its vertical pass is part of lightingMs.
   double geometryMs = 0.0, shadowSetupMs = 0.0, shadowMs = 0.0, shadowTermMs = 0.0, blurMs = 0.0, lightingMs = 0.0;
   int visibleObjects = 0;
+  int hiddenByReprojection = 0;  // trees and props that showed in the last image, guessed hidden now ([culling] image_reprojection)
   int casterObjects = 0;
   long long geometryTriangles = 0;
   long long shadowTriangles = 0;
