@@ -102,6 +102,39 @@ TEST_P(ImageVisibilityByRecord, MarksExactlyTheObjectsAndBlocksWithPixels) {
   EXPECT_GT(blocksMarked, 12 * 4);
 }
 
+// [culling] image_reprojection: the trees and props guessed hidden from the last image's samples
+// (culling::ReprojectedImage) are asked before they are drawn again; a wrong guess costs a query,
+// never a pixel. Along the walk the frame's object IDs equal those of a frame without culling.
+TEST_F(ImageVisibilityGl, GuessesFromTheLastImageKeepTheFrameExact) {
+  Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
+  scene.culling.image_reprojection = true;
+  render::Frame guessing(scene, kWidth, kHeight), bruteForce(scene, kWidth, kHeight);
+  render::FrameSettings settings;
+  settings.casters = render::CasterSelection::ReceiverPixels;  // the samples come from the read-back
+  render::FrameSettings all = settings;
+  all.culling = culling::CullingStrategy::None;
+  const terrain::Terrain& terrain = *guessing.terrain();
+  Camera camera = guessing.startCamera();
+  camera.aspect = static_cast<double>(kWidth) / kHeight;
+  int guessed = 0;
+  for (int v = 0; v < 12; ++v) {
+    // Half the default walk's steps: nearer trees pass in front of farther ones.
+    camera.position.x += 1.5;
+    camera.position.z -= 2.0;
+    camera.position.y = terrain.heightAt(camera.position.x, camera.position.z) + 1.7;
+    camera.yaw += glm::radians(3.0);
+    guessed += guessing.render(camera, 0.0, settings).hiddenByReprojection;
+    bruteForce.render(camera, 0.0, all);
+    const std::vector<std::uint32_t> ids = guessing.readObjectIds(), expected = bruteForce.readObjectIds();
+    ASSERT_EQ(ids.size(), expected.size());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < ids.size(); ++i) differ += ids[i] != expected[i] ? 1 : 0;
+    EXPECT_EQ(differ, 0u) << "view " << v;
+  }
+  std::printf("[image reprojection] %d trees and props guessed hidden over 12 views\n", guessed);
+  EXPECT_GT(guessed, 0);  // the premise: the guesses were made
+}
+
 INSTANTIATE_TEST_SUITE_P(LightingPassAndReadBack, ImageVisibilityByRecord,
                          ::testing::Values(render::CasterSelection::Receivers, render::CasterSelection::ReceiverPixels),
                          [](const ::testing::TestParamInfo<render::CasterSelection>& param) {
