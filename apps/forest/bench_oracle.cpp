@@ -25,7 +25,7 @@ std::vector<VisibleSet> bruteForceVisibleSets(const render::SceneObjects& object
                                               const render::TerrainRenderer& terrainBlockIds, std::uint32_t blockIdBase,
                                               const render::TreeRenderer* treeIds, const render::PropRenderer* propIds,
                                               const culling::Bvh& bvh, const std::vector<Camera>& path, const SunSettings& sun,
-                                              int width, int height, const std::function<void()>& progress) {
+                                              int width, int height, bool guessHidden, const std::function<void()>& progress) {
   gl::Texture idTexture(GL_R32UI, width, height), idDepth(GL_DEPTH_COMPONENT32F, width, height);
   gl::Framebuffer framebuffer;
   framebuffer.attach(GL_COLOR_ATTACHMENT0, idTexture);
@@ -55,7 +55,8 @@ std::vector<VisibleSet> bruteForceVisibleSets(const render::SceneObjects& object
     ids.cullTerrainBlocks(&frustum);  // by blocks, so that each writes its own ID
     culler.cull(bvh, objects.boxes(), path[f], culling::CullingStrategy::None, ids);
     glGetTextureImage(idTexture.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(pixels.size() * 4), pixels.data());
-    glGetTextureImage(idDepth.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, static_cast<GLsizei>(depths.size() * 4), depths.data());
+    if (guessHidden)
+      glGetTextureImage(idDepth.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, static_cast<GLsizei>(depths.size() * 4), depths.data());
     std::set<std::uint32_t> seen;
     std::set<std::pair<int, int>> seenBlocks;
     for (std::uint32_t id : pixels) {
@@ -98,7 +99,13 @@ std::vector<VisibleSet> bruteForceVisibleSets(const render::SceneObjects& object
           hiddenBlocks.push_back(b);
       // Into the ID target, already read.
       set.lagTriangles = ids.draw(hiddenNow) + (hiddenBlocks.empty() ? 0 : ids.drawTerrainBlocks(hiddenBlocks));
-      // The frame before's samples moved into this view.
+    }
+    if (!guessHidden) {
+      progress();
+      continue;
+    }
+    if (f > 0) {  // the frame before's samples moved into this view
+      const VisibleSet& before = sets[f - 1];
       const int stride = culling::ReprojectedImage::kSampleStride;
       std::vector<std::uint8_t> shown(objects.boxes().size(), 0);
       for (std::uint32_t o : before.notTerrain) shown[o] = 1;
@@ -106,7 +113,7 @@ std::vector<VisibleSet> bruteForceVisibleSets(const render::SceneObjects& object
       reprojected.splat(samples);
       reprojected.clearHidden(shown);
       for (std::uint32_t o : before.notTerrain)
-        if (shown[o] == 0) set.hiddenByReprojection.push_back(o);
+        if (shown[o] == 0) sets[f].hiddenByReprojection.push_back(o);
     }
     // This frame's samples: a pixel's surface point from its depth (reversed-Z) along its ray.
     samples.clear();

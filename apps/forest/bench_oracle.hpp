@@ -37,12 +37,12 @@ double wholeTileOracleTrianglesP50(const std::vector<VisibleSet>& sets, const st
 
 // The visible sets along `path`, rendered at width × height with the renderers' ID outputs (the
 // terrain's: Output::BlockId, with IDs from blockIdBase on, past every object's). `progress`
-// is called after each frame.
+// is called after each frame. `guessHidden`: fill VisibleSet::hiddenByReprojection.
 std::vector<VisibleSet> bruteForceVisibleSets(const render::SceneObjects& objects, const terrain::Terrain& terrain,
                                               const render::TerrainRenderer& terrainBlockIds, std::uint32_t blockIdBase,
                                               const render::TreeRenderer* treeIds, const render::PropRenderer* propIds,
                                               const culling::Bvh& bvh, const std::vector<Camera>& path, const SunSettings& sun,
-                                              int width, int height, const std::function<void()>& progress);
+                                              int width, int height, bool guessHidden, const std::function<void()>& progress);
 
 // What the frame's lighting pass records of frame f's image for the next frame's culling
 // ([culling] image_visibility; render/src/image_visibility.hpp): the objects of its visible set,

@@ -399,7 +399,7 @@ int runBenchCulling(const BenchOptions& options) {
       // in the brute-force ID buffer, and the one-frame lag's triangles.
       const std::vector<VisibleSet> visibleSets = bruteForceVisibleSets(
           objects, terrain, terrainBlockIds, blockIdBase, &treeIds, &propIds, bvh, path, scene.sun, options.size.width,
-          options.size.height, [&] {
+          options.size.height, scene.culling.image_visibility && scene.culling.image_reprojection, [&] {
             showProgress("bench culling", "frames", ++done, total, std::chrono::duration<double>(Clock::now() - benchStart).count(),
                          options.length.quiet);
           });

@@ -281,7 +281,8 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
     if (readsPixels) {
       p.receiverPixels.read(p.geometry.gbuffer(), width_, height_, camera);
       receiverPixels = &p.receiverPixels;
-      if (scene_.culling.image_visibility) p.imageVisibility.recordFromPixels(p.receiverPixels, p.cpuWorkers);  // the cull took the last
+      if (scene_.culling.image_visibility)  // the cull took the last
+        p.imageVisibility.recordFromPixels(p.receiverPixels, p.cpuWorkers, scene_.culling.image_reprojection);
     }
     p.shadowSetup.run(camera, visible, settings, cascades, nearest, l, stats.sunBelowHorizon, *objects_, eyeLod, sceneBounds_,
                       receiverPixels, p.plan, stats);

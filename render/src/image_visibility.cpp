@@ -43,7 +43,7 @@ void ImageVisibility::beginRecord(FrameBlock& block, const Camera& camera) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kRecordBinding, record_.id());
 }
 
-void ImageVisibility::recordFromPixels(const ReceiverPixels& pixels, WorkerThreads& workers) {
+void ImageVisibility::recordFromPixels(const ReceiverPixels& pixels, WorkerThreads& workers, bool keepSamples) {
   forget();
   fromPixels_ = true;
   // Rows dealt in turn to the workers' bands, each marking its own flags (band 0: the record's),
@@ -62,11 +62,11 @@ void ImageVisibility::recordFromPixels(const ReceiverPixels& pixels, WorkerThrea
     samples.clear();
     for (int y = band; y < pixels.height(); y += bands) {
       markRow(pixels, y, objects, blocks);
-      if (y % culling::ReprojectedImage::kSampleStride == 0) sampleRow(pixels, y, samples);
+      if (keepSamples && y % culling::ReprojectedImage::kSampleStride == 0) sampleRow(pixels, y, samples);
     }
   });
-  sampledWidth_ = pixels.width();
-  sampledHeight_ = pixels.height();
+  sampledWidth_ = keepSamples ? pixels.width() : 0;
+  sampledHeight_ = keepSamples ? pixels.height() : 0;
   for (std::size_t band = 1; band < static_cast<std::size_t>(bands); ++band) {
     for (std::size_t o = 0; o < shownObjects_.size(); ++o) shownObjects_[o] |= bandObjects_[band][o];
     for (std::size_t t = 0; t < shownBlocks_.size(); ++t) shownBlocks_[t] = static_cast<std::uint16_t>(shownBlocks_[t] | bandBlocks_[band][t]);

@@ -46,7 +46,8 @@ class ImageVisibility {
   // Instead of beginRecord … endRecord: the record from the frame's G-buffer as read back (the
   // same flags; complete at once). Call it after this frame's culling has taken the last flags.
   // `workers` share out the rows.
-  void recordFromPixels(const ReceiverPixels& pixels, WorkerThreads& workers);
+  // `keepSamples`: also keep the image's samples for hideByReprojection ([culling] image_reprojection).
+  void recordFromPixels(const ReceiverPixels& pixels, WorkerThreads& workers, bool keepSamples);
   // Before the next frame's culling: whether the last record is complete — waiting for it with
   // `wait`, else one poll of its fence — and then its flags (shownObjects, shownBlocks). False
   // when nothing was recorded since the last forget() or it is not complete: no flags.
