@@ -41,7 +41,7 @@ std::vector<VisibleSet> bruteForceVisibleSets(const render::SceneObjects& object
   const std::uint32_t blockIdEnd = blockIdBase + static_cast<std::uint32_t>(objects.tileCount()) * blocksPerTile;
   std::vector<std::uint32_t> pixels(static_cast<size_t>(width) * height);
   std::vector<float> depths(pixels.size());
-  std::vector<culling::ImageSample> samples;  // the frame before's
+  culling::SampledImage samples;  // the frame before's
   culling::ReprojectedImage reprojected;
   std::vector<VisibleSet> sets(path.size());
   for (size_t f = 0; f < path.size(); ++f) {
@@ -115,22 +115,20 @@ std::vector<VisibleSet> bruteForceVisibleSets(const render::SceneObjects& object
       for (std::uint32_t o : before.notTerrain)
         if (shown[o] == 0) sets[f].hiddenByReprojection.push_back(o);
     }
-    // This frame's samples: a pixel's surface point from its depth (reversed-Z) along its ray.
-    samples.clear();
+    // This frame's samples: a pixel's eye depth from its depth (reversed-Z), and its object.
     const Camera& camera = path[f];
-    const double tanY = std::tan(0.5 * camera.fovy), tanX = tanY * camera.aspect;
+    samples.reset(camera, width, height);
     const int stride = culling::ReprojectedImage::kSampleStride;
-    for (int y = 0; y < height; y += stride) {
-      const glm::dvec3 rowRay = camera.forward() + (2.0 * (y + 0.5) / height - 1.0) * tanY * camera.up();
-      for (int x = 0; x < width; x += stride) {
-        const std::size_t i = static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x);
+    for (int y = 0, j = 0; y < height; y += stride, ++j) {
+      for (int x = 0, i = 0; x < width; x += stride, ++i) {
+        const std::size_t pixel = static_cast<std::size_t>(y) * static_cast<std::size_t>(width) + static_cast<std::size_t>(x);
         std::int64_t o = -1;
-        if (pixels[i] >= blockIdBase && pixels[i] < blockIdEnd) o = (pixels[i] - blockIdBase) / blocksPerTile;
-        else o = objects.objectOfId(pixels[i]);
-        if (o < 0 || depths[i] <= 0.0f) continue;
-        const double z = camera.eyeDepthOfReversedZ(depths[i]);
-        const glm::dvec3 point = camera.position + z * (rowRay + (2.0 * (x + 0.5) / width - 1.0) * tanX * camera.right());
-        samples.push_back({glm::vec3(point), static_cast<std::uint32_t>(o)});
+        if (pixels[pixel] >= blockIdBase && pixels[pixel] < blockIdEnd) o = (pixels[pixel] - blockIdBase) / blocksPerTile;
+        else o = objects.objectOfId(pixels[pixel]);
+        if (o < 0 || depths[pixel] <= 0.0f) continue;  // no sample
+        const std::size_t sample = static_cast<std::size_t>(j) * samples.columns.size() + static_cast<std::size_t>(i);
+        samples.depths[sample] = static_cast<float>(camera.eyeDepthOfReversedZ(depths[pixel]));
+        samples.objects[sample] = static_cast<std::uint32_t>(o) + 1u;
       }
     }
     progress();

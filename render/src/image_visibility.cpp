@@ -29,7 +29,7 @@ void ImageVisibility::beginRecord(FrameBlock& block, const Camera& camera) {
   // Nonzero (the cleared slots hold 0); after 2³² frames a stamp repeats, and a slot unwritten
   // since then reads as shown: an object drawn untested once, never a pixel lost.
   stamp_ = stamp_ == std::numeric_limits<std::uint32_t>::max() ? 1u : stamp_ + 1u;
-  sampledWidth_ = sampledHeight_ = 0;  // this record has no samples
+  haveSamples_ = false;  // this record has no samples
   const terrain::Terrain* terrain = objects_.terrain();
   block.imageRecord = glm::uvec4(stamp_, terrain ? static_cast<std::uint32_t>(terrain->tilesPerSide()) : 1u,
                                  static_cast<std::uint32_t>(objects_.tileCount()), static_cast<std::uint32_t>(blockSlots_));
@@ -52,21 +52,31 @@ void ImageVisibility::recordFromPixels(const ReceiverPixels& pixels, WorkerThrea
   const std::size_t objectCount = shownObjects_.size(), tiles = shownBlocks_.size();
   bandObjects_.resize(static_cast<std::size_t>(bands));
   bandBlocks_.resize(static_cast<std::size_t>(bands));
-  bandSamples_.resize(static_cast<std::size_t>(bands));
+  constexpr int stride = culling::ReprojectedImage::kSampleStride;
+  if (keepSamples) {  // the rays of the sampled pixels; their depths and objects by the bands' rows
+    const shadows::EyeRays& rays = pixels.rays();
+    samples_.eye = rays.eye;
+    samples_.forward = rays.forward;
+    samples_.up = rays.up;
+    samples_.right = rays.right;
+    samples_.columns.clear();
+    samples_.rows.clear();
+    for (int x = 0; x < pixels.width(); x += stride) samples_.columns.push_back(pixels.columns()[static_cast<std::size_t>(x)]);
+    for (int y = 0; y < pixels.height(); y += stride) samples_.rows.push_back(pixels.row(y));
+    samples_.depths.resize(samples_.columns.size() * samples_.rows.size());
+    samples_.objects.resize(samples_.depths.size());
+  }
   workers.run([&](int band) {
     std::vector<std::uint8_t>& objects = band == 0 ? shownObjects_ : bandObjects_[static_cast<std::size_t>(band)];
     std::vector<std::uint16_t>& blocks = band == 0 ? shownBlocks_ : bandBlocks_[static_cast<std::size_t>(band)];
-    std::vector<culling::ImageSample>& samples = bandSamples_[static_cast<std::size_t>(band)];
     objects.assign(objectCount, 0);
     blocks.assign(tiles, 0);
-    samples.clear();
     for (int y = band; y < pixels.height(); y += bands) {
       markRow(pixels, y, objects, blocks);
-      if (keepSamples && y % culling::ReprojectedImage::kSampleStride == 0) sampleRow(pixels, y, samples);
+      if (keepSamples && y % stride == 0) sampleRow(pixels, y);
     }
   });
-  sampledWidth_ = keepSamples ? pixels.width() : 0;
-  sampledHeight_ = keepSamples ? pixels.height() : 0;
+  haveSamples_ = keepSamples;
   for (std::size_t band = 1; band < static_cast<std::size_t>(bands); ++band) {
     for (std::size_t o = 0; o < shownObjects_.size(); ++o) shownObjects_[o] |= bandObjects_[band][o];
     for (std::size_t t = 0; t < shownBlocks_.size(); ++t) shownBlocks_[t] = static_cast<std::uint16_t>(shownBlocks_[t] | bandBlocks_[band][t]);
@@ -115,30 +125,26 @@ void ImageVisibility::markRow(const ReceiverPixels& pixels, int y, std::vector<s
   }
 }
 
-void ImageVisibility::sampleRow(const ReceiverPixels& pixels, int y, std::vector<culling::ImageSample>& samples) {
-  // A pixel's surface point: the eye plus its eye depth times its ray at depth 1 (ReceiverPixels).
-  const shadows::EyeRays& rays = pixels.rays();
-  const glm::dvec3 rowRay = rays.forward + static_cast<double>(pixels.row(y)) * rays.up;
-  const std::span<const float> columns = pixels.columns();
-  for (int x = 0; x < pixels.width(); x += culling::ReprojectedImage::kSampleStride) {
-    const glm::uvec4& surface = pixels.surface(x, y);
-    if (surface.w == 0) continue;  // the sky
-    const double z = std::bit_cast<float>(surface.x);
-    const glm::dvec3 point = rays.eye + z * (rowRay + static_cast<double>(columns[static_cast<std::size_t>(x)]) * rays.right);
-    samples.push_back({glm::vec3(point), surface.w - 1u});  // ID: object + 1
+void ImageVisibility::sampleRow(const ReceiverPixels& pixels, int y) {
+  constexpr int stride = culling::ReprojectedImage::kSampleStride;
+  const std::size_t first = static_cast<std::size_t>(y / stride) * samples_.columns.size();
+  for (int x = 0, i = 0; x < pixels.width(); x += stride, ++i) {
+    const glm::uvec4& surface = pixels.surface(x, y);  // x: eye depth bits (0 for the sky), w: object + 1 (0: the sky)
+    samples_.depths[first + static_cast<std::size_t>(i)] = std::bit_cast<float>(surface.x);
+    samples_.objects[first + static_cast<std::size_t>(i)] = surface.w;
   }
 }
 
 int ImageVisibility::hideByReprojection(const Camera& next) {
-  if (sampledWidth_ == 0) return 0;
-  // One cell per sample where nothing moved (kSampleStride pixels on a side). Candidates: the trees
-  // and props that showed (a tile's blocks have their own record, shownBlocks).
-  reprojected_.begin(next, std::max(1, sampledWidth_ / culling::ReprojectedImage::kSampleStride),
-                     std::max(1, sampledHeight_ / culling::ReprojectedImage::kSampleStride), shownObjects_, objects_.tileCount());
+  if (!haveSamples_) return 0;
+  haveSamples_ = false;  // one guess per record
+  // One cell per sample where nothing moved. Candidates: the trees and props that showed (a
+  // tile's blocks have their own record, shownBlocks).
+  reprojected_.begin(next, static_cast<int>(samples_.columns.size()), static_cast<int>(samples_.rows.size()), shownObjects_,
+                     objects_.tileCount());
   // On this thread: at the start of a frame the renderer's threads are still drawing the last one
   // (two bands on the frame's workers took 1.06 ms instead of 0.80).
-  for (const std::vector<culling::ImageSample>& samples : bandSamples_) reprojected_.splat(samples);
-  sampledWidth_ = sampledHeight_ = 0;  // one guess per record
+  reprojected_.splat(samples_);
   return reprojected_.clearHidden(shownObjects_);
 }
 
@@ -178,7 +184,7 @@ void ImageVisibility::forget() {
   if (fence_) glDeleteSync(fence_);
   fence_ = nullptr;
   fromPixels_ = false;
-  sampledWidth_ = sampledHeight_ = 0;
+  haveSamples_ = false;
 }
 
 }  // namespace forest::render

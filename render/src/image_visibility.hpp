@@ -75,12 +75,13 @@ class ImageVisibility {
   std::vector<std::uint16_t> shownBlocks_;
   // recordFromPixels: row y's objects and blocks into `objects`, `blocks`; the other bands' flags.
   void markRow(const ReceiverPixels& pixels, int y, std::vector<std::uint8_t>& objects, std::vector<std::uint16_t>& blocks) const;
-  // Row y's samples (every culling::ReprojectedImage::kSampleStride-th pixel that is not sky) onto `samples`.
-  static void sampleRow(const ReceiverPixels& pixels, int y, std::vector<culling::ImageSample>& samples);
+  // Row y's samples (every culling::ReprojectedImage::kSampleStride-th pixel) into samples_ (y a
+  // multiple of the stride; bands write their own rows).
+  void sampleRow(const ReceiverPixels& pixels, int y);
   std::vector<std::vector<std::uint8_t>> bandObjects_;
   std::vector<std::vector<std::uint16_t>> bandBlocks_;
-  std::vector<std::vector<culling::ImageSample>> bandSamples_;  // the last record's, per band
-  int sampledWidth_ = 0, sampledHeight_ = 0;                     // its image's size; 0: no samples
+  culling::SampledImage samples_;  // the last record's
+  bool haveSamples_ = false;       // samples_ belong to a record not guessed from yet
   culling::ReprojectedImage reprojected_;
 };
 

@@ -23,17 +23,25 @@
 
 #include <cstdint>
 #include <span>
-#include <utility>
 #include <vector>
 
 #include "forest/core/camera.hpp"
 
 namespace forest::culling {
 
-// A sample of the last image: a surface point (world space) and the object it belongs to.
-struct ImageSample {
-  glm::vec3 position;
-  std::uint32_t object;
+// The last image's samples, every ReprojectedImage::kSampleStride-th pixel of every such row: a
+// grid of columns.size() × rows.size() samples, each its eye depth (along the last view's forward
+// axis) and its object + 1 (0: none, the sky). Sample (i, j)'s surface point is
+//   eye + depths[k] · (forward + rows[j] · up + columns[i] · right),  k = j · columns.size() + i,
+// the ray at eye depth 1 through its pixel (ReceiverPixels' rays).
+struct SampledImage {
+  glm::dvec3 eye{0.0}, forward{0.0, 0.0, -1.0}, up{0.0, 1.0, 0.0}, right{1.0, 0.0, 0.0};
+  std::vector<double> columns, rows;
+  std::vector<float> depths;
+  std::vector<std::uint32_t> objects;
+  // Sets the rays of `camera` for an image of pixelWidth × pixelHeight pixels, sampled at every
+  // kSampleStride-th pixel from pixel 0 on (pixel centres), and sizes the samples, all none.
+  void reset(const Camera& camera, int pixelWidth, int pixelHeight);
 };
 
 class ReprojectedImage {
@@ -44,9 +52,10 @@ class ReprojectedImage {
   // Starts the next view: a grid of gridWidth × gridHeight cells over its image. The candidates
   // are the objects o ≥ firstCandidate with shown[o] nonzero (the others' samples only hide).
   void begin(const Camera& next, int gridWidth, int gridHeight, std::span<const std::uint8_t> shown, std::size_t firstCandidate);
-  // Moves samples into the next view; each cell keeps the nearest (eye depth along the next
-  // view's forward axis). Samples of objects ≥ shown.size() are ignored.
-  void splat(std::span<const ImageSample> samples);
+  // Moves the last image's samples into the next view; each cell keeps the nearest (eye depth
+  // along the next view's forward axis). Samples of objects ≥ shown.size(), and those whose depth
+  // is not finite and positive, are ignored (not a sample).
+  void splat(const SampledImage& image);
   // Clears the flag in `shown` (begin's) of each candidate that has a sample and none of them
   // showing. Returns how many were cleared.
   int clearHidden(std::span<std::uint8_t> shown);
@@ -55,10 +64,10 @@ class ReprojectedImage {
   glm::dmat4 viewProjection_{1.0};
   double near_ = 0.1;
   int width_ = 0, height_ = 0;
-  std::vector<std::uint64_t> cells_;    // (eye depth's float bits << 32) | object + 1; 0: empty
+  std::vector<std::uint64_t> cells_;    // (eye depth's float bits << 32) | object + 1; all ones: empty
   // Per object: 0 not a candidate; 1 a candidate; 2 one with a sample; 3 one with a sample that shows.
   std::vector<std::uint8_t> state_;
-  std::vector<std::pair<std::size_t, std::uint64_t>> witnesses_;  // per candidate's sample on the grid: its cell and key
+  std::vector<std::uint32_t> rowCells_, rowDepthBits_;  // splat's: where a row's samples land, and their depths
 };
 
 }  // namespace forest::culling
