@@ -7,6 +7,7 @@
 #include <limits>
 #include <span>
 
+#include "forest/core/avx2_clone.hpp"
 #include "forest/core/error.hpp"
 #include "forest/core/polygon2d.hpp"
 
@@ -40,10 +41,11 @@ double ReceiverMask::depthOf(const dvec3& world, const dvec4& clip) const {
 namespace {
 
 // [−1, 1] → [0, subCells), clamped first, then truncated: the same as floor then clamp, without a
-// call to floor (no SSE4.1 rounding instruction in the baseline x86-64 build). Inlined: a frame
-// calls it twice per sun-facing pixel.
+// call to floor (no SSE4.1 rounding instruction in the baseline x86-64 build). NaN gives 0, not a
+// conversion without a value (std::max(0, NaN) is 0), so that placeRow need not branch around it.
+// Inlined: a frame calls it twice per sun-facing pixel.
 [[gnu::always_inline]] inline int subCellAt(double ndc, int subCells) {
-  return static_cast<int>(std::clamp((ndc + 1.0) * 0.5 * subCells, 0.0, subCells - 1.0));
+  return static_cast<int>(std::max(0.0, std::min((ndc + 1.0) * 0.5 * subCells, subCells - 1.0)));
 }
 
 // Map depth in 16 bits: [−1, 1] (clip z / w, or tsm's linear light depth) onto 0 … 65535, clamped
@@ -72,17 +74,21 @@ struct ReceiverMask::Writer {
     mask.everywhere_ = mask.everywhere_ || everywhere;
   }
   // A receiver at clip position h (invW: 1 / h.w) with map depth `depth`.
-  [[gnu::always_inline]] void add(const dvec4& h, double invW, double depth) {
+  void add(const dvec4& h, double invW, double depth) {
     const double x = h.x * invW, y = h.y * invW;
     if (!(h.w > 0.0) || !std::isfinite(x) || !std::isfinite(y) || !std::isfinite(depth)) {
       everywhere = true;  // a receiver the map cannot place: every caster may shadow it
       return;
     }
+    place(static_cast<unsigned>(subCellAt(x, side * kSubCells)), static_cast<unsigned>(subCellAt(y, side * kSubCells)),
+          depthCodeAtOrBeyond(depth));
+  }
+  // A receiver in sub-cell (sx, sy) with depth code `code`.
+  [[gnu::always_inline]] void place(unsigned sx, unsigned sy, std::uint16_t code) {
     ++receivers;
-    const unsigned sx = static_cast<unsigned>(subCellAt(x, side * kSubCells)), sy = static_cast<unsigned>(subCellAt(y, side * kSubCells));
     Cell& cell = cells[static_cast<size_t>(sy / kSubCells) * static_cast<size_t>(side) + sx / kSubCells];
     cell.occupied = static_cast<std::uint16_t>(cell.occupied | 1u << (kSubCells * (sy % kSubCells) + sx % kSubCells));
-    cell.farthest = std::max(cell.farthest, depthCodeAtOrBeyond(depth));
+    cell.farthest = std::max(cell.farthest, code);
   }
 
   ReceiverMask& mask;
@@ -99,6 +105,55 @@ void ReceiverMask::add(const dvec3& world) {
   writer.done();
 }
 
+namespace {
+
+// Where placeRow puts a pixel: its sub-cell (sy << 16 | sx), or one of these.
+constexpr std::uint32_t kNoReceiver = ~std::uint32_t{0}, kUnplaceable = kNoReceiver - 1u;
+
+// A map coordinate along one row of pixels as a function of a pixel's eye depth z and column x:
+// atEye + z · (atRow + x · perColumn).
+struct RowAffine {
+  double atEye, atRow, perColumn;
+  double at(double z, double x) const { return atEye + z * (atRow + x * perColumn); }
+};
+
+// Places one row's pixels, as Writer::add places a point, without branches so that the compiler
+// vectorises it (the scatter into cells follows in addEyeRow). clipX, clipY, clipZ, clipW: the map's
+// clip coordinates; lightDepth: tsm's linear light depth (kLinearDepth), else clip z / w.
+template <bool kLinearDepth>
+[[gnu::always_inline]] inline void placeRow(const float* __restrict depths, const float* __restrict columns, std::size_t count,
+                                            RowAffine clipX, RowAffine clipY, RowAffine clipZ, RowAffine clipW, RowAffine lightDepth,
+                                            double zMin, double zMax, int subCells, std::uint32_t* __restrict placed,
+                                            std::uint16_t* __restrict codes) {
+  const double largest = std::numeric_limits<double>::max();
+  for (std::size_t i = 0; i < count; ++i) {
+    const double z = depths[i], x = columns[i];
+    const double w = clipW.at(z, x);
+    const double invW = 1.0 / w;  // one division per point: clip z / w is h.z · invW
+    const double nx = clipX.at(z, x) * invW, ny = clipY.at(z, x) * invW;
+    const double depth = kLinearDepth ? lightDepth.at(z, x) : clipZ.at(z, x) * invW;
+    const bool receiver = (z >= zMin) & (z <= zMax);
+    // A receiver the map cannot place (behind the light's projection, or not finite: NaN fails
+    // every comparison): every caster may shadow it.
+    const bool placeable = (w > 0.0) & (std::abs(nx) <= largest) & (std::abs(ny) <= largest) & (std::abs(depth) <= largest);
+    const unsigned sx = static_cast<unsigned>(subCellAt(nx, subCells)), sy = static_cast<unsigned>(subCellAt(ny, subCells));
+    placed[i] = receiver ? (placeable ? sy << 16 | sx : kUnplaceable) : kNoReceiver;
+    codes[i] = depthCodeAtOrBeyond(depth);  // NaN: 65535, unused
+  }
+}
+FOREST_AVX2_CLONE void placeRowLinearDepth(const float* depths, const float* columns, std::size_t count, RowAffine clipX,
+                                           RowAffine clipY, RowAffine clipZ, RowAffine clipW, RowAffine lightDepth, double zMin,
+                                           double zMax, int subCells, std::uint32_t* placed, std::uint16_t* codes) {
+  placeRow<true>(depths, columns, count, clipX, clipY, clipZ, clipW, lightDepth, zMin, zMax, subCells, placed, codes);
+}
+FOREST_AVX2_CLONE void placeRowClipDepth(const float* depths, const float* columns, std::size_t count, RowAffine clipX,
+                                         RowAffine clipY, RowAffine clipZ, RowAffine clipW, RowAffine lightDepth, double zMin,
+                                         double zMax, int subCells, std::uint32_t* placed, std::uint16_t* codes) {
+  placeRow<false>(depths, columns, count, clipX, clipY, clipZ, clipW, lightDepth, zMin, zMax, subCells, placed, codes);
+}
+
+}  // namespace
+
 void ReceiverMask::addEyeRow(const EyeRays& rays, float row, std::span<const float> columns, std::span<const float> depths,
                              double zMin, double zMax) {
   // M (eye + z (f + y u + x r)) = M eye + z (M (f + y u) + x M r): the map's clip position, and
@@ -107,20 +162,26 @@ void ReceiverMask::addEyeRow(const EyeRays& rays, float row, std::span<const flo
   const dvec4 origin = worldToShadowClip_ * dvec4(rays.eye, 1.0);
   const dvec4 base = worldToShadowClip_ * dvec4(rowRay, 0.0);
   const dvec4 right = worldToShadowClip_ * dvec4(rays.right, 0.0);
-  const double depthOrigin = glm::dot(worldToLightDepth_, dvec4(rays.eye, 1.0));
-  const double depthBase = glm::dot(worldToLightDepth_, dvec4(rowRay, 0.0));
-  const double depthRight = glm::dot(worldToLightDepth_, dvec4(rays.right, 0.0));
+  const RowAffine lightDepth{glm::dot(worldToLightDepth_, dvec4(rays.eye, 1.0)), glm::dot(worldToLightDepth_, dvec4(rowRay, 0.0)),
+                             glm::dot(worldToLightDepth_, dvec4(rays.right, 0.0))};
   const size_t count = std::min(columns.size(), depths.size());
-  const bool linearDepth = linearDepth_;
+  static_assert(kSubCells * 1024 <= 65536, "placeRow packs a sub-cell's x and y into 16 bits each");
+  if (side_ > 1024) throw Error("ReceiverMask::addEyeRow: more than 1024 cells a side");
+  rowPlaced_.resize(count);
+  rowCodes_.resize(count);
+  (linearDepth_ ? placeRowLinearDepth : placeRowClipDepth)(depths.data(), columns.data(), count, {origin.x, base.x, right.x},
+                                                          {origin.y, base.y, right.y}, {origin.z, base.z, right.z},
+                                                          {origin.w, base.w, right.w}, lightDepth, zMin, zMax, side_ * kSubCells,
+                                                          rowPlaced_.data(), rowCodes_.data());
   Writer writer(*this);
   for (size_t i = 0; i < count; ++i) {
-    const double z = depths[i];
-    if (!(z >= zMin && z <= zMax)) continue;
-    const double x = columns[i];
-    const dvec4 h = origin + z * (base + x * right);
-    const double invW = 1.0 / h.w;  // one division per point: clip z / w is h.z · invW
-    const double depth = linearDepth ? depthOrigin + z * (depthBase + x * depthRight) : h.z * invW;
-    writer.add(h, invW, depth);
+    const std::uint32_t placed = rowPlaced_[i];
+    if (placed == kNoReceiver) continue;
+    if (placed == kUnplaceable) {
+      writer.everywhere = true;
+      continue;
+    }
+    writer.place(placed & 0xffffu, placed >> 16, rowCodes_[i]);
   }
   writer.done();
 }

@@ -78,6 +78,8 @@ class ReceiverMask {
   glm::dvec4 worldToLightDepth_{0.0};
   int mapSize_ = 1, side_ = 0, receivers_ = 0;  // side_: cells per side
   bool everywhere_ = false;  // a receiver with w ≤ 0 was added
+  std::vector<std::uint32_t> rowPlaced_;  // addEyeRow's: where a row's pixels go (placeRow)
+  std::vector<std::uint16_t> rowCodes_;   // and their depth codes
   struct Cell {
     std::uint16_t farthest;  // the largest receiver depth, coded (receiver_mask.cpp); 0 when none
     std::uint16_t occupied;  // bit kSubCells · j + i: sub-cell (i, j) holds a receiver (none: 0)
