@@ -14,9 +14,10 @@
 // lighting pass is compiled without it: on llvmpipe a fragment shader that writes a buffer at all
 // cost the thesis walk's lighting pass ~2.2 ms of its ~9.5 (800 × 600), the CPU record ~0.5 ms.
 // Both record the same objects; a pixel within rounding of a block's edge may mark the neighbour
-// in either. The record from pixels also keeps a sample of the image's surface points (every
-// culling::ReprojectedImage::kSampleStride-th pixel of every such row), so that the next frame can guess which
-// objects that showed are hidden in its view (hideByReprojection; culling::ReprojectedImage).
+// in either. The record from pixels also keeps a sample of the image, its eye depths and objects
+// (every culling::ReprojectedImage::kSampleStride-th pixel of every such row), so that the next
+// frame can guess which objects that showed are hidden in its view (hideByReprojection;
+// culling::ReprojectedImage).
 #include <cstdint>
 #include <span>
 #include <vector>

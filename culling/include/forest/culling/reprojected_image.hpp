@@ -18,7 +18,10 @@
 // Measured (forest bench culling, 2026-12-05): of the trees hidden now that showed the frame before
 // on the thesis walk at 10 201 trees, 125 of 146 guessed, 29 guesses wrong (visible now); eye
 // triangles 1.232 → 1.192 of the oracle's; on the default forest's ground and canopy paths within
-// 0.01 either way, 1–2% more queries.
+// 0.01 either way, 1–2% more queries. The samples are the image's eye depths and objects along
+// its pixels' rays (SampledImage), projected a row at a time without branches: 0.43 ms for the
+// 120 k samples of an 800 × 600 image (AVX2), 0.8 ms of a thesis-walk frame with the grid's clear
+// and the test.
 #include <glm/glm.hpp>
 
 #include <cstdint>
