@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <random>
 #include <span>
 #include <vector>
@@ -75,7 +76,26 @@ TEST(ReceiverMask, AReceiverTheMapCannotPlaceKeepsEveryCaster) {
   ReceiverMask mask;
   mask.reset(s, 1024, 256);
   mask.add(dvec3(0.0, -2.0, 0.0));
-  EXPECT_TRUE(mask.mayShadow(Aabb{dvec3(30, 5, 30), dvec3(31, 6, 31)}, 0.5));
+  const Aabb farCaster{dvec3(30, 5, 30), dvec3(31, 6, 31)};
+  EXPECT_TRUE(mask.mayShadow(farCaster, 0.5));
+
+  // The same point as a pixel of an eye row (an eye at the origin looking down: depth 2 m), with
+  // pixels that are no receivers beside it: a NaN depth and one beyond zMax. Without the point
+  // the row leaves the mask empty; with it, every caster may shadow.
+  EyeRays down;
+  down.eye = dvec3(0.0);
+  down.forward = dvec3(0.0, -1.0, 0.0);
+  down.right = dvec3(1.0, 0.0, 0.0);
+  down.up = dvec3(0.0, 0.0, -1.0);
+  const std::vector<float> columns{0.0f, 0.0f, 0.0f};
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  ReceiverMask byRow;
+  byRow.reset(s, 1024, 256);
+  byRow.addEyeRow(down, 0.0f, columns, std::vector<float>{nan, 50.0f, 0.0f}, 0.5, 40.0);
+  EXPECT_EQ(byRow.receivers(), 0);
+  EXPECT_FALSE(byRow.mayShadow(farCaster, 0.5));
+  byRow.addEyeRow(down, 0.0f, columns, std::vector<float>{nan, 50.0f, 2.0f}, 0.5, 40.0);
+  EXPECT_TRUE(byRow.mayShadow(farCaster, 0.5));
 }
 
 // Pixels handed over row by row as eye rays (addEyeRow, a frame's path) fill the mask as the same
