@@ -55,6 +55,16 @@ void paint(SampledImage& image, std::uint32_t object, float depth, int x0, int x
     }
 }
 
+// Object 0: a wall at 10 m over samples 5–19 (rows 5–34); object 1: a patch at 30 m over samples
+// [20, patchEnd) (rows 12–19), beside it. The eye moving 3 m left takes the wall 6 cells right
+// (cells 11–25) and the patch 2 (cells 22 to patchEnd + 1).
+SampledImage wallBesidePatch(const Camera& last, int patchEnd) {
+  SampledImage image = emptyImage(last);
+  paint(image, 0, 10.0f, 5, 20, 5, 35);
+  paint(image, 1, 30.0f, 20, patchEnd, 12, 20);
+  return image;
+}
+
 std::vector<std::uint8_t> guess(const SampledImage& image, const Camera& next, std::vector<std::uint8_t> shown,
                                 std::size_t firstCandidate = 0, int* cleared = nullptr) {
   ReprojectedImage reprojected;
@@ -82,13 +92,10 @@ TEST(ReprojectedImage, SampleRaysArePixelCentresOfTheCamera) {
 }
 
 TEST(ReprojectedImage, AnObjectANearerOneMovesInFrontOfIsGuessedHidden) {
-  // Object 0: a wall at 10 m over samples 5–19; object 1: a patch at 30 m over 20–23, beside it;
-  // object 2: a patch at 30 m over 30–33. The eye moves 3 m left: the wall 6 cells right (cells
-  // 11–25), the patches 2 (22–25 under the wall; 32–35 with nothing in front).
+  // The patch over samples 20–23 lands under the wall (cells 22–25); object 2, a patch at 30 m
+  // over samples 30–33, lands on 32–35 with nothing in front.
   const Camera last = lastCamera();
-  SampledImage image = emptyImage(last);
-  paint(image, 0, 10.0f, 5, 20, 5, 35);
-  paint(image, 1, 30.0f, 20, 24, 12, 20);
+  SampledImage image = wallBesidePatch(last, 24);
   paint(image, 2, 30.0f, 30, 34, 12, 20);
   int cleared = -1;
   EXPECT_EQ(guess(image, moved(last, -3.0, 0.0), {1, 1, 1}, 0, &cleared), (std::vector<std::uint8_t>{1, 0, 1}));
@@ -100,9 +107,7 @@ TEST(ReprojectedImage, AnObjectANearerOneMovesInFrontOfIsGuessedHidden) {
 TEST(ReprojectedImage, OneCellOfAnObjectBesideTheNearerOneShows) {
   // The patch over samples 20–26 lands on cells 22–28: 26–28 lie past the wall's last cell, 25.
   const Camera last = lastCamera();
-  SampledImage image = emptyImage(last);
-  paint(image, 0, 10.0f, 5, 20, 5, 35);
-  paint(image, 1, 30.0f, 20, 27, 12, 20);
+  const SampledImage image = wallBesidePatch(last, 27);
   EXPECT_EQ(guess(image, moved(last, -3.0, 0.0), {1, 1}), (std::vector<std::uint8_t>{1, 1}));
 }
 
@@ -128,9 +133,7 @@ TEST(ReprojectedImage, WhatShowsThroughTheHolesOfOneSpreadSurfaceIsHidden) {
 TEST(ReprojectedImage, OnlyCandidatesAreCleared) {
   // The patch under the wall is object 1: below firstCandidate = 2, or not flagged, it keeps its flag.
   const Camera last = lastCamera();
-  SampledImage image = emptyImage(last);
-  paint(image, 0, 10.0f, 5, 20, 5, 35);
-  paint(image, 1, 30.0f, 20, 24, 12, 20);
+  const SampledImage image = wallBesidePatch(last, 24);
   EXPECT_EQ(guess(image, moved(last, -3.0, 0.0), {1, 1}, 2), (std::vector<std::uint8_t>{1, 1}));
   EXPECT_EQ(guess(image, moved(last, -3.0, 0.0), {1, 0}), (std::vector<std::uint8_t>{1, 0}));
 }

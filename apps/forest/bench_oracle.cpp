@@ -106,10 +106,10 @@ std::vector<VisibleSet> bruteForceVisibleSets(const render::SceneObjects& object
     }
     if (f > 0) {  // the frame before's samples moved into this view
       const VisibleSet& before = sets[f - 1];
-      const int stride = culling::ReprojectedImage::kSampleStride;
       std::vector<std::uint8_t> shown(objects.boxes().size(), 0);
       for (std::uint32_t o : before.notTerrain) shown[o] = 1;
-      reprojected.begin(path[f], std::max(1, width / stride), std::max(1, height / stride), shown, 0);
+      // One cell per sample where nothing moved, as the frame's ImageVisibility::hideByReprojection.
+      reprojected.begin(path[f], static_cast<int>(samples.columns.size()), static_cast<int>(samples.rows.size()), shown, 0);
       reprojected.splat(samples);
       reprojected.clearHidden(shown);
       for (std::uint32_t o : before.notTerrain)

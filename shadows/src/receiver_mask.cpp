@@ -141,6 +141,9 @@ template <bool kLinearDepth>
     codes[i] = depthCodeAtOrBeyond(depth);  // NaN: 65535, unused
   }
 }
+// One function per depth kind, each with its AVX2 copy: the choice of depth is a template
+// argument (a run-time choice inside the loop keeps it from vectorising), and target_clones takes
+// plain functions.
 FOREST_AVX2_CLONE void placeRowLinearDepth(const float* depths, const float* columns, std::size_t count, RowAffine clipX,
                                            RowAffine clipY, RowAffine clipZ, RowAffine clipW, RowAffine lightDepth, double zMin,
                                            double zMax, int subCells, std::uint32_t* placed, std::uint16_t* codes) {
