@@ -113,6 +113,13 @@ TEST(ForestCli, BenchCullingWritesEveryStrategyAndTheOracle) {
         EXPECT_GE(run["oracle_lag_triangles"].get<double>(), 0.0);
         EXPECT_EQ(s["none"]["queries_p50"].get<double>(), 0.0);
         EXPECT_GT(s["stop-and-wait"]["queries_p50"].get<double>(), 0.0);
+        // The CPU's waits for query results: none without queries; a wait takes at least one
+        // query's result, so no frame waits more often than it queries (and so neither do the
+        // medians); stop-and-wait waits for its first query at the least.
+        for (const char* name : {"none", "frustum"}) EXPECT_EQ(s[name]["waits_p50"].get<double>(), 0.0) << name;
+        for (const char* name : {"stop-and-wait", "chc", "chc++"})
+          EXPECT_LE(s[name]["waits_p50"].get<double>(), s[name]["queries_p50"].get<double>()) << trees << " " << path << " " << name;
+        EXPECT_GE(s["stop-and-wait"]["waits_p50"].get<double>(), 1.0);
         // Every ratio is that strategy's p50 over frustum's and over the oracle's, as printed.
         const double frustumMs = s["frustum"]["p50_ms"].get<double>(), oracleMs = s["oracle"]["p50_ms"].get<double>();
         for (const char* name : {"none", "stop-and-wait", "chc", "chc++"}) {

@@ -1,9 +1,9 @@
-// forest bench culling: the culling strategies along four paths — under the canopy of the densest
-// stand, a ground-level walk through the
-// forest, an open view above the canopy, a crossing of the highest hill, or a camera path file
-// (--path, sampled as forest walkthrough samples it) — in scenes of several
-// tree counts at equal density. Per frame: time (culling + geometry drawn, to glFinish), triangles,
-// draw calls, queries (single and multi), state switches, CPU wait. Against frustum culling and the
+// forest bench culling: the culling strategies along four paths (bench_paths.hpp) — under the
+// canopy of the densest stand, a ground-level walk through the forest, an open view above the
+// canopy, a crossing of the highest hill, or a camera path file (--path, sampled as forest
+// walkthrough samples it) — in scenes of several tree counts at equal density. Per frame: time
+// (culling + geometry drawn, to glFinish), triangles, draw calls, queries (single and multi),
+// state switches, the CPU's waits for query results and their time. Against frustum culling and the
 // oracle: drawing exactly the visible set — trees, props and terrain blocks with a pixel in a
 // brute-force object-ID buffer (bench_oracle.hpp) — with no queries.
 // Writes JSON, a Markdown table and a PNG of frame time along each path.
@@ -36,6 +36,7 @@
 #include "forest/render/offscreen_target.hpp"
 #include "forest/render/scene_objects.hpp"
 #include "bench_oracle.hpp"
+#include "bench_paths.hpp"
 
 namespace forest::app {
 namespace {
@@ -69,170 +70,8 @@ struct FrameRecord {
 
 const char* const kOracle = "oracle";
 
-}  // namespace
-
-// A walker's path: from the scene's start, 1.4 m per frame along the view, turning 0.8° per frame,
-// eye 1.7 m over the ground (or camera.above_ground).
-std::vector<Camera> walkPath(const Scene& scene, const terrain::Terrain& terrain, int frames, double aspect) {
-  std::vector<Camera> cameras;
-  Camera c = scene.startCamera();
-  c.aspect = aspect;
-  const double above = scene.camera.above_ground.value_or(1.7);
-  const Aabb bounds = terrain.bounds();
-  for (int f = 0; f < frames; ++f) {
-    c.position.x = std::clamp(c.position.x, bounds.min.x + 1.0, bounds.max.x - 1.0);
-    c.position.z = std::clamp(c.position.z, bounds.min.z + 1.0, bounds.max.z - 1.0);
-    c.position.y = terrain.heightAt(c.position.x, c.position.z) + above;
-    cameras.push_back(c);
-    const glm::dvec3 forward = directionFromYawPitch(c.yaw, 0.0);
-    c.position += 1.4 * forward;
-    c.yaw += glm::radians(0.8);
-  }
-  return cameras;
-}
-
-namespace {
-
-// Above the canopy: 40 m over the ground, looking 10° down, 2 m and 1.5° of turn per frame.
-std::vector<Camera> canopyPath(const Scene& scene, const terrain::Terrain& terrain, int frames, double aspect) {
-  std::vector<Camera> cameras = walkPath(scene, terrain, 1, aspect);
-  Camera c = cameras.front();
-  cameras.clear();
-  const Aabb bounds = terrain.bounds();
-  c.pitch = glm::radians(-10.0);
-  for (int f = 0; f < frames; ++f) {
-    c.position.x = std::clamp(c.position.x, bounds.min.x + 1.0, bounds.max.x - 1.0);
-    c.position.z = std::clamp(c.position.z, bounds.min.z + 1.0, bounds.max.z - 1.0);
-    c.position.y = terrain.heightAt(c.position.x, c.position.z) + 40.0;
-    cameras.push_back(c);
-    c.position += 2.0 * directionFromYawPitch(c.yaw, 0.0);
-    c.yaw += glm::radians(1.5);
-  }
-  return cameras;
-}
-
-// Over the highest hill: at eye height from 250 m before its top to 250 m past it, on the line
-// from the scene's start through the top — first facing the hill, then the open view beyond.
-std::vector<Camera> hillPath(const Scene& scene, const terrain::Terrain& terrain, int frames, double aspect) {
-  const Camera start = walkPath(scene, terrain, 1, aspect).front();
-  int highest = 0;
-  for (int t = 1; t < terrain.tileCount(); ++t)
-    if (terrain.tileBox(t).max.y > terrain.tileBox(highest).max.y) highest = t;
-  const glm::dvec3 centre = terrain.tileBox(highest).centre();
-  glm::dvec2 top(centre.x, centre.z), direction = top - glm::dvec2(start.position.x, start.position.z);
-  direction = glm::length(direction) > 1.0 ? glm::normalize(direction) : glm::dvec2(1.0, 0.0);
-  const Aabb bounds = terrain.bounds();
-  std::vector<Camera> cameras;
-  Camera c = start;
-  c.yaw = std::atan2(-direction.x, -direction.y);
-  c.pitch = 0.0;
-  for (int f = 0; f < frames; ++f) {
-    const double s = frames > 1 ? static_cast<double>(f) / (frames - 1) : 0.5;
-    const glm::dvec2 p = top + (-250.0 + 500.0 * s) * direction;
-    c.position.x = std::clamp(p.x, bounds.min.x + 1.0, bounds.max.x - 1.0);
-    c.position.z = std::clamp(p.y, bounds.min.z + 1.0, bounds.max.z - 1.0);
-    c.position.y = terrain.heightAt(c.position.x, c.position.z) + 1.7;
-    cameras.push_back(c);
-  }
-  return cameras;
-}
-
-}  // namespace
-
-namespace {
-constexpr double kStandCell = 20.0;  // metres
-
-std::map<std::pair<int, int>, int> treesPerCell(const vegetation::Forest& forest) {
-  std::map<std::pair<int, int>, int> trees;
-  for (const vegetation::TreeInstance& t : forest.trees())
-    ++trees[{static_cast<int>(std::floor(t.position.x / kStandCell)), static_cast<int>(std::floor(t.position.z / kStandCell))}];
-  return trees;
-}
-}  // namespace
-
-glm::dvec2 clearingNear(const vegetation::Forest& forest, const Aabb& bounds, const glm::dvec2& stand) {
-  const std::map<std::pair<int, int>, int> trees = treesPerCell(forest);
-  const auto treesNear = [&](int cx, int cz) {  // trees in the 3 × 3 cells around (cx, cz): within 30 m of the centre
-    int n = 0;
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dx = -1; dx <= 1; ++dx)
-        if (const auto it = trees.find({cx + dx, cz + dz}); it != trees.end()) n += it->second;
-    return n;
-  };
-  const int sx = static_cast<int>(std::floor(stand.x / kStandCell)), sz = static_cast<int>(std::floor(stand.y / kStandCell));
-  for (int ring = 3; ring <= 30; ++ring)  // cells 60–600 m away, nearest rings first
-    for (int dz = -ring; dz <= ring; ++dz)
-      for (int dx = -ring; dx <= ring; ++dx) {
-        if (std::max(std::abs(dx), std::abs(dz)) != ring) continue;
-        const glm::dvec2 centre((sx + dx + 0.5) * kStandCell, (sz + dz + 0.5) * kStandCell);
-        if (centre.x < bounds.min.x + 30.0 || centre.x > bounds.max.x - 30.0 || centre.y < bounds.min.z + 30.0 || centre.y > bounds.max.z - 30.0)
-          continue;  // keep 30 m from the terrain's edge
-        if (treesNear(sx + dx, sz + dz) == 0) return centre;
-      }
-  return stand;
-}
-
-namespace {
-
-// Under the canopy: from the middle of the densest stand at eye height, 0.7 m per frame along the
-// view, turning 1.2° per frame — a slow loop inside it.
-std::vector<Camera> underCanopyPath(const Scene& scene, const terrain::Terrain& terrain, const vegetation::Forest& forest, int frames,
-                                    double aspect) {
-  const glm::dvec2 stand = vegetation::densestStand(forest, kStandCell);
-  Camera c = scene.startCamera();
-  c.aspect = aspect;
-  c.pitch = 0.0;
-  c.position = glm::dvec3(stand.x, 0.0, stand.y);
-  const double above = scene.camera.above_ground.value_or(1.7);
-  const Aabb bounds = terrain.bounds();
-  std::vector<Camera> cameras;
-  for (int f = 0; f < frames; ++f) {
-    c.position.x = std::clamp(c.position.x, bounds.min.x + 1.0, bounds.max.x - 1.0);
-    c.position.z = std::clamp(c.position.z, bounds.min.z + 1.0, bounds.max.z - 1.0);
-    c.position.y = terrain.heightAt(c.position.x, c.position.z) + above;
-    cameras.push_back(c);
-    c.position += 0.7 * directionFromYawPitch(c.yaw, 0.0);
-    c.yaw += glm::radians(1.2);
-  }
-  return cameras;
-}
-
-// A camera path file's first `frames` frames sampled at `fps` from its start, as forest walkthrough
-// flies it (Frame::cameraAt).
-std::vector<Camera> filePath(const CameraPath& path, const Scene& scene, const terrain::Terrain& terrain, int frames, double fps,
-                             double aspect) {
-  std::vector<Camera> cameras;
-  for (int f = 0; f < frames; ++f) {
-    const CameraPose pose = path.at(path.startTime() + f / fps);
-    Camera c = scene.startCamera();
-    c.aspect = aspect;
-    c.position = pose.position;
-    if (path.aboveGround()) c.position.y += terrain.heightAt(pose.position.x, pose.position.z);
-    c.yaw = glm::radians(pose.yaw_deg);
-    c.pitch = glm::radians(pose.pitch_deg);
-    cameras.push_back(c);
-  }
-  return cameras;
-}
-
-std::vector<Camera> benchPath(const std::string& kind, const Scene& scene, const terrain::Terrain& terrain, const vegetation::Forest& forest,
-                              int frames, double aspect) {
-  if (kind == "forest") return underCanopyPath(scene, terrain, forest, frames, aspect);
-  if (kind == "ground") return walkPath(scene, terrain, frames, aspect);
-  if (kind == "canopy") return canopyPath(scene, terrain, frames, aspect);
-  return hillPath(scene, terrain, frames, aspect);
-}
-
-const std::map<std::string, std::string>& pathDescriptions() {
-  static const std::map<std::string, std::string> d = {{"forest", "under the canopy of the densest stand"},
-                                                        {"ground", "ground-level walk through the forest"},
-                                                        {"canopy", "open view 40 m above the canopy"},
-                                                        {"hill", "crossing the highest hill at eye height"}};
-  return d;
-}
-
 ordered_json summarise(const std::vector<FrameRecord>& frames) {
-  std::vector<double> ms, triangles, draws, queries, multi, geometry, queryTriangles, switches, wait, cpu, objects;
+  std::vector<double> ms, triangles, draws, queries, multi, geometry, queryTriangles, switches, wait, waits, cpu, objects;
   for (const FrameRecord& r : frames) {
     ms.push_back(r.milliseconds);
     triangles.push_back(static_cast<double>(r.stats.trianglesDrawn));
@@ -243,6 +82,7 @@ ordered_json summarise(const std::vector<FrameRecord>& frames) {
     queryTriangles.push_back(static_cast<double>(r.stats.queryTriangles));
     switches.push_back(r.stats.stateSwitches);
     wait.push_back(r.stats.waitMilliseconds);
+    waits.push_back(r.stats.waits);
     cpu.push_back(r.stats.cpuMilliseconds);
     objects.push_back(r.stats.objectsDrawn);
   }
@@ -251,7 +91,8 @@ ordered_json summarise(const std::vector<FrameRecord>& frames) {
           {"draw_calls_p50", percentile(draws, 0.5)},   {"queries_p50", percentile(queries, 0.5)},
           {"multiqueries_p50", percentile(multi, 0.5)}, {"geometry_queries_p50", percentile(geometry, 0.5)},
           {"query_triangles_p50", percentile(queryTriangles, 0.5)}, {"state_switches_p50", percentile(switches, 0.5)},
-          {"wait_ms_p50", percentile(wait, 0.5)},        {"culling_cpu_ms_p50", percentile(cpu, 0.5)}};
+          {"wait_ms_p50", percentile(wait, 0.5)},        {"waits_p50", percentile(waits, 0.5)},
+          {"culling_cpu_ms_p50", percentile(cpu, 0.5)}};
 }
 
 glm::vec3 strategyColour(const std::string& name) {
@@ -499,12 +340,28 @@ int runBenchCulling(const BenchOptions& options) {
           "the oracle's one-frame lag: {:.3f} of its triangles over the measured frames (visible in the frame before, hidden "
           "now, in the frustum: the least a method that draws the previous frame's visible set untested draws above them)", lag);
       markdown += fmt::format("## {} trees, {} ({})\n\n", size, pathName, describe(pathName));
-      markdown += "| strategy | p50 ms | p95 ms | / frustum | / oracle | triangles | / oracle's | draws | queries | multi | geometry | switches | wait ms | cpu ms |\n";
-      markdown += "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-      std::cout << fmt::format("\n{} trees, {} path ({}), {} frames:\n", size, pathName, describe(pathName), framesPerPath);
-      std::cout << fmt::format("  {:<14} {:>8} {:>8} {:>9} {:>8} {:>11} {:>8} {:>7} {:>8} {:>6} {:>6} {:>8} {:>8} {:>7}\n", "strategy",
-                               "p50 ms", "p95 ms", "/frustum", "/oracle", "triangles", "/oracle", "draws", "queries", "multi", "geom",
-                               "switches", "wait ms", "cpu ms");
+      // The table's columns: console and Markdown headings, JSON field, decimals, console width.
+      struct Column {
+        const char *console, *heading, *field;
+        int decimals, width;
+      };
+      static const Column columns[] = {
+          {"p50 ms", "p50 ms", "p50_ms", 2, 8},          {"p95 ms", "p95 ms", "p95_ms", 2, 8},
+          {"/frustum", "/ frustum", "over_frustum", 3, 9}, {"/oracle", "/ oracle", "over_oracle", 3, 8},
+          {"triangles", "triangles", "triangles_p50", 0, 11}, {"/oracle", "/ oracle's", "triangles_over_oracle", 3, 8},
+          {"draws", "draws", "draw_calls_p50", 0, 7},    {"queries", "queries", "queries_p50", 0, 8},
+          {"multi", "multi", "multiqueries_p50", 0, 6},  {"geom", "geometry", "geometry_queries_p50", 0, 6},
+          {"switches", "switches", "state_switches_p50", 0, 8}, {"waits", "waits", "waits_p50", 0, 6},
+          {"wait ms", "wait ms", "wait_ms_p50", 2, 8},   {"cpu ms", "cpu ms", "culling_cpu_ms_p50", 2, 7}};
+      markdown += fmt::format("## {} trees, {} ({})\n\n| strategy |", size, pathName, describe(pathName));
+      std::string separator = "|---|", heading = fmt::format("  {:<14}", "strategy");
+      for (const Column& c : columns) {
+        markdown += fmt::format(" {} |", c.heading);
+        separator += "---:|";
+        heading += fmt::format(" {:>{}}", c.console, c.width);
+      }
+      markdown += "\n" + separator + "\n";
+      std::cout << fmt::format("\n{} trees, {} path ({}), {} frames:\n{}\n", size, pathName, describe(pathName), framesPerPath, heading);
       PlotPanel panel{fmt::format("{} trees, {}", size, pathName), "frame", "ms (culling + geometry)", {}};
       for (const std::string& name : order) {
         ordered_json& j = summaries[name];
@@ -514,19 +371,14 @@ int runBenchCulling(const BenchOptions& options) {
         // The eye-triangle ratio to the exactly visible set (issue targets: ≤ 1.2 on the ground paths).
         j["triangles_over_oracle"] = j["triangles_p50"].get<double>() / std::max(1.0, oracleTriangles);
         entry["strategies"][name] = j;
-        const std::string row = fmt::format(
-            "{:.2f} | {:.2f} | {:.3f} | {:.3f} | {:.0f} | {:.3f} | {:.0f} | {:.0f} | {:.0f} | {:.0f} | {:.0f} | {:.2f} | {:.2f}", ms,
-            j["p95_ms"].get<double>(), j["over_frustum"].get<double>(), j["over_oracle"].get<double>(), j["triangles_p50"].get<double>(),
-            j["triangles_over_oracle"].get<double>(), j["draw_calls_p50"].get<double>(), j["queries_p50"].get<double>(),
-            j["multiqueries_p50"].get<double>(), j["geometry_queries_p50"].get<double>(), j["state_switches_p50"].get<double>(),
-            j["wait_ms_p50"].get<double>(), j["culling_cpu_ms_p50"].get<double>());
-        markdown += fmt::format("| {} | {} |\n", name, row);
-        std::cout << fmt::format("  {:<14} {:>8.2f} {:>8.2f} {:>9.3f} {:>8.3f} {:>11.0f} {:>8.3f} {:>7.0f} {:>8.0f} {:>6.0f} {:>6.0f} {:>8.0f} {:>8.2f} {:>7.2f}\n",
-                                 name, ms, j["p95_ms"].get<double>(), j["over_frustum"].get<double>(), j["over_oracle"].get<double>(),
-                                 j["triangles_p50"].get<double>(), j["triangles_over_oracle"].get<double>(), j["draw_calls_p50"].get<double>(),
-                                 j["queries_p50"].get<double>(), j["multiqueries_p50"].get<double>(), j["geometry_queries_p50"].get<double>(),
-                                 j["state_switches_p50"].get<double>(), j["wait_ms_p50"].get<double>(),
-                                 j["culling_cpu_ms_p50"].get<double>());
+        std::string markdownRow = fmt::format("| {} |", name), consoleRow = fmt::format("  {:<14}", name);
+        for (const Column& c : columns) {
+          const double value = j[c.field].get<double>();
+          markdownRow += fmt::format(" {:.{}f} |", value, c.decimals);
+          consoleRow += fmt::format(" {:>{}.{}f}", value, c.width, c.decimals);
+        }
+        markdown += markdownRow + "\n";
+        std::cout << consoleRow << "\n";
         PlotSeries series{name, strategyColour(name), {}, true};
         for (size_t f = 0; f < records[name].size(); ++f) series.points.push_back({static_cast<double>(f), records[name][f].milliseconds});
         panel.series.push_back(std::move(series));

@@ -1,0 +1,27 @@
+#pragma once
+// The camera paths of forest bench culling: four built-in paths through a scene (under the canopy
+// of the densest stand, a ground-level walk, an open view above the canopy, a crossing of the
+// highest hill) and a camera path file sampled as forest walkthrough samples it.
+#include <map>
+#include <string>
+#include <vector>
+
+#include "forest/core/camera.hpp"
+#include "forest/core/camera_path.hpp"
+#include "forest/core/scene.hpp"
+#include "forest/terrain/terrain.hpp"
+#include "forest/vegetation/forest.hpp"
+
+namespace forest::app {
+
+// A camera path file's first `frames` frames sampled at `fps` from its start, as forest walkthrough
+// flies it (Frame::cameraAt).
+std::vector<Camera> filePath(const CameraPath& path, const Scene& scene, const terrain::Terrain& terrain, int frames, double fps,
+                             double aspect);
+// The built-in path `kind` ("forest", "ground", "canopy", "hill"; pathDescriptions' keys).
+std::vector<Camera> benchPath(const std::string& kind, const Scene& scene, const terrain::Terrain& terrain, const vegetation::Forest& forest,
+                              int frames, double aspect);
+// One line per built-in path, for the tables and --help.
+const std::map<std::string, std::string>& pathDescriptions();
+
+}  // namespace forest::app
