@@ -430,8 +430,9 @@ Run addBenchCommand(CLI::App& app) {
       "The culling strategies under the canopy of the densest stand, along a ground-level walk, an open view\n"
       "above the canopy and a hill crossing (or along a camera path file, --path), in\n"
       "scenes of several tree counts at equal density: p50/p95 frame time, triangles, draw calls, queries\n"
-      "(single and multi), state switches, the CPU's waits for query results and their time; ratios to frustum culling and to the oracle (the exact\n"
-      "visible set drawn without queries). Writes JSON, a Markdown table and a PNG plot");
+      "(single and multi), state switches, the CPU's waits for query results and their time; ratios to\n"
+      "frustum culling and to the oracle (the exact visible set drawn without queries). Writes JSON, a\n"
+      "Markdown table and a PNG plot");
   options->gl.add(*cullingBench);
   cullingBench->add_option("--scene", options->scene, "Base scene file (default: data/scenes/forest.toml)");
   cullingBench->add_option("--trees", options->trees,
