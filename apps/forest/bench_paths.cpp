@@ -8,26 +8,6 @@
 
 namespace forest::app {
 
-// A walker's path: from the scene's start, 1.4 m per frame along the view, turning 0.8° per frame,
-// eye 1.7 m over the ground (or camera.above_ground).
-std::vector<Camera> walkPath(const Scene& scene, const terrain::Terrain& terrain, int frames, double aspect) {
-  std::vector<Camera> cameras;
-  Camera c = scene.startCamera();
-  c.aspect = aspect;
-  const double above = scene.camera.above_ground.value_or(1.7);
-  const Aabb bounds = terrain.bounds();
-  for (int f = 0; f < frames; ++f) {
-    c.position.x = std::clamp(c.position.x, bounds.min.x + 1.0, bounds.max.x - 1.0);
-    c.position.z = std::clamp(c.position.z, bounds.min.z + 1.0, bounds.max.z - 1.0);
-    c.position.y = terrain.heightAt(c.position.x, c.position.z) + above;
-    cameras.push_back(c);
-    const glm::dvec3 forward = directionFromYawPitch(c.yaw, 0.0);
-    c.position += 1.4 * forward;
-    c.yaw += glm::radians(0.8);
-  }
-  return cameras;
-}
-
 namespace {
 
 // Above the canopy: 40 m over the ground, looking 10° down, 2 m and 1.5° of turn per frame.
@@ -74,9 +54,6 @@ std::vector<Camera> hillPath(const Scene& scene, const terrain::Terrain& terrain
   return cameras;
 }
 
-}  // namespace
-
-namespace {
 constexpr double kStandCell = 20.0;  // metres
 
 std::map<std::pair<int, int>, int> treesPerCell(const vegetation::Forest& forest) {
@@ -85,31 +62,6 @@ std::map<std::pair<int, int>, int> treesPerCell(const vegetation::Forest& forest
     ++trees[{static_cast<int>(std::floor(t.position.x / kStandCell)), static_cast<int>(std::floor(t.position.z / kStandCell))}];
   return trees;
 }
-}  // namespace
-
-glm::dvec2 clearingNear(const vegetation::Forest& forest, const Aabb& bounds, const glm::dvec2& stand) {
-  const std::map<std::pair<int, int>, int> trees = treesPerCell(forest);
-  const auto treesNear = [&](int cx, int cz) {  // trees in the 3 × 3 cells around (cx, cz): within 30 m of the centre
-    int n = 0;
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dx = -1; dx <= 1; ++dx)
-        if (const auto it = trees.find({cx + dx, cz + dz}); it != trees.end()) n += it->second;
-    return n;
-  };
-  const int sx = static_cast<int>(std::floor(stand.x / kStandCell)), sz = static_cast<int>(std::floor(stand.y / kStandCell));
-  for (int ring = 3; ring <= 30; ++ring)  // cells 60–600 m away, nearest rings first
-    for (int dz = -ring; dz <= ring; ++dz)
-      for (int dx = -ring; dx <= ring; ++dx) {
-        if (std::max(std::abs(dx), std::abs(dz)) != ring) continue;
-        const glm::dvec2 centre((sx + dx + 0.5) * kStandCell, (sz + dz + 0.5) * kStandCell);
-        if (centre.x < bounds.min.x + 30.0 || centre.x > bounds.max.x - 30.0 || centre.y < bounds.min.z + 30.0 || centre.y > bounds.max.z - 30.0)
-          continue;  // keep 30 m from the terrain's edge
-        if (treesNear(sx + dx, sz + dz) == 0) return centre;
-      }
-  return stand;
-}
-
-namespace {
 
 // Under the canopy: from the middle of the densest stand at eye height, 0.7 m per frame along the
 // view, turning 1.2° per frame — a slow loop inside it.
@@ -135,6 +87,48 @@ std::vector<Camera> underCanopyPath(const Scene& scene, const terrain::Terrain& 
 }
 
 }  // namespace
+
+// A walker's path: from the scene's start, 1.4 m per frame along the view, turning 0.8° per frame,
+// eye 1.7 m over the ground (or camera.above_ground).
+std::vector<Camera> walkPath(const Scene& scene, const terrain::Terrain& terrain, int frames, double aspect) {
+  std::vector<Camera> cameras;
+  Camera c = scene.startCamera();
+  c.aspect = aspect;
+  const double above = scene.camera.above_ground.value_or(1.7);
+  const Aabb bounds = terrain.bounds();
+  for (int f = 0; f < frames; ++f) {
+    c.position.x = std::clamp(c.position.x, bounds.min.x + 1.0, bounds.max.x - 1.0);
+    c.position.z = std::clamp(c.position.z, bounds.min.z + 1.0, bounds.max.z - 1.0);
+    c.position.y = terrain.heightAt(c.position.x, c.position.z) + above;
+    cameras.push_back(c);
+    const glm::dvec3 forward = directionFromYawPitch(c.yaw, 0.0);
+    c.position += 1.4 * forward;
+    c.yaw += glm::radians(0.8);
+  }
+  return cameras;
+}
+
+glm::dvec2 clearingNear(const vegetation::Forest& forest, const Aabb& bounds, const glm::dvec2& stand) {
+  const std::map<std::pair<int, int>, int> trees = treesPerCell(forest);
+  const auto treesNear = [&](int cx, int cz) {  // trees in the 3 × 3 cells around (cx, cz): within 30 m of the centre
+    int n = 0;
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dx = -1; dx <= 1; ++dx)
+        if (const auto it = trees.find({cx + dx, cz + dz}); it != trees.end()) n += it->second;
+    return n;
+  };
+  const int sx = static_cast<int>(std::floor(stand.x / kStandCell)), sz = static_cast<int>(std::floor(stand.y / kStandCell));
+  for (int ring = 3; ring <= 30; ++ring)  // cells 60–600 m away, nearest rings first
+    for (int dz = -ring; dz <= ring; ++dz)
+      for (int dx = -ring; dx <= ring; ++dx) {
+        if (std::max(std::abs(dx), std::abs(dz)) != ring) continue;
+        const glm::dvec2 centre((sx + dx + 0.5) * kStandCell, (sz + dz + 0.5) * kStandCell);
+        if (centre.x < bounds.min.x + 30.0 || centre.x > bounds.max.x - 30.0 || centre.y < bounds.min.z + 30.0 || centre.y > bounds.max.z - 30.0)
+          continue;  // keep 30 m from the terrain's edge
+        if (treesNear(sx + dx, sz + dz) == 0) return centre;
+      }
+  return stand;
+}
 
 std::vector<Camera> filePath(const CameraPath& path, const Scene& scene, const terrain::Terrain& terrain, int frames, double fps,
                              double aspect) {
@@ -167,6 +161,5 @@ const std::map<std::string, std::string>& pathDescriptions() {
                                                         {"hill", "crossing the highest hill at eye height"}};
   return d;
 }
-
 
 }  // namespace forest::app
