@@ -391,6 +391,7 @@ struct PropScene {
   // One frame: the objects the culler drew, and those it found visible.
   struct CulledFrame {
     std::set<std::uint32_t> drawn, visible;
+    int waits = 0;  // the CPU's waits for query results
   };
   CulledFrame cullFrame(culling::OcclusionCuller& culler, CullingStrategy strategy) const {
     target.bindAndClear();
@@ -405,7 +406,7 @@ struct PropScene {
       std::set<std::uint32_t> drawn;
     } recording(drawer);
     const culling::CullingResult& r = culler.cull(bvh, objects.boxes(), camera, strategy, recording);
-    return {recording.drawn, {r.visibleObjects.begin(), r.visibleObjects.end()}};
+    return {recording.drawn, {r.visibleObjects.begin(), r.visibleObjects.end()}, r.stats.waits};
   }
   // The objects with a pixel in the brute-force ID image.
   std::set<std::uint32_t> withPixels() const {
@@ -519,6 +520,49 @@ TEST_F(CullingGl, ALeafWithoutAPixelInTheLastImageIsAskedBeforeItIsDrawnAgain) {
       const std::set<std::uint32_t> drawn = frame(behindTheWall, seenBehind);
       if (record) EXPECT_EQ(drawn, seenBehind) << "frame " << k << " behind the wall";
       else EXPECT_EQ(drawn, seenAside) << "the premise: without the record the box is drawn untested, frame " << k;
+    }
+  }
+}
+
+// After frames drawn by frustum culling (culling::QueryPayoff's fallback, when queries do not pay)
+// chc++'s frame-to-frame state is stale: every node counts as not seen the frame before, and its
+// next frame descends from the root, a level of the hierarchy per wait for results. Given the last
+// image's record, that frame takes the state from it instead — the leaves that showed were
+// visible, every other node hidden — draws the leaves that showed at once, asks the rest in one
+// batch (one wait) and draws exactly the objects with pixels.
+TEST_F(CullingGl, AfterFrustumFramesChcPlusPlusTakesItsStateFromTheLastImage) {
+  std::vector<PropBox> props;
+  for (double side : {-1.0, 1.0}) {  // two walls 5 m ahead, a box 20 m ahead behind each
+    props.push_back({dvec3(side * 4.0 - 2.0, -3, -5.1), dvec3(side * 4.0 + 2.0, 3, -5.0), dvec3(0.5)});
+    props.push_back({dvec3(side * 16.0 - 1.0, -1, -21), dvec3(side * 16.0 + 1.0, 1, -20), dvec3(0.3)});
+  }
+  const PropScene scene(props);
+  const std::set<std::uint32_t> seen = scene.withPixels(), all{0, 1, 2, 3};
+  ASSERT_EQ(seen, (std::set<std::uint32_t>{0, 2})) << "the walls hide the boxes";
+  std::vector<std::uint8_t> shown(props.size(), 0);
+  for (std::uint32_t o : seen) shown[o] = 1;
+  int leafDepth = 0;  // the deepest leaf's depth below the root
+  for (const culling::BvhNode& n : scene.bvh.nodes()) {
+    int depth = 0;
+    for (std::int32_t p = n.parent; p >= 0; p = scene.bvh.nodes()[p].parent) ++depth;
+    if (n.leaf()) leafDepth = std::max(leafDepth, depth);
+  }
+  ASSERT_GE(leafDepth, 2) << "the premise: four leaves under a root";
+  for (bool record : {false, true}) {
+    culling::OcclusionCuller culler;
+    for (int k = 0; k < 3; ++k) (void)scene.cullFrame(culler, CullingStrategy::ChcPlusPlus);
+    for (int k = 0; k < 3; ++k) {
+      if (record) culler.setShownInLastImage(shown);
+      EXPECT_EQ(scene.cullFrame(culler, CullingStrategy::Frustum).drawn, all) << "frustum culling draws every box in view";
+    }
+    if (record) culler.setShownInLastImage(shown);
+    const PropScene::CulledFrame f = scene.cullFrame(culler, CullingStrategy::ChcPlusPlus);
+    EXPECT_EQ(f.visible, seen) << "record " << record;
+    if (record) {
+      EXPECT_EQ(f.drawn, seen) << "the first chc++ frame after frustum culling";
+      EXPECT_EQ(f.waits, 1) << "the walls drawn untested, the hidden nodes asked in one batch";
+    } else {
+      EXPECT_GE(f.waits, leafDepth + 1) << "the premise: from the root down, one wait per level";
     }
   }
 }

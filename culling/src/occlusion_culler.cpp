@@ -347,8 +347,12 @@ const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb>
       break;
     }
     case CullingStrategy::Chc: cullChc(t); break;
-    case CullingStrategy::ChcPlusPlus: cullChcPlusPlus(t); break;
+    case CullingStrategy::ChcPlusPlus:
+      if (lastStrategy_ == CullingStrategy::None || lastStrategy_ == CullingStrategy::Frustum) takeStateFromLastImage(t);
+      cullChcPlusPlus(t);
+      break;
   }
+  lastStrategy_ = strategy;
   issueAfterTraversal();  // chc++ did before its last wait
   drawQueryBatch();  // none left unread by the strategies; kept for a query issued last
   endQueries();
@@ -369,6 +373,31 @@ const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb>
   result.stats.cpuMilliseconds =
       1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - result.stats.waitMilliseconds;
   return result;
+}
+
+void OcclusionCuller::takeStateFromLastImage(Traversal& t) {
+  if (shownInLastImage_.empty()) return;
+  const std::vector<BvhNode>& nodes = t.nodes();
+  const std::uint64_t before = frame_ - 1;
+  const std::uint64_t requery = static_cast<std::uint64_t>(std::max(1, parameters_.visible_requery_frames));
+  for (NodeState& s : state_) {  // hidden in that frame, as far as the image tells
+    s.visible = false;
+    s.lastVisited = before;
+    s.invisibleFrames = std::min(s.invisibleFrames + 1, 1000);
+    s.newlyVisible = s.unconfirmed = false;
+  }
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    if (!nodes[n].leaf()) continue;
+    bool shown = false;
+    for (std::uint32_t o : t.objectsOf(static_cast<std::int32_t>(n)))
+      shown = shown || (o < shownInLastImage_.size() && shownInLastImage_[o] != 0);
+    if (!shown) continue;
+    NodeState& s = state_[n];
+    s.invisibleFrames = 0;
+    s.geometryHidden = false;
+    s.nextQueryFrame = frame_ + requery;
+    pullUpVisibility(static_cast<std::int32_t>(n));
+  }
 }
 
 // CHC (Bittner et al. 2004, fig. 4).

@@ -238,6 +238,10 @@ class OcclusionCuller {
   // without a pixel is not drawn untested again — it is asked first, as a hidden leaf; a leaf
   // with a pixel is drawn and needs no re-query (§3.3's n_av interval stands in for exactly this
   // knowledge). Exact whatever the flags say: they only decide between drawing untested and asking.
+  // After frames drawn without queries (none, frustum: culling::QueryPayoff's fallback), chc++'s
+  // frame-to-frame state is stale; the first chc++ cull after them takes it from these flags
+  // instead: a leaf with a shown object was visible, every other node hidden (as if chc++ had
+  // drawn that frame). Without flags it starts as from scratch, every node asked again.
   void setShownInLastImage(std::span<const std::uint8_t> shown) { shownInLastImage_ = shown; }
   // Forgets the previous frame's visibility (after a BVH rebuild or a camera cut).
   void reset();
@@ -275,6 +279,8 @@ class OcclusionCuller {
   void cullChc(Traversal& t);
   void drawObjects(Traversal& t, std::span<const std::uint32_t> objects);
   void pullUpVisibility(std::int32_t node);  // marks the node and its not yet visible ancestors visible
+  // chc++'s state as of the frame before, from setShownInLastImage's flags (see there).
+  void takeStateFromLastImage(Traversal& t);
   void cullChcPlusPlus(Traversal& t);
   // The query's result (true: a sample passed); waits for it when needed.
   bool waitResult(std::size_t slot, CullingStats& stats);
@@ -362,6 +368,7 @@ class OcclusionCuller {
   std::size_t duringEnd_ = 0;  // the slots below this one hold them
   const Bvh* stateOf_ = nullptr;
   std::uint64_t frame_ = 0;
+  CullingStrategy lastStrategy_ = CullingStrategy::ChcPlusPlus;  // the previous cull's
 };
 
 }  // namespace forest::culling
