@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include "forest/core/heap.hpp"
 #include "forest/gl/context.hpp"
 
 namespace forest::bench {
@@ -42,6 +43,7 @@ inline BenchArgs parseBenchArgs(int argc, char** argv, const char* name, BenchAr
 
 // The GL context for the benchmark; prints which device it got.
 inline std::unique_ptr<gl::Context> benchContext(const BenchArgs& args) {
+  keepFreedHeapMemory();  // as the forest program does: frames reuse freed memory (core/heap.hpp)
   gl::ContextOptions options;
   options.backend = gl::parseBackend(args.backend);
   auto context = gl::createContext(options);

@@ -3,6 +3,7 @@
 #include <iostream>
 #include <memory>
 
+#include "forest/core/heap.hpp"
 #include "forest/core/log.hpp"
 #include "gl_test_support.hpp"
 
@@ -28,6 +29,7 @@ gl::Context& context() {
 }  // namespace forest::test
 
 int main(int argc, char** argv) {
+  forest::keepFreedHeapMemory();  // as the forest program does (core/heap.hpp)
   ::testing::InitGoogleTest(&argc, argv);
   for (int i = 1; i < argc; ++i) {
     if (std::strncmp(argv[i], "--gl=", 5) == 0) forest::test::gBackend = argv[i] + 5;
