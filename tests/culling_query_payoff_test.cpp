@@ -21,7 +21,7 @@ std::vector<bool> run(QueryPayoff& payoff, int frames, const std::function<doubl
   std::vector<bool> frustum;
   std::deque<std::pair<int, double>> late;
   for (int f = 0; f < frames; ++f) {
-    const CullingStrategy s = payoff.next(CullingStrategy::ChcPlusPlus);
+    const CullingStrategy s = payoff.next(static_cast<std::uint64_t>(f), CullingStrategy::ChcPlusPlus);
     EXPECT_TRUE(s == CullingStrategy::ChcPlusPlus || s == CullingStrategy::Frustum);
     frustum.push_back(s == CullingStrategy::Frustum);
     late.emplace_back(f, cost(f, frustum.back()));
@@ -39,27 +39,28 @@ int count(const std::vector<bool>& ways, bool frustum, int from = 0, int to = -1
   return n;
 }
 
-// Defaults: window 5, probes of 2 frames, the first after 30, doubling to 480, margin 5%.
+// Defaults: window 5, probes of 2 frames, the first after 10, doubling to 480, margin 5%.
 TEST(QueryPayoff, FallsBackToFrustumCullingWhenQueriesCostMore) {
   QueryPayoff payoff;
   const auto ways = run(payoff, 300, [](int, bool frustum) { return frustum ? 5.0 : 10.0; });
-  // chc++ in 0–29; the probe 30–31 finds frustum culling cheaper and switches; queries are probed
-  // at 62–63 (30 frames on), 124–125 (60 after that probe's end), 246–247 (120): 30 + 3 × 2 frames.
-  EXPECT_EQ(count(ways, false), 36);
-  EXPECT_EQ(count(ways, false, 0, 30), 30);
-  EXPECT_EQ(count(ways, true, 30, 62), 32);
-  EXPECT_FALSE(ways[62] || ways[63] || ways[124] || ways[125] || ways[246] || ways[247]);
+  // chc++ in 0–9; the probe 10–11 finds frustum culling cheaper and switches; queries are probed
+  // at 22–23 (10 frames on), 44–45 (20 after that probe's end), 86–87 (40), 168–169 (80):
+  // 10 + 4 × 2 frames.
+  EXPECT_EQ(count(ways, false), 18);
+  EXPECT_EQ(count(ways, false, 0, 10), 10);
+  EXPECT_EQ(count(ways, true, 10, 22), 12);
+  EXPECT_FALSE(ways[22] || ways[23] || ways[44] || ways[45] || ways[86] || ways[87] || ways[168] || ways[169]);
   EXPECT_TRUE(payoff.fallenBack());
   EXPECT_EQ(payoff.switches(), 1);
-  EXPECT_EQ(payoff.probes(), 4);
+  EXPECT_EQ(payoff.probes(), 5);
 }
 
 TEST(QueryPayoff, KeepsQueriesWhenTheyPayAndProbesEverMoreRarely) {
   QueryPayoff payoff;
   const auto ways = run(payoff, 300, [](int, bool frustum) { return frustum ? 10.0 : 5.0; });
-  // Probes at 30–31, then 60 frames after its end (92–93), then 120 (214–215): 6 frames.
-  EXPECT_EQ(count(ways, true), 6);
-  EXPECT_TRUE(ways[30] && ways[31] && ways[92] && ways[93] && ways[214] && ways[215]);
+  // Probes at 10–11, then 20 frames after its end (32–33), then 40 (74–75), 80 (156–157): 8 frames.
+  EXPECT_EQ(count(ways, true), 8);
+  EXPECT_TRUE(ways[10] && ways[11] && ways[32] && ways[33] && ways[74] && ways[75] && ways[156] && ways[157]);
   EXPECT_FALSE(payoff.fallenBack());
   EXPECT_EQ(payoff.switches(), 0);
 }
@@ -75,11 +76,13 @@ TEST(QueryPayoff, ProbesAtOnceWhenTheViewMakesTheCurrentWayDear) {
   QueryPayoff payoff;
   // Frustum culling is cheaper until frame 100, then costs twice what queries do.
   const auto ways = run(payoff, 200, [](int f, bool frustum) { return frustum ? (f < 100 ? 5.0 : 20.0) : 10.0; });
-  // Fallen back at 31; from 100 the window's median passes queries' last probe (10 × 1.05) once 3
-  // of its 5 frames cost 20 (after 102's record), a probe runs 103–104 and switches back.
+  // Fallen back at 11 (queries probed at 22, 44, 86); from 100 the window's median passes
+  // queries' last probe (10 × 1.05) once 3 of its 5 frames cost 20 (after 102's record), a probe
+  // runs 103–104 and switches back; frustum culling's next probe is at 115.
   EXPECT_TRUE(ways[99]);
   EXPECT_EQ(count(ways, true, 100, 103), 3);
-  EXPECT_EQ(count(ways, false, 103, 135), 32);
+  EXPECT_EQ(count(ways, false, 103, 115), 12);
+  EXPECT_TRUE(ways[115] && ways[116]);
   EXPECT_FALSE(payoff.fallenBack());
   EXPECT_EQ(payoff.switches(), 2);
 }
@@ -89,15 +92,15 @@ TEST(QueryPayoff, DecidesOnLateTimes) {
   const int delay = 3;  // timer queries read three frames later
   const auto ways = run(payoff, 300, [](int, bool frustum) { return frustum ? 5.0 : 10.0; }, delay);
   // As without delay, each decision up to `delay` frames later: the switch and the three probes.
-  EXPECT_GE(count(ways, false), 36);
-  EXPECT_LE(count(ways, false), 36 + 4 * delay);
+  EXPECT_GE(count(ways, false), 18);
+  EXPECT_LE(count(ways, false), 18 + 5 * delay);
   EXPECT_TRUE(payoff.fallenBack());
   EXPECT_EQ(payoff.switches(), 1);
 }
 
 TEST(QueryPayoff, TimesNeverRecordedNeverSwitch) {
   QueryPayoff payoff;
-  for (int f = 0; f < 1000; ++f) (void)payoff.next(CullingStrategy::ChcPlusPlus);
+  for (std::uint64_t f = 0; f < 1000; ++f) (void)payoff.next(f, CullingStrategy::ChcPlusPlus);
   EXPECT_FALSE(payoff.fallenBack());
   EXPECT_GT(payoff.probes(), 1);  // a probe whose frames were forgotten ends, and the next follows
   payoff.record(5, 1.0);          // long forgotten: ignored
@@ -107,15 +110,25 @@ TEST(QueryPayoff, TimesNeverRecordedNeverSwitch) {
 
 TEST(QueryPayoff, StrategiesWithoutQueriesTakeNoPart) {
   QueryPayoff payoff;
-  for (int f = 0; f < 100; ++f) {
-    EXPECT_EQ(payoff.next(CullingStrategy::None), CullingStrategy::None);
-    EXPECT_EQ(payoff.next(CullingStrategy::Frustum), CullingStrategy::Frustum);
+  std::uint64_t frame = 0;
+  for (int k = 0; k < 100; ++k) {
+    EXPECT_EQ(payoff.next(frame++, CullingStrategy::None), CullingStrategy::None);
+    EXPECT_EQ(payoff.next(frame++, CullingStrategy::Frustum), CullingStrategy::Frustum);
   }
   EXPECT_EQ(payoff.probes(), 0);
-  // A query strategy other than chc++ is probed as well.
+  // A query strategy other than chc++ takes part too: the probe due since frame 10 runs first.
   int frustum = 0;
-  for (int f = 0; f < 40; ++f) frustum += payoff.next(CullingStrategy::Chc) == CullingStrategy::Frustum;
+  for (int k = 0; k < 40; ++k) frustum += payoff.next(frame++, CullingStrategy::Chc) == CullingStrategy::Frustum;
   EXPECT_EQ(frustum, 2);
+  EXPECT_THROW(payoff.next(5, CullingStrategy::ChcPlusPlus), forest::Error) << "frames go forward";
+}
+
+// Frames the caller leaves out (another strategy asked, a frame frozen) count in the schedule.
+TEST(QueryPayoff, FramesLeftOutCountInTheSchedule) {
+  QueryPayoff payoff;
+  int frustum = 0;
+  for (std::uint64_t f = 0; f < 60; f += 2) frustum += payoff.next(f, CullingStrategy::ChcPlusPlus) == CullingStrategy::Frustum;
+  EXPECT_EQ(frustum, 2);  // the probe from frame 10 on: frames 10 and 12
 }
 
 TEST(QueryPayoff, RejectsSettingsOutOfRange) {

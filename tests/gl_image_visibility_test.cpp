@@ -7,6 +7,7 @@
 // (TerrainRenderer::Output::BlockId), but for blocks next to one with a pixel: a pixel within
 // rounding of a block's edge may land in its neighbour, which only decides whether the culler asks
 // a block or draws it untested.
+#include <algorithm>
 #include <bit>
 #include <cstdio>
 #include <cstdlib>
@@ -133,6 +134,56 @@ TEST_F(ImageVisibilityGl, GuessesFromTheLastImageKeepTheFrameExact) {
   }
   std::printf("[image reprojection] %d trees and props guessed hidden over 12 views\n", guessed);
   EXPECT_GT(guessed, 0);  // the premise: the guesses were made
+}
+
+// [culling] query_payoff (culling::QueryPayoff): the frame probes frustum culling in frames 10 and
+// 11 whatever the times say (its first probe), and a frame drawn so takes its visible set from
+// the read-back's IDs: exactly the objects with pixels, and z_f from their boxes. Every frame's
+// object IDs equal those of a frame without culling; with query_payoff off, chc++ draws them all.
+TEST_F(ImageVisibilityGl, FramesDrawnByFrustumCullingTakeTheirVisibleSetFromTheImage) {
+  Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
+  Scene without = scene;
+  without.culling.query_payoff = false;
+  ASSERT_TRUE(scene.culling.query_payoff) << "on by default";
+  render::Frame paying(scene, kWidth, kHeight), querying(without, kWidth, kHeight), bruteForce(scene, kWidth, kHeight);
+  render::FrameSettings settings;
+  settings.casters = render::CasterSelection::ReceiverPixels;  // the read-back the visible set comes from
+  render::FrameSettings all = settings;
+  all.culling = culling::CullingStrategy::None;
+  const terrain::Terrain& terrain = *paying.terrain();
+  Camera camera = paying.startCamera();
+  camera.aspect = static_cast<double>(kWidth) / kHeight;
+  int byFrustum = 0;
+  for (int f = 0; f < 14; ++f) {
+    camera.position.x += 1.5;
+    camera.position.z -= 2.0;
+    camera.position.y = terrain.heightAt(camera.position.x, camera.position.z) + 1.7;
+    camera.yaw += glm::radians(1.0);
+    const render::FrameStats stats = paying.render(camera, 0.0, settings);
+    EXPECT_FALSE(querying.render(camera, 0.0, settings).culledByFrustum) << "frame " << f << ", query_payoff off";
+    bruteForce.render(camera, 0.0, all);
+    const std::vector<std::uint32_t> ids = paying.readObjectIds(), expected = bruteForce.readObjectIds();
+    EXPECT_EQ(ids, expected) << "frame " << f;
+    EXPECT_EQ(querying.readObjectIds(), expected) << "frame " << f;
+    if (f < 10) {
+      EXPECT_FALSE(stats.culledByFrustum) << "frame " << f << ": no probe before frame 10";
+    } else if (f < 12) {
+      EXPECT_TRUE(stats.culledByFrustum) << "frame " << f << ": the first probe";
+    }
+    std::set<std::uint32_t> withPixels;
+    for (std::uint32_t id : ids)
+      if (const std::int64_t o = paying.objects().objectOfId(id); o >= 0) withPixels.insert(static_cast<std::uint32_t>(o));
+    const std::set<std::uint32_t> visible(paying.visibleObjects().begin(), paying.visibleObjects().end());
+    if (stats.culledByFrustum) {
+      ++byFrustum;
+      EXPECT_EQ(visible, withPixels) << "frame " << f;
+      const std::vector<std::uint32_t> list(withPixels.begin(), withPixels.end());
+      EXPECT_EQ(stats.farDepth, culling::farDepthOf(list, paying.objects().boxes(), camera)) << "frame " << f;
+    } else {
+      EXPECT_TRUE(std::includes(visible.begin(), visible.end(), withPixels.begin(), withPixels.end())) << "frame " << f;
+    }
+  }
+  EXPECT_GE(byFrustum, 2);
 }
 
 INSTANTIATE_TEST_SUITE_P(LightingPassAndReadBack, ImageVisibilityByRecord,

@@ -31,6 +31,7 @@
 #include "forest/core/scene.hpp"
 #include "forest/culling/bvh.hpp"
 #include "forest/culling/occlusion_culler.hpp"
+#include "forest/culling/query_payoff.hpp"
 #include "forest/gl/context.hpp"
 #include "forest/gl/debug.hpp"
 #include "forest/render/offscreen_target.hpp"
@@ -66,13 +67,17 @@ struct BenchOptions {
 struct FrameRecord {
   double milliseconds = 0.0;
   culling::CullingStats stats;
+  bool fellBack = false;  // chc++ drew by frustum culling ([culling] query_payoff)
 };
 
 const char* const kOracle = "oracle";
+const char* const kChcAlways = "chc++ always";
 
 ordered_json summarise(const std::vector<FrameRecord>& frames) {
   std::vector<double> ms, triangles, draws, queries, multi, geometry, queryTriangles, switches, wait, waits, cpu, objects;
+  int fellBack = 0;
   for (const FrameRecord& r : frames) {
+    fellBack += r.fellBack;
     ms.push_back(r.milliseconds);
     triangles.push_back(static_cast<double>(r.stats.trianglesDrawn));
     draws.push_back(r.stats.drawCalls);
@@ -92,13 +97,14 @@ ordered_json summarise(const std::vector<FrameRecord>& frames) {
           {"multiqueries_p50", percentile(multi, 0.5)}, {"geometry_queries_p50", percentile(geometry, 0.5)},
           {"query_triangles_p50", percentile(queryTriangles, 0.5)}, {"state_switches_p50", percentile(switches, 0.5)},
           {"wait_ms_p50", percentile(wait, 0.5)},        {"waits_p50", percentile(waits, 0.5)},
-          {"culling_cpu_ms_p50", percentile(cpu, 0.5)}};
+          {"culling_cpu_ms_p50", percentile(cpu, 0.5)}, {"frustum_frames", fellBack}};
 }
 
 glm::vec3 strategyColour(const std::string& name) {
   static const std::map<std::string, glm::vec3> colours = {
       {"none", {0.6f, 0.6f, 0.6f}},          {"frustum", {0.1f, 0.45f, 0.85f}}, {"stop-and-wait", {0.55f, 0.3f, 0.75f}},
-      {"chc", {0.95f, 0.55f, 0.1f}},         {"chc++", {0.85f, 0.1f, 0.1f}},    {kOracle, {0.1f, 0.6f, 0.2f}}};
+      {"chc", {0.95f, 0.55f, 0.1f}},         {"chc++", {0.85f, 0.1f, 0.1f}},    {kOracle, {0.1f, 0.6f, 0.2f}},
+      {kChcAlways, {0.55f, 0.1f, 0.35f}}};
   const auto it = colours.find(name);
   return it == colours.end() ? glm::vec3(0.0f) : it->second;
 }
@@ -134,6 +140,18 @@ int runBenchCulling(const BenchOptions& options) {
   }
   std::vector<CullingStrategy> strategies;
   for (const std::string& s : options.strategies) strategies.push_back(culling::parseCullingStrategy(s));
+  // chc++ runs as the frame runs it: with [culling] query_payoff it draws by frustum culling in
+  // the frames where its queries do not pay (culling::QueryPayoff); then a row "chc++ always"
+  // shows it querying in every frame.
+  std::vector<std::string> rows = options.strategies;
+  std::vector<bool> withPayoff(strategies.size(), false);
+  for (size_t k = 0, n = strategies.size(); k < n; ++k) {
+    if (strategies[k] != CullingStrategy::ChcPlusPlus || !base.culling.query_payoff) continue;
+    withPayoff[k] = true;
+    strategies.push_back(CullingStrategy::ChcPlusPlus);
+    rows.push_back(kChcAlways);
+    withPayoff.push_back(false);
+  }
   const fs::path out(options.out);
   // --path: that file's path alone, named by its file's stem.
   std::optional<CameraPath> cameraPath;
@@ -178,7 +196,8 @@ int runBenchCulling(const BenchOptions& options) {
                                 {"tight_box_area_ratio", base.culling.tight_box_area_ratio},
                                 {"geometry_queries", base.culling.geometry_queries},
                                 {"image_visibility", base.culling.image_visibility},
-                                {"image_reprojection", base.culling.image_reprojection}};
+                                {"image_reprojection", base.culling.image_reprojection},
+                                {"query_payoff", base.culling.query_payoff}};
   std::vector<PlotPanel> panels;
   std::string markdown = fmt::format(
       "# Culling benchmark\n\n{} at {}x{}, {} frames per path, {}.\nFrame = culling + the geometry it draws (lit, no shadows), "
@@ -252,10 +271,13 @@ int runBenchCulling(const BenchOptions& options) {
       std::vector<std::unique_ptr<culling::OcclusionCuller>> cullers;
       std::vector<std::optional<render::TerrainBlockVisibility>> blockVisibility(strategies.size());
       std::vector<DrawnRecorder> recorders(strategies.size(), DrawnRecorder(objects));  // what each draws of V_f, V_f-1
+      std::vector<std::optional<culling::QueryPayoff>> payoffs(strategies.size());
+      std::vector<bool> ranFrustum(strategies.size(), false);  // in the frame before
       for (size_t k = 0; k < strategies.size(); ++k) {
         cullers.push_back(std::make_unique<culling::OcclusionCuller>());
         cullers.back()->setParameters(scene.culling);
         cullers.back()->setQueryMode(modes.queries);
+        if (withPayoff[k]) payoffs[k].emplace();
         // As the frame's geometry pass: the query-driven strategies draw a tile's blocks by their
         // visibility ([culling] terrain_blocks).
         if (scene.culling.terrain_blocks && strategies[k] != CullingStrategy::None && strategies[k] != CullingStrategy::Frustum)
@@ -273,7 +295,7 @@ int runBenchCulling(const BenchOptions& options) {
         timer.beginFrame();
         for (size_t k = 0; k <= strategies.size(); ++k) {
           const bool oracle = k == strategies.size();
-          const std::string name = oracle ? std::string(kOracle) : std::string(culling::cullingStrategyName(strategies[k]));
+          const std::string name = oracle ? std::string(kOracle) : rows[k];
           auto timed = timer.scope(name);
           beginPass(target.framebuffer().id());
           render::SceneDrawer lit(objects, &terrainLit, &treesLit, &propsLit, path[f], &lod, 0.0, scene.sun);
@@ -286,7 +308,12 @@ int runBenchCulling(const BenchOptions& options) {
             r.stats.objectsDrawn = static_cast<int>(visibleSets[f].objects.size());
             r.stats.drawCalls = 2;
           } else {
-            render::TerrainBlockVisibility* blocks = blockVisibility[k] ? &*blockVisibility[k] : nullptr;
+            const CullingStrategy ran = payoffs[k] ? payoffs[k]->next(f, strategies[k]) : strategies[k];
+            r.fellBack = ran != strategies[k];
+            // Frustum culling draws whole tiles; back from it, the blocks' visibility starts afresh.
+            if (blockVisibility[k] && ranFrustum[k] && !r.fellBack) blockVisibility[k]->reset();
+            ranFrustum[k] = r.fellBack;
+            render::TerrainBlockVisibility* blocks = blockVisibility[k] && !r.fellBack ? &*blockVisibility[k] : nullptr;
             if (strategies[k] != CullingStrategy::None) lit.cullTerrainBlocks(&frustum, blocks);
             if (blocks) blocks->beginFrame(lit);
             recorders[k].beginFrame(lit);
@@ -296,7 +323,7 @@ int runBenchCulling(const BenchOptions& options) {
               if (blocks) blocks->setShownInLastImage(lastImage.blocks);
             }
             const culling::CullingResult& culled =
-                cullers[k]->cull(bvh, objects.boxes(), path[f], strategies[k], recorders[k], objects.queryShapes(&lod), blocks);
+                cullers[k]->cull(bvh, objects.boxes(), path[f], ran, recorders[k], objects.queryShapes(&lod), blocks);
             const long long late = blocks ? blocks->drawLate(*cullers[k]) : 0;  // its queries go into culled.stats
             recorders[k].endFrame(visibleSets[f], f > 0 ? &visibleSets[f - 1] : nullptr, f >= static_cast<size_t>(warmup));
             r.stats = culled.stats;
@@ -306,7 +333,12 @@ int runBenchCulling(const BenchOptions& options) {
           showProgress("bench culling", "frames", ++done, total, std::chrono::duration<double>(Clock::now() - benchStart).count(), options.length.quiet);
         }
         timer.endFrame();
-        for (gl::FrameTiming& t : timer.takeCompleted()) timings.push_back(std::move(t));
+        for (gl::FrameTiming& t : timer.takeCompleted()) {
+          for (const gl::PassTime& p : t.passes)  // each chc++ with a payoff learns its frame's time
+            for (size_t k = 0; k < strategies.size(); ++k)
+              if (payoffs[k] && p.pass == rows[k]) payoffs[k]->record(t.frame, p.ms);
+          timings.push_back(std::move(t));
+        }
       }
       for (gl::FrameTiming& t : timer.drain()) timings.push_back(std::move(t));
       for (const gl::FrameTiming& t : timings)
@@ -317,7 +349,7 @@ int runBenchCulling(const BenchOptions& options) {
       // Summaries, ratios, the table and the plot panel of this (scene size, path).
       ordered_json& entry = json["runs"][size][pathName];
       entry["description"] = describe(pathName);
-      std::vector<std::string> order = options.strategies;
+      std::vector<std::string> order = rows;
       order.push_back(kOracle);
       std::map<std::string, ordered_json> summaries;
       for (const std::string& name : order)
@@ -332,7 +364,7 @@ int runBenchCulling(const BenchOptions& options) {
       const auto breakdown = [](const DrawnBreakdown& d) {
         return ordered_json{{"visible", d.visible}, {"lag", d.lag}, {"carried", d.carried}, {"fresh", d.fresh}};
       };
-      for (size_t k = 0; k < strategies.size(); ++k) summaries[options.strategies[k]]["trees_and_props_drawn"] = breakdown(recorders[k].meanPerFrame());
+      for (size_t k = 0; k < strategies.size(); ++k) summaries[rows[k]]["trees_and_props_drawn"] = breakdown(recorders[k].meanPerFrame());
       summaries[kOracle]["trees_and_props_drawn"] = breakdown(oracleTreesAndProps(visibleSets, static_cast<size_t>(warmup)));
       const double wholeTiles = wholeTileOracleTrianglesP50(visibleSets, oracleDrawn, static_cast<size_t>(warmup));
       entry["oracle_whole_tiles_triangles_p50"] = wholeTiles;
@@ -392,8 +424,14 @@ int runBenchCulling(const BenchOptions& options) {
           "chc++'s trees and props per frame (bench_oracle.hpp): {:.1f} visible; hidden now: {:.1f} visible the frame before (lag), {:.1f} "
           "drawn the frame before too (carried), {:.1f} others (fresh)", drawn["visible"].get<double>(), drawn["lag"].get<double>(),
           drawn["carried"].get<double>(), drawn["fresh"].get<double>());
-      markdown += "\n" + lagLine + ".\n\n" + wholeLine + ".\n\n" + (drawnLine.empty() ? "" : drawnLine + ".\n\n");
-      std::cout << "  " << lagLine << "\n  " << wholeLine << "\n" << (drawnLine.empty() ? "" : "  " + drawnLine + "\n");
+      const std::string payoffLine = !summaries.count(kChcAlways) ? std::string() : fmt::format(
+          "chc++ drew {} of the {} measured frames by frustum culling, where its queries did not pay ([culling] query_payoff; "
+          "chc++ always: queries in every frame)", summaries["chc++"]["frustum_frames"].get<int>(), records["chc++"].size() - warmup);
+      markdown += "\n" + lagLine + ".\n\n" + wholeLine + ".\n\n";
+      for (const std::string& line : {drawnLine, payoffLine})
+        if (!line.empty()) markdown += line + ".\n\n";
+      std::cout << "  " << lagLine << "\n  " << wholeLine << "\n" << (drawnLine.empty() ? "" : "  " + drawnLine + "\n")
+                << (payoffLine.empty() ? "" : "  " + payoffLine + "\n");
       panels.push_back(std::move(panel));
       if (pathName == "ground" && summaries.count("chc++")) groundChcPlusPlus[forest.trees().size()] = summaries["chc++"]["p50_ms"].get<double>();
     }

@@ -69,6 +69,7 @@ void readCulling(TomlSection& s, CullingSettings& c) {
   c.terrain_blocks = s.boolean("terrain_blocks", c.terrain_blocks);
   c.image_visibility = s.boolean("image_visibility", c.image_visibility);
   c.image_reprojection = s.boolean("image_reprojection", c.image_reprojection);
+  c.query_payoff = s.boolean("query_payoff", c.query_payoff);
   s.finish();
 }
 
@@ -253,7 +254,8 @@ std::string sceneToToml(const Scene& scene) {
                       {"geometry_queries", c.geometry_queries},
                       {"terrain_blocks", c.terrain_blocks},
                       {"image_visibility", c.image_visibility},
-                      {"image_reprojection", c.image_reprojection}};
+                      {"image_reprojection", c.image_reprojection},
+                      {"query_payoff", c.query_payoff}};
   toml::table shadows{{"cascades", scene.shadows.cascades},
                       {"split_lambda", scene.shadows.split_lambda},
                       {"cascade_blend", scene.shadows.cascade_blend}};

@@ -47,8 +47,9 @@ double QueryPayoff::median(const std::vector<double>& values) const {
   return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-CullingStrategy QueryPayoff::next(CullingStrategy asked) {
-  const std::uint64_t frame = nextFrame_++;
+CullingStrategy QueryPayoff::next(std::uint64_t frame, CullingStrategy asked) {
+  if (frame < nextFrame_) throw Error(fmt::format("QueryPayoff: frame {} after frame {}", frame, nextFrame_ - 1));
+  nextFrame_ = frame + 1;
   if (!usesQueries(asked)) return asked;
   // Frames never recorded (a timer that dropped them) are forgotten; a probe goes on without them.
   while (!planned_.empty() && planned_.front().frame + kForgetAfterFrames < frame) {

@@ -142,6 +142,7 @@ Frame::Frame(const Scene& scene, int width, int height) : scene_(scene), width_(
   passes_ = std::make_unique<Passes>(*objects_, terrain_.get(), forest_.get(), scene.props, width, height, scene.culling);
   bvh_ = culling::Bvh(objects_->boxes(), scene.culling.leaf_size);
   visibleObjects_.reserve(objects_->boxes().size());  // the largest visible set: no growth per frame
+  visibleFromImage_.visibleObjects.reserve(objects_->boxes().size());
   culler_.setParameters(scene_.culling);
   for (const Aabb& b : objects_->boxes()) sceneBounds_.extend(b);
 }
@@ -251,9 +252,14 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   // 1. Geometry pass: the visible set and its z_f.
   culler_.setQueryMode(settings.queries);
   const culling::CullingResult* culled = nullptr;  // the culler's storage, valid this frame
+  const bool frozen = settings.freezeCulling && haveVisibleSet_;
+  // chc++, or frustum culling where its queries do not pay ([culling] query_payoff): the visible
+  // set then comes from the read-back's IDs, and so does chc++'s state when it takes over again.
+  const bool payoffApplies = scene_.culling.query_payoff && scene_.culling.image_visibility && readsPixels && !frozen;
+  const culling::CullingStrategy strategy = payoffApplies ? payoff_.next(stats.frameNumber, settings.culling) : settings.culling;
+  stats.culledByFrustum = strategy != settings.culling;
   {
     auto timed = timer.scope(kFramePassNames[0]);
-    const bool frozen = settings.freezeCulling && haveVisibleSet_;
     // What showed in the last frame's image ([culling] image_visibility; ImageVisibility): read
     // once its lighting pass is done — waited for in deterministic mode, else if done already.
     const bool shown =
@@ -262,14 +268,12 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
     if (shown && scene_.culling.image_reprojection) stats.hiddenByReprojection = p.imageVisibility.hideByReprojection(camera);
     culler_.setShownInLastImage(shown ? p.imageVisibility.shownObjects() : std::span<const std::uint8_t>{});
     p.geometry.setShownBlocksInLastImage(shown ? p.imageVisibility.shownBlocks() : std::span<const std::uint16_t>{});
-    culled = &p.geometry.run(camera, eye, eyeLod, settings.culling, culler_, bvh_, frozen ? &visibleObjects_ : nullptr);
+    culled = &p.geometry.run(camera, eye, eyeLod, strategy, culler_, bvh_, frozen ? &visibleObjects_ : nullptr);
   }
-  const culling::CullingResult& visible = *culled;
+  const culling::CullingResult* visibleSet = culled;
   haveVisibleSet_ = true;
-  stats.culling = visible.stats;
-  stats.visibleObjects = static_cast<int>(visible.visibleObjects.size());
-  stats.geometryTriangles = visible.stats.trianglesDrawn;
-  stats.farDepth = visible.farDepth;
+  stats.culling = culled->stats;
+  stats.geometryTriangles = culled->stats.trianglesDrawn;
 
   // 2. Shadow setup from the visible set, per slice: B, the method's matrices, the casters. With
   // cascades, the splits start from the nearest visible depth (NearestDepthPass).
@@ -283,13 +287,24 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
       receiverPixels = &p.receiverPixels;
       if (scene_.culling.image_visibility)  // the cull took the last
         p.imageVisibility.recordFromPixels(p.receiverPixels, p.cpuWorkers, scene_.culling.image_reprojection);
+      if (stats.culledByFrustum) {  // exactly the objects with pixels, and their z_f
+        visibleFromImage_.stats = culled->stats;
+        visibleFromImage_.visibleObjects.clear();
+        const std::span<const std::uint8_t> shown = p.imageVisibility.shownObjects();
+        for (std::size_t o = 0; o < shown.size(); ++o)
+          if (shown[o] != 0) visibleFromImage_.visibleObjects.push_back(static_cast<std::uint32_t>(o));
+        visibleFromImage_.farDepth = culling::farDepthOf(visibleFromImage_.visibleObjects, objects_->boxes(), camera);
+        visibleSet = &visibleFromImage_;
+      }
     }
-    p.shadowSetup.run(camera, visible, settings, cascades, nearest, l, stats.sunBelowHorizon, *objects_, eyeLod, sceneBounds_,
+    p.shadowSetup.run(camera, *visibleSet, settings, cascades, nearest, l, stats.sunBelowHorizon, *objects_, eyeLod, sceneBounds_,
                       receiverPixels, p.plan, stats);
   }
   stats.casterObjects = 0;
   for (int i = 0; i < p.plan.cascades; ++i) stats.casterObjects += static_cast<int>(p.plan.slices[static_cast<size_t>(i)].casters.size());
-  visibleObjects_ = visible.visibleObjects;
+  stats.visibleObjects = static_cast<int>(visibleSet->visibleObjects.size());
+  stats.farDepth = visibleSet->farDepth;
+  visibleObjects_ = visibleSet->visibleObjects;
 
   // 3. Shadow pass, a layer per slice.
   {
@@ -324,7 +339,10 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   }
   timer.endFrame();
   if (settings.timing == gl::TimingMode::Profiling) {
-    while (timer.takeOldestCompleted(passTiming_)) stats.setPassTimes(passTiming_);
+    while (timer.takeOldestCompleted(passTiming_)) {
+      stats.setPassTimes(passTiming_);
+      learnPassTimes(passTiming_);
+    }
   } else {
     stats.passTimesPending = true;
   }
@@ -333,12 +351,19 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
 
 std::vector<gl::FrameTiming> Frame::takePassTimes() {
   if (!timer_ || timer_->mode() == gl::TimingMode::Profiling) return {};
-  return timer_->takeCompleted();
+  std::vector<gl::FrameTiming> timings = timer_->takeCompleted();
+  for (const gl::FrameTiming& t : timings) learnPassTimes(t);
+  return timings;
 }
 
 std::vector<gl::FrameTiming> Frame::drainPassTimes() {
   if (!timer_ || timer_->mode() == gl::TimingMode::Profiling) return {};
   return timer_->drain();
+}
+
+void Frame::learnPassTimes(const gl::FrameTiming& timing) {
+  for (const gl::PassTime& pass : timing.passes)
+    if (pass.pass == kFramePassNames[0]) payoff_.record(timing.frame, pass.ms);
 }
 
 void Frame::presentTo(GLuint framebuffer, int width, int height) const {

@@ -183,6 +183,11 @@ struct CullingSettings {
   // queries (+3–6 ms geometry pass on llvmpipe); on in the thesis demo's dense grid, where it
   // brings 10 201 trees from 1.23 to 1.19 of the visible set's triangles (docs/design.md).
   bool image_reprojection = false;
+  // chc++ measures whether its queries pay (culling::QueryPayoff): where frustum culling's frames
+  // are faster (an open view over a flat canopy on a software renderer), it draws by frustum
+  // culling and probes the queries again now and then. Needs the record of what showed
+  // (image_visibility from the read-back) to hand chc++ its state back after such frames.
+  bool query_payoff = true;
 };
 
 struct Scene {

@@ -27,7 +27,7 @@ namespace forest::culling {
 struct QueryPayoffSettings {
   int window = 5;               // frames whose median stands for the current way's cost, ≥ 1
   int probeFrames = 2;          // frames of one probe, ≥ 1 (their median: one cold frame does not decide)
-  int firstProbe = 30;          // frames before the first probe, and after a switch, ≥ 1
+  int firstProbe = 10;          // frames before the first probe, and after a switch, ≥ 1
   int maxProbeInterval = 480;   // the longest wait between probes, ≥ firstProbe
   double margin = 0.05;         // a switch needs the other way cheaper by this share, [0, 1)
 };
@@ -36,12 +36,13 @@ class QueryPayoff {
  public:
   explicit QueryPayoff(QueryPayoffSettings settings = {});  // throws Error on settings out of range
 
-  // The strategy for the next frame (frames are numbered from 0 in call order): `asked`, or
-  // frustum culling while queries do not pay or during a probe. Strategies without queries
-  // (none, frustum) are returned as asked and take no part.
-  CullingStrategy next(CullingStrategy asked);
-  // The measured time of frame `frame` (as numbered by next()); frames may be recorded late and
-  // in any order; a frame not recorded within 64 frames is forgotten.
+  // The strategy for frame `frame` (the caller's numbers, increasing from call to call; frames
+  // between two calls did not take part): `asked`, or frustum culling while queries do not pay
+  // or during a probe. Strategies without queries (none, frustum) are returned as asked and take
+  // no part.
+  CullingStrategy next(std::uint64_t frame, CullingStrategy asked);
+  // The measured time of frame `frame` (a frame next() was called for); frames may be recorded
+  // late and in any order; a frame not recorded within 64 frames is forgotten.
   void record(std::uint64_t frame, double milliseconds);
   // Whether the settled way is frustum culling (queries found not to pay).
   bool fallenBack() const { return fallenBack_; }

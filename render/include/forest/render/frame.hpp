@@ -25,6 +25,7 @@
 #include "forest/core/scene.hpp"
 #include "forest/culling/bvh.hpp"
 #include "forest/culling/occlusion_culler.hpp"
+#include "forest/culling/query_payoff.hpp"
 #include "forest/gl/objects.hpp"
 #include "forest/gl/context.hpp"
 #include "forest/gl/shader.hpp"
@@ -149,6 +150,9 @@ struct FrameStats {
   double nearestDepth = 0.0;          // z_near the splits started from (m; the camera's near until the depth buffer's is known)
   std::array<CascadeStats, shadows::kMaxCascades> cascade{};
   culling::CullingStats culling;
+  // chc++ was asked and frustum culling drew the frame, its queries found not to pay ([culling]
+  // query_payoff, culling::QueryPayoff); the visible set then is the read-back's objects with pixels.
+  bool culledByFrustum = false;
   // This frame's number (0, 1, … since the Frame was made). The pass times above are this frame's in
   // Profiling mode; with GpuQueries they are 0 and passTimesPending is set: they come later from
   // Frame::takePassTimes under this number.
@@ -250,6 +254,12 @@ class Frame {
   std::unique_ptr<Passes> passes_;
   culling::Bvh bvh_;
   culling::OcclusionCuller culler_;
+  // Whether chc++'s queries pay, from the geometry pass's times ([culling] query_payoff); kept
+  // across resetHistory (a cut changes the view, not what a query costs).
+  culling::QueryPayoff payoff_;
+  culling::CullingResult visibleFromImage_;  // the visible set of a frame frustum culling drew
+  // The geometry pass's time of a frame, for payoff_.
+  void learnPassTimes(const gl::FrameTiming& timing);
   std::unique_ptr<culling::OcclusionCuller> referenceCuller_;  // renderReferenceGeometry's, built on first use
   Aabb sceneBounds_;
   std::vector<std::uint32_t> visibleObjects_;
