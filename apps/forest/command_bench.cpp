@@ -469,7 +469,9 @@ Run addBenchCommand(CLI::App& app) {
       "above the canopy and a hill crossing (or along a camera path file, --path), in\n"
       "scenes of several tree counts at equal density: p50/p95 frame time, triangles, draw calls, queries\n"
       "(single and multi), state switches, the CPU's waits for query results and their time; ratios to\n"
-      "frustum culling and to the oracle (the exact visible set drawn without queries). Writes JSON, a\n"
+      "frustum culling and to the oracle (the exact visible set drawn without queries). With the scene's\n"
+      "[culling] query_payoff (the default), chc++ runs as the frame runs it, drawing by frustum culling\n"
+      "where its queries do not pay, and a row 'chc++ always' queries in every frame. Writes JSON, a\n"
       "Markdown table and a PNG plot");
   options->gl.add(*cullingBench);
   cullingBench->add_option("--scene", options->scene, "Base scene file (default: data/scenes/forest.toml)");

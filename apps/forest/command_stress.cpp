@@ -5,7 +5,6 @@
 // stress.json and stress.png (scaling curves); exit 1 when culling was not exact.
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
-#include <malloc.h>
 
 #include <algorithm>
 #include <chrono>
@@ -219,11 +218,9 @@ int runStress(const StressOptions& options) {
   if (options.length.frames <= options.length.warmup) throw InputError(fmt::format("--frames {}: expected more than --warmup {}", options.length.frames, options.length.warmup));
   const std::filesystem::path out = options.out;
   std::filesystem::create_directories(out);
-  // RSS should show live memory, not glibc's trimming: keep freed heap and large blocks in the
-  // process (no trim, no per-allocation mmap), so RSS is the high-water mark and grows only with a
-  // leak or a growing working set. (Sanitizer builds have their own allocator; mallopt is a no-op.)
-  mallopt(M_TRIM_THRESHOLD, 1 << 30);
-  mallopt(M_MMAP_THRESHOLD, 1 << 30);
+  // RSS shows live memory, not glibc's trimming: main() keeps freed heap in the process
+  // (keepFreedHeapMemory), so RSS is the high-water mark and grows only with a leak or a growing
+  // working set. (Sanitizer builds have their own allocator.)
 
   gl::ContextOptions contextOptions;
   contextOptions.backend = gl::parseBackend(options.gl.backend);
