@@ -255,7 +255,11 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   const bool frozen = settings.freezeCulling && haveVisibleSet_;
   // chc++, or frustum culling where its queries do not pay ([culling] query_payoff): the visible
   // set then comes from the read-back's IDs, and so does chc++'s state when it takes over again.
-  const bool payoffApplies = scene_.culling.query_payoff && scene_.culling.image_visibility && readsPixels && !frozen;
+  // It needs the pass times of Profiling (glFinish and a clock): llvmpipe's timer queries stamp a
+  // pass when its rasteriser reaches it, after the submitting thread has binned the whole draw,
+  // which would hide most of frustum culling's cost.
+  const bool payoffApplies = scene_.culling.query_payoff && scene_.culling.image_visibility && readsPixels && !frozen &&
+                             settings.timing == gl::TimingMode::Profiling;
   const culling::CullingStrategy strategy = payoffApplies ? payoff_.next(stats.frameNumber, settings.culling) : settings.culling;
   stats.culledByFrustum = strategy != settings.culling;
   {

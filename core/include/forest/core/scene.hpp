@@ -186,7 +186,8 @@ struct CullingSettings {
   // chc++ measures whether its queries pay (culling::QueryPayoff): where frustum culling's frames
   // are faster (an open view over a flat canopy on a software renderer), it draws by frustum
   // culling and probes the queries again now and then. Needs the record of what showed
-  // (image_visibility from the read-back) to hand chc++ its state back after such frames.
+  // (image_visibility from the read-back) to hand chc++ its state back after such frames, and the
+  // frame timed by profile (glFinish and a clock): both the software renderer's defaults.
   bool query_payoff = true;
 };
 

@@ -151,7 +151,8 @@ struct FrameStats {
   std::array<CascadeStats, shadows::kMaxCascades> cascade{};
   culling::CullingStats culling;
   // chc++ was asked and frustum culling drew the frame, its queries found not to pay ([culling]
-  // query_payoff, culling::QueryPayoff); the visible set then is the read-back's objects with pixels.
+  // query_payoff, culling::QueryPayoff; with the read-back, CasterSelection::ReceiverPixels, and
+  // Profiling timing); the visible set then is the read-back's objects with pixels.
   bool culledByFrustum = false;
   // This frame's number (0, 1, … since the Frame was made). The pass times above are this frame's in
   // Profiling mode; with GpuQueries they are 0 and passTimesPending is set: they come later from
