@@ -64,6 +64,7 @@ nlohmann::ordered_json frameRecord(int index, double time, bool warmup, const Ca
   r["casters"] = s.casterObjects;
   r["triangles"] = {{"geometry", s.geometryTriangles}, {"shadow", s.shadowTriangles}};
   r["queries"] = s.culling.queriesIssued;
+  r["culled_by_frustum"] = s.culledByFrustum;
   r["z_f"] = s.farDepth;
   r["far"] = camera.far;
   r["n"] = s.shadow.n;
@@ -117,6 +118,10 @@ nlohmann::ordered_json summariseFrames(const nlohmann::ordered_json& records, in
   summary["casters"] = column([](const auto& r) { return r["casters"].template get<double>(); });
   summary["queries"] = column([](const auto& r) { return r["queries"].template get<double>(); });
   summary["frames_measured"] = measured;
+  int byFrustum = 0;
+  for (const auto& r : records)
+    if (!r["warmup"].template get<bool>() && r.value("culled_by_frustum", false)) ++byFrustum;
+  summary["frames_culled_by_frustum"] = byFrustum;
   return summary;
 }
 
@@ -138,6 +143,8 @@ void printSummary(const nlohmann::ordered_json& summary) {
   std::cout << fmt::format("  mean per frame: {:.0f} eye triangles, {:.0f} shadow triangles, {:.0f} casters, {:.0f} queries\n",
                            summary["triangles_geometry"]["mean"].get<double>(), summary["triangles_shadow"]["mean"].get<double>(),
                            summary["casters"]["mean"].get<double>(), summary["queries"]["mean"].get<double>());
+  std::cout << fmt::format("  {} of {} frames drawn by frustum culling, where chc++'s queries did not pay ([culling] query_payoff)\n",
+                           summary["frames_culled_by_frustum"].get<int>(), summary["frames_measured"].get<int>());
 }
 
 int runWalkthrough(const WalkthroughOptions& options) {
