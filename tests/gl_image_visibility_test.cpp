@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <set>
+#include <utility>
 #include <vector>
 
 #include "forest/core/frustum.hpp"
@@ -29,6 +30,24 @@ namespace {
 constexpr int kWidth = 320, kHeight = 180;
 
 class ImageVisibilityGl : public GlTest {};
+
+// Half a step of the default walk, turning by `yawDeg`: nearer trees pass in front of farther ones.
+void halfWalkStep(Camera& camera, const terrain::Terrain& terrain, double yawDeg) {
+  camera.position.x += 1.5;
+  camera.position.z -= 2.0;
+  camera.position.y = terrain.heightAt(camera.position.x, camera.position.z) + 1.7;
+  camera.yaw += glm::radians(yawDeg);
+}
+
+// The readers' settings: the record, and so the frame's guesses and visible sets, from the
+// read-back (CasterSelection::ReceiverPixels); and the same without culling.
+std::pair<render::FrameSettings, render::FrameSettings> readBackAndBruteForce() {
+  render::FrameSettings settings;
+  settings.casters = render::CasterSelection::ReceiverPixels;
+  render::FrameSettings all = settings;
+  all.culling = culling::CullingStrategy::None;
+  return {settings, all};
+}
 
 // Blocks a and b of one tile's 4 × 4 touch (share an edge or a corner).
 bool touching(int a, int b) { return std::abs(a % 4 - b % 4) <= 1 && std::abs(a / 4 - b / 4) <= 1; }
@@ -110,20 +129,12 @@ TEST_F(ImageVisibilityGl, GuessesFromTheLastImageKeepTheFrameExact) {
   Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
   scene.culling.image_reprojection = true;
   render::Frame guessing(scene, kWidth, kHeight), bruteForce(scene, kWidth, kHeight);
-  render::FrameSettings settings;
-  settings.casters = render::CasterSelection::ReceiverPixels;  // the samples come from the read-back
-  render::FrameSettings all = settings;
-  all.culling = culling::CullingStrategy::None;
-  const terrain::Terrain& terrain = *guessing.terrain();
+  const auto [settings, all] = readBackAndBruteForce();  // the samples come from the read-back
   Camera camera = guessing.startCamera();
   camera.aspect = static_cast<double>(kWidth) / kHeight;
   int guessed = 0;
   for (int v = 0; v < 12; ++v) {
-    // Half the default walk's steps: nearer trees pass in front of farther ones.
-    camera.position.x += 1.5;
-    camera.position.z -= 2.0;
-    camera.position.y = terrain.heightAt(camera.position.x, camera.position.z) + 1.7;
-    camera.yaw += glm::radians(3.0);
+    halfWalkStep(camera, *guessing.terrain(), 3.0);
     guessed += guessing.render(camera, 0.0, settings).hiddenByReprojection;
     bruteForce.render(camera, 0.0, all);
     const std::vector<std::uint32_t> ids = guessing.readObjectIds(), expected = bruteForce.readObjectIds();
@@ -146,19 +157,12 @@ TEST_F(ImageVisibilityGl, FramesDrawnByFrustumCullingTakeTheirVisibleSetFromTheI
   without.culling.query_payoff = false;
   ASSERT_TRUE(scene.culling.query_payoff) << "on by default";
   render::Frame paying(scene, kWidth, kHeight), querying(without, kWidth, kHeight), bruteForce(scene, kWidth, kHeight);
-  render::FrameSettings settings;
-  settings.casters = render::CasterSelection::ReceiverPixels;  // the read-back the visible set comes from
-  render::FrameSettings all = settings;
-  all.culling = culling::CullingStrategy::None;
-  const terrain::Terrain& terrain = *paying.terrain();
+  const auto [settings, all] = readBackAndBruteForce();  // the read-back the visible set comes from
   Camera camera = paying.startCamera();
   camera.aspect = static_cast<double>(kWidth) / kHeight;
   int byFrustum = 0;
   for (int f = 0; f < 14; ++f) {
-    camera.position.x += 1.5;
-    camera.position.z -= 2.0;
-    camera.position.y = terrain.heightAt(camera.position.x, camera.position.z) + 1.7;
-    camera.yaw += glm::radians(1.0);
+    halfWalkStep(camera, *paying.terrain(), 1.0);
     const render::FrameStats stats = paying.render(camera, 0.0, settings);
     EXPECT_FALSE(querying.render(camera, 0.0, settings).culledByFrustum) << "frame " << f << ", query_payoff off";
     bruteForce.render(camera, 0.0, all);
