@@ -39,28 +39,28 @@ int count(const std::vector<bool>& ways, bool frustum, int from = 0, int to = -1
   return n;
 }
 
-// Defaults: window 5, probes of 2 frames, the first after 10, doubling to 480, margin 5%.
+// Defaults: window 5, probes of 2 frames, the first after 10, then 2·max(1, loss) times longer up
+// to 480, margin 5%. Here the losing way costs twice the other: each wait is 4 times the last.
 TEST(QueryPayoff, FallsBackToFrustumCullingWhenQueriesCostMore) {
   QueryPayoff payoff;
   const auto ways = run(payoff, 300, [](int, bool frustum) { return frustum ? 5.0 : 10.0; });
   // chc++ in 0–9; the probe 10–11 finds frustum culling cheaper and switches; queries are probed
-  // at 22–23 (10 frames on), 44–45 (20 after that probe's end), 86–87 (40), 168–169 (80):
-  // 10 + 4 × 2 frames.
-  EXPECT_EQ(count(ways, false), 18);
+  // at 22–23 (10 frames on), 64–65 (40 after that probe's end), 226–227 (160): 10 + 3 × 2 frames.
+  EXPECT_EQ(count(ways, false), 16);
   EXPECT_EQ(count(ways, false, 0, 10), 10);
   EXPECT_EQ(count(ways, true, 10, 22), 12);
-  EXPECT_FALSE(ways[22] || ways[23] || ways[44] || ways[45] || ways[86] || ways[87] || ways[168] || ways[169]);
+  EXPECT_FALSE(ways[22] || ways[23] || ways[64] || ways[65] || ways[226] || ways[227]);
   EXPECT_TRUE(payoff.fallenBack());
   EXPECT_EQ(payoff.switches(), 1);
-  EXPECT_EQ(payoff.probes(), 5);
+  EXPECT_EQ(payoff.probes(), 4);
 }
 
 TEST(QueryPayoff, KeepsQueriesWhenTheyPayAndProbesEverMoreRarely) {
   QueryPayoff payoff;
   const auto ways = run(payoff, 300, [](int, bool frustum) { return frustum ? 10.0 : 5.0; });
-  // Probes at 10–11, then 20 frames after its end (32–33), then 40 (74–75), 80 (156–157): 8 frames.
-  EXPECT_EQ(count(ways, true), 8);
-  EXPECT_TRUE(ways[10] && ways[11] && ways[32] && ways[33] && ways[74] && ways[75] && ways[156] && ways[157]);
+  // Probes at 10–11, then 40 frames after its end (52–53), then 160 (214–215): 6 frames.
+  EXPECT_EQ(count(ways, true), 6);
+  EXPECT_TRUE(ways[10] && ways[11] && ways[52] && ways[53] && ways[214] && ways[215]);
   EXPECT_FALSE(payoff.fallenBack());
   EXPECT_EQ(payoff.switches(), 0);
 }
@@ -70,13 +70,14 @@ TEST(QueryPayoff, EqualCostsNeverSwitch) {
   (void)run(payoff, 1000, [](int, bool) { return 7.0; });
   EXPECT_EQ(payoff.switches(), 0);  // a switch needs the other way cheaper by the margin
   EXPECT_FALSE(payoff.fallenBack());
+  EXPECT_EQ(payoff.probes(), 6);  // waits 10, 20, 40, 80, 160, 320 (no loss: doubling) fit 1000 frames
 }
 
 TEST(QueryPayoff, ProbesAtOnceWhenTheViewMakesTheCurrentWayDear) {
   QueryPayoff payoff;
   // Frustum culling is cheaper until frame 100, then costs twice what queries do.
   const auto ways = run(payoff, 200, [](int f, bool frustum) { return frustum ? (f < 100 ? 5.0 : 20.0) : 10.0; });
-  // Fallen back at 11 (queries probed at 22, 44, 86); from 100 the window's median passes
+  // Fallen back at 11 (queries probed at 22 and 64); from 100 the window's median passes
   // queries' last probe (10 × 1.05) once 3 of its 5 frames cost 20 (after 102's record), a probe
   // runs 103–104 and switches back; frustum culling's next probe is at 115.
   EXPECT_TRUE(ways[99]);
@@ -92,8 +93,8 @@ TEST(QueryPayoff, DecidesOnLateTimes) {
   const int delay = 3;  // timer queries read three frames later
   const auto ways = run(payoff, 300, [](int, bool frustum) { return frustum ? 5.0 : 10.0; }, delay);
   // As without delay, each decision up to `delay` frames later: the switch and the three probes.
-  EXPECT_GE(count(ways, false), 18);
-  EXPECT_LE(count(ways, false), 18 + 5 * delay);
+  EXPECT_GE(count(ways, false), 16);
+  EXPECT_LE(count(ways, false), 16 + 4 * delay);
   EXPECT_TRUE(payoff.fallenBack());
   EXPECT_EQ(payoff.switches(), 1);
 }

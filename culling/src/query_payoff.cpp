@@ -104,8 +104,10 @@ void QueryPayoff::finishProbe() {
       interval_ = settings_.firstProbe;
       ++switches_;
     } else {
+      // A way that lost by a factor k waits 2k times as long for its next probe.
       otherCost_ = probe;
-      interval_ = std::min(2 * interval_, settings_.maxProbeInterval);
+      const double loss = current > 0.0 ? std::max(1.0, probe / current) : 1.0;
+      interval_ = static_cast<int>(std::min(2.0 * interval_ * loss, static_cast<double>(settings_.maxProbeInterval)));
     }
   } else if (!probeTimes_.empty()) {
     otherCost_ = median(probeTimes_);  // nothing of the current way measured yet: ask again later

@@ -10,8 +10,9 @@
 //     frames;
 //   - now and then it probes the other way — `probeFrames` frames of frustum culling — and
 //     switches when the probe's median is below the current way's median by more than `margin`;
-//     a probe that does not switch doubles the wait before the next one (from `firstProbe` to at
-//     most `maxProbeInterval` frames), so a way that keeps losing costs ever fewer frames;
+//     a probe that does not switch, its median k times the current way's, multiplies the wait
+//     before the next one by 2·max(1, k) (from `firstProbe` to at most `maxProbeInterval`
+//     frames), so a way that keeps losing, or loses by far, costs ever fewer frames;
 //   - when the current way's median climbs above the other way's last known median (the view
 //     changed: the walker came down from the hill into the stand), it probes at once.
 // Both ways are exact (frustum culling draws everything in the frustum), so the choice changes
