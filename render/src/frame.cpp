@@ -292,12 +292,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
       if (scene_.culling.image_visibility)  // the cull took the last
         p.imageVisibility.recordFromPixels(p.receiverPixels, p.cpuWorkers, scene_.culling.image_reprojection);
       if (stats.culledByFrustum) {  // exactly the objects with pixels, and their z_f
-        visibleFromImage_.stats = culled->stats;
-        visibleFromImage_.visibleObjects.clear();
-        const std::span<const std::uint8_t> shown = p.imageVisibility.shownObjects();
-        for (std::size_t o = 0; o < shown.size(); ++o)
-          if (shown[o] != 0) visibleFromImage_.visibleObjects.push_back(static_cast<std::uint32_t>(o));
-        visibleFromImage_.farDepth = culling::farDepthOf(visibleFromImage_.visibleObjects, objects_->boxes(), camera);
+        p.imageVisibility.shownAsVisibleSet(objects_->boxes(), camera, culled->stats, visibleFromImage_);
         visibleSet = &visibleFromImage_;
       }
     }

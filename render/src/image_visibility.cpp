@@ -9,6 +9,15 @@
 #include "forest/terrain/terrain.hpp"
 
 namespace forest::render {
+
+void ImageVisibility::shownAsVisibleSet(std::span<const Aabb> objectBoxes, const Camera& camera, const culling::CullingStats& stats,
+                                        culling::CullingResult& out) const {
+  out.stats = stats;
+  out.visibleObjects.clear();
+  for (std::size_t o = 0; o < shownObjects_.size(); ++o)
+    if (shownObjects_[o] != 0) out.visibleObjects.push_back(static_cast<std::uint32_t>(o));
+  out.farDepth = culling::farDepthOf(out.visibleObjects, objectBoxes, camera);
+}
 namespace {
 constexpr GLuint kRecordBinding = 7;  // shaders/lighting.frag's ImageRecord
 constexpr int kBlocksPerTile = terrain::Terrain::kMaxBlockBoxes;  // the 4 × 4 blocks of levels 0–3

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "forest/core/camera.hpp"
+#include "forest/culling/occlusion_culler.hpp"
 #include "forest/culling/reprojected_image.hpp"
 #include "forest/gl/objects.hpp"
 #include "forest/render/scene_objects.hpp"
@@ -55,6 +56,11 @@ class ImageVisibility {
   bool collect(bool wait);
   // Per object: 1 when it had a pixel (culling::OcclusionCuller::setShownInLastImage).
   std::span<const std::uint8_t> shownObjects() const { return shownObjects_; }
+  // The record from pixels as this frame's visible set (a frame drawn by frustum culling,
+  // culling::QueryPayoff): exactly the objects with a pixel, and z_f from their boxes; `stats`
+  // taken as they are.
+  void shownAsVisibleSet(std::span<const Aabb> objectBoxes, const Camera& camera, const culling::CullingStats& stats,
+                         culling::CullingResult& out) const;
   // Per tile: bit b when its block b of the 4 × 4 at levels 0–3 had a pixel
   // (TerrainBlockVisibility::setShownInLastImage).
   std::span<const std::uint16_t> shownBlocks() const { return shownBlocks_; }
