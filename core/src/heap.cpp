@@ -11,7 +11,7 @@
 namespace forest {
 
 void keepFreedHeapMemory() {
-#if defined(__GLIBC__)
+#if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__)  // AddressSanitizer's allocator takes no mallopt
   constexpr int kTrimThreshold = 1 << 30;  // bytes free at a heap's top before it is given back
   constexpr int kMmapThreshold = 32 << 20;  // larger blocks come from mmap (and go back when freed)
   if (mallopt(M_TRIM_THRESHOLD, kTrimThreshold) != 1 || mallopt(M_MMAP_THRESHOLD, kMmapThreshold) != 1)
