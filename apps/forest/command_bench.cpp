@@ -272,7 +272,6 @@ int runBenchCulling(const BenchOptions& options) {
       std::vector<std::optional<render::TerrainBlockVisibility>> blockVisibility(strategies.size());
       std::vector<DrawnRecorder> recorders(strategies.size(), DrawnRecorder(objects));  // what each draws of V_f, V_f-1
       std::vector<std::optional<culling::QueryPayoff>> payoffs(strategies.size());
-      std::vector<bool> ranFrustum(strategies.size(), false);  // in the frame before
       for (size_t k = 0; k < strategies.size(); ++k) {
         cullers.push_back(std::make_unique<culling::OcclusionCuller>());
         cullers.back()->setParameters(scene.culling);
@@ -310,9 +309,7 @@ int runBenchCulling(const BenchOptions& options) {
           } else {
             const CullingStrategy ran = payoffs[k] ? payoffs[k]->next(f, strategies[k]) : strategies[k];
             r.fellBack = ran != strategies[k];
-            // Frustum culling draws whole tiles; back from it, the blocks' visibility starts afresh.
-            if (blockVisibility[k] && ranFrustum[k] && !r.fellBack) blockVisibility[k]->reset();
-            ranFrustum[k] = r.fellBack;
+            if (blockVisibility[k] && r.fellBack) blockVisibility[k]->skipFrame();  // frustum culling draws whole tiles
             render::TerrainBlockVisibility* blocks = blockVisibility[k] && !r.fellBack ? &*blockVisibility[k] : nullptr;
             if (strategies[k] != CullingStrategy::None) lit.cullTerrainBlocks(&frustum, blocks);
             if (blocks) blocks->beginFrame(lit);

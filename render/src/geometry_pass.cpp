@@ -57,9 +57,7 @@ const culling::CullingResult& GeometryPass::run(const Camera& camera, const Draw
   const bool byBlock = !frozen && blockVisibility_ && lod && strategy != culling::CullingStrategy::None &&
                        strategy != culling::CullingStrategy::Frustum;
   drawer.cullTerrainBlocks(&*frustum_, byBlock ? &*blockVisibility_ : nullptr);
-  // Frames without it (frustum culling, a frozen set) drew whole tiles: its record is stale.
-  if (byBlock && !lastByBlock_) blockVisibility_->reset();
-  lastByBlock_ = byBlock;
+  if (blockVisibility_ && !byBlock) blockVisibility_->skipFrame();
   if (!frozen) {
     const culling::QueryShapes shapes = objects_.queryShapes(lod);  // rewritten per call: once a frame
     if (!byBlock) return culler.cull(bvh, objects_.boxes(), camera, strategy, drawer, shapes);

@@ -62,7 +62,6 @@ class GeometryPass {
   std::unique_ptr<SceneDrawer> drawer_;
   culling::CullingResult frozenResult_;
   std::optional<TerrainBlockVisibility> blockVisibility_;  // with terrain and [culling] terrain_blocks
-  bool lastByBlock_ = false;  // the last run drew the terrain by blockVisibility_
   culling::CullingResult blockResult_;  // the culler's result with the late blocks' triangles
   std::optional<Frustum> frustum_;  // this frame's eye frustum: terrain blocks outside it are not drawn
 };

@@ -59,6 +59,9 @@ class TerrainBlockVisibility final : public culling::QueriesAfterTraversal {
   void setShownInLastImage(std::span<const std::uint16_t> shownBlocks) { shownInLastImage_ = shownBlocks; }
   // Forgets every block's visibility (a camera cut): each tile starts again with its blocks not known.
   void reset();
+  // A frame drawn without it (frustum culling — culling::QueryPayoff's fallback — or a frozen
+  // set: whole tiles): what it knew is stale, as after reset().
+  void skipFrame() { reset(); }
   // Whether block `block` of `tile`, drawn at `level` and meeting the frustum, is drawn now (it
   // was visible or is not known); if not (it was hidden), it is held until issue() asks it. After
   // issue() (a tile drawn after the traversal's last queries: chc++'s late leaves) always.
