@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+
+#include <fmt/format.h>
 
 #include "commands.hpp"
 
@@ -10,7 +13,16 @@ namespace forest::app {
 
 namespace {
 
-// Above the canopy: 40 m over the ground, looking 10° down, 2 m and 1.5° of turn per frame.
+// How far each built-in path moves and turns per frame (metres, degrees). The paths move fast, so
+// that 60–120 frames cross much of the scene: at 30 frames a second the ground walk is 42 m/s,
+// which tests temporal coherence hard (the oracle's one-frame lag, docs/design.md).
+struct FrameStep {
+  double metres, degrees;
+};
+constexpr FrameStep kUnderCanopyStep{0.7, 1.2}, kWalkStep{1.4, 0.8}, kCanopyStep{2.0, 1.5};
+constexpr double kHillSpan = 500.0;  // metres, centred on the highest hill's top
+
+// Above the canopy: 40 m over the ground, looking 10° down, kCanopyStep per frame.
 std::vector<Camera> canopyPath(const Scene& scene, const terrain::Terrain& terrain, int frames, double aspect) {
   std::vector<Camera> cameras = walkPath(scene, terrain, 1, aspect);
   Camera c = cameras.front();
@@ -22,13 +34,13 @@ std::vector<Camera> canopyPath(const Scene& scene, const terrain::Terrain& terra
     c.position.z = std::clamp(c.position.z, bounds.min.z + 1.0, bounds.max.z - 1.0);
     c.position.y = terrain.heightAt(c.position.x, c.position.z) + 40.0;
     cameras.push_back(c);
-    c.position += 2.0 * directionFromYawPitch(c.yaw, 0.0);
-    c.yaw += glm::radians(1.5);
+    c.position += kCanopyStep.metres * directionFromYawPitch(c.yaw, 0.0);
+    c.yaw += glm::radians(kCanopyStep.degrees);
   }
   return cameras;
 }
 
-// Over the highest hill: at eye height from 250 m before its top to 250 m past it, on the line
+// Over the highest hill: at eye height from kHillSpan / 2 before its top to as far past it, on the line
 // from the scene's start through the top — first facing the hill, then the open view beyond.
 std::vector<Camera> hillPath(const Scene& scene, const terrain::Terrain& terrain, int frames, double aspect) {
   const Camera start = walkPath(scene, terrain, 1, aspect).front();
@@ -45,7 +57,7 @@ std::vector<Camera> hillPath(const Scene& scene, const terrain::Terrain& terrain
   c.pitch = 0.0;
   for (int f = 0; f < frames; ++f) {
     const double s = frames > 1 ? static_cast<double>(f) / (frames - 1) : 0.5;
-    const glm::dvec2 p = top + (-250.0 + 500.0 * s) * direction;
+    const glm::dvec2 p = top + kHillSpan * (s - 0.5) * direction;
     c.position.x = std::clamp(p.x, bounds.min.x + 1.0, bounds.max.x - 1.0);
     c.position.z = std::clamp(p.y, bounds.min.z + 1.0, bounds.max.z - 1.0);
     c.position.y = terrain.heightAt(c.position.x, c.position.z) + 1.7;
@@ -63,8 +75,8 @@ std::map<std::pair<int, int>, int> treesPerCell(const vegetation::Forest& forest
   return trees;
 }
 
-// Under the canopy: from the middle of the densest stand at eye height, 0.7 m per frame along the
-// view, turning 1.2° per frame — a slow loop inside it.
+// Under the canopy: from the middle of the densest stand at eye height, kUnderCanopyStep per frame
+// (along the view, turning) — a slow loop inside it.
 std::vector<Camera> underCanopyPath(const Scene& scene, const terrain::Terrain& terrain, const vegetation::Forest& forest, int frames,
                                     double aspect) {
   const glm::dvec2 stand = vegetation::densestStand(forest, kStandCell);
@@ -80,16 +92,16 @@ std::vector<Camera> underCanopyPath(const Scene& scene, const terrain::Terrain& 
     c.position.z = std::clamp(c.position.z, bounds.min.z + 1.0, bounds.max.z - 1.0);
     c.position.y = terrain.heightAt(c.position.x, c.position.z) + above;
     cameras.push_back(c);
-    c.position += 0.7 * directionFromYawPitch(c.yaw, 0.0);
-    c.yaw += glm::radians(1.2);
+    c.position += kUnderCanopyStep.metres * directionFromYawPitch(c.yaw, 0.0);
+    c.yaw += glm::radians(kUnderCanopyStep.degrees);
   }
   return cameras;
 }
 
 }  // namespace
 
-// A walker's path: from the scene's start, 1.4 m per frame along the view, turning 0.8° per frame,
-// eye 1.7 m over the ground (or camera.above_ground).
+// A walk from the scene's start, kWalkStep per frame (along the view, turning), eye 1.7 m over the
+// ground (or camera.above_ground).
 std::vector<Camera> walkPath(const Scene& scene, const terrain::Terrain& terrain, int frames, double aspect) {
   std::vector<Camera> cameras;
   Camera c = scene.startCamera();
@@ -102,8 +114,8 @@ std::vector<Camera> walkPath(const Scene& scene, const terrain::Terrain& terrain
     c.position.y = terrain.heightAt(c.position.x, c.position.z) + above;
     cameras.push_back(c);
     const glm::dvec3 forward = directionFromYawPitch(c.yaw, 0.0);
-    c.position += 1.4 * forward;
-    c.yaw += glm::radians(0.8);
+    c.position += kWalkStep.metres * forward;
+    c.yaw += glm::radians(kWalkStep.degrees);
   }
   return cameras;
 }
@@ -154,12 +166,12 @@ std::vector<Camera> benchPath(const std::string& kind, const Scene& scene, const
   return hillPath(scene, terrain, frames, aspect);
 }
 
-const std::map<std::string, std::string>& pathDescriptions() {
-  static const std::map<std::string, std::string> d = {{"forest", "under the canopy of the densest stand"},
-                                                        {"ground", "ground-level walk through the forest"},
-                                                        {"canopy", "open view 40 m above the canopy"},
-                                                        {"hill", "crossing the highest hill at eye height"}};
-  return d;
+std::string pathDescription(const std::string& kind, int frames) {
+  const auto step = [](FrameStep s) { return fmt::format("{} m and {}° a frame", s.metres, s.degrees); };
+  if (kind == "forest") return "under the canopy of the densest stand, " + step(kUnderCanopyStep);
+  if (kind == "ground") return "ground-level walk through the forest, " + step(kWalkStep);
+  if (kind == "canopy") return "open view 40 m above the canopy, " + step(kCanopyStep);
+  return fmt::format("crossing the highest hill at eye height, {:.3g} m a frame", kHillSpan / std::max(1, frames - 1));
 }
 
 }  // namespace forest::app

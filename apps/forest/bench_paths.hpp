@@ -2,7 +2,6 @@
 // The camera paths of forest bench culling: four built-in paths through a scene (under the canopy
 // of the densest stand, a ground-level walk, an open view above the canopy, a crossing of the
 // highest hill) and a camera path file sampled as forest walkthrough samples it.
-#include <map>
 #include <string>
 #include <vector>
 
@@ -18,10 +17,11 @@ namespace forest::app {
 // flies it (Frame::cameraAt).
 std::vector<Camera> filePath(const CameraPath& path, const Scene& scene, const terrain::Terrain& terrain, int frames, double fps,
                              double aspect);
-// The built-in path `kind` ("forest", "ground", "canopy", "hill"; pathDescriptions' keys).
+// The built-in path `kind` ("forest", "ground", "canopy", "hill").
 std::vector<Camera> benchPath(const std::string& kind, const Scene& scene, const terrain::Terrain& terrain, const vegetation::Forest& forest,
                               int frames, double aspect);
-// One line per built-in path, for the tables and --help.
-const std::map<std::string, std::string>& pathDescriptions();
+// What the built-in path `kind` is and how far it moves and turns per frame (of `frames`), for the
+// tables and the JSON.
+std::string pathDescription(const std::string& kind, int frames);
 
 }  // namespace forest::app

@@ -168,7 +168,7 @@ int runBenchCulling(const BenchOptions& options) {
     framesPerPath = std::min(pathFrames, options.length.frames);
   }
   const auto describe = [&](const std::string& name) {
-    return cameraPath ? fmt::format("{} at {} frames per second", options.cameraPath, options.fps) : pathDescriptions().at(name);
+    return cameraPath ? fmt::format("{} at {} frames per second", options.cameraPath, options.fps) : pathDescription(name, framesPerPath);
   };
 
   gl::ContextOptions contextOptions;
