@@ -104,7 +104,7 @@ glm::vec3 strategyColour(const std::string& name) {
   static const std::map<std::string, glm::vec3> colours = {
       {"none", {0.6f, 0.6f, 0.6f}},          {"frustum", {0.1f, 0.45f, 0.85f}}, {"stop-and-wait", {0.55f, 0.3f, 0.75f}},
       {"chc", {0.95f, 0.55f, 0.1f}},         {"chc++", {0.85f, 0.1f, 0.1f}},    {kOracle, {0.1f, 0.6f, 0.2f}},
-      {kChcAlways, {0.55f, 0.1f, 0.35f}}};
+      {kChcAlways, {0.1f, 0.1f, 0.1f}}};  // black: apart from chc++'s red where the two lines cross
   const auto it = colours.find(name);
   return it == colours.end() ? glm::vec3(0.0f) : it->second;
 }

@@ -24,7 +24,8 @@ std::string tickLabel(double v, double step) {
 }
 
 void drawPanel(Image8& image, const PlotPanel& panel, int left, int top, int width, int height) {
-  const int x0 = left + 70, x1 = left + width - 20, y0 = top + 40, y1 = top + height - 50;  // plot area
+  // The title above the y axis's label, which stands above the plot area.
+  const int x0 = left + 70, x1 = left + width - 20, y0 = top + 54, y1 = top + height - 50;  // plot area
   glm::dvec2 low(1e300), high(-1e300);
   for (const PlotSeries& s : panel.series)
     for (const glm::dvec2& p : s.points)
