@@ -45,7 +45,7 @@ inline BenchArgs parseBenchArgs(int argc, char** argv, const char* name, BenchAr
 inline std::unique_ptr<gl::Context> benchContext(const BenchArgs& args) {
   keepFreedHeapMemory();  // as the forest program does: frames reuse freed memory (core/heap.hpp)
   gl::ContextOptions options;
-  options.backend = gl::parseBackend(args.backend);
+  options.backend = gl::kBackendNames.parse(args.backend);
   auto context = gl::createContext(options);
   std::printf("%s\n", gl::describe(context->info()).c_str());
   return context;

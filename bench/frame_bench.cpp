@@ -44,15 +44,12 @@ int main(int argc, char** argv) {
     render::FrameStats last;
     for (int f = 0; f < frames; ++f) {
       last = frame.render(camera, 0.0, settings);
-      sum.geometryMs += last.geometryMs;
-      sum.shadowSetupMs += last.shadowSetupMs;
-      sum.shadowMs += last.shadowMs;
-      sum.shadowTermMs += last.shadowTermMs;
-      sum.lightingMs += last.lightingMs;
+      for (FramePass pass : kFramePassNames.values()) sum.passMs[pass] += last.passMs[pass];
     }
     std::printf("%-13s %8.2f %8.2f %8.2f %8.2f %8.2f | %9d %10lld %8d %10lld\n",
-                std::string(render::casterSelectionName(selection)).c_str(), sum.geometryMs / frames,
-                sum.shadowSetupMs / frames, sum.shadowMs / frames, sum.shadowTermMs / frames, sum.lightingMs / frames,
+                std::string(render::kCasterSelectionNames.name(selection)).c_str(), sum.passMs[FramePass::Geometry] / frames,
+                sum.passMs[FramePass::ShadowSetup] / frames, sum.passMs[FramePass::Shadow] / frames,
+                sum.passMs[FramePass::ShadowTerm] / frames, sum.passMs[FramePass::Lighting] / frames,
                 last.visibleObjects, last.geometryTriangles, last.casterObjects, last.shadowTriangles);
     if (selection == render::CasterSelection::Receivers) receiverTriangles = last.shadowTriangles;
     if (selection == render::CasterSelection::FrustumBody) frustumTriangles = last.shadowTriangles;
@@ -67,7 +64,7 @@ int main(int argc, char** argv) {
     settings.blurRadius = radius;
     frame.render(start, 0.0, settings);
     double sum = 0.0;
-    for (int f = 0; f < frames; ++f) sum += frame.render(start, 0.0, settings).blurMs;
+    for (int f = 0; f < frames; ++f) sum += frame.render(start, 0.0, settings).passMs[FramePass::Blur];
     std::printf("%16.0f %8.2f\n", radius, sum / frames);
   }
   std::printf("\n%-15s %10s %10s\n", "method", "shadow ms", "term ms");
@@ -80,10 +77,10 @@ int main(int argc, char** argv) {
     double shadow = 0.0, term = 0.0;
     for (int f = 0; f < frames; ++f) {
       const render::FrameStats s = frame.render(start, 0.0, settings);
-      shadow += s.shadowMs;
-      term += s.shadowTermMs;
+      shadow += s.passMs[FramePass::Shadow];
+      term += s.passMs[FramePass::ShadowTerm];
     }
-    std::printf("%-15s %10.2f %10.2f\n", std::string(shadows::shadowMethodName(method)).c_str(), shadow / frames, term / frames);
+    std::printf("%-15s %10.2f %10.2f\n", std::string(shadows::kShadowMethodNames.name(method)).c_str(), shadow / frames, term / frames);
   }
   return 0;
 }

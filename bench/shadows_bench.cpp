@@ -63,7 +63,7 @@ void benchmarkSetups() {
       ++rounds;
     } while (secondsSince(start) < 0.5);
     const double us = 1e6 * secondsSince(start) / (static_cast<double>(rounds) * static_cast<double>(inputs.size()));
-    std::printf("  %-16s %8.1f us per setup (%.1fx the focus body)%s\n", std::string(shadowMethodName(method)).c_str(), us,
+    std::printf("  %-16s %8.1f us per setup (%.1fx the focus body)%s\n", std::string(kShadowMethodNames.name(method)).c_str(), us,
                 us / bodyMicroseconds, std::isfinite(checksum) ? "" : " !");
   }
 }
@@ -104,7 +104,7 @@ void benchmarkAliasing() {
       const ShadowSetup setup = computeShadowSetup(in, method);
       const AliasingReport r = analyseAliasing(in, setup, options);
       std::printf("  %-20s %-15s %10.2f %10.2f %10.2f %10.2f %12.2f %12.3g\n", sc.name,
-                  std::string(shadowMethodName(method)).c_str(), r.perspective.max, r.perspective.p95,
+                  std::string(kShadowMethodNames.name(method)).c_str(), r.perspective.max, r.perspective.p95,
                   r.floor > 0.0 ? r.perspective.max / r.floor : 0.0, r.surfacePixels.p95, r.surfacePixels.max, r.storageFactor);
     }
   }

@@ -98,7 +98,7 @@ TEST_F(CascadesGl, BoxShadowsAreRightOnBothSidesOfEverySplit) {
         const render::FrameStats stats = frame.render(camera, 0.0, settings);
         const CpuAgreement a = agreementWithCpuShadow(frame, camera, frame.readShadowTerm(), frame.objects().propIdBase(), boxes,
                                                       -scene.sun.direction);
-        const std::string what = fmt::format("{} K {} blend {}", shadows::shadowMethodName(method), k, blend);
+        const std::string what = fmt::format("{} K {} blend {}", shadows::kShadowMethodNames.name(method), k, blend);
         EXPECT_EQ(a.wrong, 0) << what << ": " << a.wrong << " of " << a.checked << " plane pixels disagree";
         EXPECT_GT(a.checked, 30000) << what;
         // Each split has checked shadowed and lit pixels within 10% of it on both sides.

@@ -35,7 +35,7 @@ double edge(const std::array<double, 2>& a, const std::array<double, 2>& b, doub
 
 TEST_F(GlTest, BackendGivesCore45) {
   const gl::ContextInfo& info = context().info();
-  EXPECT_EQ(gl::backendName(info.backend), backendUnderTest());
+  EXPECT_EQ(gl::kBackendNames.name(info.backend), backendUnderTest());
   EXPECT_GE(info.major * 10 + info.minor, 45);
   EXPECT_TRUE(info.coreProfile);
   EXPECT_FALSE(info.renderer.empty());

@@ -222,8 +222,8 @@ TEST_F(CullingGl, GeometryPassEqualsBruteForceAlongEightyViews) {
       for (size_t p = 0; p < ids.size(); ++p) differ += (ids[p] != noneIds[p] || depth[p] != noneDepth[p]) ? 1 : 0;
       differingPixels += differ;
       compared += static_cast<int>(ids.size());
-      EXPECT_EQ(differ, 0) << "view " << v << " (" << view.kind << "), " << culling::cullingStrategyName(s) << " "
-                           << culling::queryModeName(runs[k].mode);
+      EXPECT_EQ(differ, 0) << "view " << v << " (" << view.kind << "), " << culling::kCullingStrategyNames.name(s) << " "
+                           << culling::kQueryModeNames.name(runs[k].mode);
       if (s != CullingStrategy::Chc && s != CullingStrategy::ChcPlusPlus) continue;
       if (runs[k].mode == culling::QueryMode::Deterministic) queries[s] += r.stats.queriesIssued;
       // The oracle: every object with a pixel is in the visible set.
@@ -284,15 +284,15 @@ TEST_F(CullingGl, WallHidesTheRowsBehindIt) {
       target.bindAndClear();
       render::SceneDrawer drawer(objects, nullptr, nullptr, &propIds, camera, nullptr, 0.0, SunSettings{});
       const culling::CullingResult r = culler.cull(bvh, objects.boxes(), camera, s, drawer);
-      EXPECT_EQ(r.visibleObjects, expected) << culling::cullingStrategyName(s) << " frame " << frame;
+      EXPECT_EQ(r.visibleObjects, expected) << culling::kCullingStrategyNames.name(s) << " frame " << frame;
       // Queries: every node in the frustum whose parent was found visible (stop-and-wait and the
       // first CHC frame); later CHC frames open previously visible interior nodes without one.
       if (frame == 0 || s == CullingStrategy::StopAndWait) {
-        EXPECT_EQ(r.stats.queriesIssued, r.stats.nodesVisited) << culling::cullingStrategyName(s) << " frame " << frame;
+        EXPECT_EQ(r.stats.queriesIssued, r.stats.nodesVisited) << culling::kCullingStrategyNames.name(s) << " frame " << frame;
       } else {
-        EXPECT_LT(r.stats.queriesIssued, r.stats.nodesVisited) << culling::cullingStrategyName(s) << " frame " << frame;
+        EXPECT_LT(r.stats.queriesIssued, r.stats.nodesVisited) << culling::kCullingStrategyNames.name(s) << " frame " << frame;
       }
-      EXPECT_EQ(r.stats.objectsDrawn, 3) << culling::cullingStrategyName(s) << " frame " << frame;
+      EXPECT_EQ(r.stats.objectsDrawn, 3) << culling::kCullingStrategyNames.name(s) << " frame " << frame;
     }
   }
   // Frustum culling drops only the box outside the view.
@@ -442,7 +442,7 @@ TEST_F(CullingGl, ABoxBesideTheEyeIsQueriedNotTakenAsVisible) {
       // is drawn, and find both; the next frame the box is asked again against the wall (CHC++:
       // a leaf found visible by a query not yet drawn is confirmed before §3.3's interval).
       if (s == CullingStrategy::StopAndWait || frame >= kAfterFirstFind) {
-        EXPECT_EQ(drawn, seen) << culling::cullingStrategyName(s) << " frame " << frame;
+        EXPECT_EQ(drawn, seen) << culling::kCullingStrategyNames.name(s) << " frame " << frame;
       }
     }
   }

@@ -124,7 +124,7 @@ TEST_F(GlTest, SteadyStateFramesOfTheDefaultWalkAllocateNothing) {
     settings.timing = mode.timing;
     settings.queries = mode.queries;
     settings.cascades = mode.cascades;
-    SCOPED_TRACE(std::string(render::timingModeName(mode.timing)) + " timing, " + std::to_string(mode.cascades) + " cascade(s)");
+    SCOPED_TRACE(std::string(gl::kTimingModeNames.name(mode.timing)) + " timing, " + std::to_string(mode.cascades) + " cascade(s)");
     allocationsAlongWalk(frame, path, settings, frames, false);
     EXPECT_EQ(allocationsAlongWalk(frame, path, settings, frames, true), 0) << "heap allocations in " << frames << " frames";
   }

@@ -46,9 +46,9 @@ TEST_F(FrameGl, BoxShadowOnAPlaneMatchesTheCpuProjection) {
     const CpuAgreement a =
         agreementWithCpuShadow(frame, camera, frame.readShadowTerm(), frame.objects().propIdBase(), {box}, -scene.sun.direction);
     const int wrong = a.wrong, checked = a.checked, shadowedPixels = a.shadowed;
-    EXPECT_EQ(wrong, 0) << shadowMethodName(method) << ": " << wrong << " of " << checked << " plane pixels disagree";
-    EXPECT_GT(shadowedPixels, 200) << shadowMethodName(method);  // the shadow is in view
-    EXPECT_GT(checked, 20000) << shadowMethodName(method);
+    EXPECT_EQ(wrong, 0) << shadows::kShadowMethodNames.name(method) << ": " << wrong << " of " << checked << " plane pixels disagree";
+    EXPECT_GT(shadowedPixels, 200) << shadows::kShadowMethodNames.name(method);  // the shadow is in view
+    EXPECT_GT(checked, 20000) << shadows::kShadowMethodNames.name(method);
   }
 }
 
@@ -86,12 +86,12 @@ TEST_F(FrameGl, TermIsZeroOnFacesTurnedFromTheSunAndOneOnLitFaces) {
           litDark += term[i] < 0.5f ? 1 : 0;
         }
       }
-    std::printf("[facing] %s: %d averted pixels, %d with a term; %d lit pixels, %d dark\n", shadowMethodName(method).data(),
+    std::printf("[facing] %s: %d averted pixels, %d with a term; %d lit pixels, %d dark\n", shadows::kShadowMethodNames.name(method).data(),
                 averted, avertedNonZero, lit, litDark);
-    EXPECT_GT(averted, 300) << shadowMethodName(method);
-    EXPECT_GT(lit, 300) << shadowMethodName(method);
-    EXPECT_EQ(avertedNonZero, 0) << shadowMethodName(method);
-    EXPECT_EQ(litDark, 0) << shadowMethodName(method);
+    EXPECT_GT(averted, 300) << shadows::kShadowMethodNames.name(method);
+    EXPECT_GT(lit, 300) << shadows::kShadowMethodNames.name(method);
+    EXPECT_EQ(avertedNonZero, 0) << shadows::kShadowMethodNames.name(method);
+    EXPECT_EQ(litDark, 0) << shadows::kShadowMethodNames.name(method);
   }
 }
 
@@ -142,13 +142,13 @@ TEST_F(FrameGl, BacksideRenderingHasNoAcneAndFrontFacesDo) {
           if (pass == 0) ++checked;
           if (term[i] < 0.5f) ++violations[pass];
         }
-      if (pass == 0) std::printf("[acne] %s: %d pixels face the sun (N·L > 0.2)\n", shadowMethodName(method).data(), facing);
+      if (pass == 0) std::printf("[acne] %s: %d pixels face the sun (N·L > 0.2)\n", shadows::kShadowMethodNames.name(method).data(), facing);
     }
     std::printf("[acne] %s: %d lit pixels checked: %d shadowed with backside rendering, %d with front faces\n",
-                shadowMethodName(method).data(), checked, violations[0], violations[1]);
+                shadows::kShadowMethodNames.name(method).data(), checked, violations[0], violations[1]);
     EXPECT_GT(checked, 1000);
-    EXPECT_EQ(violations[0], 0) << shadowMethodName(method);
-    EXPECT_GT(violations[1], checked / 20) << shadowMethodName(method);  // front faces, no bias: acne (the test can fail)
+    EXPECT_EQ(violations[0], 0) << shadows::kShadowMethodNames.name(method);
+    EXPECT_GT(violations[1], checked / 20) << shadows::kShadowMethodNames.name(method);  // front faces, no bias: acne (the test can fail)
   }
 }
 
@@ -312,11 +312,11 @@ TEST_F(FrameGl, TopDownDiagramDrawsTheSetupAndTheLightFrustumHoldsB) {
           outside = std::max(outside, distance);
           nearest = std::min(nearest, -distance);
         }
-        EXPECT_LE(outside, 1e-6 * size) << shadowMethodName(method) << ": B outside face " << bit << "/" << value;
+        EXPECT_LE(outside, 1e-6 * size) << shadows::kShadowMethodNames.name(method) << ": B outside face " << bit << "/" << value;
         // x, y sides of the orthographic map, whose texels have one size everywhere (a warped
         // map's border texels span metres at its far end).
         if (bit < 2 && method == shadows::ShadowMethod::Uniform) {
-          EXPECT_LE(nearest, 2.0 * (2.0 + 1.0) / 1024.0 * size) << shadowMethodName(method) << ": B does not reach side " << bit << "/" << value;
+          EXPECT_LE(nearest, 2.0 * (2.0 + 1.0) / 1024.0 * size) << shadows::kShadowMethodNames.name(method) << ": B does not reach side " << bit << "/" << value;
         }
       }
     const Image8 diagram = render::topDownDiagram(frame, scene.sun.direction, 512);
@@ -333,10 +333,10 @@ TEST_F(FrameGl, TopDownDiagramDrawsTheSetupAndTheLightFrustumHoldsB) {
         black += r + g + b < 30 ? 1 : 0;
         orange += r > 230 && g > 120 && g < 160 && b < 30 ? 1 : 0;
       }
-    EXPECT_GT(blue, 100) << shadowMethodName(method);
-    EXPECT_GT(red, 100) << shadowMethodName(method);
-    EXPECT_GT(black, 100) << shadowMethodName(method);
-    EXPECT_GT(orange, 100) << shadowMethodName(method);
+    EXPECT_GT(blue, 100) << shadows::kShadowMethodNames.name(method);
+    EXPECT_GT(red, 100) << shadows::kShadowMethodNames.name(method);
+    EXPECT_GT(black, 100) << shadows::kShadowMethodNames.name(method);
+    EXPECT_GT(orange, 100) << shadows::kShadowMethodNames.name(method);
   }
 }
 
@@ -373,7 +373,7 @@ TEST_F(FrameGl, HardCasesThroughTheFullFrame) {
       settings.shadowMapSize = 1024;
       settings.blurRadius = 2.0;
       const render::FrameStats stats = frame.render(camera, 0.0, settings);
-      const std::string where = std::string(c.name) + " / " + std::string(shadowMethodName(method));
+      const std::string where = std::string(c.name) + " / " + std::string(shadows::kShadowMethodNames.name(method));
       const glm::dmat4& m = frame.shadowSetup().worldToShadowClip;
       for (int i = 0; i < 4; ++i)
         for (int j = 0; j < 4; ++j) ASSERT_TRUE(std::isfinite(m[i][j])) << where;

@@ -117,7 +117,7 @@ TEST_P(ImageVisibilityByRecord, MarksExactlyTheObjectsAndBlocksWithPixels) {
     }
   }
   std::printf("[image visibility, casters %s] %d objects and %d blocks marked over 12 views, %d blocks only beside a block with pixels\n",
-              std::string(render::casterSelectionName(GetParam())).c_str(), objectsMarked, blocksMarked, blocksBesideOnly);
+              std::string(render::kCasterSelectionNames.name(GetParam())).c_str(), objectsMarked, blocksMarked, blocksBesideOnly);
   EXPECT_GT(objectsMarked, 12 * 50);
   EXPECT_GT(blocksMarked, 12 * 4);
 }

@@ -18,7 +18,7 @@ const std::string& backendUnderTest() { return gBackend; }
 gl::Context& context() {
   if (!gContext) {
     gl::ContextOptions options;
-    options.backend = gl::parseBackend(gBackend);
+    options.backend = gl::kBackendNames.parse(gBackend);
     options.visible = false;
     gContext = gl::createContext(options);
     std::cout << "[gl_tests] " << gl::describe(gContext->info()) << std::endl;

@@ -288,7 +288,7 @@ TEST_F(TreeVisibilityGl, GeometryQueriesDrawExactlyTheTreesAndTilesWithPixelsOnA
   for (const Run run : {Run{true, culling::QueryMode::Deterministic}, Run{true, culling::QueryMode::Async},
                         Run{false, culling::QueryMode::Deterministic}}) {
     const bool geometryQueries = run.geometryQueries;
-    SCOPED_TRACE(std::string(geometryQueries ? "geometry" : "box") + " queries, " + std::string(culling::queryModeName(run.mode)));
+    SCOPED_TRACE(std::string(geometryQueries ? "geometry" : "box") + " queries, " + std::string(culling::kQueryModeNames.name(run.mode)));
     CullingSettings settings = scene.culling;
     settings.geometry_queries = geometryQueries;
     culling::OcclusionCuller culler;
@@ -312,7 +312,7 @@ TEST_F(TreeVisibilityGl, GeometryQueriesDrawExactlyTheTreesAndTilesWithPixelsOnA
       geometryQueriesIssued = r.stats.geometryQueries;
     }
     std::printf("[geometry queries %s, %s reads] %zu trees with pixels, %zu drawn; %zu tiles with pixels, %zu drawn\n",
-                geometryQueries ? "on" : "off", std::string(culling::queryModeName(run.mode)).c_str(), withPixels.size(), drawn.size(),
+                geometryQueries ? "on" : "off", std::string(culling::kQueryModeNames.name(run.mode)).c_str(), withPixels.size(), drawn.size(),
                 tilesWithPixels.size(), tilesDrawn.size());
     if (geometryQueries) {
       EXPECT_GT(geometryQueriesIssued, 0);
@@ -406,7 +406,7 @@ TEST_F(TreeVisibilityGl, HullQueriesKeepTheThesisWalkExactAndDrawFewerTreesThanB
     const std::vector<std::uint32_t> bruteIds = target.readIds();
     const std::vector<float> bruteDepth = target.readDepth();
     for (Run& run : runs) {
-      SCOPED_TRACE(std::string(run.hulls ? "hull" : "box") + " queries, " + std::string(culling::queryModeName(run.mode)) +
+      SCOPED_TRACE(std::string(run.hulls ? "hull" : "box") + " queries, " + std::string(culling::kQueryModeNames.name(run.mode)) +
                    ", frame " + std::to_string(f));
       target.bindAndClear();
       QueryTallyDrawer drawer(objects, forest, &terrainIds, &treeIds, camera, lod, scene.sun);

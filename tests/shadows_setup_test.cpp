@@ -178,7 +178,7 @@ TEST(UniformStable, TexelGridStaysFixedBetweenRadiusStepsAlongAWalk) {
     Camera c = makeCamera({-150.0 + 0.8 * k, 8.0, 120.0 - 0.5 * k}, 210.0 + 0.7 * k, -2.0, 60, 16.0 / 9.0, 0.2,
                           600.0 + 50.0 * std::sin(0.3 * k) + (k % 17 == 0 ? -60.0 : 0.0));
     ShadowInput in = input(c, sun, scene);
-    in.previousStableRadius = previous;
+    in.carried = previous.value_or(0.0);  // MethodHistory: what the last frame left
     const ShadowSetup s = computeShadowSetup(in, ShadowMethod::UniformStable);
     const double radius = s.diagnostics.stableRadius;
     // The documented steps: R is a power of 2^(1/4) m, covers the view's sphere, at most √2·2^(1/4) of it.
@@ -236,7 +236,7 @@ void expectInvariants(const ShadowInput& in, const std::string& name) {
     const ShadowSetup s = computeShadowSetup(in, method);
     const StabilityReport report = checkSetupInvariants(in, method, s);
     for (const InvariantCheck& check : report.checks)
-      EXPECT_TRUE(check.passed) << name << " / " << shadowMethodName(method) << ": " << check.name << ": " << check.detail;
+      EXPECT_TRUE(check.passed) << name << " / " << kShadowMethodNames.name(method) << ": " << check.name << ": " << check.detail;
     if (!s.empty) {
       EXPECT_GT(s.diagnostics.bodyVertices, 0u) << name;
     }
@@ -288,7 +288,7 @@ TEST(ShadowSetupInput, InvalidInputIsRejected) {
   Camera bad = c;
   bad.far = bad.near;
   EXPECT_THROW(computeShadowSetup(input(bad, {0, -1, 0}, hugeScene()), ShadowMethod::Lispsm), InputError);
-  EXPECT_THROW(parseShadowMethod("psm"), InputError);
+  EXPECT_THROW(kShadowMethodNames.parse("psm"), InputError);
 }
 
 }  // namespace

@@ -23,7 +23,7 @@ constexpr ShadowMethod kMethods[] = {ShadowMethod::Uniform, ShadowMethod::Unifor
 std::string failures(const StabilityCase& c, ShadowMethod method, const StabilityReport& report) {
   std::string text;
   for (const InvariantCheck& check : report.checks)
-    if (!check.passed) text += c.name + " / " + std::string(shadowMethodName(method)) + ": " + check.name + ": " + check.detail + "\n";
+    if (!check.passed) text += c.name + " / " + std::string(kShadowMethodNames.name(method)) + ": " + check.name + ": " + check.detail + "\n";
   return text;
 }
 
@@ -244,7 +244,7 @@ TEST(StabilitySuite, SmallCameraMovesMoveShadowsContinuously) {
         for (Move move : {Move::Forward, Move::Sideways, Move::Yaw, Move::Pitch}) {
           const double shift = visibleShiftTexels(in, moved(in, move, 1.0), kMethods[m]);
           worst[m] = std::max(worst[m], shift);
-          const std::string where = std::string(shadowMethodName(kMethods[m])) + " sun " + std::to_string(elevation) +
+          const std::string where = std::string(kShadowMethodNames.name(kMethods[m])) + " sun " + std::to_string(elevation) +
                                     "° pitch " + std::to_string(pitch) + "° move " + std::to_string(static_cast<int>(move));
           if (kMethods[m] == ShadowMethod::UniformStable) {
             EXPECT_LE(std::round(shift), 1.0) << where;
@@ -262,7 +262,7 @@ TEST(StabilitySuite, SmallCameraMovesMoveShadowsContinuously) {
   }
   for (size_t m = 0; m < std::size(kMethods); ++m)
     std::printf("[continuity] %s: largest shift of a visible point for a 1 cm / 0.1° move: %.1f texels of 2048\n",
-                shadowMethodName(kMethods[m]).data(), worst[m]);
+                kShadowMethodNames.name(kMethods[m]).data(), worst[m]);
 }
 
 TEST(StabilityCases, ErrorsNameTheCaseAndTheField) {

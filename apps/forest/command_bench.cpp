@@ -54,7 +54,7 @@ struct BenchOptions {
   std::vector<std::string> paths{"forest", "ground", "canopy", "hill"};
   std::string cameraPath;  // --path: a camera path file, run instead of the built-in paths
   double fps = 30.0;       // its frames per second of path time
-  std::vector<std::string> strategies = culling::cullingStrategyNames();
+  std::vector<std::string> strategies = culling::kCullingStrategyNames.names();
   ImageSizeOptions size{640, 360};
   // 60 frames per path; no warm-up by default: the strategies take turns frame by frame, so a cold
   // first frame costs them all alike.
@@ -139,7 +139,7 @@ int runBenchCulling(const BenchOptions& options) {
     benchScene(base, n);  // a grid scene's counts are checked before any work
   }
   std::vector<CullingStrategy> strategies;
-  for (const std::string& s : options.strategies) strategies.push_back(culling::parseCullingStrategy(s));
+  for (const std::string& s : options.strategies) strategies.push_back(culling::kCullingStrategyNames.parse(s));
   // chc++ runs as the frame runs it: with [culling] query_payoff it draws by frustum culling in
   // the frames where its queries do not pay (culling::QueryPayoff); then a row "chc++ always"
   // shows it querying in every frame.
@@ -172,7 +172,7 @@ int runBenchCulling(const BenchOptions& options) {
   };
 
   gl::ContextOptions contextOptions;
-  contextOptions.backend = gl::parseBackend(options.gl.backend);
+  contextOptions.backend = gl::kBackendNames.parse(options.gl.backend);
   auto context = gl::createContext(contextOptions);
   const std::string device = gl::describe(context->info());
   log::info("{}", device);
@@ -183,8 +183,8 @@ int runBenchCulling(const BenchOptions& options) {
   ordered_json json;
   json["scene"] = scenePath;
   json["device"] = device;
-  json["timing"] = render::timingModeName(modes.timing);
-  json["queries"] = culling::queryModeName(modes.queries);
+  json["timing"] = gl::kTimingModeNames.name(modes.timing);
+  json["queries"] = culling::kQueryModeNames.name(modes.queries);
   json["frames_per_path"] = framesPerPath;
   json["warmup_frames"] = warmup;
   json["resolution"] = {options.size.width, options.size.height};
@@ -499,7 +499,7 @@ Run addBenchCommand(CLI::App& app) {
       ->capture_default_str();
   cullingBench->add_option("--strategies", options->strategies, "Culling strategies")
       ->delimiter(',')
-      ->check(CLI::IsMember(culling::cullingStrategyNames()))
+      ->check(CLI::IsMember(culling::kCullingStrategyNames.names()))
       ->capture_default_str();
   options->size.add(*cullingBench);
   options->length.add(*cullingBench, "60 along each path");

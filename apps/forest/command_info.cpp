@@ -17,7 +17,7 @@ struct InfoOptions {
 
 int runInfo(const InfoOptions& options) {
   gl::ContextOptions contextOptions;
-  contextOptions.backend = gl::parseBackend(options.gl.backend);
+  contextOptions.backend = gl::kBackendNames.parse(options.gl.backend);
   contextOptions.visible = false;
   auto context = gl::createContext(contextOptions);
   const gl::ContextInfo& info = context->info();
@@ -34,7 +34,7 @@ int runInfo(const InfoOptions& options) {
   glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport);
 
   nlohmann::ordered_json j;
-  j["backend"] = std::string(gl::backendName(info.backend));
+  j["backend"] = std::string(gl::kBackendNames.name(info.backend));
   j["platform"] = info.platform;
   j["gl_version"] = info.version;
   j["renderer"] = info.renderer;

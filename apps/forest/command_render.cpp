@@ -146,8 +146,8 @@ void writeTruth(const render::Frame& frame, const render::FrameStats& stats, con
                   {"selected_triangles", e.casters.selectedTriangles},
                   {"needed_triangles", e.casters.neededTriangles},
                   {"missing_objects", e.casters.missingObjects}};
-  j["frame_ms"] = stats.passesMs();
-  j["shadow_pass_ms"] = stats.shadowMs;
+  j["frame_ms"] = stats.passMs.total();
+  j["shadow_pass_ms"] = stats.passMs[FramePass::Shadow];
   j["truth_seconds"] = seconds;
   writeFileAtomic(folder / "truth.json", j.dump(2) + "\n");
   std::cout << fmt::format(
@@ -186,7 +186,7 @@ int runRender(const RenderOptions& options) {
   settings.fogDensity = options.fog;
 
   gl::ContextOptions contextOptions;
-  contextOptions.backend = gl::parseBackend(options.gl.backend);
+  contextOptions.backend = gl::kBackendNames.parse(options.gl.backend);
   contextOptions.width = scene.render.width;
   contextOptions.height = scene.render.height;
   auto context = gl::createContext(contextOptions);
@@ -224,17 +224,12 @@ int runRender(const RenderOptions& options) {
                    {"cascades", cascades.cascades}, {"split_lambda", cascades.split_lambda},
                    {"cascade_blend", cascades.cascade_blend},
                    {"shadow_texels", static_cast<long long>(cascades.cascades) * options.frame.shadowSize * options.frame.shadowSize},
-                   {"culling", options.frame.culling}, {"casters", render::casterSelectionName(settings.casters)},
+                   {"culling", options.frame.culling}, {"casters", render::kCasterSelectionNames.name(settings.casters)},
                    {"slope_bias", options.bias},       {"backside", settings.backside},
                    {"pcf_radius", options.frame.pcf},  {"blur_px", options.frame.blur},
-                   {"fog", options.fog.value_or(scene.render.haze)},               {"timing", render::timingModeName(settings.timing)},
-                   {"queries", culling::queryModeName(settings.queries)}};
-  j["passes_ms"] = {{"geometry", stats.geometryMs},
-                    {"shadow_setup", stats.shadowSetupMs},
-                    {"shadow", stats.shadowMs},
-                    {"shadow_term", stats.shadowTermMs},
-                    {"blur", stats.blurMs},
-                    {"lighting", stats.lightingMs}};
+                   {"fog", options.fog.value_or(scene.render.haze)},               {"timing", gl::kTimingModeNames.name(settings.timing)},
+                   {"queries", culling::kQueryModeNames.name(settings.queries)}};
+  for (FramePass pass : kFramePassNames.values()) j["passes_ms"][std::string(kFramePassNames.name(pass))] = stats.passMs[pass];
   j["geometry"] = {{"visible_objects", stats.visibleObjects},
                    {"triangles", stats.geometryTriangles},
                    {"queries", stats.culling.queriesIssued},

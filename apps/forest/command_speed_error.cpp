@@ -100,8 +100,8 @@ std::vector<Scenario> makeScenarios(const Scene& scene, const render::Frame& fra
 
 render::FrameSettings settingsFor(const std::string& method, const std::string& focus, const MapLayout& layout) {
   render::FrameSettings settings;
-  settings.method = shadows::parseShadowMethod(method);
-  settings.focus = render::parseFocusBound(focus);
+  settings.method = shadows::kShadowMethodNames.parse(method);
+  settings.focus = render::kFocusBoundNames.parse(focus);
   settings.shadowMapSize = layout.layerSize;
   settings.cascades = layout.cascades;
   return settings;
@@ -125,7 +125,7 @@ int runSpeedError(const SpeedErrorOptions& options) {
   const int width = options.quick ? 640 : options.size.width, height = options.quick ? 360 : options.size.height;
 
   gl::ContextOptions contextOptions;
-  contextOptions.backend = gl::parseBackend(options.gl.backend);
+  contextOptions.backend = gl::kBackendNames.parse(options.gl.backend);
   contextOptions.width = width;
   contextOptions.height = height;
   auto context = gl::createContext(contextOptions);
@@ -169,9 +169,9 @@ int runSpeedError(const SpeedErrorOptions& options) {
           r.focus = focus;
           r.layout = layout;
           r.error = truth::evaluateFrame(frame, stats, scene, camera, 0.0, truthOptions);
-          r.shadowMs = stats.shadowMs;
+          r.shadowMs = stats.passMs[FramePass::Shadow];
           r.shadowTriangles = stats.shadowTriangles;
-          const double frameMs = stats.passesMs();
+          const double frameMs = stats.passMs.total();
           // Blur on (as rendered) and off: the same frame rendered again with no blur at all (no
           // horizontal pass, no vertical half in the lighting), timed on its own; the history it
           // starts from is the measured frame's, as that one's was the settling frame's.
@@ -184,8 +184,8 @@ int runSpeedError(const SpeedErrorOptions& options) {
           on.frameMs = frameMs;
           on.softError = r.error.softMeanAbsoluteError;
           off.blur = false;
-          off.frameMs = offStats.passesMs();
-          off.shadowMs = offStats.shadowMs;
+          off.frameMs = offStats.passMs.total();
+          off.shadowMs = offStats.passMs[FramePass::Shadow];
           off.softError = r.error.softMeanAbsoluteErrorUnblurred;
           const std::string series = layout.cascades == 1 ? method : fmt::format("{}-x{}", method, layout.cascades);
           if (worst[series].second.empty() || r.error.misclassification > worst[series].first)
@@ -227,7 +227,7 @@ int runSpeedError(const SpeedErrorOptions& options) {
     throw Error(fmt::format("{} GL errors during the sweep (first: {})", gl::debugErrorCount(), gl::debugErrorMessages().front()));
 
   nlohmann::ordered_json modes = options.modes.json(context->info());
-  modes["casters"] = render::casterSelectionName(casters);
+  modes["casters"] = render::kCasterSelectionNames.name(casters);
   const std::string table = writeSpeedErrorReport(out, options, scenePath, gl::describe(context->info()), modes,
                                                   width, height, scenarios, layouts, rows, flicker);
   for (const auto& [series, w] : worst) writeImage(out / fmt::format("worst-{}.png", series), w.second);

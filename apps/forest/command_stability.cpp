@@ -29,7 +29,7 @@ struct StabilityOptions {
   std::string cases;
   std::uint64_t random = 0;
   std::uint64_t seed = 20061125;
-  std::vector<std::string> methods = shadows::shadowMethodNames();
+  std::vector<std::string> methods = shadows::kShadowMethodNames.names();
   std::string out;
   bool json = false;
   bool aliasing = false;
@@ -76,7 +76,7 @@ ordered_json recordJson(const shadows::StabilityCase& c, ShadowMethod method, in
   const shadows::ShadowDiagnostics& d = setup.diagnostics;
   ordered_json j;
   j["case"] = c.name;
-  j["method"] = shadows::shadowMethodName(method);
+  j["method"] = shadows::kShadowMethodNames.name(method);
   if (slice >= 0) j["slice"] = {{"index", slice}, {"near", input.camera.near}, {"far", input.camera.far}};
   j["passed"] = report.passed();
   ordered_json invariants;
@@ -150,7 +150,7 @@ int runStability(const StabilityOptions& options) {
   if (options.cases.empty() && options.random == 0)
     throw InputError("stability: give --cases FILE and/or --random N");
   std::vector<ShadowMethod> methods;
-  for (const std::string& name : options.methods) methods.push_back(shadows::parseShadowMethod(name));
+  for (const std::string& name : options.methods) methods.push_back(shadows::kShadowMethodNames.parse(name));
   const std::vector<shadows::StabilityCase> fileCases =
       options.cases.empty() ? std::vector<shadows::StabilityCase>{} : shadows::loadStabilityCases(options.cases);
 
@@ -162,7 +162,7 @@ int runStability(const StabilityOptions& options) {
   // One setup: a case's whole view, or one of its slices (slice ≥ 0).
   auto evaluateOne = [&](const shadows::StabilityCase& c, const shadows::ShadowInput& input, int slice, ShadowMethod method,
                          std::ostream* out) {
-    const std::string_view name = shadows::shadowMethodName(method);
+    const std::string_view name = shadows::kShadowMethodNames.name(method);
     const std::string where = slice >= 0 ? fmt::format("{} (slice {})", c.name, slice) : c.name;
     ++tally.records;
     // One case never stops the suite: an input outside the domain is counted as refused, any
@@ -305,7 +305,7 @@ Run addStabilityCommand(CLI::App& app) {
   command->add_option("--seed", options->seed, "Seed of the random configurations")->capture_default_str();
   command->add_option("--methods", options->methods, "Methods to evaluate (comma-separated)")
       ->delimiter(',')
-      ->check(CLI::IsMember(shadows::shadowMethodNames()))
+      ->check(CLI::IsMember(shadows::kShadowMethodNames.names()))
       ->capture_default_str();
   command->add_option("--out", options->out,
                       "Write one JSON record per case and method (JSON Lines): diagnostics, invariants, the\n"

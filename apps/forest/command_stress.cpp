@@ -128,7 +128,7 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
     for (const gl::FrameTiming& t : timings) {
       render::FrameStats timed;
       timed.setPassTimes(t);
-      geometryByFrame[t.frame] = timed.geometryMs;
+      geometryByFrame[t.frame] = timed.passMs[FramePass::Geometry];
     }
   };
   std::vector<long long> trianglesGeometry, trianglesShadow, queries;
@@ -157,7 +157,7 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
     const auto frameStart = Clock::now();
     const render::FrameStats s = frame.render(path[static_cast<size_t>(i)], time, settings);
     const double ms = 1e3 * std::chrono::duration<double>(Clock::now() - frameStart).count();
-    geometryByFrame[static_cast<size_t>(i)] = s.geometryMs;
+    geometryByFrame[static_cast<size_t>(i)] = s.passMs[FramePass::Geometry];
     takeGeometryTimes(frame.takePassTimes());
     if (options.checkEvery > 0 && i % options.checkEvery == options.checkEvery - 1) {
       // Exactness: the culled geometry pass against frustum culling's on the same moved scene.
@@ -223,7 +223,7 @@ int runStress(const StressOptions& options) {
   // working set. (Sanitizer builds have their own allocator.)
 
   gl::ContextOptions contextOptions;
-  contextOptions.backend = gl::parseBackend(options.gl.backend);
+  contextOptions.backend = gl::kBackendNames.parse(options.gl.backend);
   contextOptions.width = options.size.width;
   contextOptions.height = options.size.height;
   auto context = gl::createContext(contextOptions);

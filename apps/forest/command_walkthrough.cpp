@@ -57,8 +57,7 @@ nlohmann::ordered_json frameRecord(int index, double time, bool warmup, const Ca
   r["eye"] = {camera.position.x, camera.position.y, camera.position.z};
   r["yaw_deg"] = yawDeg;
   r["frame_ms"] = frameMs;
-  r["passes_ms"] = {{"geometry", s.geometryMs}, {"shadow_setup", s.shadowSetupMs}, {"shadow", s.shadowMs},
-                    {"shadow_term", s.shadowTermMs}, {"blur", s.blurMs}, {"lighting", s.lightingMs}};
+  for (FramePass pass : kFramePassNames.values()) r["passes_ms"][std::string(kFramePassNames.name(pass))] = s.passMs[pass];
   r["visible_objects"] = s.visibleObjects;
   r["hidden_by_reprojection"] = s.hiddenByReprojection;
   r["casters"] = s.casterObjects;
@@ -111,8 +110,8 @@ nlohmann::ordered_json summariseFrames(const nlohmann::ordered_json& records, in
   summary["frame_ms"] = column([](const auto& r) { return r["frame_ms"].template get<double>(); });
   if (!records.empty() && records.front().contains("interval_ms"))
     summary["interval_ms"] = column([](const auto& r) { return r["interval_ms"].template get<double>(); });
-  for (const char* pass : kPassNames)
-    summary["passes_ms"][pass] = column([pass](const auto& r) { return r["passes_ms"][pass].template get<double>(); });
+  for (const std::string& pass : kFramePassNames.names())
+    summary["passes_ms"][pass] = column([&pass](const auto& r) { return r["passes_ms"][pass].template get<double>(); });
   summary["triangles_geometry"] = column([](const auto& r) { return r["triangles"]["geometry"].template get<double>(); });
   summary["triangles_shadow"] = column([](const auto& r) { return r["triangles"]["shadow"].template get<double>(); });
   summary["casters"] = column([](const auto& r) { return r["casters"].template get<double>(); });
@@ -135,7 +134,7 @@ void printSummary(const nlohmann::ordered_json& summary) {
     std::cout << fmt::format("  {:<13} {:>9.2f} {:>9.2f} {:>9.2f} {:>9.2f}\n", "interval", interval["mean"].get<double>(),
                              interval["p50"].get<double>(), interval["p95"].get<double>(), interval["p99"].get<double>());
   }
-  for (const char* pass : kPassNames) {
+  for (const std::string& pass : kFramePassNames.names()) {
     const auto& p = summary["passes_ms"][pass];
     std::cout << fmt::format("  {:<13} {:>9.2f} {:>9.2f} {:>9.2f} {:>9.2f}\n", pass, p["mean"].get<double>(), p["p50"].get<double>(),
                              p["p95"].get<double>(), p["p99"].get<double>());
@@ -168,7 +167,7 @@ int runWalkthrough(const WalkthroughOptions& options) {
   scene.render.height = height;
 
   gl::ContextOptions contextOptions;
-  contextOptions.backend = gl::parseBackend(options.gl.backend);
+  contextOptions.backend = gl::kBackendNames.parse(options.gl.backend);
   contextOptions.width = width;
   contextOptions.height = height;
   auto context = gl::createContext(contextOptions);

@@ -139,7 +139,6 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window);
 // report.json of walkthrough and window runs: the passes in frame order, one record per frame,
 // the summary (mean, p50, p95, p99 of frame, passes, triangles, casters, queries over the frames
 // not marked warm-up) and its table on stdout.
-inline constexpr const char* kPassNames[] = {"geometry", "shadow_setup", "shadow", "shadow_term", "blur", "lighting"};
 nlohmann::ordered_json frameRecord(int index, double time, bool warmup, const Camera& camera, double yawDeg, double frameMs,
                                    const render::FrameStats& stats);
 // truth.json's `bands`: per distance band from_m, to_m (null: no end), lit_facing, misclassification.

@@ -72,14 +72,14 @@ int RunLengthOptions::warmupFor(int total) const {
 
 void FrameOptions::add(CLI::App& command, bool withCulling) {
   command.add_option("--method", method, "Shadow method")
-      ->check(CLI::IsMember(shadows::shadowMethodNames()))
+      ->check(CLI::IsMember(shadows::kShadowMethodNames.names()))
       ->capture_default_str();
   command.add_option("--shadow-size", shadowSize, "Shadow map texels per side (512 to 8192)")
       ->check(CLI::Range(512, 8192))
       ->capture_default_str();
   if (withCulling) {
     command.add_option("--culling", culling, "Culling strategy")
-        ->check(CLI::IsMember(culling::cullingStrategyNames()))
+        ->check(CLI::IsMember(culling::kCullingStrategyNames.names()))
         ->capture_default_str();
   }
   cascadesOption = command.add_option("--cascades", cascades,
@@ -119,7 +119,7 @@ void CasterOptions::add(CLI::App& command) {
 }
 
 render::CasterSelection CasterOptions::resolve(const gl::ContextInfo& context) const {
-  return casters == "auto" ? render::defaultCasterSelection(context) : render::parseCasterSelection(casters);
+  return casters == "auto" ? render::defaultCasterSelection(context) : render::kCasterSelectionNames.parse(casters);
 }
 
 void ModeOptions::add(CLI::App& command) {
@@ -146,9 +146,9 @@ void FrameOptions::resolveModes(render::FrameSettings& s, const gl::ContextInfo&
 render::FrameSettings FrameOptions::settings(const gl::ContextInfo& context) const {
   render::FrameSettings s;
   resolveModes(s, context);
-  s.method = shadows::parseShadowMethod(method);
+  s.method = shadows::kShadowMethodNames.parse(method);
   s.shadowMapSize = shadowSize;
-  s.culling = culling::parseCullingStrategy(culling);
+  s.culling = culling::kCullingStrategyNames.parse(culling);
   s.pcfRadius = pcf;
   s.blurRadius = blur;
   s.blurReferenceDepth = blurDepth;
@@ -159,14 +159,14 @@ render::FrameSettings FrameOptions::settings(const gl::ContextInfo& context) con
 }
 
 void ModeOptions::resolve(render::FrameSettings& s, const gl::ContextInfo& context) const {
-  s.timing = timing == "auto" ? render::defaultTimingMode(context) : render::parseTimingMode(timing);
-  s.queries = queries == "auto" ? render::defaultQueryMode(context) : culling::parseQueryMode(queries);
+  s.timing = timing == "auto" ? render::defaultTimingMode(context) : gl::kTimingModeNames.parse(timing);
+  s.queries = queries == "auto" ? render::defaultQueryMode(context) : culling::kQueryModeNames.parse(queries);
 }
 
 nlohmann::ordered_json ModeOptions::json(const gl::ContextInfo& context) const {
   render::FrameSettings s;
   resolve(s, context);
-  return {{"timing", render::timingModeName(s.timing)}, {"queries", culling::queryModeName(s.queries)}};
+  return {{"timing", gl::kTimingModeNames.name(s.timing)}, {"queries", culling::kQueryModeNames.name(s.queries)}};
 }
 
 render::FrameStats renderWithPassTimes(render::Frame& frame, const Camera& camera, double time, const render::FrameSettings& settings) {
@@ -188,7 +188,7 @@ nlohmann::ordered_json FrameOptions::json(const gl::ContextInfo& context, const 
                               {"cascade_blend", c.cascade_blend},
                               {"shadow_texels", static_cast<long long>(c.cascades) * shadowSize * shadowSize},
                               {"culling", culling},
-                              {"casters", render::casterSelectionName(settings(context).casters)},
+                              {"casters", render::kCasterSelectionNames.name(settings(context).casters)},
                               {"pcf_radius", pcf},
                               {"blur_px", blur},
                               {"blur_depth_m", blurDepth}};

@@ -9,6 +9,7 @@
 
 #include "commands.hpp"
 #include "forest/core/scene.hpp"
+#include "forest/shadows/shadow_setup.hpp"
 #include "forest/truth/frame_truth.hpp"
 
 namespace forest::app {
@@ -30,7 +31,12 @@ struct SpeedErrorOptions {
   bool quiet = false;
 };
 
-inline const std::vector<std::string> kSpeedErrorMethods{"uniform", "uniform-stable", "lispsm", "tsm"};
+// The methods compared (shadows::comparedShadowMethods), by name.
+inline const std::vector<std::string> kSpeedErrorMethods = [] {
+  std::vector<std::string> names;
+  for (shadows::ShadowMethod method : shadows::comparedShadowMethods()) names.emplace_back(shadows::kShadowMethodNames.name(method));
+  return names;
+}();
 inline const std::vector<std::string> kSpeedErrorFocus{"receivers", "frustum"};
 
 struct Scenario {

@@ -22,7 +22,7 @@ const glm::vec3 kMethodColour[] = {{0.85f, 0.2f, 0.15f}, {0.95f, 0.6f, 0.1f}, {0
 // A method's colour; its cascaded layouts darker.
 glm::vec3 seriesColour(const std::string& method, int cascades) {
   const auto it = std::find(kSpeedErrorMethods.begin(), kSpeedErrorMethods.end(), method);
-  const glm::vec3 c = kMethodColour[it - kSpeedErrorMethods.begin()];
+  const glm::vec3 c = kMethodColour[static_cast<size_t>(it - kSpeedErrorMethods.begin()) % std::size(kMethodColour)];  // a new method reuses a colour
   return cascades == 1 ? c : 0.55f * c;
 }
 

@@ -110,9 +110,9 @@ struct Controls {
   void press(const std::string& key) {
     held.insert(key);
     if (key == "c") {
-      frame.culling = nextOf(culling::cullingStrategyNames(), frame.culling);
+      frame.culling = nextOf(culling::kCullingStrategyNames.names(), frame.culling);
     } else if (key == "m") {
-      frame.method = nextOf(shadows::shadowMethodNames(), frame.method);
+      frame.method = nextOf(shadows::kShadowMethodNames.names(), frame.method);
     } else if (key == "[") {
       frame.shadowSize = std::max(512, frame.shadowSize / 2);
     } else if (key == "]") {

@@ -1,6 +1,7 @@
 #include "forest/core/budget.hpp"
 
 #include "forest/core/files.hpp"
+#include "forest/core/frame_passes.hpp"
 #include "toml_schema.hpp"
 
 namespace forest {
@@ -20,7 +21,7 @@ void readLimits(TomlSection& section, const std::string& subject, Budget& budget
 }  // namespace
 
 const std::vector<std::string>& budgetPasses() {
-  static const std::vector<std::string> passes{"geometry", "shadow_setup", "shadow", "shadow_term", "blur", "lighting"};
+  static const std::vector<std::string> passes = kFramePassNames.names();
   return passes;
 }
 

@@ -24,37 +24,7 @@ double farDepthOf(std::span<const std::uint32_t> objects, std::span<const Aabb> 
   return std::min(farDepth, camera.far);
 }
 
-CullingStrategy parseCullingStrategy(std::string_view name) {
-  if (name == "none") return CullingStrategy::None;
-  if (name == "frustum") return CullingStrategy::Frustum;
-  if (name == "stop-and-wait") return CullingStrategy::StopAndWait;
-  if (name == "chc") return CullingStrategy::Chc;
-  if (name == "chc++") return CullingStrategy::ChcPlusPlus;
-  throw InputError(fmt::format("culling strategy '{}': expected none, frustum, stop-and-wait, chc or chc++", name));
-}
-
-std::string_view cullingStrategyName(CullingStrategy strategy) {
-  switch (strategy) {
-    case CullingStrategy::None: return "none";
-    case CullingStrategy::Frustum: return "frustum";
-    case CullingStrategy::StopAndWait: return "stop-and-wait";
-    case CullingStrategy::Chc: return "chc";
-    case CullingStrategy::ChcPlusPlus: return "chc++";
-  }
-  return "?";
-}
-
-std::vector<std::string> cullingStrategyNames() { return {"none", "frustum", "stop-and-wait", "chc", "chc++"}; }
-
 bool confirmsFoundLeaves(CullingStrategy strategy) { return strategy == CullingStrategy::ChcPlusPlus; }
-
-QueryMode parseQueryMode(std::string_view name) {
-  if (name == "deterministic") return QueryMode::Deterministic;
-  if (name == "async") return QueryMode::Async;
-  throw InputError(fmt::format("query mode '{}': expected deterministic or async", name));
-}
-
-std::string_view queryModeName(QueryMode mode) { return mode == QueryMode::Deterministic ? "deterministic" : "async"; }
 
 namespace {
 constexpr GLuint kQueryViewBinding = 3;     // query_block.glsl

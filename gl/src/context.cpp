@@ -20,26 +20,8 @@ void checkError(const char* what) {
   if (first != GL_NO_ERROR) throw Error(fmt::format("GL error 0x{:04x} after {}", first, what));
 }
 
-Backend parseBackend(std::string_view name) {
-  if (name == "auto") return Backend::Auto;
-  if (name == "egl") return Backend::Egl;
-  if (name == "osmesa") return Backend::OSMesa;
-  if (name == "window") return Backend::Window;
-  throw InputError(fmt::format("--gl={}: expected one of auto, egl, osmesa, window", name));
-}
-
-std::string_view backendName(Backend backend) {
-  switch (backend) {
-    case Backend::Auto: return "auto";
-    case Backend::Egl: return "egl";
-    case Backend::OSMesa: return "osmesa";
-    case Backend::Window: return "window";
-  }
-  return "?";
-}
-
 std::string describe(const ContextInfo& info) {
-  return fmt::format("{} ({}): OpenGL {} — {}", backendName(info.backend), info.platform, info.version,
+  return fmt::format("{} ({}): OpenGL {} — {}", kBackendNames.name(info.backend), info.platform, info.version,
                      info.renderer);
 }
 

@@ -65,45 +65,9 @@ culling::QueryMode defaultQueryMode(const gl::ContextInfo& info) {
   return info.softwareRenderer ? culling::QueryMode::Deterministic : culling::QueryMode::Async;
 }
 
-gl::TimingMode parseTimingMode(std::string_view name) {
-  if (name == "profile") return gl::TimingMode::Profiling;
-  if (name == "queries") return gl::TimingMode::GpuQueries;
-  throw InputError(fmt::format("timing '{}': expected profile or queries", name));
-}
-
-std::string_view timingModeName(gl::TimingMode mode) { return mode == gl::TimingMode::Profiling ? "profile" : "queries"; }
-
 void FrameStats::setPassTimes(const gl::FrameTiming& timing) {
-  double* fields[] = {&geometryMs, &shadowSetupMs, &shadowMs, &shadowTermMs, &blurMs, &lightingMs};
   for (const gl::PassTime& pass : timing.passes)
-    for (size_t i = 0; i < std::size(kFramePassNames); ++i)
-      if (pass.pass == kFramePassNames[i]) *fields[i] = pass.ms;
-}
-
-FocusBound parseFocusBound(std::string_view name) {
-  if (name == "receivers") return FocusBound::Receivers;
-  if (name == "frustum") return FocusBound::Frustum;
-  throw InputError(fmt::format("focus bound '{}': expected receivers or frustum", name));
-}
-
-std::string_view focusBoundName(FocusBound bound) { return bound == FocusBound::Receivers ? "receivers" : "frustum"; }
-
-CasterSelection parseCasterSelection(std::string_view name) {
-  if (name == "receivers") return CasterSelection::Receivers;
-  if (name == "frustum-body") return CasterSelection::FrustumBody;
-  if (name == "all") return CasterSelection::All;
-  if (name == "receiver-pixels") return CasterSelection::ReceiverPixels;
-  throw InputError(fmt::format("caster selection '{}': expected receivers, receiver-pixels, frustum-body or all", name));
-}
-
-std::string_view casterSelectionName(CasterSelection selection) {
-  switch (selection) {
-    case CasterSelection::Receivers: return "receivers";
-    case CasterSelection::FrustumBody: return "frustum-body";
-    case CasterSelection::All: return "all";
-    case CasterSelection::ReceiverPixels: return "receiver-pixels";
-  }
-  return "?";
+    if (const std::optional<FramePass> p = kFramePassNames.find(pass.pass)) passMs[*p] = pass.ms;
 }
 
 // The passes in the order they run (DESIGN §1), with their GPU resources.
@@ -263,7 +227,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   const culling::CullingStrategy strategy = payoffApplies ? payoff_.next(stats.frameNumber, settings.culling) : settings.culling;
   stats.culledByFrustum = strategy != settings.culling;
   {
-    auto timed = timer.scope(kFramePassNames[0]);
+    auto timed = timer.scope(std::string(kFramePassNames.name(FramePass::Geometry)));
     // What showed in the last frame's image ([culling] image_visibility; ImageVisibility): read
     // once its lighting pass is done — waited for in deterministic mode, else if done already.
     const bool shown =
@@ -282,7 +246,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   // 2. Shadow setup from the visible set, per slice: B, the method's matrices, the casters. With
   // cascades, the splits start from the nearest visible depth (NearestDepthPass).
   {
-    auto timed = timer.scope(kFramePassNames[1]);
+    auto timed = timer.scope(std::string(kFramePassNames.name(FramePass::ShadowSetup)));
     std::optional<double> nearest;
     if (cascades.cascades > 1) nearest = p.nearestDepth.run(p.geometry.gbuffer().depth, camera);
     const ReceiverPixels* receiverPixels = nullptr;
@@ -307,7 +271,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
 
   // 3. Shadow pass, a layer per slice.
   {
-    auto timed = timer.scope(kFramePassNames[2]);
+    auto timed = timer.scope(std::string(kFramePassNames.name(FramePass::Shadow)));
     stats.shadowTriangles = p.shadow.run(p.plan, eye, eyeLod, settings, l, stats);
     wholeShadowMap_ = settings.wholeShadowMap;
   }
@@ -317,21 +281,21 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   // itself (no full-screen pass writes it).
   const gl::Texture* blurredTerm = nullptr;
   {
-    auto timed = timer.scope(kFramePassNames[3]);
+    auto timed = timer.scope(std::string(kFramePassNames.name(FramePass::ShadowTerm)));
     FrameBlock block = frameBlock(camera, p.plan, settings, scene_, l, !stats.sunBelowHorizon);
     if (recordInLighting) p.imageVisibility.beginRecord(block, camera);
     p.frameUniforms.bind(block);
     if (blurred) p.shadowTerm.run(p.geometry.gbuffer(), p.shadow.map(), lookupShape);
   }
   {
-    auto timed = timer.scope(kFramePassNames[4]);
+    auto timed = timer.scope(std::string(kFramePassNames.name(FramePass::Blur)));
     if (blurred) blurredTerm = &p.blur.run(p.shadowTerm.term());
   }
   termWritten_ = blurred;
 
   // 5. Lighting.
   {
-    auto timed = timer.scope(kFramePassNames[5]);
+    auto timed = timer.scope(std::string(kFramePassNames.name(FramePass::Lighting)));
     p.lighting.run(p.geometry.gbuffer(), blurredTerm, p.shadow.map(), lookupShape, haze, settings.keepShadowTerm, recordInLighting);
     if (recordInLighting) p.imageVisibility.endRecord();
     usedTermKept_ = settings.keepShadowTerm;
@@ -362,7 +326,7 @@ std::vector<gl::FrameTiming> Frame::drainPassTimes() {
 
 void Frame::learnPassTimes(const gl::FrameTiming& timing) {
   for (const gl::PassTime& pass : timing.passes)
-    if (pass.pass == kFramePassNames[0]) payoff_.record(timing.frame, pass.ms);
+    if (kFramePassNames.find(pass.pass) == FramePass::Geometry) payoff_.record(timing.frame, pass.ms);
 }
 
 void Frame::presentTo(GLuint framebuffer, int width, int height) const {

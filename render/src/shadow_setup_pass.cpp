@@ -279,14 +279,13 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
     input.sunDirection = l;
     input.scene = sceneBounds;
     if (onReceivers) input.receivers = sliceBounds;
-    // n over time (§9.2.5, shadows::kNearDistanceSmoothing): from the last frame's n, both ways.
-    if (settings.method == shadows::ShadowMethod::Lispsm && previousN_[s] > 0.0) input.previousN = previousN_[s];
+    // What the method carried from the last frame (lispsm: n over time, §9.2.5; uniform-stable: its radius).
+    input.carried = history_.carried(settings.method, i);
     // The first slice serves everything from the near plane, but nothing visible lies nearer than
     // z_near: its n is eq. 8.13 from there (ShadowInput::nNear); B still starts at the near plane.
     if (k > 1 && i == 0 && nearestDepth) input.nNear = *nearestDepth;
     input.mapSize = settings.shadowMapSize;
     input.borderTexels = mapBorderTexels(settings.pcfRadius);
-    if (settings.method == shadows::ShadowMethod::UniformStable && stableRadius_[s] > 0.0) input.previousStableRadius = stableRadius_[s];
     if (const std::optional<std::string> outside = shadows::outsideShadowDomain(input)) {
       // A view too shallow for float32 this far from the origin: no shadows this frame, and why.
       plan.shadowed = false;
@@ -300,8 +299,7 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
     } else {
       slice.setup = shadows::computeShadowSetup(input, settings.method);
     }
-    if (settings.method == shadows::ShadowMethod::UniformStable) stableRadius_[s] = slice.setup.diagnostics.stableRadius;
-    previousN_[s] = settings.method == shadows::ShadowMethod::Lispsm && !slice.setup.empty ? slice.setup.diagnostics.n : 0.0;
+    history_.remember(settings.method, i, slice.setup);
     if (!slice.setup.empty) {
       switch (settings.casters) {
         case CasterSelection::Receivers:

@@ -15,6 +15,7 @@
 #include "forest/render/scene_objects.hpp"
 #include "forest/shadows/cascades.hpp"
 #include "forest/shadows/casters.hpp"
+#include "forest/shadows/method_history.hpp"
 #include "forest/shadows/receiver_mask.hpp"
 #include "forest/shadows/shadow_setup.hpp"
 #include "receiver_pixels.hpp"
@@ -65,8 +66,7 @@ class ShadowSetupPass {
            const ReceiverPixels* receiverPixels, ShadowPlan& plan, FrameStats& stats);
   // Forgets the smoothed n and splits and the stable maps' radii (a camera cut).
   void reset() {
-    previousN_.fill(0.0);
-    stableRadius_.fill(0.0);
+    history_.reset();
     previousSplits_ = {};
   }
 
@@ -88,9 +88,7 @@ class ShadowSetupPass {
   // mask_ over the visible sun-facing pixels whose eye depth the slice's focus body spans.
   void fillReceiverMask(const ShadowSlice& slice, const FrameSettings& settings, const ReceiverPixels& receiverPixels);
 
-  // Per slice, the last frame's lispsm n (ShadowInput::previousN) and uniform-stable radius
-  // (ShadowInput::previousStableRadius); 0: none.
-  std::array<double, shadows::kMaxCascades> previousN_{}, stableRadius_{};
+  shadows::MethodHistory history_;  // what the shadow method carries from frame to frame, per slice
   std::string outsideNote_;  // why a view got no shadows (outside float32's domain): the stats' fallback views it
   shadows::SplitDepths previousSplits_;  // cascades 0: none
   // Kept from frame to frame, so a steady-state frame allocates nothing (DESIGN §9).

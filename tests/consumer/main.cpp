@@ -8,7 +8,7 @@
 int main() {
   const forest::Scene scene = forest::parseScene("[camera]\nfar = 500.0\n", "consumer.toml");
   if (scene.camera.far != 500.0) return 1;
-  if (forest::gl::parseBackend("egl") != forest::gl::Backend::Egl) return 1;
+  if (forest::gl::kBackendNames.parse("egl") != forest::gl::Backend::Egl) return 1;
   std::puts("consumer: ok");
   return 0;
 }

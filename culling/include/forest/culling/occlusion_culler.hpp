@@ -60,6 +60,7 @@
 
 #include "forest/core/bounds.hpp"
 #include "forest/core/camera.hpp"
+#include "forest/core/enum_names.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/culling/bvh.hpp"
 #include "forest/gl/objects.hpp"
@@ -70,9 +71,10 @@
 namespace forest::culling {
 
 enum class CullingStrategy { None, Frustum, StopAndWait, Chc, ChcPlusPlus };
-CullingStrategy parseCullingStrategy(std::string_view name);  // throws InputError
-std::string_view cullingStrategyName(CullingStrategy strategy);
-std::vector<std::string> cullingStrategyNames();  // "none", "frustum", "stop-and-wait", "chc", "chc++"
+inline constexpr EnumNames<CullingStrategy, 5> kCullingStrategyNames{
+    "culling strategy", {{{CullingStrategy::None, "none"}, {CullingStrategy::Frustum, "frustum"},
+                          {CullingStrategy::StopAndWait, "stop-and-wait"}, {CullingStrategy::Chc, "chc"},
+                          {CullingStrategy::ChcPlusPlus, "chc++"}}}};
 // Whether the strategy asks each leaf it found visible in a frame again once everything it drew
 // is drawn (chc++'s c-queue): then parts drawn after the traversal (QueriesAfterTraversal) leave
 // only the objects behind those parts in its visible set, and OcclusionCuller::refineVisibleSet
@@ -150,8 +152,8 @@ class QueriesAfterTraversal {
 };
 
 enum class QueryMode { Deterministic, Async };
-QueryMode parseQueryMode(std::string_view name);  // "deterministic", "async"; throws InputError
-std::string_view queryModeName(QueryMode mode);
+inline constexpr EnumNames<QueryMode, 2> kQueryModeNames{
+    "query mode", {{{QueryMode::Deterministic, "deterministic"}, {QueryMode::Async, "async"}}}};
 
 struct CullingStats {
   int nodesVisited = 0;      // nodes taken from the traversal queue inside the frustum

@@ -11,15 +11,16 @@
 #include <string>
 #include <string_view>
 
+#include "forest/core/enum_names.hpp"
+
 struct GLFWwindow;
 
 namespace forest::gl {
 
 enum class Backend { Auto, Egl, OSMesa, Window };
 
-// "auto" | "egl" | "osmesa" | "window"; throws InputError otherwise.
-Backend parseBackend(std::string_view name);
-std::string_view backendName(Backend backend);
+inline constexpr EnumNames<Backend, 4> kBackendNames{
+    "GL backend", {{{Backend::Auto, "auto"}, {Backend::Egl, "egl"}, {Backend::OSMesa, "osmesa"}, {Backend::Window, "window"}}}};
 
 struct ContextOptions {
   Backend backend = Backend::Auto;

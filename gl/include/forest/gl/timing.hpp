@@ -10,11 +10,14 @@
 #include <string>
 #include <vector>
 
+#include "forest/core/enum_names.hpp"
 #include "forest/gl/objects.hpp"
 
 namespace forest::gl {
 
 enum class TimingMode { GpuQueries, Profiling };
+inline constexpr EnumNames<TimingMode, 2> kTimingModeNames{
+    "timing", {{{TimingMode::Profiling, "profile"}, {TimingMode::GpuQueries, "queries"}}}};
 
 struct PassTime {
   std::string pass;

@@ -21,6 +21,8 @@
 #include <vector>
 
 #include "forest/core/camera_path.hpp"
+#include "forest/core/enum_names.hpp"
+#include "forest/core/frame_passes.hpp"
 #include "forest/core/image.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/culling/bvh.hpp"
@@ -47,15 +49,16 @@ enum class CasterSelection {
   // pass (a sync point a GPU frame otherwise avoids, DESIGN §9).
   ReceiverPixels,
 };
-CasterSelection parseCasterSelection(std::string_view name);  // throws InputError
-std::string_view casterSelectionName(CasterSelection selection);
+inline constexpr EnumNames<CasterSelection, 4> kCasterSelectionNames{
+    "caster selection", {{{CasterSelection::Receivers, "receivers"}, {CasterSelection::ReceiverPixels, "receiver-pixels"},
+                          {CasterSelection::FrustumBody, "frustum-body"}, {CasterSelection::All, "all"}}}};
 
 // What bounds the focus body B: the visible receivers (their box, and the visible set's z_f as
 // the far distance; thesis §9.2.5, DESIGN §4) or the whole view frustum within the scene (V ∩ S,
 // eq. 4.2, the camera's own far plane).
 enum class FocusBound { Receivers, Frustum };
-FocusBound parseFocusBound(std::string_view name);  // "receivers", "frustum"; throws InputError
-std::string_view focusBoundName(FocusBound bound);
+inline constexpr EnumNames<FocusBound, 2> kFocusBoundNames{
+    "focus bound", {{{FocusBound::Receivers, "receivers"}, {FocusBound::Frustum, "frustum"}}}};
 
 struct FrameSettings {
   shadows::ShadowMethod method = shadows::ShadowMethod::Lispsm;
@@ -116,8 +119,6 @@ CasterSelection defaultCasterSelection(const gl::ContextInfo& info);
 
 // Profiling on a software renderer, timer queries on a hardware one (the default of --timing).
 gl::TimingMode defaultTimingMode(const gl::ContextInfo& info);
-gl::TimingMode parseTimingMode(std::string_view name);  // "profile", "queries"; throws InputError
-std::string_view timingModeName(gl::TimingMode mode);
 
 // The cascades a frame uses: the settings' where given, else the scene's [shadows].
 ShadowSettings resolveCascades(const FrameSettings& settings, const Scene& scene);
@@ -134,8 +135,9 @@ struct CascadeStats {
 };
 
 struct FrameStats {
-  // blurMs: the blur's horizontal pass; its vertical pass is part of lightingMs.
-  double geometryMs = 0.0, shadowSetupMs = 0.0, shadowMs = 0.0, shadowTermMs = 0.0, blurMs = 0.0, lightingMs = 0.0;
+  // Per pass (kFramePassNames). The blur's: its horizontal pass; its vertical pass is part of the
+  // lighting's.
+  PassTimes passMs;
   int visibleObjects = 0;
   int hiddenByReprojection = 0;  // trees and props that showed in the last image, guessed hidden now ([culling] image_reprojection)
   int casterObjects = 0;
@@ -160,13 +162,9 @@ struct FrameStats {
   std::uint64_t frameNumber = 0;
   bool passTimesPending = false;
 
-  double passesMs() const { return geometryMs + shadowSetupMs + shadowMs + shadowTermMs + blurMs + lightingMs; }
   // Takes the pass times of a gl::FrameTiming whose passes carry kFramePassNames.
   void setPassTimes(const gl::FrameTiming& timing);
 };
-
-// The passes' names in frame order, as timings and reports carry them.
-inline constexpr const char* kFramePassNames[] = {"geometry", "shadow_setup", "shadow", "shadow_term", "blur", "lighting"};
 
 class Frame {
  public:

@@ -20,14 +20,15 @@
 
 #include "forest/core/bounds.hpp"
 #include "forest/core/camera.hpp"
+#include "forest/core/enum_names.hpp"
 #include "forest/core/convex_body.hpp"
 
 namespace forest::shadows {
 
 enum class ShadowMethod { Uniform, UniformStable, Lispsm, Tsm, TsmIterative };
-ShadowMethod parseShadowMethod(std::string_view name);  // throws InputError
-std::vector<std::string> shadowMethodNames();          // every method, in the enum's order
-std::string_view shadowMethodName(ShadowMethod method);
+inline constexpr EnumNames<ShadowMethod, 5> kShadowMethodNames{
+    "shadow method", {{{ShadowMethod::Uniform, "uniform"}, {ShadowMethod::UniformStable, "uniform-stable"},
+                       {ShadowMethod::Lispsm, "lispsm"}, {ShadowMethod::Tsm, "tsm"}, {ShadowMethod::TsmIterative, "tsm-iterative"}}}};
 
 // Past n > kLispsmCapFactor · d the warp is gone (thesis §8.3: LiSPSM converges to uniform as
 // γ → 0); the warp strength 1/n fades linearly to 0 at the cap, so there is no jump.
@@ -48,12 +49,11 @@ struct ShadowInput {
   // when given), so the warp is not spent between the near plane and the first visible surface;
   // B and the map still start at the camera's near. Ignored unless near < nNear < far (and nFar).
   std::optional<double> nNear;
-  // uniform-stable: the map radius the previous frame used (diagnostics.stableRadius), kept while
-  // it still fits the view (stableMapRadius).
-  std::optional<double> previousStableRadius;
-  // lispsm over time: the n the previous frame used (diagnostics.n). n then moves
-  // kNearDistanceSmoothing of the way from it to this frame's eq. 8.13 value, up or down.
-  std::optional<double> previousN;
+  // What this method's setup of the same slice carried from the last frame (MethodHistory;
+  // lispsm: its n, which then moves kNearDistanceSmoothing of the way to this frame's eq. 8.13
+  // value; uniform-stable: its map radius, kept while it still fits the view, stableMapRadius).
+  // 0: nothing (the first frame, after a cut).
+  double carried = 0.0;
   int mapSize = 2048;                       // texels per side
   int borderTexels = 2;                     // kept free around B for the PCF and blur footprint
   // tsm: the focus region is the first focusShare of the visible depth range (TSM §6.2 and §6.4:
@@ -135,6 +135,13 @@ void validateShadowInput(const ShadowInput& input);
 // back to the focused uniform map, and failing that to no shadows (empty), with the reason in
 // diagnostics.fallback.
 ShadowSetup computeShadowSetup(const ShadowInput& input, ShadowMethod method);
+
+// What `method` carries from this setup to the next frame's of the same slice (ShadowInput::carried).
+double carriedToNextFrame(ShadowMethod method, const ShadowSetup& setup);
+
+// The methods a comparison of methods runs (forest bench speed-error): every method but the
+// variants of another (tsm-iterative).
+std::vector<ShadowMethod> comparedShadowMethods();
 
 // Upper bound on |x|, |y|, |z| of the shadow-clip coordinates the GPU computes for a
 // camera-relative position (rounded to float32) with the float32 matrix, whatever the order of
