@@ -9,8 +9,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <random>
+#include <regex>
 #include <set>
 
 #include <glm/glm.hpp>
@@ -19,6 +21,7 @@
 #include "cli_test_support.hpp"
 #include "forest/core/budget.hpp"
 #include "forest/core/files.hpp"
+#include "forest/core/frame_passes.hpp"
 #include "forest/core/image.hpp"
 #include "test_paths.hpp"
 
@@ -338,6 +341,31 @@ TEST(ForestCli, StressStaysExactWithMovingObjectsAndItsMemoryFlat) {
   EXPECT_GT(plot.width, 500);
 }
 
+// The summary printed on the screen against report.json's frame records (the frames after the
+// warm-up), each mean computed here: "mean per frame: E eye triangles, S shadow triangles, C
+// casters, Q queries" and each pass's row "name mean p50 p95 p99".
+void expectPrintedMeansOfTheRecords(const std::string& printed, const nlohmann::json& report) {
+  auto meanOf = [&](const std::function<double(const nlohmann::json&)>& get) {
+    double sum = 0.0;
+    int n = 0;
+    for (const auto& f : report["frames"])
+      if (!f["warmup"].get<bool>()) sum += get(f), ++n;
+    return n > 0 ? sum / n : 0.0;
+  };
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(printed, m,
+                                std::regex(R"(mean per frame: (\d+) eye triangles, (\d+) shadow triangles, (\d+) casters, (\d+) queries)")))
+      << printed;
+  EXPECT_NEAR(std::stod(m[1]), meanOf([](const auto& f) { return f["triangles"]["geometry"].template get<double>(); }), 0.5);
+  EXPECT_NEAR(std::stod(m[2]), meanOf([](const auto& f) { return f["triangles"]["shadow"].template get<double>(); }), 0.5);
+  EXPECT_NEAR(std::stod(m[3]), meanOf([](const auto& f) { return f["casters"].template get<double>(); }), 0.5);
+  EXPECT_NEAR(std::stod(m[4]), meanOf([](const auto& f) { return f["queries"].template get<double>(); }), 0.5);
+  for (const std::string& pass : kFramePassNames.names()) {
+    ASSERT_TRUE(std::regex_search(printed, m, std::regex("\\n  " + pass + R"( +(\d+\.\d\d) )"))) << pass << "\n" << printed;
+    EXPECT_NEAR(std::stod(m[1]), meanOf([&](const auto& f) { return f["passes_ms"][pass].template get<double>(); }), 0.0051) << pass;
+  }
+}
+
 TEST(ForestCli, WalkthroughWritesConsistentOutputsAndRepeatsExactly) {
   const fs::path base = fs::path(FOREST_TEST_OUTPUT) / "cli";
   std::vector<Image8> first;
@@ -369,6 +397,7 @@ TEST(ForestCli, WalkthroughWritesConsistentOutputsAndRepeatsExactly) {
       EXPECT_LE(f["z_f"].get<double>(), f["far"].get<double>());
     }
     EXPECT_LT(intervals, wallMs);
+    expectPrintedMeansOfTheRecords(r.out, report);
     for (const char* q : {"p50", "p95", "p99"}) EXPECT_GT(report["summary"]["frame_ms"][q].get<double>(), 0.0);
     EXPECT_GE(report["summary"]["interval_ms"]["p50"].get<double>(), report["summary"]["frame_ms"]["p50"].get<double>());
     for (int k = 0; k < 20; ++k) {

@@ -9,11 +9,15 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <fmt/format.h>
 
 #include "cli.hpp"
 #include "cli_test_support.hpp"
@@ -158,6 +162,69 @@ TEST(ForestCliUsage, EveryUsageErrorOfEverySubcommandIsOneLineWithExitTwo) {
   // of --width, --height, --shadow-size, --pcf, --blur, --blur-depth. Fewer means the options were
   // not seen.
   for (const char* command : {"render", "truth", "walkthrough", "budget", "stress"}) EXPECT_GE(casesPerCommand[command], 36) << command;
+}
+
+// Every option's range as the README and each --help document it: written here, so that a range
+// changed in the code (or its help text) without the documentation fails.
+struct DocumentedRange {
+  const char* option;
+  double low, high;
+};
+constexpr DocumentedRange kDocumentedRanges[] = {
+    {"--width", 16, 8192},       {"--height", 16, 8192},        {"--shadow-size", 512, 8192}, {"--sizes", 512, 8192},
+    {"--pcf", 0, 4},             {"--blur", 0, 16},             {"--blur-depth", 0.01, 1e4},  {"--bias", 0, 100},
+    {"--cascades", 1, 4},        {"--split-lambda", 0, 1},      {"--cascade-blend", 0, 0.5},  {"--fog", 0, 1},
+    {"--time", 0, 1e6},          {"--frames", 1, 1e6},          {"--warmup", 0, 1e6},         {"--every", 1, 1e6},
+    {"--check-every", 0, 1e6},   {"--fps", 0.1, 1000},          {"--trees", 1, 1e6},          {"--leaf-size", 1, 64},
+    {"--moving", 0, 1},          {"--soft-rays", 0, 1024},      {"--screen", 1, 16384},       {"--random", 0, 1e8},
+    {"--target", 1e-6, 0.999999}, {"--lod0", 1000, 20000},
+};
+
+TEST(ForestCliUsage, EveryRangedOptionHasItsDocumentedRangeAndAcceptsItsEnds) {
+  app::ForestCli cli;
+  std::vector<std::pair<std::string, CLI::App*>> commands;
+  for (CLI::App* command : cli.app().get_subcommands({})) {
+    const std::vector<CLI::App*> nested = command->get_subcommands({});
+    if (nested.empty()) commands.emplace_back(command->get_name(), command);
+    for (CLI::App* sub : nested) commands.emplace_back(command->get_name() + " " + sub->get_name(), sub);
+  }
+  int checked = 0;
+  for (const auto& [name, command] : commands)
+    for (const OptionSpec& o : optionsOf(*command)) {
+      if (!o.hasRange) continue;
+      SCOPED_TRACE(name + " " + o.name);
+      const auto documented = std::find_if(std::begin(kDocumentedRanges), std::end(kDocumentedRanges),
+                                            [&](const DocumentedRange& d) { return o.name == d.option; });
+      ASSERT_NE(documented, std::end(kDocumentedRanges)) << "a ranged option without a documented range";
+      EXPECT_DOUBLE_EQ(o.low, documented->low);
+      EXPECT_DOUBLE_EQ(o.high, documented->high);
+      // Its help says so in words too: "low to high".
+      const std::string help = command->get_option(o.name)->get_description();
+      // Numbers as the help writes them: 0.01, 1e-06, 8192, and 1000000 or 10^6.
+      auto written = [](double v) {
+        std::vector<std::string> forms{v == std::floor(v) ? fmt::format("{:.0f}", v) : fmt::format("{:g}", v)};
+        const double power = std::round(std::log10(v));
+        if (v >= 1e3 && v == std::pow(10.0, power)) forms.push_back(fmt::format("10^{:.0f}", power));
+        return forms;
+      };
+      bool said = false;
+      for (const std::string& low : written(documented->low))
+        for (const std::string& high : written(documented->high)) said = said || help.find(low + " to " + high) != std::string::npos;
+      EXPECT_TRUE(said) << "the help does not give the range: " << help;
+      // Both ends are valid values.
+      for (double end : {documented->low, documented->high}) {
+        std::vector<std::string> arguments = words(name);
+        for (const std::string& a : requiredArguments(name, "")) arguments.push_back(a);
+        for (const std::string& n : o.needs) arguments.push_back(n);
+        arguments.push_back(o.name);
+        for (int i = 0; i < o.count; ++i) arguments.push_back(number(end));
+        app::ForestCli fresh;
+        const app::CliParse r = fresh.parse(arguments);
+        EXPECT_EQ(r.exitCode, -1) << number(end) << ": " << r.message;
+      }
+      ++checked;
+    }
+  EXPECT_GE(checked, 60);  // the options were seen (80 ranged options in 9 commands)
 }
 
 // Through the real program: stderr, exit code, nothing on stdout.

@@ -43,6 +43,42 @@ TEST(CascadeSplits, CoverTheRangeWithoutGapsForAnyLambda) {
         }
 }
 
+SplitDepths splitsOf(std::initializer_list<double> z) {
+  SplitDepths out;
+  out.cascades = static_cast<int>(z.size()) - 1;
+  size_t i = 0;
+  for (double v : z) out[i++] = v;
+  return out;
+}
+
+// Over time each inner split moves a fifth of the way in log depth: z' · (z / z')^0.2.
+TEST(CascadeSplits, SmoothedSplitsMoveAFifthOfTheWayInLogDepth) {
+  const SplitDepths previous = splitsOf({0.2, 4.0, 20.0, 80.0, 300.0});
+  const SplitDepths target = splitsOf({0.2, 8.0, 30.0, 100.0, 320.0});
+  const SplitDepths z = smoothSplits(target, previous);
+  EXPECT_EQ(z.front(), 0.2);
+  EXPECT_EQ(z.back(), 320.0);
+  for (size_t i = 1; i < 4; ++i) EXPECT_NEAR(z[i], previous[i] * std::pow(target[i] / previous[i], 0.2), 1e-12 * z[i]) << i;
+  // Without the last frame's splits (a cut, another K): the target itself.
+  const SplitDepths fresh = smoothSplits(target, SplitDepths{});
+  for (size_t i = 0; i < 5; ++i) EXPECT_EQ(fresh[i], target[i]) << i;
+}
+
+// z_f falls from 300 to 25 m: split 1 smooths to 10 · 0.5^0.2, split 2's smoothed value would pass
+// z_f and takes its target 8, below split 1: it goes halfway from split 1 to z_f, and so does split 3
+// (its target 15 is then below split 2). No slice is empty.
+TEST(CascadeSplits, ASplitThatWouldPassTheOneBelowGoesHalfwayToTheFarEnd) {
+  const SplitDepths previous = splitsOf({0.2, 10.0, 40.0, 120.0, 300.0});
+  const SplitDepths target = splitsOf({0.2, 5.0, 8.0, 15.0, 25.0});
+  const SplitDepths z = smoothSplits(target, previous);
+  const double z1 = 10.0 * std::pow(0.5, 0.2), z2 = 0.5 * (z1 + 25.0), z3 = 0.5 * (z2 + 25.0);
+  EXPECT_NEAR(z[1], z1, 1e-12 * z1);
+  EXPECT_NEAR(z[2], z2, 1e-12 * z2);
+  EXPECT_NEAR(z[3], z3, 1e-12 * z3);
+  EXPECT_EQ(z[4], 25.0);
+  for (size_t i = 0; i < 4; ++i) EXPECT_LT(z[i], z[i + 1]) << "slice " << i << " is empty";
+}
+
 TEST(CascadeSplits, RefuseBadInputs) {
   const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
   EXPECT_THROW(cascadeSplits(0.0, 100.0, 2, 0.5), InputError);

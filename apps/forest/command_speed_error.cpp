@@ -262,7 +262,7 @@ Run addSpeedErrorCommand(CLI::App& bench) {
       ->delimiter(',')
       ->check(CLI::Range(1, shadows::kMaxCascades))
       ->capture_default_str();
-  command->add_option("--target", options->target, "Misclassification share for the equal-error map sizes (0 to 1, exclusive)")
+  command->add_option("--target", options->target, "Misclassification share for the equal-error map sizes (1e-06 to 0.999999)")
       ->check(CLI::Range(1e-6, 0.999999))
       ->capture_default_str();
   addSoftRaysOption(*command, options->softRays);

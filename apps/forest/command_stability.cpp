@@ -315,7 +315,7 @@ Run addStabilityCommand(CLI::App& app) {
                       "and check every invariant on every slice's setup (1 to 4; 1: the whole view)")
       ->check(CLI::Range(1, shadows::kMaxCascades))
       ->capture_default_str();
-  command->add_option("--split-lambda", options->splitLambda, "Split scheme with --cascades: 1 logarithmic, 0 uniform")
+  command->add_option("--split-lambda", options->splitLambda, "Split scheme with --cascades (0 to 1): 1 logarithmic, 0 uniform")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   command->add_option("--cascade-blend", options->cascadeBlend, "Blend band beyond each split with --cascades (0 to 0.5)")
@@ -325,7 +325,7 @@ Run addStabilityCommand(CLI::App& app) {
   command->add_flag("--aliasing", options->aliasing,
                     "Also compute the analytic aliasing error per setup (thesis eq. 8.1, 8.4; Lloyd's storage\n"
                     "factor) over sample points of V ∩ S: per record and as medians per method (slower)");
-  command->add_option("--screen", options->screen, "Screen size in pixels for --aliasing (W H)")
+  command->add_option("--screen", options->screen, "Screen size in pixels for --aliasing (W H, each 1 to 16384)")
       ->expected(2)
       ->check(CLI::Range(1, 16384))
       ->capture_default_str();

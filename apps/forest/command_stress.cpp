@@ -304,7 +304,7 @@ Run addStressCommand(CLI::App& app) {
   options->size.add(*command);
   options->length.add(*command, "300 per run");
   options->frame.add(*command);
-  command->add_option("--moving", options->moving, "Share of the trees moved every frame")->check(CLI::Range(0.0, 1.0))->capture_default_str();
+  command->add_option("--moving", options->moving, "Share of the trees moved every frame (0 to 1)")->check(CLI::Range(0.0, 1.0))->capture_default_str();
   command->add_option("--check-every", options->checkEvery, "Frames between exactness checks (0 to 10^6; 0: none)")
       ->check(CLI::Range(0, 1000000))
       ->capture_default_str();

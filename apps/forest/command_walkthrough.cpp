@@ -292,7 +292,7 @@ void WalkthroughOptions::add(CLI::App& command, bool withFramesOut) {
   if (withFramesOut) {
     size.add(command);
     command.add_option("--fps", fps, "Frames per second of path time (0.1 to 1000)")->check(CLI::Range(0.1, 1000.0))->capture_default_str();
-    command.add_option("--every", every, "Write every k-th frame as PNG (1: all)")->check(CLI::Range(1, 1000000))->capture_default_str();
+    command.add_option("--every", every, "Write every k-th frame as PNG (1 to 1000000; 1: all)")->check(CLI::Range(1, 1000000))->capture_default_str();
   } else {
     size.add(command, " (default: the budget file's)");
   }

@@ -58,7 +58,7 @@ void RunLengthOptions::add(CLI::App& command, const std::string& framesMeaning) 
   framesOption = command.add_option("--frames", frames, "Frames to render (1 to 1000000; default: " + framesMeaning + ")")
                      ->check(CLI::Range(1, 1000000));
   warmupOption = command.add_option("--warmup", warmup,
-                                    fmt::format("Frames rendered first but left out of the statistics (caches, CHC history;\n"
+                                    fmt::format("Frames rendered first but left out of the statistics (0 to 1000000; caches, CHC history;\n"
                                                 "default {}, at most half of a shorter run)",
                                                 warmup))
                      ->check(CLI::Range(0, 1000000));

@@ -194,19 +194,9 @@ shadows::SplitDepths ShadowSetupPass::splitsFor(const Camera& camera, double far
                                                 const ShadowSettings& cascades) {
   double zNear = std::clamp(nearestDepth.value_or(camera.near), camera.near, farDepth);
   if (!(zNear * (1.0 + 1e-6) < farDepth)) zNear = camera.near;
-  shadows::SplitDepths splits = shadows::cascadeSplits(zNear, farDepth, cascades.cascades, cascades.split_lambda);
-  splits[0] = camera.near;
-  const int k = cascades.cascades;
-  if (previousSplits_.cascades == k)
-    for (int i = 1; i < k; ++i) {
-      const size_t s = static_cast<size_t>(i);
-      const double target = splits[s];
-      const double previous = std::log(previousSplits_[s]);
-      const double smoothed = std::exp(previous + shadows::kNearDistanceSmoothing * (std::log(target) - previous));
-      if (smoothed > splits[s - 1] && smoothed < farDepth) splits[s] = smoothed;
-    }
-  for (size_t s = 1; s < static_cast<size_t>(k); ++s)  // the order, whatever the smoothing kept
-    if (!(splits[s] > splits[s - 1])) splits[s] = 0.5 * (splits[s - 1] + farDepth);
+  shadows::SplitDepths target = shadows::cascadeSplits(zNear, farDepth, cascades.cascades, cascades.split_lambda);
+  target[0] = camera.near;
+  const shadows::SplitDepths splits = shadows::smoothSplits(target, previousSplits_);
   previousSplits_ = splits;
   return splits;
 }

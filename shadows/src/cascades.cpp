@@ -27,6 +27,22 @@ SplitDepths cascadeSplits(double near, double far, int cascades, double lambda) 
   return splits;
 }
 
+SplitDepths smoothSplits(const SplitDepths& target, const SplitDepths& previous) {
+  SplitDepths splits = target;
+  const int k = target.cascades;
+  const double farDepth = target.back();
+  if (previous.cascades == k)
+    for (int i = 1; i < k; ++i) {
+      const size_t s = static_cast<size_t>(i);
+      const double last = std::log(previous[s]);
+      const double smoothed = std::exp(last + kNearDistanceSmoothing * (std::log(target[s]) - last));
+      if (smoothed > splits[s - 1] && smoothed < farDepth) splits[s] = smoothed;
+    }
+  for (size_t s = 1; s < static_cast<size_t>(k); ++s)  // the order, whatever the smoothing kept
+    if (!(splits[s] > splits[s - 1])) splits[s] = 0.5 * (splits[s - 1] + farDepth);
+  return splits;
+}
+
 Camera sliceCamera(const Camera& camera, const SplitDepths& splits, int slice, double blend) {
   const size_t i = static_cast<size_t>(slice);
   Camera c = camera;

@@ -31,6 +31,15 @@ struct SplitDepths {
 // InputError unless 0 < near < far (finite), 1 ≤ K ≤ kMaxCascades and λ in [0, 1].
 SplitDepths cascadeSplits(double near, double far, int cascades, double lambda);
 
+// The splits over time (DESIGN §12): each inner split of `target` moves from `previous`'s
+// (the last frame's, same K; else none) kNearDistanceSmoothing of the way in log depth,
+//   z_i ← exp(ln z_i' + 0.2 · (ln z_i − ln z_i')),
+// so that a jump of z_f or z_near does not move every slice's texels at once. A smoothed split
+// that would not lie above the (smoothed) split below it, or not below z_K, takes the target's
+// value; a split that is then still not above the one below goes halfway from that one to z_K, so
+// that no slice is empty. z_0 and z_K are the target's.
+SplitDepths smoothSplits(const SplitDepths& target, const SplitDepths& previous);
+
 // A slice's focus body reaches this share beyond its ends, past any blend band: the shadow lookup
 // picks the slice by an eye depth it reconstructs in float32 from the depth buffer (relative error
 // ~10⁻⁶), so a pixel at a split reads a layer whose B holds it either way.
