@@ -106,20 +106,30 @@ std::string probeVideo(const fs::path& video) {
   return out;
 }
 
-// --every 1 writes walkthrough.mp4 (ffmpeg, installed by tools/setup.sh): one video frame per
-// rendered frame, at the frame's size — an odd one padded to the next even size (yuv420p).
-TEST(RunOutput, EveryFrameWalkWritesAVideoOfEveryFrame) {
+// A walk writes walkthrough.mp4 by default (ffmpeg, installed by tools/setup.sh): one video frame
+// per rendered frame, not per PNG written (every 10th), at the frame's size — an odd one padded to
+// the next even size (yuv420p). --no-video writes none.
+TEST(RunOutput, WalkWritesAVideoOfEveryFrameByDefault) {
   ASSERT_EQ(std::system("command -v ffmpeg > /dev/null && command -v ffprobe > /dev/null"), 0)
       << "ffmpeg and ffprobe are missing: tools/setup.sh installs them";
   for (const auto& [width, height, expected] : {std::tuple{160, 90, "160,90,12"}, std::tuple{161, 91, "162,92,12"}}) {
     const fs::path out = fs::path(FOREST_TEST_OUTPUT) / "cli" / ("video-" + std::to_string(width));
     fs::remove_all(out);
-    const test::CliResult r = test::runForest("walkthrough --frames 12 --warmup 2 --every 1 --width " + std::to_string(width) +
+    const test::CliResult r = test::runForest("walkthrough --frames 12 --warmup 2 --width " + std::to_string(width) +
                                               " --height " + std::to_string(height) + " --quiet --out " + out.string());
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    EXPECT_THAT(r.out, ::testing::HasSubstr("walkthrough.mp4"));
+    EXPECT_THAT(r.out, ::testing::HasSubstr("walkthrough.mp4 of all 12 frames"));
     EXPECT_EQ(probeVideo(out / "walkthrough.mp4"), expected);
+    int pngs = 0;
+    for (const auto& entry : fs::directory_iterator(out / "frames")) pngs += entry.path().extension() == ".png";
+    EXPECT_EQ(pngs, 3);  // frames 0, 10 and the last
   }
+  const fs::path out = fs::path(FOREST_TEST_OUTPUT) / "cli" / "video-none";
+  fs::remove_all(out);
+  const test::CliResult r = test::runForest("walkthrough --frames 4 --width 160 --height 90 --no-video --quiet --out " + out.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_FALSE(fs::exists(out / "walkthrough.mp4"));
+  EXPECT_THAT(r.out, ::testing::Not(::testing::HasSubstr("mp4")));
 }
 
 }  // namespace

@@ -1,9 +1,8 @@
 // forest walkthrough: the main job. Renders a camera path through a scene with the full frame
-// (culling, LiSPSM shadows, lighting), headless, and writes frames, a contact sheet, an MP4 when
-// ffmpeg is present, report.json (one record per frame) and a one-screen summary. Ctrl-C stops
+// (culling, LiSPSM shadows, lighting), headless, and writes every 10th frame, an MP4 of every frame
+// (ffmpeg), a contact sheet, report.json (one record per frame) and a one-screen summary. Ctrl-C stops
 // after the current frame and still writes complete files for the frames done.
 #include <fmt/format.h>
-#include <sys/wait.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -14,6 +13,7 @@
 #include <filesystem>
 #include <functional>
 #include <iostream>
+#include <optional>
 
 #include "commands.hpp"
 #include "run_output.hpp"
@@ -34,13 +34,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-// `text` as one word for /bin/sh: in single quotes, each ' written as '\''.
-std::string shellQuoted(const std::string& text) {
-  std::string quoted = "'";
-  for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
 
 std::atomic<bool> gInterrupted{false};
 extern "C" void onInterrupt(int) { gInterrupted = true; }
@@ -181,6 +174,8 @@ int runWalkthrough(const WalkthroughOptions& options) {
   clearEarlierWalk(out);
   fs::create_directories(out / "frames");
   std::signal(SIGINT, onInterrupt);
+  std::optional<VideoWriter> video;
+  if (options.video) video.emplace(out / "walkthrough.mp4", width, height, options.fps);
   nlohmann::ordered_json records = nlohmann::ordered_json::array();
   ContactSheet sheet;
   const auto start = Clock::now();
@@ -204,12 +199,16 @@ int runWalkthrough(const WalkthroughOptions& options) {
     const render::FrameStats s = frame.render(camera, time, settings);
     const double frameMs = 1e3 * std::chrono::duration<double>(Clock::now() - frameStart).count();
     const bool writeFrame = f % options.every == 0 || f == total - 1;
+    const bool videoFrame = video && video->ok();
     double outputSeconds = 0.0;
-    if (writeFrame || sheet.wants(f)) {
-      const Image8 image = frame.readColor();  // waits for the frame: that wait stays in the interval
-      const auto outputStart = Clock::now();
+    if (writeFrame || sheet.wants(f) || videoFrame) {
+      // Waits for the frame: that wait stays in the interval, except for a frame read for the video only.
+      const auto readStart = Clock::now();
+      const Image8 image = frame.readColor();
+      const auto outputStart = writeFrame || sheet.wants(f) ? Clock::now() : readStart;
       if (writeFrame) writeImage(out / "frames" / fmt::format("frame{:05d}.png", f), image);
       if (sheet.wants(f)) sheet.add(f, time, frameMs, image);
+      if (videoFrame) video->add(image);
       outputSeconds = std::chrono::duration<double>(Clock::now() - outputStart).count();
     }
     records.push_back(frameRecord(f, time, f < warmup, camera, pose.yaw_deg, frameMs, s));
@@ -248,23 +247,9 @@ int runWalkthrough(const WalkthroughOptions& options) {
   writeFileAtomic(out / "report.json", report.dump(1) + "\n");
   if (!sheet.empty()) writeImage(out / "contact-sheet.png", sheet.compose());
 
-  // An MP4 of the written frames when ffmpeg is there (tools/setup.sh installs it; the frames stay
-  // either way): H.264 in yuv420p, which needs even sizes, so an odd width or height gets one
-  // black row or column.
-  bool video = false;
-  std::string noVideo = " (no MP4: needs ffmpeg and --every 1)";
-  if (options.every == 1 && done > 1 && std::system("command -v ffmpeg > /dev/null 2>&1") == 0) {
-    const std::string command = fmt::format(
-        "ffmpeg -loglevel error -y -framerate {} -i {} -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -pix_fmt yuv420p {}", options.fps,
-        shellQuoted((out / "frames" / "frame%05d.png").string()), shellQuoted((out / "walkthrough.mp4").string()));
-    const int status = std::system(command.c_str());
-    video = status == 0;
-    if (!video) {
-      const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-      noVideo = fmt::format(" (no MP4: ffmpeg exited with {})", code);
-      log::warn("walkthrough: ffmpeg exited with {}: {}", code, command);
-    }
-  }
+  // The video's last frames are encoded now (VideoWriter).
+  const bool videoDone = video && video->finish();
+  const std::string noVideo = !video ? "" : fmt::format(" (no MP4: {})", video->why());
 
   // Paths as the user would type them from here (the report keeps them absolute).
   const int slices = render::resolveCascades(options.frame.settings(), scene).cascades;
@@ -275,7 +260,7 @@ int runWalkthrough(const WalkthroughOptions& options) {
   printSummary(summary);
   const std::string shownOut = fs::proximate(out).string();
   std::cout << fmt::format("  wrote {}/report.json, {}/contact-sheet.png, frames every {} in {}/frames{}\n", shownOut, shownOut,
-                           options.every, shownOut, video ? ", walkthrough.mp4" : noVideo);
+                           options.every, shownOut, videoDone ? fmt::format(", walkthrough.mp4 of all {} frames", done) : noVideo);
   if (gInterrupted) {
     std::cout << "  interrupted: the report holds the frames done\n";
     return 130;
@@ -293,6 +278,10 @@ void WalkthroughOptions::add(CLI::App& command, bool withFramesOut) {
     size.add(command);
     command.add_option("--fps", fps, "Frames per second of path time (0.1 to 1000)")->check(CLI::Range(0.1, 1000.0))->capture_default_str();
     command.add_option("--every", every, "Write every k-th frame as PNG (1 to 1000000; 1: all)")->check(CLI::Range(1, 1000000))->capture_default_str();
+    video = true;
+    command.add_flag("--video,!--no-video", video,
+                     "walkthrough.mp4 of every frame (the default; needs ffmpeg). Each frame is then read back: on a GPU\n"
+                     "that waits for it (its interval excludes the read-back and the encoding); time a GPU with --no-video");
   } else {
     size.add(command, " (default: the budget file's)");
   }
@@ -305,8 +294,8 @@ Run addWalkthroughCommand(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
       "walkthrough",
       "The main job: render a camera path through a scene (culling, LiSPSM shadows, lighting), headless;\n"
-      "write frames, a contact sheet, report.json (fields: docs/report-format.md) and a summary (an MP4 too\n"
-      "when ffmpeg is installed and --every 1)");
+      "write every 10th frame, walkthrough.mp4 of every frame, a contact sheet, report.json (fields:\n"
+      "docs/report-format.md) and a summary");
   options->add(*command, true);
   auto window = std::make_shared<WindowOptions>();
   auto windowed = std::make_shared<bool>(false);

@@ -119,6 +119,7 @@ struct WalkthroughOptions {
   double fps = 30.0;
   RunLengthOptions length;  // frames 0: the whole path
   int every = 10;           // write every k-th frame as PNG
+  bool video = false;       // walkthrough.mp4 of every frame (walkthrough: on unless --no-video; budget: off)
   FrameOptions frame;
   // The flags walkthrough and budget share (budget: without --every and --fps).
   void add(CLI::App& command, bool withFramesOut);

@@ -2,8 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <sys/wait.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 #include "forest/core/drawing.hpp"
 #include "forest/core/log.hpp"
@@ -111,6 +114,53 @@ Image8 ContactSheet::compose() const {
              std::max(8, band - 6));
   }
   return sheet;
+}
+
+std::string shellQuoted(const std::string& text) {
+  std::string quoted = "'";
+  for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+VideoWriter::VideoWriter(const std::filesystem::path& file, int width, int height, double fps) : width_(width), height_(height) {
+  if (std::system("command -v ffmpeg > /dev/null 2>&1") != 0) {
+    why_ = "ffmpeg is not installed (tools/setup.sh installs it)";
+    return;
+  }
+  command_ = fmt::format(
+      "nice -n 19 ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgba -s {}x{} -framerate {} -i - -threads 1 "
+      "-vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -c:v libx264 -preset veryfast -pix_fmt yuv420p {}",
+      width, height, fps, shellQuoted(file.string()));
+  pipe_ = popen(command_.c_str(), "w");
+  if (!pipe_) why_ = "ffmpeg could not be started";
+}
+
+VideoWriter::~VideoWriter() {
+  if (pipe_) pclose(pipe_);
+}
+
+void VideoWriter::add(const Image8& image) {
+  if (!pipe_) return;
+  if (image.width != width_ || image.height != height_ || image.channels != 4) {
+    why_ = fmt::format("a {}x{} frame of {} channels in a {}x{} RGBA video", image.width, image.height, image.channels, width_, height_);
+  } else if (std::fwrite(image.pixels.data(), 1, image.pixels.size(), pipe_) == image.pixels.size()) {
+    ++frames_;
+    return;
+  } else {
+    why_ = "ffmpeg stopped reading frames";
+  }
+  pclose(pipe_);
+  pipe_ = nullptr;
+}
+
+bool VideoWriter::finish() {
+  if (!pipe_) return false;
+  const int status = pclose(pipe_);
+  pipe_ = nullptr;
+  if (status == 0) return true;
+  why_ = fmt::format("ffmpeg exited with {}", WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+  log::warn("video: {}: {}", why_, command_);
+  return false;
 }
 
 }  // namespace forest::app
