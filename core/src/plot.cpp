@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "forest/core/drawing.hpp"
 
@@ -23,6 +24,29 @@ std::string tickLabel(double v, double step) {
   return fmt::format("{:.{}f}", v, decimals);
 }
 
+// The highest finite y of a series (−∞ for none).
+double peakOf(const PlotSeries& s) {
+  double peak = -std::numeric_limits<double>::infinity();
+  for (const glm::dvec2& p : s.points)
+    if (std::isfinite(p.x) && std::isfinite(p.y)) peak = std::max(peak, p.y);
+  return peak;
+}
+
+// The median of a series' finite y values (the upper one of an even count); −∞ for none.
+double levelOf(const PlotSeries& s) {
+  std::vector<double> ys;
+  for (const glm::dvec2& p : s.points)
+    if (std::isfinite(p.x) && std::isfinite(p.y)) ys.push_back(p.y);
+  if (ys.empty()) return -std::numeric_limits<double>::infinity();
+  std::nth_element(ys.begin(), ys.begin() + static_cast<std::ptrdiff_t>(ys.size() / 2), ys.end());
+  return ys[ys.size() / 2];
+}
+
+// An arrow at the top edge where a clipped point lies above it.
+void markClipped(Image8& image, const glm::dvec2& at, const glm::vec3& colour) {
+  fillConvexPolygon(image, std::vector<glm::dvec2>{at + glm::dvec2(-5, 4), at + glm::dvec2(5, 4), at + glm::dvec2(0, -5)}, colour, 1.0f);
+}
+
 void drawPanel(Image8& image, const PlotPanel& panel, int left, int top, int width, int height) {
   // The title above the y axis's label, which stands above the plot area.
   const int x0 = left + 70, x1 = left + width - 20, y0 = top + 54, y1 = top + height - 50;  // plot area
@@ -39,10 +63,11 @@ void drawPanel(Image8& image, const PlotPanel& panel, int left, int top, int wid
     return;
   }
   low.x = std::min(low.x, 0.0);  // errors and times start at 0
-  low.y = std::min(low.y, 0.0);
-  for (int a = 0; a < 2; ++a)
-    if (!(high[a] > low[a])) high[a] = low[a] + 1.0;
-  high += 0.05 * (high - low);
+  if (!(high.x > low.x)) high.x = low.x + 1.0;
+  high.x += 0.05 * (high.x - low.x);
+  const PlotYRange yRange = plotYRange(panel);
+  low.y = yRange.low;
+  high.y = yRange.high;
   auto toPixel = [&](const glm::dvec2& p) {
     return glm::dvec2(x0 + (p.x - low.x) / (high.x - low.x) * (x1 - x0), y1 - (p.y - low.y) / (high.y - low.y) * (y1 - y0));
   };
@@ -68,7 +93,10 @@ void drawPanel(Image8& image, const PlotPanel& panel, int left, int top, int wid
   for (const PlotSeries& s : panel.series) {
     std::vector<glm::dvec2> pixels;
     for (const glm::dvec2& p : s.points)
-      if (std::isfinite(p.x) && std::isfinite(p.y)) pixels.push_back(toPixel(p));
+      if (std::isfinite(p.x) && std::isfinite(p.y)) {
+        pixels.push_back(toPixel(glm::dvec2(p.x, std::min(p.y, high.y))));
+        if (p.y > high.y) markClipped(image, pixels.back(), s.colour);
+      }
     if (s.line) {
       for (size_t i = 1; i < pixels.size(); ++i) drawLine(image, pixels[i - 1], pixels[i], s.colour);
     } else {
@@ -81,9 +109,49 @@ void drawPanel(Image8& image, const PlotPanel& panel, int left, int top, int wid
       legend += 16;
     }
   }
+  if (yRange.clipped)
+    drawText(image, {x0 + 8, y1 - 8}, fmt::format("{} clipped at the top (peak {:.3g})", yRange.clipped->label, yRange.clippedPeak),
+             yRange.clipped->colour, 12);
 }
 
 }  // namespace
+
+PlotYRange plotYRange(const PlotPanel& panel) {
+  constexpr double kNone = -std::numeric_limits<double>::infinity();
+  PlotYRange range;
+  double lowest = 0.0, highest = kNone;
+  for (const PlotSeries& s : panel.series) {
+    for (const glm::dvec2& p : s.points)
+      if (std::isfinite(p.x) && std::isfinite(p.y)) lowest = std::min(lowest, p.y);
+    highest = std::max(highest, peakOf(s));
+  }
+  range.low = lowest;
+  range.high = std::isfinite(highest) ? highest : lowest + 1.0;
+  // The series with the highest level, the next level, and the other series' highest peak.
+  const PlotSeries* top = nullptr;
+  double topLevel = kNone, nextLevel = kNone;
+  for (const PlotSeries& s : panel.series) {
+    const double level = levelOf(s);
+    if (level > topLevel) {
+      nextLevel = topLevel;
+      topLevel = level;
+      top = &s;
+    } else {
+      nextLevel = std::max(nextLevel, level);
+    }
+  }
+  if (top && std::isfinite(nextLevel) && nextLevel > lowest && topLevel - lowest > kPlotClipRatio * (nextLevel - lowest)) {
+    double othersPeak = kNone;
+    for (const PlotSeries& s : panel.series)
+      if (&s != top) othersPeak = std::max(othersPeak, peakOf(s));
+    range.high = lowest + kPlotClipHeadroom * (othersPeak - lowest);
+    range.clipped = top;
+    range.clippedPeak = peakOf(*top);
+  }
+  if (!(range.high > range.low)) range.high = range.low + 1.0;
+  range.high += 0.05 * (range.high - range.low);
+  return range;
+}
 
 Image8 plotPanels(const std::vector<PlotPanel>& panels, int columns, int panelWidth, int panelHeight) {
   columns = std::max(1, columns);
