@@ -11,7 +11,8 @@ BlurPass::BlurPass(int width, int height)
   glTextureParameteri(horizontal_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
 }
 
-const gl::Texture& BlurPass::run(const gl::Texture& term) {
+const gl::Texture& BlurPass::run(const gl::Texture& term, const FrameBlockBuffer& frameBlock) {
+  frameBlock.bind();
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   glBindTextureUnit(0, term.id());
   triangle_.draw(program_);

@@ -6,6 +6,7 @@
 #include "forest/gl/objects.hpp"
 #include "forest/gl/shader.hpp"
 #include "forest/render/frame.hpp"
+#include "frame_block_buffer.hpp"
 #include "fullscreen_triangle.hpp"
 
 namespace forest::render {
@@ -14,8 +15,8 @@ class BlurPass {
  public:
   BlurPass(int width, int height);
   // The horizontally blurred term, which the lighting pass reads. The radii come from the frame
-  // block, bound. Runs only with the blur on.
-  const gl::Texture& run(const gl::Texture& term);
+  // block. Runs only with the blur on.
+  const gl::Texture& run(const gl::Texture& term, const FrameBlockBuffer& frameBlock);
 
  private:
   gl::Texture horizontal_;

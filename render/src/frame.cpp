@@ -7,9 +7,9 @@
 
 #include "blur_pass.hpp"
 #include "forest/core/error.hpp"
+#include "frame_history.hpp"
 #include "frame_uniforms.hpp"
 #include "geometry_pass.hpp"
-#include "image_visibility.hpp"
 #include "lighting_pass.hpp"
 #include "nearest_depth_pass.hpp"
 #include "receiver_pixels.hpp"
@@ -70,7 +70,8 @@ void FrameStats::setPassTimes(const gl::FrameTiming& timing) {
     if (const std::optional<FramePass> p = kFramePassNames.find(pass.pass)) passMs[*p] = pass.ms;
 }
 
-// The passes in the order they run (DESIGN §1), with their GPU resources.
+// The passes in the order they run (DESIGN §1), with their GPU resources, and what a frame tells
+// the next (FrameHistory).
 struct Frame::Passes {
   WorkerThreads cpuWorkers{hardwareParts()};  // the CPU's parallel work: the receiver mask, the record from pixels
   GeometryPass geometry;
@@ -79,11 +80,12 @@ struct Frame::Passes {
   ShadowSetupPass shadowSetup;
   ShadowPlan plan;  // the shadow setup pass's output, kept from the last frame with sun and receivers
   ShadowPass shadow;
+  FrameBlockBuffer frameBlock;  // what the full-screen passes read, once per frame
   ShadowTermPass shadowTerm;
   BlurPass blur;
   LightingPass lighting;
-  ImageVisibility imageVisibility;  // what showed (lighting pass or read-back), for the next frame's culling
-  gl::UniformStream frameUniforms{kFrameBlockBinding, sizeof(FrameBlock)};  // FrameBlock, once per frame
+  FrameHistory history;
+  FrameHistory::CullPlan cullPlan;  // this frame's
 
   Passes(const SceneObjects& objects, const terrain::Terrain* terrain, const vegetation::Forest* forest,
          const std::vector<PropBox>& props, int width, int height, const CullingSettings& culling)
@@ -93,7 +95,23 @@ struct Frame::Passes {
         shadowTerm(width, height),
         blur(width, height),
         lighting(width, height),
-        imageVisibility(objects) {}
+        history(objects, culling) {}
+};
+
+// What a frame is drawn with, resolved once at its start.
+struct Frame::Inputs {
+  const Camera& camera;
+  double time;
+  const FrameSettings& settings;
+  glm::dvec3 l;            // the unit light direction
+  bool sunBelowHorizon;
+  DrawView eye;
+  std::optional<terrain::TerrainLod> lod;  // the eye's terrain LOD (none without terrain)
+  ShadowSettings cascades;                 // the settings' or the scene's
+  ShadowLookupShape lookupShape;
+  bool blurred, haze;
+  bool readsPixels;  // the G-buffer is read back for the receiver mask (and the record of what showed)
+  const terrain::TerrainLod* eyeLod() const { return lod ? &*lod : nullptr; }
 };
 
 Frame::Frame(const Scene& scene, int width, int height) : scene_(scene), width_(width), height_(height) {
@@ -105,8 +123,6 @@ Frame::Frame(const Scene& scene, int width, int height) : scene_(scene), width_(
   objects_ = std::make_unique<SceneObjects>(terrain_.get(), forest_.get(), scene.props);
   passes_ = std::make_unique<Passes>(*objects_, terrain_.get(), forest_.get(), scene.props, width, height, scene.culling);
   bvh_ = culling::Bvh(objects_->boxes(), scene.culling.leaf_size);
-  visibleObjects_.reserve(objects_->boxes().size());  // the largest visible set: no growth per frame
-  visibleFromImage_.visibleObjects.reserve(objects_->boxes().size());
   culler_.setParameters(scene_.culling);
   for (const Aabb& b : objects_->boxes()) sceneBounds_.extend(b);
 }
@@ -140,8 +156,7 @@ void Frame::resetHistory() {
   passes_->geometry.resetHistory();
   passes_->shadowSetup.reset();
   passes_->nearestDepth.reset();
-  passes_->imageVisibility.forget();
-  haveVisibleSet_ = false;
+  passes_->history.forget();
 }
 
 void Frame::renderReferenceGeometry(const Camera& camera, double time) {
@@ -176,6 +191,8 @@ Camera Frame::cameraAt(const CameraPose& pose, bool aboveGround) const {
 int Frame::cascadeCount() const { return passes_->plan.cascades; }
 int Frame::cascadeOf(double eyeDepth) const { return passes_->plan.sliceOf(eyeDepth); }
 
+const std::vector<std::uint32_t>& Frame::visibleObjects() const { return passes_->history.visibleObjects(); }
+
 const ShadowSlice& Frame::slice(int index) const {
   if (index < 0 || index >= passes_->plan.cascades)
     throw InputError(fmt::format("shadow slice {}: the last frame had {}", index, passes_->plan.cascades));
@@ -185,148 +202,146 @@ const shadows::ShadowSetup& Frame::shadowSetup(int index) const { return slice(i
 const std::vector<std::uint32_t>& Frame::casters(int index) const { return slice(index).casters; }
 const Camera& Frame::shadowCamera(int index) const { return slice(index).camera; }
 
+// The frame as the design's stages (DESIGN §1), each a call on a named unit with its inputs and
+// outputs as arguments.
 FrameStats Frame::render(const Camera& camera, double time, const FrameSettings& settings) {
   validate(settings);
-  FrameStats stats;
+  const Inputs in = resolveInputs(camera, time, settings);
+  FrameStats stats = beginFrame(in);
   Passes& p = *passes_;
-  const dvec3 l = glm::normalize(scene_.sun.direction);
-  stats.sunBelowHorizon = !(l.y < 0.0);  // light travelling upward comes from below the horizon
-  const DrawView eye = DrawView::fromCamera(camera, time, scene_.sun);
-  const std::optional<terrain::TerrainLod> lod = terrainLodFor(camera);
-  const terrain::TerrainLod* eyeLod = lod ? &*lod : nullptr;
+  // 1. Geometry pass: the culler draws the G-buffer; the visible set and its z_f.
+  const culling::CullingResult& culled = drawGeometry(in, stats);
+  // 2. Shadow setup from the visible set: per slice B, the method's matrices and the casters.
+  const culling::CullingResult& visible = setUpShadows(in, culled, stats);
+  // 3. Shadow pass: the casters into a layer per slice, front faces culled.
+  {
+    auto timed = timer_->scope(passName(FramePass::Shadow));
+    stats.shadowTriangles = p.shadow.run(p.plan, in.eye, in.eyeLod(), settings, in.l, stats);
+  }
+  // 4. The frame block the full-screen passes read; the shadow term and the blur's horizontal half.
+  const gl::Texture* blurredTerm = shadowTerm(in);
+  // 5. Lighting, with the blur's vertical half (or the term's lookup, the blur off).
+  {
+    auto timed = timer_->scope(passName(FramePass::Lighting));
+    const bool record = p.history.recordsInLighting(in.readsPixels);
+    p.lighting.run(p.geometry.gbuffer(), blurredTerm, p.shadow.map(), in.lookupShape, p.frameBlock, in.haze, settings.keepShadowTerm,
+                   record);
+    if (record) p.history.afterLighting();
+  }
+  endFrame(in, visible, stats);
+  return stats;
+}
 
-  // The shadow lookup's program for this filter and slice count (the plan's: the resolved
-  // cascades), compiled on first use, before any pass is timed.
+std::string Frame::passName(FramePass pass) { return std::string(kFramePassNames.name(pass)); }
+
+Frame::Inputs Frame::resolveInputs(const Camera& camera, double time, const FrameSettings& settings) const {
+  const glm::dvec3 l = glm::normalize(scene_.sun.direction);
+  const bool sunBelowHorizon = !(l.y < 0.0);  // light travelling upward comes from below the horizon
   const ShadowSettings cascades = resolveCascades(settings, scene_);
-  const ShadowLookupShape lookupShape{settings.pcfRadius, cascades.cascades};
-  const bool blurred = settings.blurRadius > 0.0;
-  const bool haze = hazeDensityOf(settings, scene_) > 0.0;
-  if (blurred) p.shadowTerm.prepare(lookupShape);
-  // The G-buffer read back for the receiver mask; the record of what showed comes from that read
-  // then, else from the lighting pass (ImageVisibility).
-  const bool readsPixels = settings.casters == CasterSelection::ReceiverPixels && !stats.sunBelowHorizon;
-  const bool recordInLighting = scene_.culling.image_visibility && !readsPixels;
-  p.lighting.prepare(blurred, lookupShape, haze, recordInLighting);
+  return Inputs{camera,
+                time,
+                settings,
+                l,
+                sunBelowHorizon,
+                DrawView::fromCamera(camera, time, scene_.sun),
+                terrainLodFor(camera),
+                cascades,
+                ShadowLookupShape{settings.pcfRadius, cascades.cascades},
+                settings.blurRadius > 0.0,
+                hazeDensityOf(settings, scene_) > 0.0,
+                settings.casters == CasterSelection::ReceiverPixels && !sunBelowHorizon};
+}
 
-  if (!timer_ || timer_->mode() != settings.timing) timer_ = std::make_unique<gl::PassTimer>(settings.timing, 3, framesRendered_);
-  gl::PassTimer& timer = *timer_;
+// The programs this frame's passes use, compiled before any pass is timed; the timer's frame.
+FrameStats Frame::beginFrame(const Inputs& in) {
+  Passes& p = *passes_;
+  if (in.blurred) p.shadowTerm.prepare(in.lookupShape);
+  p.lighting.prepare(in.blurred, in.lookupShape, in.haze, p.history.recordsInLighting(in.readsPixels));
+  if (!timer_ || timer_->mode() != in.settings.timing) timer_ = std::make_unique<gl::PassTimer>(in.settings.timing, 3, framesRendered_);
+  FrameStats stats;
+  stats.sunBelowHorizon = in.sunBelowHorizon;
   stats.frameNumber = framesRendered_++;
-  timer.beginFrame();
+  timer_->beginFrame();
+  return stats;
+}
 
-  // 1. Geometry pass: the visible set and its z_f.
-  culler_.setQueryMode(settings.queries);
-  const culling::CullingResult* culled = nullptr;  // the culler's storage, valid this frame
-  const bool frozen = settings.freezeCulling && haveVisibleSet_;
-  // chc++, or frustum culling where its queries do not pay ([culling] query_payoff): the visible
-  // set then comes from the read-back's IDs, and so does chc++'s state when it takes over again.
-  // It needs the pass times of Profiling (glFinish and a clock): llvmpipe's timer queries stamp a
-  // pass when its rasteriser reaches it, after the submitting thread has binned the whole draw,
-  // which would hide most of frustum culling's cost.
-  const bool payoffApplies = scene_.culling.query_payoff && scene_.culling.image_visibility && readsPixels && !frozen &&
-                             settings.timing == gl::TimingMode::Profiling;
-  const culling::CullingStrategy strategy = payoffApplies ? payoff_.next(stats.frameNumber, settings.culling) : settings.culling;
-  stats.culledByFrustum = strategy != settings.culling;
-  {
-    auto timed = timer.scope(std::string(kFramePassNames.name(FramePass::Geometry)));
-    // What showed in the last frame's image ([culling] image_visibility; ImageVisibility): read
-    // once its lighting pass is done — waited for in deterministic mode, else if done already.
-    const bool shown =
-        scene_.culling.image_visibility && p.imageVisibility.collect(settings.queries == culling::QueryMode::Deterministic);
-    // Of those, the ones its samples moved into this view say are hidden now (culling::ReprojectedImage).
-    if (shown && scene_.culling.image_reprojection) stats.hiddenByReprojection = p.imageVisibility.hideByReprojection(camera);
-    culler_.setShownInLastImage(shown ? p.imageVisibility.shownObjects() : std::span<const std::uint8_t>{});
-    p.geometry.setShownBlocksInLastImage(shown ? p.imageVisibility.shownBlocks() : std::span<const std::uint16_t>{});
-    culled = &p.geometry.run(camera, eye, eyeLod, strategy, culler_, bvh_, frozen ? &visibleObjects_ : nullptr);
-  }
-  const culling::CullingResult* visibleSet = culled;
-  haveVisibleSet_ = true;
-  stats.culling = culled->stats;
-  stats.geometryTriangles = culled->stats.trianglesDrawn;
+const culling::CullingResult& Frame::drawGeometry(const Inputs& in, FrameStats& stats) {
+  auto timed = timer_->scope(passName(FramePass::Geometry));
+  Passes& p = *passes_;
+  culler_.setQueryMode(in.settings.queries);
+  p.cullPlan = p.history.beforeCull(stats.frameNumber, in.camera, in.settings, in.readsPixels, culler_, p.geometry);
+  stats.culledByFrustum = p.cullPlan.culledByFrustum;
+  stats.hiddenByReprojection = p.cullPlan.hiddenByReprojection;
+  const culling::CullingResult& culled = p.geometry.run(in.camera, in.eye, in.eyeLod(), p.cullPlan.strategy, culler_, bvh_, p.cullPlan.frozenSet);
+  stats.culling = culled.stats;
+  stats.geometryTriangles = culled.stats.trianglesDrawn;
+  return culled;
+}
 
-  // 2. Shadow setup from the visible set, per slice: B, the method's matrices, the casters. With
-  // cascades, the splits start from the nearest visible depth (NearestDepthPass).
-  {
-    auto timed = timer.scope(std::string(kFramePassNames.name(FramePass::ShadowSetup)));
-    std::optional<double> nearest;
-    if (cascades.cascades > 1) nearest = p.nearestDepth.run(p.geometry.gbuffer().depth, camera);
-    const ReceiverPixels* receiverPixels = nullptr;
-    if (readsPixels) {
-      p.receiverPixels.read(p.geometry.gbuffer(), width_, height_, camera);
-      receiverPixels = &p.receiverPixels;
-      if (scene_.culling.image_visibility)  // the cull took the last
-        p.imageVisibility.recordFromPixels(p.receiverPixels, p.cpuWorkers, scene_.culling.image_reprojection);
-      if (stats.culledByFrustum) {  // exactly the objects with pixels, and their z_f
-        p.imageVisibility.shownAsVisibleSet(objects_->boxes(), camera, culled->stats, visibleFromImage_);
-        visibleSet = &visibleFromImage_;
-      }
-    }
-    p.shadowSetup.run(camera, *visibleSet, settings, cascades, nearest, l, stats.sunBelowHorizon, *objects_, eyeLod, sceneBounds_,
-                      receiverPixels, p.plan, stats);
+// With cascades, the splits start from the nearest visible depth (NearestDepthPass); with the
+// receiver pixels, the G-buffer is read back first (the receiver mask, the record of what showed).
+const culling::CullingResult& Frame::setUpShadows(const Inputs& in, const culling::CullingResult& culled, FrameStats& stats) {
+  auto timed = timer_->scope(passName(FramePass::ShadowSetup));
+  Passes& p = *passes_;
+  std::optional<double> nearest;
+  if (in.cascades.cascades > 1) nearest = p.nearestDepth.run(p.geometry.gbuffer().depth, in.camera);
+  const culling::CullingResult* visible = &culled;
+  if (in.readsPixels) {
+    p.receiverPixels.read(p.geometry.gbuffer(), width_, height_, in.camera);
+    visible = &p.history.afterReadback(p.receiverPixels, p.cpuWorkers, p.cullPlan, culled, in.camera);
   }
+  p.shadowSetup.run(in.camera, *visible, in.settings, in.cascades, nearest, in.l, in.sunBelowHorizon, *objects_, in.eyeLod(),
+                    sceneBounds_, in.readsPixels ? &p.receiverPixels : nullptr, p.plan, stats);
   stats.casterObjects = 0;
   for (int i = 0; i < p.plan.cascades; ++i) stats.casterObjects += static_cast<int>(p.plan.slices[static_cast<size_t>(i)].casters.size());
-  stats.visibleObjects = static_cast<int>(visibleSet->visibleObjects.size());
-  stats.farDepth = visibleSet->farDepth;
-  visibleObjects_ = visibleSet->visibleObjects;
+  stats.visibleObjects = static_cast<int>(visible->visibleObjects.size());
+  stats.farDepth = visible->farDepth;
+  return *visible;
+}
 
-  // 3. Shadow pass, a layer per slice.
+// The frame block (with the record's stamp where the lighting pass records what shows); with the
+// blur on, the shadow term into a texture and the blur's horizontal half, which lighting reads;
+// with it off, lighting looks the term up itself (no full-screen pass writes it).
+const gl::Texture* Frame::shadowTerm(const Inputs& in) {
+  Passes& p = *passes_;
   {
-    auto timed = timer.scope(std::string(kFramePassNames.name(FramePass::Shadow)));
-    stats.shadowTriangles = p.shadow.run(p.plan, eye, eyeLod, settings, l, stats);
-    wholeShadowMap_ = settings.wholeShadowMap;
+    auto timed = timer_->scope(passName(FramePass::ShadowTerm));
+    FrameBlock block = frameBlock(in.camera, p.plan, in.settings, scene_, in.l, !in.sunBelowHorizon);
+    if (p.history.recordsInLighting(in.readsPixels)) p.history.beforeLighting(block, in.camera);
+    p.frameBlock.write(block);
+    if (in.blurred) p.shadowTerm.run(p.geometry.gbuffer(), p.shadow.map(), in.lookupShape, p.frameBlock);
   }
+  auto timed = timer_->scope(passName(FramePass::Blur));
+  return in.blurred ? &p.blur.run(p.shadowTerm.term(), p.frameBlock) : nullptr;
+}
 
-  // 4. The frame block holds what the full-screen passes read. With the blur on: the shadow term
-  // into a texture, and the blur's horizontal half (4b); with it off, lighting looks the term up
-  // itself (no full-screen pass writes it).
-  const gl::Texture* blurredTerm = nullptr;
-  {
-    auto timed = timer.scope(std::string(kFramePassNames.name(FramePass::ShadowTerm)));
-    FrameBlock block = frameBlock(camera, p.plan, settings, scene_, l, !stats.sunBelowHorizon);
-    if (recordInLighting) p.imageVisibility.beginRecord(block, camera);
-    p.frameUniforms.bind(block);
-    if (blurred) p.shadowTerm.run(p.geometry.gbuffer(), p.shadow.map(), lookupShape);
-  }
-  {
-    auto timed = timer.scope(std::string(kFramePassNames.name(FramePass::Blur)));
-    if (blurred) blurredTerm = &p.blur.run(p.shadowTerm.term());
-  }
-  termWritten_ = blurred;
-
-  // 5. Lighting.
-  {
-    auto timed = timer.scope(std::string(kFramePassNames.name(FramePass::Lighting)));
-    p.lighting.run(p.geometry.gbuffer(), blurredTerm, p.shadow.map(), lookupShape, haze, settings.keepShadowTerm, recordInLighting);
-    if (recordInLighting) p.imageVisibility.endRecord();
-    usedTermKept_ = settings.keepShadowTerm;
-  }
-  timer.endFrame();
-  if (settings.timing == gl::TimingMode::Profiling) {
-    while (timer.takeOldestCompleted(passTiming_)) {
-      stats.setPassTimes(passTiming_);
-      learnPassTimes(passTiming_);
-    }
-  } else {
+// What the frame leaves for readers and for the next frame; the pass times where known.
+void Frame::endFrame(const Inputs& in, const culling::CullingResult& visible, FrameStats& stats) {
+  passes_->history.afterFrame(visible);
+  wholeShadowMap_ = in.settings.wholeShadowMap;
+  termWritten_ = in.blurred;
+  usedTermKept_ = in.settings.keepShadowTerm;
+  timer_->endFrame();
+  if (in.settings.timing != gl::TimingMode::Profiling) {
     stats.passTimesPending = true;
+    return;
   }
-  return stats;
+  while (timer_->takeOldestCompleted(passTiming_)) {
+    stats.setPassTimes(passTiming_);
+    passes_->history.learn(passTiming_);
+  }
 }
 
 std::vector<gl::FrameTiming> Frame::takePassTimes() {
   if (!timer_ || timer_->mode() == gl::TimingMode::Profiling) return {};
   std::vector<gl::FrameTiming> timings = timer_->takeCompleted();
-  for (const gl::FrameTiming& t : timings) learnPassTimes(t);
+  for (const gl::FrameTiming& t : timings) passes_->history.learn(t);
   return timings;
 }
 
 std::vector<gl::FrameTiming> Frame::drainPassTimes() {
   if (!timer_ || timer_->mode() == gl::TimingMode::Profiling) return {};
   return timer_->drain();
-}
-
-void Frame::learnPassTimes(const gl::FrameTiming& timing) {
-  for (const gl::PassTime& pass : timing.passes)
-    if (kFramePassNames.find(pass.pass) == FramePass::Geometry) payoff_.record(timing.frame, pass.ms);
 }
 
 void Frame::presentTo(GLuint framebuffer, int width, int height) const {
@@ -378,8 +393,8 @@ std::vector<std::uint32_t> Frame::readObjectIds() const {
 }
 
 Frame::ShownInImage Frame::readShownInImage() {
-  ImageVisibility& record = passes_->imageVisibility;
-  if (!record.collect(true)) throw Error("Frame::readShownInImage: no frame recorded what showed ([culling] image_visibility)");
+  if (!passes_->history.collectRecord()) throw Error("Frame::readShownInImage: no frame recorded what showed ([culling] image_visibility)");
+  const ImageVisibility& record = passes_->history.record();
   return {{record.shownObjects().begin(), record.shownObjects().end()}, {record.shownBlocks().begin(), record.shownBlocks().end()}};
 }
 

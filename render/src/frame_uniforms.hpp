@@ -9,6 +9,7 @@
 #include "forest/gl/objects.hpp"
 #include "forest/render/frame.hpp"
 #include "forest/render/uniform_blocks.hpp"
+#include "frame_block_buffer.hpp"
 #include "shadow_setup_pass.hpp"
 
 namespace forest::render {

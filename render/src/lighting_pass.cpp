@@ -32,7 +32,8 @@ const gl::Program& LightingPass::program(bool blurred, const ShadowLookupShape& 
 }
 
 void LightingPass::run(const GBuffer& gbuffer, const gl::Texture* term, const gl::Texture& shadowMap, const ShadowLookupShape& shape,
-                       bool haze, bool keepTerm, bool record) {
+                       const FrameBlockBuffer& frameBlock, bool haze, bool keepTerm, bool record) {
+  frameBlock.bind();
   // Without the term's target the shader's second output goes nowhere.
   const GLenum buffers[2] = {GL_COLOR_ATTACHMENT0, keepTerm ? GLenum{GL_COLOR_ATTACHMENT1} : GLenum{GL_NONE}};
   glNamedFramebufferDrawBuffers(framebuffer_.id(), 2, buffers);

@@ -13,6 +13,7 @@
 #include "forest/gl/objects.hpp"
 #include "forest/gl/shader.hpp"
 #include "forest/render/frame.hpp"
+#include "frame_block_buffer.hpp"
 #include "fullscreen_triangle.hpp"
 #include "geometry_pass.hpp"
 #include "shadow_term_pass.hpp"
@@ -23,12 +24,12 @@ class LightingPass {
  public:
   LightingPass(int width, int height);
   // With the blur on, `term` is the horizontally blurred shadow term; with it off (null), the
-  // term is looked up in `shadowMap`. The sun, sky, fog and blur come from the frame block
-  // (frame_uniforms.hpp), bound; `haze`: whether its haze density is above 0. `keepTerm`: also
+  // term is looked up in `shadowMap`. The sun, sky, fog and blur come from the frame block;
+  // `haze`: whether its haze density is above 0. `keepTerm`: also
   // write the term used into usedTerm(). `record`: record what shows (ImageVisibility::beginRecord
   // has bound its buffer; a program that can write it is slower on llvmpipe even when it does not).
   void run(const GBuffer& gbuffer, const gl::Texture* term, const gl::Texture& shadowMap, const ShadowLookupShape& shape,
-           bool haze, bool keepTerm, bool record);
+           const FrameBlockBuffer& frameBlock, bool haze, bool keepTerm, bool record);
   // Compiles the program run() will use now (before any pass is timed).
   void prepare(bool blurred, const ShadowLookupShape& shape, bool haze, bool record) { program(blurred, shape, haze, record); }
 

@@ -34,7 +34,9 @@ ShadowTermPass::ShadowTermPass(int width, int height)
   glTextureParameteri(term_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
 }
 
-void ShadowTermPass::run(const GBuffer& gbuffer, const gl::Texture& shadowMap, const ShadowLookupShape& shape) {
+void ShadowTermPass::run(const GBuffer& gbuffer, const gl::Texture& shadowMap, const ShadowLookupShape& shape,
+                         const FrameBlockBuffer& frameBlock) {
+  frameBlock.bind();
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   glViewport(0, 0, width_, height_);
   glDisable(GL_DEPTH_TEST);

@@ -13,6 +13,7 @@
 #include "forest/gl/objects.hpp"
 #include "forest/gl/shader.hpp"
 #include "forest/render/frame.hpp"
+#include "frame_block_buffer.hpp"
 #include "fullscreen_triangle.hpp"
 #include "geometry_pass.hpp"
 
@@ -50,8 +51,8 @@ class ShadowLookupPrograms {
 class ShadowTermPass {
  public:
   ShadowTermPass(int width, int height);
-  // Reads the lookup, the sun and the filter from the frame block (frame_uniforms.hpp), bound.
-  void run(const GBuffer& gbuffer, const gl::Texture& shadowMap, const ShadowLookupShape& shape);
+  // Reads the lookup, the sun and the filter from the frame block.
+  void run(const GBuffer& gbuffer, const gl::Texture& shadowMap, const ShadowLookupShape& shape, const FrameBlockBuffer& frameBlock);
   void prepare(const ShadowLookupShape& shape) { programs_.get(shape); }  // compiles its program now
   const gl::Texture& term() const { return term_; }
 

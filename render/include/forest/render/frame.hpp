@@ -27,7 +27,6 @@
 #include "forest/core/scene.hpp"
 #include "forest/culling/bvh.hpp"
 #include "forest/culling/occlusion_culler.hpp"
-#include "forest/culling/query_payoff.hpp"
 #include "forest/gl/objects.hpp"
 #include "forest/gl/context.hpp"
 #include "forest/gl/shader.hpp"
@@ -230,7 +229,7 @@ class Frame {
   const shadows::ShadowSetup& shadowSetup(int slice = 0) const;
   // The last frame's visible set, a slice's selected casters (object indices) and the camera it was
   // built from (near and far: the slice's ends; one map: far = the visible set's z_f) — for debug views.
-  const std::vector<std::uint32_t>& visibleObjects() const { return visibleObjects_; }
+  const std::vector<std::uint32_t>& visibleObjects() const;
   const std::vector<std::uint32_t>& casters(int slice = 0) const;
   const Camera& shadowCamera(int slice = 0) const;
   // The scene's start camera for this image (camera.above_ground applied).
@@ -243,7 +242,16 @@ class Frame {
   void requireUsedTerm(const char* reader) const;
   void objectsMoved();  // after object boxes changed: refit the BVH, recompute the scene bounds
   std::optional<terrain::TerrainLod> terrainLodFor(const Camera& camera) const;  // none without terrain
-  struct Passes;  // the passes in order (src/*_pass.hpp)
+  struct Passes;  // the passes in order (src/*_pass.hpp) and what a frame tells the next (src/frame_history.hpp)
+  struct Inputs;  // what a frame is drawn with, resolved at its start
+  // The stages of render(), in order.
+  Inputs resolveInputs(const Camera& camera, double time, const FrameSettings& settings) const;
+  FrameStats beginFrame(const Inputs& in);
+  const culling::CullingResult& drawGeometry(const Inputs& in, FrameStats& stats);
+  const culling::CullingResult& setUpShadows(const Inputs& in, const culling::CullingResult& culled, FrameStats& stats);
+  const gl::Texture* shadowTerm(const Inputs& in);  // the blurred term lighting reads; null with the blur off
+  void endFrame(const Inputs& in, const culling::CullingResult& visible, FrameStats& stats);
+  static std::string passName(FramePass pass);
   const struct ShadowSlice& slice(int index) const;  // throws InputError past the last frame's slices
   const Scene& scene_;
   int width_, height_;
@@ -253,16 +261,8 @@ class Frame {
   std::unique_ptr<Passes> passes_;
   culling::Bvh bvh_;
   culling::OcclusionCuller culler_;
-  // Whether chc++'s queries pay, from the geometry pass's times ([culling] query_payoff); kept
-  // across resetHistory (a cut changes the view, not what a query costs).
-  culling::QueryPayoff payoff_;
-  culling::CullingResult visibleFromImage_;  // the visible set of a frame frustum culling drew
-  // The geometry pass's time of a frame, for payoff_.
-  void learnPassTimes(const gl::FrameTiming& timing);
   std::unique_ptr<culling::OcclusionCuller> referenceCuller_;  // renderReferenceGeometry's, built on first use
   Aabb sceneBounds_;
-  std::vector<std::uint32_t> visibleObjects_;
-  bool haveVisibleSet_ = false;
   bool termWritten_ = false;  // the last frame's shadow term pass ran (the blur on)
   bool wholeShadowMap_ = true;  // the last frame's shadow pass drew every texel (FrameSettings::wholeShadowMap)
   bool usedTermKept_ = false;  // the last frame's lighting pass wrote the term it used (keepShadowTerm)
