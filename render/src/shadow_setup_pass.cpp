@@ -206,30 +206,7 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
                           bool sunBelowHorizon, const SceneObjects& objects, const terrain::TerrainLod* lod,
                           const Aabb& sceneBounds, const ReceiverPixels* receiverPixels, ShadowPlan& plan,
                           FrameStats& stats) {
-  // Room for every object as receiver and caster (a frame then never grows these lists).
-  const size_t objectCount = objects.boxes().size();
-  const size_t mostBlocks = objects.tileCount() * terrain::Terrain::kMaxBlockBoxes;
-  receivers_.reserve(objectCount);
-  sliceReceivers_.reserve(objectCount);
-  receiverDepths_.reserve(objectCount);
-  footprints_.reserve(objectCount);
-  selector_.reserve(objectCount);
-  receivers_.clear();
-  for (std::uint32_t o : visible.visibleObjects) receivers_.push_back(objects.boxes()[o]);
-  const int k = cascades.cascades;
-  plan.cascades = k;
-  plan.blend = cascades.cascade_blend;
-  stats.cascades = k;
-  stats.splitLambda = cascades.split_lambda;
-  stats.cascadeBlend = cascades.cascade_blend;
-  for (ShadowSlice& slice : plan.slices) {
-    slice.casters.reserve(objectCount);
-    slice.casters.clear();
-    slice.terrainBlocks.reserve(mostBlocks);
-    slice.terrainBlocks.clear();
-    slice.terrainByBlock = false;
-    slice.texelsRead.reset();
-  }
+  startPlan(visible, objects, cascades, plan, stats);
   plan.shadowed = !sunBelowHorizon && !receivers_.empty() && sceneBounds.valid();
   if (!plan.shadowed) return;
 
@@ -237,45 +214,16 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
   const double farDepth = onReceivers ? std::max(visible.farDepth, camera.near * 1.001) : camera.far;
   const shadows::SplitDepths splits = splitsFor(camera, farDepth, nearestDepth, cascades);
   stats.nearestDepth = nearestDepth.value_or(camera.near);
-  // Each receiver's eye-depth range, for the slices it reaches.
-  const dvec3 forward = camera.forward();
-  receiverDepths_.clear();
-  for (const Aabb& box : receivers_) {
-    dvec2 range(std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity());
-    for (int c = 0; c < 8; ++c) {
-      const double depth = glm::dot(box.corner(c) - camera.position, forward);
-      range = dvec2(std::min(range.x, depth), std::max(range.y, depth));
-    }
-    receiverDepths_.push_back(range);
-  }
-
-  for (int i = 0; i < k; ++i) {
+  measureReceiverDepths(camera);
+  const SliceContext context{settings, l, objects, lod, sceneBounds, receiverPixels};
+  for (int i = 0; i < plan.cascades; ++i) {
     ShadowSlice& slice = plan.slices[static_cast<size_t>(i)];
     const size_t s = static_cast<size_t>(i);
     slice.from = splits[s];
     slice.to = splits[s + 1];
     // B reaches past the split into the next slice's blend band (its pixels mix both layers).
     slice.camera = shadows::sliceCamera(camera, splits, i, plan.blend);
-    sliceReceivers_.clear();
-    Aabb sliceBounds;
-    for (size_t r = 0; r < receivers_.size(); ++r)
-      if (receiverDepths_[r].y >= slice.camera.near && receiverDepths_[r].x <= slice.camera.far) {
-        sliceReceivers_.push_back(receivers_[r]);
-        sliceBounds.extend(receivers_[r]);
-      }
-
-    shadows::ShadowInput input;
-    input.camera = slice.camera;
-    input.sunDirection = l;
-    input.scene = sceneBounds;
-    if (onReceivers) input.receivers = sliceBounds;
-    // What the method carried from the last frame (lispsm: n over time, §9.2.5; uniform-stable: its radius).
-    input.carried = history_.carried(settings.method, i);
-    // The first slice serves everything from the near plane, but nothing visible lies nearer than
-    // z_near: its n is eq. 8.13 from there (ShadowInput::nNear); B still starts at the near plane.
-    if (k > 1 && i == 0 && nearestDepth) input.nNear = *nearestDepth;
-    input.mapSize = settings.shadowMapSize;
-    input.borderTexels = mapBorderTexels(settings.pcfRadius);
+    shadows::ShadowInput input = sliceInput(slice, i, plan.cascades > 1 && i == 0 ? nearestDepth : std::nullopt, context);
     if (const std::optional<std::string> outside = shadows::outsideShadowDomain(input)) {
       // A view too shallow for float32 this far from the origin: no shadows this frame, and why.
       plan.shadowed = false;
@@ -290,28 +238,7 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
       slice.setup = shadows::computeShadowSetup(input, settings.method);
     }
     history_.remember(settings.method, i, slice.setup);
-    if (!slice.setup.empty) {
-      switch (settings.casters) {
-        case CasterSelection::Receivers:
-          selectCastersOfReceivers(slice, settings, l, objects, lod, sceneBounds, nullptr);
-          break;
-        case CasterSelection::ReceiverPixels:
-          if (!receiverPixels) throw Error("shadow setup: receiver-pixels casters without the receiver pixels");
-          fillReceiverMask(slice, settings, *receiverPixels);
-          slice.texelsRead = mask_.texelsRead(lookupReachTexels(settings));
-          selectCastersOfReceivers(slice, settings, l, objects, lod, sceneBounds, &mask_);
-          break;
-        case CasterSelection::FrustumBody: {
-          const ConvexBody body = shadows::computeFocusBody(slice.camera, l, sceneBounds);
-          for (std::uint32_t o = 0; o < objectCount; ++o)
-            if (shadows::mayIntersect(body, objects.boxes()[o])) slice.casters.push_back(o);
-          break;
-        }
-        case CasterSelection::All:
-          for (std::uint32_t o = 0; o < objectCount; ++o) slice.casters.push_back(o);
-          break;
-      }
-    }
+    if (!slice.setup.empty) selectCasters(slice, context);
     CascadeStats& out = stats.cascade[s];
     out.fromM = slice.from;
     out.toM = slice.to;
@@ -320,6 +247,101 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
     out.casters = static_cast<int>(slice.casters.size());
   }
   stats.shadow = plan.slices[0].setup.diagnostics;
+}
+
+// The receivers (the visible objects' boxes) and the slices' lists emptied, with room for every
+// object as receiver and caster (a frame then never grows them).
+void ShadowSetupPass::startPlan(const culling::CullingResult& visible, const SceneObjects& objects, const ShadowSettings& cascades,
+                                ShadowPlan& plan, FrameStats& stats) {
+  const size_t objectCount = objects.boxes().size();
+  const size_t mostBlocks = objects.tileCount() * terrain::Terrain::kMaxBlockBoxes;
+  receivers_.reserve(objectCount);
+  sliceReceivers_.reserve(objectCount);
+  receiverDepths_.reserve(objectCount);
+  footprints_.reserve(objectCount);
+  selector_.reserve(objectCount);
+  receivers_.clear();
+  for (std::uint32_t o : visible.visibleObjects) receivers_.push_back(objects.boxes()[o]);
+  plan.cascades = cascades.cascades;
+  plan.blend = cascades.cascade_blend;
+  stats.cascades = cascades.cascades;
+  stats.splitLambda = cascades.split_lambda;
+  stats.cascadeBlend = cascades.cascade_blend;
+  for (ShadowSlice& slice : plan.slices) {
+    slice.casters.reserve(objectCount);
+    slice.casters.clear();
+    slice.terrainBlocks.reserve(mostBlocks);
+    slice.terrainBlocks.clear();
+    slice.terrainByBlock = false;
+    slice.texelsRead.reset();
+  }
+}
+
+// Each receiver's eye-depth range, for the slices it reaches.
+void ShadowSetupPass::measureReceiverDepths(const Camera& camera) {
+  const dvec3 forward = camera.forward();
+  receiverDepths_.clear();
+  for (const Aabb& box : receivers_) {
+    dvec2 range(std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity());
+    for (int c = 0; c < 8; ++c) {
+      const double depth = glm::dot(box.corner(c) - camera.position, forward);
+      range = dvec2(std::min(range.x, depth), std::max(range.y, depth));
+    }
+    receiverDepths_.push_back(range);
+  }
+}
+
+// The slice's receivers (sliceReceivers_) and its setup's input: B bounded by them, what the method
+// carried from the last frame, n from the nearest depth for the first of several slices.
+shadows::ShadowInput ShadowSetupPass::sliceInput(const ShadowSlice& slice, int index, std::optional<double> nNear,
+                                                 const SliceContext& context) {
+  sliceReceivers_.clear();
+  Aabb sliceBounds;
+  for (size_t r = 0; r < receivers_.size(); ++r)
+    if (receiverDepths_[r].y >= slice.camera.near && receiverDepths_[r].x <= slice.camera.far) {
+      sliceReceivers_.push_back(receivers_[r]);
+      sliceBounds.extend(receivers_[r]);
+    }
+  const FrameSettings& settings = context.settings;
+  shadows::ShadowInput input;
+  input.camera = slice.camera;
+  input.sunDirection = context.l;
+  input.scene = context.sceneBounds;
+  if (settings.focus == FocusBound::Receivers) input.receivers = sliceBounds;
+  // What the method carried from the last frame (lispsm: n over time, §9.2.5; uniform-stable: its radius).
+  input.carried = history_.carried(settings.method, index);
+  // The first slice serves everything from the near plane, but nothing visible lies nearer than
+  // z_near: its n is eq. 8.13 from there (ShadowInput::nNear); B still starts at the near plane.
+  input.nNear = nNear;
+  input.mapSize = settings.shadowMapSize;
+  input.borderTexels = mapBorderTexels(settings.pcfRadius);
+  return input;
+}
+
+// The casters the slice's layer draws, by the frame's caster selection.
+void ShadowSetupPass::selectCasters(ShadowSlice& slice, const SliceContext& context) {
+  const FrameSettings& settings = context.settings;
+  const std::size_t objectCount = context.objects.boxes().size();
+  switch (settings.casters) {
+    case CasterSelection::Receivers:
+      selectCastersOfReceivers(slice, settings, context.l, context.objects, context.lod, context.sceneBounds, nullptr);
+      break;
+    case CasterSelection::ReceiverPixels:
+      if (!context.receiverPixels) throw Error("shadow setup: receiver-pixels casters without the receiver pixels");
+      fillReceiverMask(slice, settings, *context.receiverPixels);
+      slice.texelsRead = mask_.texelsRead(lookupReachTexels(settings));
+      selectCastersOfReceivers(slice, settings, context.l, context.objects, context.lod, context.sceneBounds, &mask_);
+      break;
+    case CasterSelection::FrustumBody: {
+      const ConvexBody body = shadows::computeFocusBody(slice.camera, context.l, context.sceneBounds);
+      for (std::uint32_t o = 0; o < objectCount; ++o)
+        if (shadows::mayIntersect(body, context.objects.boxes()[o])) slice.casters.push_back(o);
+      break;
+    }
+    case CasterSelection::All:
+      for (std::uint32_t o = 0; o < objectCount; ++o) slice.casters.push_back(o);
+      break;
+  }
 }
 
 }  // namespace forest::render

@@ -71,6 +71,21 @@ class ShadowSetupPass {
   }
 
  private:
+  // What every slice's setup and caster selection read.
+  struct SliceContext {
+    const FrameSettings& settings;
+    const glm::dvec3& l;
+    const SceneObjects& objects;
+    const terrain::TerrainLod* lod;
+    const Aabb& sceneBounds;
+    const ReceiverPixels* receiverPixels;
+  };
+  // The steps of run(), in order.
+  void startPlan(const culling::CullingResult& visible, const SceneObjects& objects, const ShadowSettings& cascades, ShadowPlan& plan,
+                 FrameStats& stats);
+  void measureReceiverDepths(const Camera& camera);
+  shadows::ShadowInput sliceInput(const ShadowSlice& slice, int index, std::optional<double> nNear, const SliceContext& context);
+  void selectCasters(ShadowSlice& slice, const SliceContext& context);
   // The split depths of [camera near, z_f]: Zhang's scheme from z_near, the inner splits smoothed.
   shadows::SplitDepths splitsFor(const Camera& camera, double farDepth, std::optional<double> nearestDepth,
                                  const ShadowSettings& cascades);
