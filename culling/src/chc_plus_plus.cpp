@@ -63,288 +63,316 @@ void queryBoxes(const std::vector<BvhNode>& nodes, std::int32_t node, int depth,
 
 }  // namespace
 
-void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
-  const std::vector<BvhNode>& nodes = t.nodes();
-  const CullingSettings& p = parameters_;
-  const std::uint64_t requery = static_cast<std::uint64_t>(std::max(1, p.visible_requery_frames));
+// One chc++ frame: the paper's queues and the steps on them, as member functions over the
+// culler's node state and query machinery.
+struct OcclusionCuller::ChcPlusPlusFrame {
+  OcclusionCuller& c;
+  Traversal& t;
+  const std::vector<BvhNode>& nodes;
+  const CullingSettings& p;
+  const std::uint64_t requery;
   // The lists live in the culler's scratch (allocated once); a pending query's nodes — several for
   // a multiquery — are a range of groupNodes; drawnAlready marks a visible leaf's query (v-queue):
   // drawn this frame, it asks about the next.
-  Scratch& scratch = t.scratch;
-  EntryHeap& traversal = scratch.traversal;
-  FifoQueue<PendingQuery>& pending = scratch.pending;
-  std::vector<std::int32_t>& invisibleQueue = scratch.invisibleQueue;
-  std::vector<std::int32_t>& visibleQueue = scratch.visibleQueue;
-  std::vector<std::int32_t>& confirmQueue = scratch.confirmQueue;
-  std::vector<std::int32_t>& renderQueue = scratch.renderQueue;
-  std::vector<std::int32_t>& groupNodes = scratch.groupNodes;
-  std::vector<std::uint32_t>& objects = scratch.drawList;
-  std::vector<Aabb>& boxes = scratch.boxes;
+  Scratch& scratch;
+  EntryHeap& traversal;
+  FifoQueue<PendingQuery>& pending;
+  std::vector<std::int32_t>& invisibleQueue;
+  std::vector<std::int32_t>& visibleQueue;
+  std::vector<std::int32_t>& confirmQueue;
+  std::vector<std::int32_t>& renderQueue;
+  std::vector<std::int32_t>& geometryQueue;
+  std::vector<std::int32_t>& groupNodes;
+
+  ChcPlusPlusFrame(OcclusionCuller& culler, Traversal& traversalState)
+      : c(culler),
+        t(traversalState),
+        nodes(traversalState.nodes()),
+        p(culler.parameters_),
+        requery(static_cast<std::uint64_t>(std::max(1, culler.parameters_.visible_requery_frames))),
+        scratch(traversalState.scratch),
+        traversal(scratch.traversal),
+        pending(scratch.pending),
+        invisibleQueue(scratch.invisibleQueue),
+        visibleQueue(scratch.visibleQueue),
+        confirmQueue(scratch.confirmQueue),
+        renderQueue(scratch.renderQueue),
+        geometryQueue(scratch.geometryQueue),
+        groupNodes(scratch.groupNodes) {}
+
+  void run();
 
   // §3.2: visible leaves wait in the render queue; it is drawn in one call before any query goes
   // out (the depth buffer must hold everything known visible) and at the end.
-  auto flushRender = [&] {
+  void flushRender() {
+    std::vector<std::uint32_t>& objects = scratch.drawList;
     objects.clear();
     for (std::int32_t n : renderQueue) {
       const auto o = t.objectsOf(n);
       objects.insert(objects.end(), o.begin(), o.end());
     }
     renderQueue.clear();
-    drawObjects(t, objects);
-  };
+    c.drawObjects(t, objects);
+  }
   // Before a batch of queries: what the draws held back (QueriesAfterTraversal::issueDuring) is
   // asked with it, and drawn once its results are in (takeResult), before the next batch.
-  auto drawBeforeQueries = [&] {
+  void drawBeforeQueries() {
     flushRender();
-    issueDuringTraversal();
-  };
-  const auto appendBoxes = [&t](std::int32_t n, std::vector<Aabb>& out) { t.appendQueryBoxes(n, out); };
-  auto issue = [&](std::span<const std::int32_t> group, bool drawnAlready) {
+    c.issueDuringTraversal();
+  }
+  void issue(std::span<const std::int32_t> group, bool drawnAlready) {
+    std::vector<Aabb>& boxes = scratch.boxes;
     boxes.clear();
+    const auto appendBoxes = [this](std::int32_t n, std::vector<Aabb>& out) { t.appendQueryBoxes(n, out); };
     for (std::int32_t n : group)
       queryBoxes(nodes, n, p.tight_box_depth, p.tight_box_area_ratio, boxes, scratch.level, scratch.next, scratch.best, appendBoxes);
     ++t.stats.queriesIssued;
     if (group.size() > 1) ++t.stats.multiQueries;
-    const std::size_t slot = issueQuery(boxes);
+    const std::size_t slot = c.issueQuery(boxes);
     const std::size_t first = groupNodes.size();
     groupNodes.insert(groupNodes.end(), group.begin(), group.end());
     pending.push({first, group.size(), slot, drawnAlready});
-  };
-  auto issueOne = [&](std::int32_t n, bool drawnAlready) { issue({&n, 1}, drawnAlready); };
+  }
+  void issueOne(std::int32_t n, bool drawnAlready) { issue({&n, 1}, drawnAlready); }
   // Geometry queries (beyond the paper; CullingSettings::geometry_queries): for leaves whose
   // objects the drawer can query with their own triangles.
-  std::vector<std::int32_t>& geometryQueue = scratch.geometryQueue;
-  auto ownGeometry = [&](std::int32_t n, QueryGeometry geometry = QueryGeometry::HullOrOwn) {
+  bool ownGeometry(std::int32_t n, QueryGeometry geometry = QueryGeometry::HullOrOwn) const {
     if (!p.geometry_queries || !nodes[n].leaf()) return false;
     for (std::uint32_t o : t.objectsOf(n))
       if (!t.drawer.queriesOwnGeometry(o, geometry)) return false;
     return true;
-  };
+  }
   // Beyond the paper: a leaf whose box meets the near slab (or holds the eye) is asked with its
   // exact triangles, which the near plane clips as it clips the leaf's draw; §3.6 takes such a
   // leaf as visible without a query, since its box's (or hull's) clipped faces would miss
   // fragments. A tree beside the walker whose box reaches into the near rectangle is then drawn
   // only when a triangle of it shows.
-  auto nearGeometry = [&](std::int32_t n) { return ownGeometry(n, QueryGeometry::Exact) && t.visibleWithoutQuery(n); };
-  auto issueGeometry = [&](std::int32_t n, bool drawnAlready) {
+  bool nearGeometry(std::int32_t n) const { return ownGeometry(n, QueryGeometry::Exact) && t.visibleWithoutQuery(n); }
+  void issueGeometry(std::int32_t n, bool drawnAlready) {
     ++t.stats.queriesIssued;
     ++t.stats.geometryQueries;
-    const std::size_t slot = issueGeometryQuery(t.objectsOf(n), nearGeometry(n) ? QueryGeometry::Exact : QueryGeometry::HullOrOwn);
+    const std::size_t slot = c.issueGeometryQuery(t.objectsOf(n), nearGeometry(n) ? QueryGeometry::Exact : QueryGeometry::HullOrOwn);
     const std::size_t first = groupNodes.size();
     groupNodes.push_back(n);
     pending.push({first, 1, slot, drawnAlready, 0, true});
-  };
+  }
   // Like the i-queue, after the render queue: the depth buffer must hold everything known visible.
-  auto issueGeometryQueue = [&] {
+  void issueGeometryQueue() {
     drawBeforeQueries();
     for (std::int32_t n : geometryQueue) issueGeometry(n, false);
     geometryQueue.clear();
-  };
+  }
   // A visible leaf's query for the next frame (§3.2's v-queue): with its triangles when it can be.
-  auto issueVisible = [&](std::int32_t n) {
+  void issueVisible(std::int32_t n) {
     if (ownGeometry(n)) issueGeometry(n, true);
     else issueOne(n, true);
-  };
-  // §3.1, §3.4: the i-queue goes out as one batch; with multiqueries, nodes sorted by p_keep are
-  // grouped greedily while the group's queries saved per query issued, |M| / (1 + (1 − Π p)·|M|),
-  // grows (a single node is an ordinary query: cost 1).
-  auto issueInvisibleQueue = [&] {
-    if (invisibleQueue.empty()) return;
-    drawBeforeQueries();
-    if (!p.multiqueries) {
-      for (std::int32_t n : invisibleQueue) issueOne(n, false);
-      invisibleQueue.clear();
-      return;
-    }
-    // Most often hidden first, ties in queue order (a stable sort, without the buffer
-    // std::stable_sort would allocate).
-    auto& order = scratch.order;
-    order.clear();
-    for (size_t i = 0; i < invisibleQueue.size(); ++i)
-      order.push_back({-state_[invisibleQueue[i]].invisibleFrames, static_cast<int>(i), invisibleQueue[i]});
-    std::sort(order.begin(), order.end());
-    for (size_t i = 0; i < order.size(); ++i) invisibleQueue[i] = std::get<2>(order[i]);
-    auto value = [](double keepAll, size_t size) {
-      return size <= 1 ? static_cast<double>(size) : static_cast<double>(size) / (1.0 + (1.0 - keepAll) * static_cast<double>(size));
-    };
-    std::vector<std::int32_t>& group = scratch.group;
-    group.clear();
-    double keepAll = 1.0;
-    for (std::int32_t n : invisibleQueue) {
-      const double keep = keepProbability(state_[n].invisibleFrames);
-      if (!group.empty() && value(keepAll * keep, group.size() + 1) <= value(keepAll, group.size())) {
-        issue(group, false);
-        group.clear();
-        keepAll = 1.0;
-      }
-      group.push_back(n);
-      keepAll *= keep;
-    }
-    if (!group.empty()) issue(group, false);
-    group.clear();
-    invisibleQueue.clear();
-  };
-  auto shownInImage = [&](std::span<const std::uint32_t> leafObjects) {
+  }
+  void issueInvisibleQueue();
+  bool shownInImage(std::span<const std::uint32_t> leafObjects) const {
     for (std::uint32_t o : leafObjects)
-      if (o < shownInLastImage_.size() && shownInLastImage_[o] != 0) return true;
+      if (o < c.shownInLastImage_.size() && c.shownInLastImage_[o] != 0) return true;
     return false;
-  };
-  auto traverseNode = [&](std::int32_t n) {
+  }
+  void traverseNode(std::int32_t n) {
     if (nodes[n].leaf()) {
       renderQueue.push_back(n);
     } else {
       traversal.push(t.entry(nodes[n].left));
       traversal.push(t.entry(nodes[n].right));
     }
+  }
+  void foundInvisible(std::int32_t n) {
+    c.state_[n].visible = false;
+    c.state_[n].invisibleFrames = std::min(c.state_[n].invisibleFrames + 1, 1000);
+  }
+  void handleResult(const PendingQuery& q, bool visible);
+  void takeResult() {
+    const PendingQuery q = pending.front();
+    pending.pop();
+    handleResult(q, c.waitResult(q.slot, t.stats));
+    c.takeDuringTraversal(t.stats, false);
+  }
+  // When the traversal queue is empty: the next batch of queries, or a result; false when done.
+  bool onEmptyQueue();
+  void visit(std::int32_t n);
+  void finish();
+};
+
+// §3.1, §3.4: the i-queue goes out as one batch; with multiqueries, nodes sorted by p_keep are
+// grouped greedily while the group's queries saved per query issued, |M| / (1 + (1 − Π p)·|M|),
+// grows (a single node is an ordinary query: cost 1).
+void OcclusionCuller::ChcPlusPlusFrame::issueInvisibleQueue() {
+  if (invisibleQueue.empty()) return;
+  drawBeforeQueries();
+  if (!p.multiqueries) {
+    for (std::int32_t n : invisibleQueue) issueOne(n, false);
+    invisibleQueue.clear();
+    return;
+  }
+  // Most often hidden first, ties in queue order (a stable sort, without the buffer
+  // std::stable_sort would allocate).
+  auto& order = scratch.order;
+  order.clear();
+  for (size_t i = 0; i < invisibleQueue.size(); ++i)
+    order.push_back({-c.state_[invisibleQueue[i]].invisibleFrames, static_cast<int>(i), invisibleQueue[i]});
+  std::sort(order.begin(), order.end());
+  for (size_t i = 0; i < order.size(); ++i) invisibleQueue[i] = std::get<2>(order[i]);
+  auto value = [](double keepAll, size_t size) {
+    return size <= 1 ? static_cast<double>(size) : static_cast<double>(size) / (1.0 + (1.0 - keepAll) * static_cast<double>(size));
   };
-  auto foundInvisible = [&](std::int32_t n) {
-    state_[n].visible = false;
-    state_[n].invisibleFrames = std::min(state_[n].invisibleFrames + 1, 1000);
-  };
-  auto handleResult = [&](const PendingQuery& q, bool visible) {
-    if (q.count > 1) {  // a multiquery: all hidden, or ask each node on its own
-      // By index: issuing appends to groupNodes, which may move its storage.
-      for (std::size_t i = q.first; i < q.first + q.count; ++i) {
-        if (!visible) foundInvisible(groupNodes[i]);
-        else issueOne(groupNodes[i], false);
-      }
+  std::vector<std::int32_t>& group = scratch.group;
+  group.clear();
+  double keepAll = 1.0;
+  for (std::int32_t n : invisibleQueue) {
+    const double keep = keepProbability(c.state_[n].invisibleFrames);
+    if (!group.empty() && value(keepAll * keep, group.size() + 1) <= value(keepAll, group.size())) {
+      issue(group, false);
+      group.clear();
+      keepAll = 1.0;
+    }
+    group.push_back(n);
+    keepAll *= keep;
+  }
+  if (!group.empty()) issue(group, false);
+  group.clear();
+  invisibleQueue.clear();
+}
+
+void OcclusionCuller::ChcPlusPlusFrame::handleResult(const PendingQuery& q, bool visible) {
+  if (q.count > 1) {  // a multiquery: all hidden, or ask each node on its own
+    // By index: issuing appends to groupNodes, which may move its storage.
+    for (std::size_t i = q.first; i < q.first + q.count; ++i) {
+      if (!visible) foundInvisible(groupNodes[i]);
+      else issueOne(groupNodes[i], false);
+    }
+    return;
+  }
+  const std::int32_t n = groupNodes[q.first];
+  NodeState& s = c.state_[n];
+  if (!visible) {
+    foundInvisible(n);
+    if (q.geometry) s.geometryHidden = true;
+    if (q.drawnAlready && s.newlyVisible) s.unconfirmed = true;  // the c-queue's query failed
+    return;
+  }
+  s.unconfirmed = false;
+  const bool wasInvisible = !q.drawnAlready;
+  // A box that sees something may see it through the gaps of nearer crowns: before the leaf is
+  // drawn, its own triangles are asked (a late leaf was asked with them already).
+  if (wasInvisible && !q.late && !q.geometry && ownGeometry(n)) {
+    geometryQueue.push_back(n);
+    return;
+  }
+  if (q.geometry) s.geometryHidden = false;
+  c.pullUpVisibility(n);
+  s.invisibleFrames = 0;
+  if (nodes[n].leaf()) {
+    // A query of a leaf not yet drawn tests this frame's depth before all of it is drawn (the
+    // leaves found visible in the same batch are not drawn yet), so a leaf it finds visible may
+    // be hidden in the finished image. Beyond the paper: it is drawn now and asked again once
+    // everything is drawn (the c-queue, with the v-queue's last queries); only a pass there puts
+    // it in the visible set. A leaf found too early is then drawn in this frame only, not in the
+    // next one as well. One that passes is asked once more the next frame (it may have been
+    // found late in a round of leaves that hide it next frame), and only then gets §3.3's
+    // random interval. A late leaf was asked against the finished depth (but the other late
+    // leaves'): it is visible, drawn after the traversal.
+    if (wasInvisible && !q.late) confirmQueue.push_back(n);
+    else t.markVisible(n);
+  }
+  if (wasInvisible) traverseNode(n);
+}
+
+bool OcclusionCuller::ChcPlusPlusFrame::onEmptyQueue() {
+  if (!invisibleQueue.empty()) {
+    issueInvisibleQueue();
+  } else if (!geometryQueue.empty()) {
+    issueGeometryQueue();
+  } else if (!pending.empty()) {
+    // About to wait: issue the visible leaves' queries first (§3.2), then take a result.
+    if (!visibleQueue.empty()) {
+      drawBeforeQueries();
+      for (std::int32_t n : visibleQueue) issueVisible(n);
+      visibleQueue.clear();
+    }
+    takeResult();
+  } else {
+    return false;
+  }
+  return true;
+}
+
+// A node taken from the traversal queue inside the frustum.
+void OcclusionCuller::ChcPlusPlusFrame::visit(std::int32_t n) {
+  ++t.stats.nodesVisited;
+  NodeState& s = c.state_[n];
+  const bool wasVisible = s.visible && s.lastVisited + 1 == c.frame_;
+  // Beyond the paper: with the last image's object IDs (setShownInLastImage) a drawn leaf's
+  // visibility then is known. Without a pixel it is asked before it is drawn, as a hidden leaf
+  // whose triangles were hidden; with one it is drawn and needs no re-query.
+  const bool imageKnown = !c.shownInLastImage_.empty() && nodes[n].leaf();
+  const bool hiddenInImage = wasVisible && imageKnown && !shownInImage(t.objectsOf(n));
+  s.lastVisited = c.frame_;
+  if (t.visibleWithoutQuery(n) && !nearGeometry(n)) {  // §3.6: the camera is in (or at) the box
+    c.pullUpVisibility(n);
+    s.invisibleFrames = 0;
+    if (nodes[n].leaf()) t.markVisible(n);
+    traverseNode(n);
+    return;
+  }
+  if (!wasVisible || hiddenInImage) {  // §3.1: wait in the i-queue for a batch
+    s.visible = false;
+    if (hiddenInImage) s.geometryHidden = true;
+    // Beyond the paper: a leaf whose confirming query failed, hidden since, passed a query of
+    // its round against a depth without the leaves found in the same round; asked again so,
+    // it would be drawn again for nothing (dense stands: hundreds of trees a frame). It is
+    // asked after the traversal's last draw instead, with the c-queue (no wait of its own),
+    // and drawn then if it shows.
+    if (!wasVisible && s.unconfirmed && nodes[n].leaf()) {
+      scratch.lateQueue.push_back(n);
       return;
     }
-    const std::int32_t n = groupNodes[q.first];
-    NodeState& s = state_[n];
-    if (!visible) {
-      foundInvisible(n);
-      if (q.geometry) s.geometryHidden = true;
-      if (q.drawnAlready && s.newlyVisible) s.unconfirmed = true;  // the c-queue's query failed
-      return;
-    }
-    s.unconfirmed = false;
-    const bool wasInvisible = !q.drawnAlready;
-    // A box that sees something may see it through the gaps of nearer crowns: before the leaf is
-    // drawn, its own triangles are asked (a late leaf was asked with them already).
-    if (wasInvisible && !q.late && !q.geometry && ownGeometry(n)) {
+    // Its box saw past what hid it, or meets the near slab: ask its triangles.
+    if (ownGeometry(n) && (s.geometryHidden || nearGeometry(n))) {
       geometryQueue.push_back(n);
       return;
     }
-    if (q.geometry) s.geometryHidden = false;
-    pullUpVisibility(n);
-    s.invisibleFrames = 0;
-    if (nodes[n].leaf()) {
-      // A query of a leaf not yet drawn tests this frame's depth before all of it is drawn (the
-      // leaves found visible in the same batch are not drawn yet), so a leaf it finds visible may
-      // be hidden in the finished image. Beyond the paper: it is drawn now and asked again once
-      // everything is drawn (the c-queue, with the v-queue's last queries); only a pass there puts
-      // it in the visible set. A leaf found too early is then drawn in this frame only, not in the
-      // next one as well. One that passes is asked once more the next frame (it may have been
-      // found late in a round of leaves that hide it next frame), and only then gets §3.3's
-      // random interval. A late leaf was asked against the finished depth (but the other late
-      // leaves'): it is visible, drawn after the traversal.
-      if (wasInvisible && !q.late) confirmQueue.push_back(n);
-      else t.markVisible(n);
-    }
-    if (wasInvisible) traverseNode(n);
-  };
-  auto takeResult = [&] {
-    const PendingQuery q = pending.front();
-    pending.pop();
-    handleResult(q, waitResult(q.slot, t.stats));
-    takeDuringTraversal(t.stats, false);
-  };
-
-  if (!nodes.empty()) traversal.push(t.entry(0));
-  while (true) {
-    // Results: async, those the GPU has finished; deterministic, none before the traversal queue
-    // runs dry (below).
-    if (queryMode_ == QueryMode::Async)
-      while (!pending.empty() && resultAvailable(pending.front().slot, t.stats)) takeResult();
-    if (traversal.empty()) {
-      if (!invisibleQueue.empty()) {
-        issueInvisibleQueue();
-      } else if (!geometryQueue.empty()) {
-        issueGeometryQueue();
-      } else if (!pending.empty()) {
-        // About to wait: issue the visible leaves' queries first (§3.2), then take a result.
-        if (!visibleQueue.empty()) {
-          drawBeforeQueries();
-          for (std::int32_t n : visibleQueue) issueVisible(n);
-          visibleQueue.clear();
-        }
-        takeResult();
-      } else {
-        break;
-      }
-      continue;
-    }
-    const std::int32_t n = traversal.top().node;
-    traversal.pop();
-    if (!t.frustum.mayIntersect(nodes[n].bounds)) continue;
-    ++t.stats.nodesVisited;
-    NodeState& s = state_[n];
-    const bool wasVisible = s.visible && s.lastVisited + 1 == frame_;
-    // Beyond the paper: with the last image's object IDs (setShownInLastImage) a drawn leaf's
-    // visibility then is known. Without a pixel it is asked before it is drawn, as a hidden leaf
-    // whose triangles were hidden; with one it is drawn and needs no re-query.
-    const bool imageKnown = !shownInLastImage_.empty() && nodes[n].leaf();
-    const bool hiddenInImage = wasVisible && imageKnown && !shownInImage(t.objectsOf(n));
-    s.lastVisited = frame_;
-    if (t.visibleWithoutQuery(n) && !nearGeometry(n)) {  // §3.6: the camera is in (or at) the box
-      pullUpVisibility(n);
-      s.invisibleFrames = 0;
-      if (nodes[n].leaf()) t.markVisible(n);
-      traverseNode(n);
-      continue;
-    }
-    if (!wasVisible || hiddenInImage) {  // §3.1: wait in the i-queue for a batch
-      s.visible = false;
-      if (hiddenInImage) s.geometryHidden = true;
-      // Beyond the paper: a leaf whose confirming query failed, hidden since, passed a query of
-      // its round against a depth without the leaves found in the same round; asked again so,
-      // it would be drawn again for nothing (dense stands: hundreds of trees a frame). It is
-      // asked after the traversal's last draw instead, with the c-queue (no wait of its own),
-      // and drawn then if it shows.
-      if (!wasVisible && s.unconfirmed && nodes[n].leaf()) {
-        scratch.lateQueue.push_back(n);
-        continue;
-      }
-      // Its box saw past what hid it, or meets the near slab: ask its triangles.
-      if (ownGeometry(n) && (s.geometryHidden || nearGeometry(n))) {
-        geometryQueue.push_back(n);
-        continue;
-      }
-      invisibleQueue.push_back(n);
-      if (static_cast<int>(invisibleQueue.size()) >= p.batch_size) issueInvisibleQueue();
-      continue;
-    }
-    if (!nodes[n].leaf()) {  // opened without a query; a visible descendant pulls visibility up again
-      s.visible = false;
-      traverseNode(n);
-      continue;
-    }
-    // A visible leaf is drawn; it is queried again only every n_av frames (§3.3), else assumed
-    // visible — with the last image's record, never.
-    renderQueue.push_back(n);
-    if (!imageKnown && frame_ >= s.nextQueryFrame) {
-      s.visible = false;
-      // §3.3: a random first interval after the confirming query spreads the re-queries of the
-      // leaves that became visible together; n_av after that.
-      s.nextQueryFrame = s.newlyVisible ? frame_ + 1 + hashDraw(static_cast<std::uint64_t>(n), frame_, requery) : frame_ + requery;
-      s.newlyVisible = false;
-      visibleQueue.push_back(n);
-    } else {
-      pullUpVisibility(n);
-      t.markVisible(n);
-    }
+    invisibleQueue.push_back(n);
+    if (static_cast<int>(invisibleQueue.size()) >= p.batch_size) issueInvisibleQueue();
+    return;
   }
-  takeDuringTraversal(t.stats, true);  // readable already: the loop's last wait covered them
+  if (!nodes[n].leaf()) {  // opened without a query; a visible descendant pulls visibility up again
+    s.visible = false;
+    traverseNode(n);
+    return;
+  }
+  // A visible leaf is drawn; it is queried again only every n_av frames (§3.3), else assumed
+  // visible — with the last image's record, never.
+  renderQueue.push_back(n);
+  if (!imageKnown && c.frame_ >= s.nextQueryFrame) {
+    s.visible = false;
+    // §3.3: a random first interval after the confirming query spreads the re-queries of the
+    // leaves that became visible together; n_av after that.
+    s.nextQueryFrame = s.newlyVisible ? c.frame_ + 1 + hashDraw(static_cast<std::uint64_t>(n), c.frame_, requery) : c.frame_ + requery;
+    s.newlyVisible = false;
+    visibleQueue.push_back(n);
+  } else {
+    c.pullUpVisibility(n);
+    t.markVisible(n);
+  }
+}
+
+// After the traversal: the remaining visible leaves' queries (for the next frame), and the
+// c-queue — the leaves found visible this frame, asked against the finished depth (and again next
+// frame, newlyVisible) — and the late leaves. Their results complete this frame's state and
+// visible set.
+void OcclusionCuller::ChcPlusPlusFrame::finish() {
+  c.takeDuringTraversal(t.stats, true);  // readable already: the loop's last wait covered them
   flushRender();
-  // The remaining visible leaves' queries (for the next frame), and the c-queue: the leaves found
-  // visible this frame, asked against the finished depth (and again next frame, newlyVisible).
-  // Their results complete this frame's state and visible set.
   for (std::int32_t n : visibleQueue) issueVisible(n);
   visibleQueue.clear();
   for (std::int32_t n : confirmQueue) {
-    state_[n].nextQueryFrame = frame_ + 1;
-    state_[n].newlyVisible = true;
+    c.state_[n].nextQueryFrame = c.frame_ + 1;
+    c.state_[n].newlyVisible = true;
     issueVisible(n);
   }
   confirmQueue.clear();
@@ -354,9 +382,29 @@ void OcclusionCuller::cullChcPlusPlus(Traversal& t) {
     pending.items.back().late = true;
     ++t.stats.lateQueries;
   }
-  issueAfterTraversal();  // in the same batch: answered by the same wait
+  c.issueAfterTraversal();  // in the same batch: answered by the same wait
   while (!pending.empty()) takeResult();
   flushRender();  // the late leaves that showed
 }
+
+void OcclusionCuller::ChcPlusPlusFrame::run() {
+  if (!nodes.empty()) traversal.push(t.entry(0));
+  while (true) {
+    // Results: async, those the GPU has finished; deterministic, none before the traversal queue
+    // runs dry (onEmptyQueue).
+    if (c.queryMode_ == QueryMode::Async)
+      while (!pending.empty() && c.resultAvailable(pending.front().slot, t.stats)) takeResult();
+    if (traversal.empty()) {
+      if (!onEmptyQueue()) break;
+      continue;
+    }
+    const std::int32_t n = traversal.top().node;
+    traversal.pop();
+    if (t.frustum.mayIntersect(nodes[n].bounds)) visit(n);
+  }
+  finish();
+}
+
+void OcclusionCuller::cullChcPlusPlus(Traversal& t) { ChcPlusPlusFrame(*this, t).run(); }
 
 }  // namespace forest::culling

@@ -222,17 +222,12 @@ void OcclusionCuller::pullUpVisibility(std::int32_t n) {
   for (n = nodes[n].parent; n >= 0 && !state_[n].visible; n = nodes[n].parent) state_[n].visible = true;
 }
 
-const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb> objectBoxes, const Camera& camera,
-                                           CullingStrategy strategy, ObjectDrawer& drawer, const QueryShapes& shapes,
-                                           QueriesAfterTraversal* after) {
-  if (!shapes.empty() && shapes.ranges.size() != objectBoxes.size())
-    throw Error(fmt::format("OcclusionCuller: query shapes for {} objects, expected {}", shapes.ranges.size(), objectBoxes.size()));
-  if (objectBoxes.size() != bvh.objectCount())
-    throw Error(fmt::format("OcclusionCuller: {} object boxes for a BVH over {}", objectBoxes.size(), bvh.objectCount()));
-  const auto start = std::chrono::steady_clock::now();
-  CullingResult& result = result_;
-  result.stats = CullingStats{};
-  result.visibleObjects.clear();
+// A cull's start: the frame's stamp and view, cleared lists and counters, the node state and the
+// result slots sized for the BVH.
+void OcclusionCuller::beginCull(const Bvh& bvh, const Camera& camera, const QueryShapes& shapes, ObjectDrawer& drawer,
+                                QueriesAfterTraversal* after) {
+  result_.stats = CullingStats{};
+  result_.visibleObjects.clear();
   Scratch& scratch = *scratch_;
   scratch.clear();
   ++frame_;
@@ -261,61 +256,77 @@ const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb>
   }
   if (after && after->maxQueries() > afterCullQueries_) reserveAfterCull(after->maxQueries(), 0);
   drawer_ = &drawer;
-  stats_ = &result.stats;
+  stats_ = &result_.stats;
   afterTraversal_ = after;
   inCull_ = true;
-  Traversal t{bvh, camera, Frustum(camera), drawer, result.stats, result.visibleObjects, scratch, shapes,
-              parameters_.tight_box_area_ratio, NearSlab(camera)};
-  const std::vector<BvhNode>& nodes = bvh.nodes();
+}
 
+// none (every node) or frustum culling: the leaves inside, drawn in one call.
+void OcclusionCuller::cullByFrustum(Traversal& t, bool frustum) {
+  const std::vector<BvhNode>& nodes = t.nodes();
+  std::vector<std::int32_t>& stack = t.scratch.stack;
+  if (!nodes.empty()) stack.push_back(0);
+  while (!stack.empty()) {
+    const std::int32_t n = stack.back();
+    stack.pop_back();
+    if (frustum && !t.frustum.mayIntersect(nodes[n].bounds)) continue;
+    ++t.stats.nodesVisited;
+    if (nodes[n].leaf()) {
+      t.markVisible(n);
+    } else {
+      stack.push_back(nodes[n].right);
+      stack.push_back(nodes[n].left);
+    }
+  }
+  std::sort(t.visible.begin(), t.visible.end());
+  drawObjects(t, t.visible);
+}
+
+// stop-and-wait: front to back, each node in the frustum queried and its result waited for.
+void OcclusionCuller::cullStopAndWait(Traversal& t) {
+  const std::vector<BvhNode>& nodes = t.nodes();
+  EntryHeap& traversal = t.scratch.traversal;
+  if (!nodes.empty()) traversal.push(t.entry(0));
+  while (!traversal.empty()) {
+    const std::int32_t n = traversal.top().node;
+    traversal.pop();
+    if (!t.frustum.mayIntersect(nodes[n].bounds)) continue;
+    ++t.stats.nodesVisited;
+    bool isVisible = true;
+    if (!t.visibleWithoutQuery(n)) {
+      t.scratch.boxes.clear();
+      t.appendQueryBoxes(n, t.scratch.boxes);
+      const std::size_t slot = issueQuery(t.scratch.boxes);
+      ++t.stats.queriesIssued;
+      isVisible = waitResult(slot, t.stats);
+    }
+    if (!isVisible) continue;
+    if (nodes[n].leaf()) {
+      drawObjects(t, t.objectsOf(n));
+      t.markVisible(n);
+    } else {
+      traversal.push(t.entry(nodes[n].left));
+      traversal.push(t.entry(nodes[n].right));
+    }
+  }
+}
+
+const CullingResult& OcclusionCuller::cull(const Bvh& bvh, std::span<const Aabb> objectBoxes, const Camera& camera,
+                                           CullingStrategy strategy, ObjectDrawer& drawer, const QueryShapes& shapes,
+                                           QueriesAfterTraversal* after) {
+  if (!shapes.empty() && shapes.ranges.size() != objectBoxes.size())
+    throw Error(fmt::format("OcclusionCuller: query shapes for {} objects, expected {}", shapes.ranges.size(), objectBoxes.size()));
+  if (objectBoxes.size() != bvh.objectCount())
+    throw Error(fmt::format("OcclusionCuller: {} object boxes for a BVH over {}", objectBoxes.size(), bvh.objectCount()));
+  const auto start = std::chrono::steady_clock::now();
+  CullingResult& result = result_;
+  beginCull(bvh, camera, shapes, drawer, after);
+  Traversal t{bvh, camera, Frustum(camera), drawer, result.stats, result.visibleObjects, *scratch_, shapes,
+              parameters_.tight_box_area_ratio, NearSlab(camera)};
   switch (strategy) {
     case CullingStrategy::None:
-    case CullingStrategy::Frustum: {
-      std::vector<std::int32_t>& stack = scratch.stack;
-      if (!nodes.empty()) stack.push_back(0);
-      while (!stack.empty()) {
-        const std::int32_t n = stack.back();
-        stack.pop_back();
-        if (strategy == CullingStrategy::Frustum && !t.frustum.mayIntersect(nodes[n].bounds)) continue;
-        ++result.stats.nodesVisited;
-        if (nodes[n].leaf()) {
-          t.markVisible(n);
-        } else {
-          stack.push_back(nodes[n].right);
-          stack.push_back(nodes[n].left);
-        }
-      }
-      std::sort(t.visible.begin(), t.visible.end());
-      drawObjects(t, t.visible);
-      break;
-    }
-    case CullingStrategy::StopAndWait: {
-      EntryHeap& traversal = scratch.traversal;
-      if (!nodes.empty()) traversal.push(t.entry(0));
-      while (!traversal.empty()) {
-        const std::int32_t n = traversal.top().node;
-        traversal.pop();
-        if (!t.frustum.mayIntersect(nodes[n].bounds)) continue;
-        ++result.stats.nodesVisited;
-        bool isVisible = true;
-        if (!t.visibleWithoutQuery(n)) {
-          scratch.boxes.clear();
-          t.appendQueryBoxes(n, scratch.boxes);
-          const std::size_t slot = issueQuery(scratch.boxes);
-          ++result.stats.queriesIssued;
-          isVisible = waitResult(slot, result.stats);
-        }
-        if (!isVisible) continue;
-        if (nodes[n].leaf()) {
-          drawObjects(t, t.objectsOf(n));
-          t.markVisible(n);
-        } else {
-          traversal.push(t.entry(nodes[n].left));
-          traversal.push(t.entry(nodes[n].right));
-        }
-      }
-      break;
-    }
+    case CullingStrategy::Frustum: cullByFrustum(t, strategy == CullingStrategy::Frustum); break;
+    case CullingStrategy::StopAndWait: cullStopAndWait(t); break;
     case CullingStrategy::Chc: cullChc(t); break;
     case CullingStrategy::ChcPlusPlus:
       if (lastStrategy_ == CullingStrategy::None || lastStrategy_ == CullingStrategy::Frustum) takeStateFromLastImage(t);

@@ -278,11 +278,15 @@ class OcclusionCuller {
   // Makes the results of every drawn query readable: waits for the GPU (deterministic) or for
   // the fence covering `slot` (async).
   void waitForResults(std::size_t slot, CullingStats& stats);
+  void beginCull(const Bvh& bvh, const Camera& camera, const QueryShapes& shapes, ObjectDrawer& drawer, QueriesAfterTraversal* after);
+  void cullByFrustum(Traversal& t, bool frustum);  // none (frustum false) and frustum
+  void cullStopAndWait(Traversal& t);
   void cullChc(Traversal& t);
   void drawObjects(Traversal& t, std::span<const std::uint32_t> objects);
   void pullUpVisibility(std::int32_t node);  // marks the node and its not yet visible ancestors visible
   // chc++'s state as of the frame before, from setShownInLastImage's flags (see there).
   void takeStateFromLastImage(Traversal& t);
+  struct ChcPlusPlusFrame;  // one chc++ frame's queues and steps (src/chc_plus_plus.cpp)
   void cullChcPlusPlus(Traversal& t);
   // The query's result (true: a sample passed); waits for it when needed.
   bool waitResult(std::size_t slot, CullingStats& stats);
