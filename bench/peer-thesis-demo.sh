@@ -5,7 +5,8 @@
 # shadows on, 2048² map) and then `forest walkthrough` on data/scenes/thesis-demo.toml along
 # data/paths/thesis-walk.toml (chc++, LiSPSM 2048², blur off) at the same size, tree grid, warm-up
 # and frame count. It prints each run's mean and p95 frame time and triangles, the ratio
-# forest / classic per pair and the median of the pairs, and writes them as JSON.
+# forest / classic per pair and the median of the pairs, and writes them as JSON and as a Markdown
+# table stamped with the machine and date (DIR/thesis-demo.md; the README's table: --out docs/benchmarks).
 #
 # usage: bench/peer-thesis-demo.sh [--pairs N] [--trees "5000 10000"] [--size 800x600]
 #                                  [--warmup 30] [--frames 200] [--timing queries] [--out DIR]
@@ -124,10 +125,18 @@ EOF
 	done
 done
 
-python3 - "$RESULTS" "$OUT/peer-thesis-demo.json" "$SIZE" <<'EOF'
-import json, statistics, sys
+MACHINE="$(nproc) cores of $(lscpu | sed -n 's/^Model name:[[:space:]]*//p' | head -1)"
+python3 - "$RESULTS" "$OUT/peer-thesis-demo.json" "$SIZE" "$OUT/thesis-demo.md" "$MACHINE" <<'EOF'
+import datetime, json, statistics, sys
 runs = [json.loads(line) for line in open(sys.argv[1])]
 size = sys.argv[3]
+markdown = [f"# The thesis demo scene against the classic demo\n",
+            f"Measured {datetime.date.today().isoformat()} on {sys.argv[5]} (Mesa llvmpipe) by `bash bench/peer-thesis-demo.sh`: "
+            f"the classic CHC + LiSPSM demo (GPU Gems 2 ch. 6; CHC, 2048²) and `forest walkthrough` (chc++, LiSPSM 2048², blur off, "
+            f"--timing {runs[0]['forest']['timing']}) on data/scenes/thesis-demo.toml along data/paths/thesis-walk.toml, {size}, taking "
+            "turns in pairs. Frame: the classic demo's display() to after swap + glFinish; the engine's frame interval (start to next start).\n",
+            "| trees | pair | classic mean ms | p95 | eye / shadow triangles | forest mean ms | p95 | eye / shadow triangles | forest / classic |",
+            "|---|---|---|---|---|---|---|---|---|"]
 summary = {"size": size, "runs": runs, "median_ratio": {}}
 print(f"\nforest walkthrough (chc++, lispsm 2048², blur off, --timing {runs[0]['forest']['timing']}) against the classic CHC + LiSPSM demo (CHC, 2048²), {size}, one machine, alternating runs")
 print("frame: the classic demo's display() to after swap + glFinish; the engine's frame interval (start to next start)")
@@ -140,12 +149,16 @@ for trees in sorted({r["trees"] for r in runs}):
         ratios.append(ratio)
         print(f"{trees:>6} {r['pair']:>4} | {c['ms_mean']:>9.1f} ms {c['ms_p95']:>7.1f} {c['eye_triangles']:>9.0f} {c['shadow_triangles']:>11.0f} | "
               f"{f['ms_mean']:>8.1f} ms {f['ms_p95']:>7.1f} {f['eye_triangles']:>9.0f} {f['shadow_triangles']:>11.0f} | {ratio:>14.3f}")
+        markdown.append(f"| {trees} | {r['pair']} | {c['ms_mean']:.1f} | {c['ms_p95']:.1f} | {c['eye_triangles']:.0f} / {c['shadow_triangles']:.0f} | "
+                        f"{f['ms_mean']:.1f} | {f['ms_p95']:.1f} | {f['eye_triangles']:.0f} / {f['shadow_triangles']:.0f} | {ratio:.3f} |")
     median = statistics.median(ratios)
     summary["median_ratio"][str(trees)] = median
     print(f"{trees:>6} median of {len(ratios)} pairs: forest / classic mean frame = {median:.3f}")
+    markdown.append(f"| {trees} | median of {len(ratios)} | | | | | | | **{median:.3f}** |")
     passes = {k: statistics.mean(r["forest"]["passes_ms"][k] for r in runs if r["trees"] == trees) for k in runs[0]["forest"]["passes_ms"]}
     print("       forest passes (ms, mean of the pairs): " + ", ".join(f"{k} {v:.1f}" for k, v in passes.items()) +
           f"; classic shadow pass {statistics.mean(r['classic']['shadow_ms_mean'] for r in runs if r['trees'] == trees):.1f} ms")
 json.dump(summary, open(sys.argv[2], "w"), indent=1)
-print(f"wrote {sys.argv[2]}")
+open(sys.argv[4], "w").write("\n".join(markdown) + "\n")
+print(f"wrote {sys.argv[2]} and {sys.argv[4]}")
 EOF

@@ -2,13 +2,20 @@
 
 #include <fmt/format.h>
 
+#include <signal.h>
+#include <spawn.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
 
 #include "forest/core/drawing.hpp"
+#include "forest/core/error.hpp"
 #include "forest/core/log.hpp"
 
 namespace forest::app {
@@ -127,39 +134,89 @@ VideoWriter::VideoWriter(const std::filesystem::path& file, int width, int heigh
     why_ = "ffmpeg is not installed (tools/setup.sh installs it)";
     return;
   }
-  command_ = fmt::format(
-      "nice -n 19 ffmpeg -loglevel error -y -f rawvideo -pix_fmt rgba -s {}x{} -framerate {} -i - -threads 1 "
-      "-vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -c:v libx264 -preset veryfast -pix_fmt yuv420p {}",
-      width, height, fps, shellQuoted(file.string()));
-  pipe_ = popen(command_.c_str(), "w");
-  if (!pipe_) why_ = "ffmpeg could not be started";
+  const std::vector<std::string> arguments{"ffmpeg", "-loglevel", "error", "-y", "-f", "rawvideo", "-pix_fmt", "rgba", "-s",
+                                           fmt::format("{}x{}", width, height), "-framerate", fmt::format("{}", fps), "-i", "-",
+                                           "-threads", "1", "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264", "-preset",
+                                           "veryfast", "-pix_fmt", "yuv420p", file.string()};
+  // A socket rather than a pipe: a write to a reader that died fails (MSG_NOSIGNAL) instead of
+  // killing this process with SIGPIPE.
+  int ends[2];
+  if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, ends) != 0) {
+    why_ = systemErrorMessage("video: socketpair");
+    return;
+  }
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, ends[1], STDIN_FILENO);
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  posix_spawnattr_setpgroup(&attributes, 0);  // its own group: Ctrl-C stops the run, which then finishes the video
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
+  std::vector<char*> argv;
+  for (const std::string& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  const int error = posix_spawnp(&pid_, "ffmpeg", &actions, &attributes, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  posix_spawnattr_destroy(&attributes);
+  close(ends[1]);
+  if (error != 0) {
+    close(ends[0]);
+    pid_ = -1;
+    why_ = fmt::format("ffmpeg could not be started: {}", std::strerror(error));
+    return;
+  }
+  socket_ = ends[0];
+  kill(pid_, SIGSTOP);  // it runs only while it is given a frame (add)
 }
 
-VideoWriter::~VideoWriter() {
-  if (pipe_) pclose(pipe_);
+VideoWriter::~VideoWriter() { stop(); }
+
+void VideoWriter::stop() {
+  if (socket_ >= 0) close(socket_);
+  socket_ = -1;
+  if (pid_ > 0) {
+    kill(pid_, SIGCONT);
+    int status = 0;
+    waitpid(pid_, &status, 0);
+    status_ = status;
+  }
+  pid_ = -1;
 }
 
 void VideoWriter::add(const Image8& image) {
-  if (!pipe_) return;
+  if (!ok()) return;
   if (image.width != width_ || image.height != height_ || image.channels != 4) {
     why_ = fmt::format("a {}x{} frame of {} channels in a {}x{} RGBA video", image.width, image.height, image.channels, width_, height_);
-  } else if (std::fwrite(image.pixels.data(), 1, image.pixels.size(), pipe_) == image.pixels.size()) {
-    ++frames_;
+    stop();
     return;
-  } else {
-    why_ = "ffmpeg stopped reading frames";
   }
-  pclose(pipe_);
-  pipe_ = nullptr;
+  // ffmpeg encodes the frame before this one while it takes this one, then stops again: it never
+  // runs while the next frame renders (a concurrent encoder skews what the frame measures: the
+  // query payoff's choices included).
+  kill(pid_, SIGCONT);
+  const unsigned char* data = image.pixels.data();
+  std::size_t left = image.pixels.size();
+  while (left > 0) {
+    const ssize_t sent = send(socket_, data, left, MSG_NOSIGNAL);
+    if (sent < 0 && errno == EINTR) continue;
+    if (sent <= 0) {
+      why_ = "ffmpeg stopped reading frames";
+      stop();
+      return;
+    }
+    data += sent;
+    left -= static_cast<std::size_t>(sent);
+  }
+  kill(pid_, SIGSTOP);
+  ++frames_;
 }
 
 bool VideoWriter::finish() {
-  if (!pipe_) return false;
-  const int status = pclose(pipe_);
-  pipe_ = nullptr;
-  if (status == 0) return true;
-  why_ = fmt::format("ffmpeg exited with {}", WIFEXITED(status) ? WEXITSTATUS(status) : -1);
-  log::warn("video: {}: {}", why_, command_);
+  if (!ok()) return false;
+  stop();
+  if (WIFEXITED(status_) && WEXITSTATUS(status_) == 0) return true;
+  why_ = fmt::format("ffmpeg exited with {}", WIFEXITED(status_) ? WEXITSTATUS(status_) : -1);
+  log::warn("video: {}", why_);
   return false;
 }
 

@@ -1,6 +1,8 @@
 #pragma once
 // What a multi-frame command leaves in its output folder: the files of one run only (an earlier
 // run's files there are removed first), and a contact sheet sampled across the whole run.
+#include <sys/types.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -48,30 +50,32 @@ class ContactSheet {
 };
 
 // An MP4 of a run's frames as they are rendered (H.264, yuv420p), encoded by ffmpeg reading raw
-// RGBA frames from a pipe: no frame is written to disk first. ffmpeg runs at the lowest CPU
-// priority (nice 19) on one thread, so that it takes the CPU the run leaves idle (the run's own
-// time is measured while it renders); what it has left is encoded in finish(). yuv420p needs even
-// sizes: an odd width or height gets one black row or column.
+// RGBA frames from a socket: no frame is written to disk first. ffmpeg is stopped (SIGSTOP) except
+// while add() hands it a frame, when it encodes the one before: it never runs beside the frames the
+// run measures. Its own process group: Ctrl-C stops the run, which still finishes the video of the
+// frames done. yuv420p needs even sizes: an odd width or height gets one black row or column.
 class VideoWriter {
  public:
-  // Starts ffmpeg writing `file` at `fps`; without ffmpeg on the PATH nothing starts (ok() false,
-  // why() says so).
+  // Starts ffmpeg writing `file` at `fps`; without ffmpeg nothing starts (ok() false, why() says so).
   VideoWriter(const std::filesystem::path& file, int width, int height, double fps);
   ~VideoWriter();
   VideoWriter(const VideoWriter&) = delete;
   VideoWriter& operator=(const VideoWriter&) = delete;
-  bool ok() const { return pipe_ != nullptr; }
+  bool ok() const { return socket_ >= 0; }
   // Appends a frame (top row first, RGBA, the size given); a failed write stops the video.
   void add(const Image8& image);
-  // Waits for ffmpeg; true when the MP4 is complete. Else why() says why.
+  // Lets ffmpeg encode what is left and waits for it; true when the MP4 is complete. Else why().
   bool finish();
   const std::string& why() const { return why_; }
   int frames() const { return frames_; }
 
  private:
-  std::FILE* pipe_ = nullptr;
+  void stop();  // closes the socket, lets ffmpeg run to its end and reaps it
+  int socket_ = -1;
+  pid_t pid_ = -1;
+  int status_ = 0;
   int width_, height_, frames_ = 0;
-  std::string command_, why_;
+  std::string why_;
 };
 
 // `text` as one word for /bin/sh: in single quotes, each ' written as '\''.

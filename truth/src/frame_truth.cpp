@@ -94,6 +94,120 @@ PixelTruth tracePixel(const raytrace::RayScene& rays, const Camera& camera, cons
   return t;
 }
 
+// The distance bands of options.bandEdges, empty.
+std::vector<DistanceBand> distanceBands(const TruthOptions& options) {
+  std::vector<DistanceBand> bands;
+  for (size_t k = 0; k <= options.bandEdges.size(); ++k) {
+    DistanceBand band;
+    band.fromM = k == 0 ? 0.0 : options.bandEdges[k - 1];
+    band.toM = k < options.bandEdges.size() ? options.bandEdges[k] : std::numeric_limits<double>::infinity();
+    if (!(band.toM > band.fromM)) throw InputError("truth: the distance bands' edges must increase");
+    bands.push_back(band);
+  }
+  return bands;
+}
+
+// Near a true edge: a lit-facing pixel within `reach` pixels whose truth is the other.
+bool nearTrueEdge(const std::vector<PixelTruth>& truth, int x, int y, int width, int height, int reach) {
+  const PixelTruth& t = truth[static_cast<size_t>(y) * width + x];
+  for (int dy = -reach; dy <= reach; ++dy)
+    for (int dx = -reach; dx <= reach; ++dx) {
+      const int nx = x + dx, ny = y + dy;
+      if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
+      const PixelTruth& o = truth[static_cast<size_t>(ny) * width + nx];
+      if (o.litFacing && o.shadowed != t.shadowed) return true;
+    }
+  return false;
+}
+
+// What scoring the pixels counts, before the shares.
+struct Tallies {
+  int wrong = 0, wrongNear = 0, falseShadow = 0, falseLight = 0;
+  double softError = 0.0, softErrorUnblurred = 0.0;
+  std::vector<double> aliasingPixels, aliasingRelative;
+};
+
+// Each scored pixel's rendered term against its truth: the counts, the error image (sky white,
+// unscored dark, false shadow red, false light blue, agreement grey by state), the bands, the
+// soft error and the aliasing of the slice the pixel reads.
+void scorePixels(const render::Frame& frame, const std::vector<PixelTruth>& truth, const std::vector<std::uint32_t>& ids,
+                 const std::vector<float>& term, const std::vector<float>& blurred, const Camera& camera, const dvec3& l,
+                 const TruthOptions& options, FrameError& e, Tallies& n) {
+  const int width = frame.width(), height = frame.height(), mapSize = frame.shadowMapSize();
+  const dvec3 forward = camera.forward();
+  const auto bandOf = [&](const dvec3& p) -> DistanceBand& {
+    const double distance = glm::distance(p, camera.position);
+    size_t k = 0;
+    while (k + 1 < e.bands.size() && distance >= e.bands[k].toM) ++k;
+    return e.bands[k];
+  };
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const size_t i = static_cast<size_t>(y) * width + x;
+      const PixelTruth& t = truth[i];
+      std::uint8_t* out = &e.errorImage.at(x, height - 1 - y);
+      out[0] = out[1] = out[2] = ids[i] == 0 ? 255 : 40;  // sky white, unscored dark
+      if (!t.scored) continue;
+      ++e.scored;
+      if (!t.litFacing) continue;
+      ++e.litFacing;
+      e.truthState[i] = t.shadowed ? 0 : 1;
+      DistanceBand& band = bandOf(t.position);
+      ++band.litFacing;
+      const bool nearEdge = nearTrueEdge(truth, x, y, width, height, options.edgePixels);
+      e.nearEdge += nearEdge ? 1 : 0;
+      const bool renderedShadow = term[i] < 0.5f;
+      if (renderedShadow != t.shadowed) {
+        ++n.wrong;
+        ++band.misclassified;
+        n.wrongNear += nearEdge ? 1 : 0;
+        (renderedShadow ? n.falseShadow : n.falseLight) += 1;
+        out[0] = renderedShadow ? 230 : 30;
+        out[1] = 30;
+        out[2] = renderedShadow ? 30 : 230;
+      } else {
+        out[0] = out[1] = out[2] = t.shadowed ? 110 : 190;
+      }
+      n.softError += std::abs(static_cast<double>(blurred[i]) - t.soft);
+      n.softErrorUnblurred += std::abs(static_cast<double>(term[i]) - t.soft);
+      // The slice whose layer the pixel reads, by its eye depth (in a blend band, the farther one).
+      const shadows::ShadowSetup& setup = frame.shadowSetup(frame.cascadeOf(glm::dot(t.position - camera.position, forward)));
+      if (!setup.empty) {
+        const auto a = shadows::surfaceAliasing(setup, camera, t.position, t.normal, l, mapSize, width, height);
+        if (a && std::isfinite(a->footprint)) n.aliasingPixels.push_back(a->footprint);
+        const double r = shadows::perspectiveAliasing(setup, camera, t.position);
+        if (std::isfinite(r)) n.aliasingRelative.push_back(r);
+      }
+    }
+  }
+}
+
+// The caster oracle, in culling objects (each tree is one): the first occluder of each lit-facing
+// pixel's shadow ray, against the casters any slice's layer drew.
+CasterOracle casterOracle(const render::Frame& frame, const render::FrameStats& stats, const raytrace::RayScene& rays,
+                         const std::vector<PixelTruth>& truth) {
+  CasterOracle c;
+  std::set<std::uint32_t> occluderIds;
+  for (const PixelTruth& t : truth)
+    if (t.litFacing && t.occluder != kNoObject) occluderIds.insert(t.occluder);
+  std::set<std::int64_t> needed;
+  for (std::uint32_t id : occluderIds) {
+    c.neededTriangles += static_cast<long long>(rays.triangles(id));
+    needed.insert(frame.objects().objectOfId(id));
+  }
+  std::set<std::uint32_t> selected;  // in any slice's layer
+  for (int slice = 0; slice < frame.cascadeCount(); ++slice) selected.insert(frame.casters(slice).begin(), frame.casters(slice).end());
+  c.selected = static_cast<int>(selected.size());
+  c.selectedTriangles = stats.shadowTriangles;
+  for (std::int64_t object : needed) {
+    if (object < 0) continue;
+    ++c.needed;
+    if (!selected.contains(static_cast<std::uint32_t>(object))) c.missingObjects.push_back(static_cast<std::uint32_t>(object));
+  }
+  c.missing = static_cast<int>(c.missingObjects.size());
+  return c;
+}
+
 }  // namespace
 
 FrameError evaluateFrame(const render::Frame& frame, const render::FrameStats& stats, const Scene& scene,
@@ -118,106 +232,25 @@ FrameError evaluateFrame(const render::Frame& frame, const render::FrameStats& s
 
   FrameError e;
   e.pixels = width * height;
-  int wrong = 0, wrongNear = 0, falseShadow = 0, falseLight = 0;
-  double softError = 0.0, softErrorUnblurred = 0.0;
-  std::vector<double> aliasingPixels, aliasingRelative;
-  const int mapSize = frame.shadowMapSize();
-  const dvec3 forward = camera.forward();
   e.errorImage = Image8(width, height, 3);
   e.truthState.assign(truth.size(), -1);
-  for (size_t k = 0; k <= options.bandEdges.size(); ++k) {
-    DistanceBand band;
-    band.fromM = k == 0 ? 0.0 : options.bandEdges[k - 1];
-    band.toM = k < options.bandEdges.size() ? options.bandEdges[k] : std::numeric_limits<double>::infinity();
-    if (!(band.toM > band.fromM)) throw InputError("truth: the distance bands' edges must increase");
-    e.bands.push_back(band);
-  }
-  const auto bandOf = [&](const dvec3& p) -> DistanceBand& {
-    const double distance = glm::distance(p, camera.position);
-    size_t k = 0;
-    while (k + 1 < e.bands.size() && distance >= e.bands[k].toM) ++k;
-    return e.bands[k];
-  };
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      const size_t i = static_cast<size_t>(y) * width + x;
-      const PixelTruth& t = truth[i];
-      std::uint8_t* out = &e.errorImage.at(x, height - 1 - y);
-      out[0] = out[1] = out[2] = ids[i] == 0 ? 255 : 40;  // sky white, unscored dark
-      if (!t.scored) continue;
-      ++e.scored;
-      if (!t.litFacing) continue;
-      ++e.litFacing;
-      e.truthState[i] = t.shadowed ? 0 : 1;
-      DistanceBand& band = bandOf(t.position);
-      ++band.litFacing;
-      // Near a true edge: a lit-facing neighbour within edgePixels with the other truth.
-      bool nearEdge = false;
-      for (int dy = -options.edgePixels; dy <= options.edgePixels && !nearEdge; ++dy)
-        for (int dx = -options.edgePixels; dx <= options.edgePixels && !nearEdge; ++dx) {
-          const int nx = x + dx, ny = y + dy;
-          if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
-          const PixelTruth& o = truth[static_cast<size_t>(ny) * width + nx];
-          nearEdge = o.litFacing && o.shadowed != t.shadowed;
-        }
-      e.nearEdge += nearEdge ? 1 : 0;
-      const bool renderedShadow = term[i] < 0.5f;
-      if (renderedShadow != t.shadowed) {
-        ++wrong;
-        ++band.misclassified;
-        wrongNear += nearEdge ? 1 : 0;
-        (renderedShadow ? falseShadow : falseLight) += 1;
-        out[0] = renderedShadow ? 230 : 30;
-        out[1] = 30;
-        out[2] = renderedShadow ? 30 : 230;
-      } else {
-        out[0] = out[1] = out[2] = t.shadowed ? 110 : 190;
-      }
-      softError += std::abs(static_cast<double>(blurred[i]) - t.soft);
-      softErrorUnblurred += std::abs(static_cast<double>(term[i]) - t.soft);
-      // The slice whose layer the pixel reads, by its eye depth (in a blend band, the farther one).
-      const shadows::ShadowSetup& setup = frame.shadowSetup(frame.cascadeOf(glm::dot(t.position - camera.position, forward)));
-      if (!setup.empty) {
-        const auto a = shadows::surfaceAliasing(setup, camera, t.position, t.normal, l, mapSize, width, height);
-        if (a && std::isfinite(a->footprint)) aliasingPixels.push_back(a->footprint);
-        const double r = shadows::perspectiveAliasing(setup, camera, t.position);
-        if (std::isfinite(r)) aliasingRelative.push_back(r);
-      }
-    }
-  }
+  e.bands = distanceBands(options);
+  Tallies n;
+  scorePixels(frame, truth, ids, term, blurred, camera, l, options, e, n);
   const double lit = std::max(1, e.litFacing);
-  e.misclassification = wrong / lit;
-  e.misclassificationNearEdge = e.nearEdge ? static_cast<double>(wrongNear) / e.nearEdge : 0.0;
+  e.misclassification = n.wrong / lit;
+  e.misclassificationNearEdge = e.nearEdge ? static_cast<double>(n.wrongNear) / e.nearEdge : 0.0;
   e.misclassificationElsewhere =
-      e.litFacing > e.nearEdge ? static_cast<double>(wrong - wrongNear) / (e.litFacing - e.nearEdge) : 0.0;
+      e.litFacing > e.nearEdge ? static_cast<double>(n.wrong - n.wrongNear) / (e.litFacing - e.nearEdge) : 0.0;
   for (DistanceBand& band : e.bands)
     band.misclassification = band.litFacing > 0 ? static_cast<double>(band.misclassified) / band.litFacing : 0.0;
-  e.falseShadow = falseShadow / lit;
-  e.falseLight = falseLight / lit;
-  e.softMeanAbsoluteError = options.softRays > 0 ? softError / lit : 0.0;
-  e.softMeanAbsoluteErrorUnblurred = options.softRays > 0 ? softErrorUnblurred / lit : 0.0;
-  e.aliasingPixels = shadows::summarise(std::move(aliasingPixels));
-  e.aliasingRelative = shadows::summarise(std::move(aliasingRelative));
-
-  // Caster oracle, in culling objects (each tree is one).
-  std::set<std::uint32_t> occluderIds;
-  for (const PixelTruth& t : truth)
-    if (t.litFacing && t.occluder != kNoObject) occluderIds.insert(t.occluder);
-  std::set<std::int64_t> needed;
-  for (std::uint32_t id : occluderIds) {
-    e.casters.neededTriangles += static_cast<long long>(rays.triangles(id));
-    needed.insert(frame.objects().objectOfId(id));
-  }
-  std::set<std::uint32_t> selected;  // in any slice's layer
-  for (int slice = 0; slice < frame.cascadeCount(); ++slice) selected.insert(frame.casters(slice).begin(), frame.casters(slice).end());
-  e.casters.selected = static_cast<int>(selected.size());
-  e.casters.selectedTriangles = stats.shadowTriangles;
-  for (std::int64_t object : needed) {
-    if (object < 0) continue;
-    ++e.casters.needed;
-    if (!selected.contains(static_cast<std::uint32_t>(object))) e.casters.missingObjects.push_back(static_cast<std::uint32_t>(object));
-  }
-  e.casters.missing = static_cast<int>(e.casters.missingObjects.size());
+  e.falseShadow = n.falseShadow / lit;
+  e.falseLight = n.falseLight / lit;
+  e.softMeanAbsoluteError = options.softRays > 0 ? n.softError / lit : 0.0;
+  e.softMeanAbsoluteErrorUnblurred = options.softRays > 0 ? n.softErrorUnblurred / lit : 0.0;
+  e.aliasingPixels = shadows::summarise(std::move(n.aliasingPixels));
+  e.aliasingRelative = shadows::summarise(std::move(n.aliasingRelative));
+  e.casters = casterOracle(frame, stats, rays, truth);
   return e;
 }
 
