@@ -105,16 +105,24 @@ std::string number(double v) {
   return s.str();
 }
 
-TEST(ForestCliUsage, EveryUsageErrorOfEverySubcommandIsOneLineWithExitTwo) {
-  app::ForestCli cli;
+// Every command that runs ("bench culling", not "bench"), by the name typed.
+std::vector<std::pair<std::string, CLI::App*>> runnableCommands(app::ForestCli& cli) {
   std::vector<std::pair<std::string, CLI::App*>> commands;
   for (CLI::App* command : cli.app().get_subcommands({})) {
     const std::vector<CLI::App*> nested = command->get_subcommands({});
     if (nested.empty()) commands.emplace_back(command->get_name(), command);
     for (CLI::App* sub : nested) commands.emplace_back(command->get_name() + " " + sub->get_name(), sub);
-    // A command that needs a subcommand, called without one.
-    if (!nested.empty()) expectUsageError({command->get_name()}, "forest: error: " + command->get_name() + ": ", "a command is required");
   }
+  return commands;
+}
+
+TEST(ForestCliUsage, EveryUsageErrorOfEverySubcommandIsOneLineWithExitTwo) {
+  app::ForestCli cli;
+  const std::vector<std::pair<std::string, CLI::App*>> commands = runnableCommands(cli);
+  // A command that needs a subcommand, called without one.
+  for (CLI::App* command : cli.app().get_subcommands({}))
+    if (!command->get_subcommands({}).empty())
+      expectUsageError({command->get_name()}, "forest: error: " + command->get_name() + ": ", "a command is required");
   std::vector<std::string> names;
   for (const auto& [name, command] : commands) names.push_back(name);
   // The commands the README documents; finding fewer means this test lost them, not the program.
@@ -182,12 +190,7 @@ constexpr DocumentedRange kDocumentedRanges[] = {
 
 TEST(ForestCliUsage, EveryRangedOptionHasItsDocumentedRangeAndAcceptsItsEnds) {
   app::ForestCli cli;
-  std::vector<std::pair<std::string, CLI::App*>> commands;
-  for (CLI::App* command : cli.app().get_subcommands({})) {
-    const std::vector<CLI::App*> nested = command->get_subcommands({});
-    if (nested.empty()) commands.emplace_back(command->get_name(), command);
-    for (CLI::App* sub : nested) commands.emplace_back(command->get_name() + " " + sub->get_name(), sub);
-  }
+  const std::vector<std::pair<std::string, CLI::App*>> commands = runnableCommands(cli);
   int checked = 0;
   for (const auto& [name, command] : commands)
     for (const OptionSpec& o : optionsOf(*command)) {

@@ -59,6 +59,46 @@ std::array<dvec3, 8> lightFrustumCorners(const shadows::ShadowSetup& setup) {
   return corners;
 }
 
+namespace {
+
+// The top-down diagram's legend band: what each colour is, the counts, the scale and an arrow the
+// way the light travels.
+Image8 topDownLegend(const Frame& frame, const dvec3& sunDirection, int size, bool lightClipped, size_t casters, double metresAcross) {
+  const int slices = frame.cascadeCount();
+  Image8 legend = filled(size, kTopDownLegendHeight, kBackground);
+  int y = 18;
+  const std::string clipped = lightClipped ? "; clipped at the frame" : "";
+  std::vector<std::pair<std::string, glm::vec3>> entries{{"view frustum to z_f", kView}};
+  if (slices == 1) {
+    entries.emplace_back("focus body B", kBody);
+    entries.emplace_back("light frustum (map" + clipped + ")", kLight);
+  }
+  entries.emplace_back("visible receivers", kReceiver);
+  entries.emplace_back("selected casters", kCaster);
+  for (const auto& [text, colour] : entries) {
+    drawText(legend, {10, y}, text, colour, 14);
+    y += 18;
+  }
+  for (int i = 0; i < slices && slices > 1; ++i)  // one line per slice in the middle column
+    drawText(legend, {size / 2 - 60, 54 + 18 * i},
+             fmt::format("slice {}: B and light frustum{}", i, i == 0 && lightClipped ? " (frusta clipped at the frame)" : ""), kSlice[i], 14);
+  drawText(legend, {size / 2 - 60, 18}, fmt::format("{} visible, {} casters", frame.visibleObjects().size(), casters), kView, 14);
+  drawText(legend, {size / 2 - 60, 36}, fmt::format("{:.0f} m across; x right, z down", metresAcross), kView, 14);
+  // The sun: an arrow along the way the light travels (its horizontal part).
+  const dvec2 across(sunDirection.x, sunDirection.z);
+  const dvec2 centre(size - 60.0, 50.0);
+  if (glm::length(across) > 1e-6 * glm::length(sunDirection)) {
+    const dvec2 d = glm::normalize(across), side(-d.y, d.x);
+    drawLine(legend, centre - 30.0 * d, centre + 30.0 * d, kLight);
+    drawLine(legend, centre + 30.0 * d, centre + 18.0 * d + 7.0 * side, kLight);
+    drawLine(legend, centre + 30.0 * d, centre + 18.0 * d - 7.0 * side, kLight);
+  }
+  drawText(legend, {size - 80, kTopDownLegendHeight - 8}, "light", kLight, 14);
+  return legend;
+}
+
+}  // namespace
+
 Image8 topDownDiagram(const Frame& frame, const dvec3& sunDirection, int size) {
   Image8 image = filled(size, size, kBackground);  // the diagram; the legend band goes on top at the end
   const int slices = frame.cascadeCount();
@@ -131,35 +171,7 @@ Image8 topDownDiagram(const Frame& frame, const dvec3& sunDirection, int size) {
       return q.x < 0.0 || q.y < 0.0 || q.x > size || q.y > size;
     });
   });
-  Image8 legend = filled(size, kTopDownLegendHeight, kBackground);
-  int y = 18;
-  const std::string clipped = lightClipped ? "; clipped at the frame" : "";
-  std::vector<std::pair<std::string, glm::vec3>> entries{{"view frustum to z_f", kView}};
-  if (slices == 1) {
-    entries.emplace_back("focus body B", kBody);
-    entries.emplace_back("light frustum (map" + clipped + ")", kLight);
-  }
-  entries.emplace_back("visible receivers", kReceiver);
-  entries.emplace_back("selected casters", kCaster);
-  for (const auto& [text, colour] : entries) {
-    drawText(legend, {10, y}, text, colour, 14);
-    y += 18;
-  }
-  for (int i = 0; i < slices && slices > 1; ++i)  // one line per slice in the middle column
-    drawText(legend, {size / 2 - 60, 54 + 18 * i},
-             fmt::format("slice {}: B and light frustum{}", i, i == 0 && lightClipped ? " (frusta clipped at the frame)" : ""), kSlice[i], 14);
-  drawText(legend, {size / 2 - 60, 18}, fmt::format("{} visible, {} casters", frame.visibleObjects().size(), casters), kView, 14);
-  drawText(legend, {size / 2 - 60, 36}, fmt::format("{:.0f} m across; x right, z down", (size - 2.0 * margin) / scale), kView, 14);
-  // The sun: an arrow along the way the light travels (its horizontal part).
-  const dvec2 across(sunDirection.x, sunDirection.z);
-  const dvec2 centre(size - 60.0, 50.0);
-  if (glm::length(across) > 1e-6 * glm::length(sunDirection)) {
-    const dvec2 d = glm::normalize(across), side(-d.y, d.x);
-    drawLine(legend, centre - 30.0 * d, centre + 30.0 * d, kLight);
-    drawLine(legend, centre + 30.0 * d, centre + 18.0 * d + 7.0 * side, kLight);
-    drawLine(legend, centre + 30.0 * d, centre + 18.0 * d - 7.0 * side, kLight);
-  }
-  drawText(legend, {size - 80, kTopDownLegendHeight - 8}, "light", kLight, 14);
+  const Image8 legend = topDownLegend(frame, sunDirection, size, lightClipped, casters, (size - 2.0 * margin) / scale);
   Image8 result(size, kTopDownLegendHeight + size, 3);
   paste(result, legend, {0, 0});
   paste(result, image, {0, kTopDownLegendHeight});
