@@ -13,6 +13,9 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
+#include <fstream>
+#include <thread>
 
 #include "forest/core/drawing.hpp"
 #include "forest/core/error.hpp"
@@ -121,6 +124,20 @@ Image8 ContactSheet::compose() const {
              std::max(8, band - 6));
   }
   return sheet;
+}
+
+std::string benchmarkStamp(const std::string& device) {
+  std::string cpu = "an unknown CPU";
+  std::ifstream info("/proc/cpuinfo");
+  for (std::string line; std::getline(info, line);)
+    if (line.rfind("model name", 0) == 0 && line.find(':') != std::string::npos) {
+      cpu = line.substr(line.find(':') + 2);
+      break;
+    }
+  const std::time_t now = std::time(nullptr);
+  char date[16];
+  std::strftime(date, sizeof date, "%Y-%m-%d", std::localtime(&now));
+  return fmt::format("Measured {} on {} cores of {}; GL: {}.", date, std::thread::hardware_concurrency(), cpu, device);
 }
 
 std::string shellQuoted(const std::string& text) {

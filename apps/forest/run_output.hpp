@@ -78,6 +78,9 @@ class VideoWriter {
   std::string why_;
 };
 
+// The line a benchmark's Markdown table starts with: "Measured YYYY-MM-DD on N cores of CPU; GL: device."
+std::string benchmarkStamp(const std::string& device);
+
 // `text` as one word for /bin/sh: in single quotes, each ' written as '\''.
 std::string shellQuoted(const std::string& text);
 
