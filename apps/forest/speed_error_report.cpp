@@ -10,6 +10,7 @@
 #include "forest/core/files.hpp"
 #include "forest/core/image.hpp"
 #include "forest/core/plot.hpp"
+#include "run_output.hpp"
 #include "speed_error.hpp"
 
 namespace forest::app {
@@ -74,19 +75,25 @@ std::string bandName(const truth::DistanceBand& b) {
   return std::isinf(b.toM) ? fmt::format("{:.0f} m+", b.fromM) : fmt::format("{:.0f}–{:.0f} m", b.fromM, b.toM);
 }
 
-}  // namespace
+// What every part of the report reads.
+struct ReportInputs {
+  const SpeedErrorOptions& options;
+  const std::string& scenePath;
+  const std::string& device;
+  const ordered_json& modes;
+  int width, height;
+  const std::vector<Scenario>& scenarios;
+  const std::vector<MapLayout>& layouts;
+  const std::vector<Row>& rows;
+  const std::vector<FlickerRow>& flicker;
+  std::vector<int> totals;                            // total sides, in sweep order
+  std::vector<std::pair<std::string, int>> series;    // method and K
+};
 
-std::string writeSpeedErrorReport(const std::filesystem::path& out, const SpeedErrorOptions& options, const std::string& scenePath,
-                                  const std::string& device, const ordered_json& modes, int width, int height,
-                                  const std::vector<Scenario>& scenarios, const std::vector<MapLayout>& layouts,
-                                  const std::vector<Row>& rows, const std::vector<FlickerRow>& flicker) {
-  std::vector<int> totals;  // total sides, in sweep order
-  for (const MapLayout& l : layouts)
-    if (std::find(totals.begin(), totals.end(), l.totalSide) == totals.end()) totals.push_back(l.totalSide);
-  const auto series = allSeries(layouts);
-
-  // Equal-error sizes: per scenario, method and K (B from the receivers), the smallest total side
-  // whose misclassification is at most the target.
+// Equal-error sizes: per scenario, method and K (B from the receivers), the smallest total side
+// whose misclassification is at most the target.
+ordered_json equalErrorSizes(const ReportInputs& in) {
+  const auto& [options, scenePath, device, modes, width, height, scenarios, layouts, rows, flicker, totals, series] = in;
   ordered_json equalError;
   for (const Scenario& s : scenarios)
     for (const auto& [method, k] : series) {
@@ -99,6 +106,12 @@ std::string writeSpeedErrorReport(const std::filesystem::path& out, const SpeedE
       equalError[s.name][seriesName(method, k)] = size;
     }
 
+  return equalError;
+}
+
+// report.json's content and results.csv's.
+std::pair<ordered_json, std::string> reportJsonAndCsv(const ReportInputs& in, const ordered_json& equalError) {
+  const auto& [options, scenePath, device, modes, width, height, scenarios, layouts, rows, flicker, totals, series] = in;
   ordered_json report;
   report["version"] = 2;
   report["scene"] = scenePath;
@@ -168,7 +181,14 @@ std::string writeSpeedErrorReport(const std::filesystem::path& out, const SpeedE
                                  {"changes", f.result.changes}});
   report["equal_error_map_size"] = equalError;
 
+  return {report, csv.str()};
+}
+
+// table.md: misclassification and frame time per layout, by distance band, and flicker.
+std::string markdownTables(const ReportInputs& in, const ordered_json& equalError) {
+  const auto& [options, scenePath, device, modes, width, height, scenarios, layouts, rows, flicker, totals, series] = in;
   std::ostringstream md;
+  md << benchmarkStamp(device) << "\n\n";
   md << fmt::format("Speed against error: {} at {}x{}, B from the visible receivers, blur 3 px, casters {} ({}). Layouts at "
                     "equal total texels: one map of N², or K slices of (N/√K)² (\"xK\").\n\n"
                     "Misclassified lit-facing pixels (%) / frame ms, per total texels N²:\n\n",
@@ -230,9 +250,12 @@ std::string writeSpeedErrorReport(const std::filesystem::path& out, const SpeedE
     md << "\n";
   }
 
-  writeFileAtomic(out / "report.json", report.dump(2) + "\n");
-  writeFileAtomic(out / "results.csv", csv.str());
-  writeFileAtomic(out / "table.md", md.str());
+  return md.str();
+}
+
+// The plots: frame or shadow ms against each error figure, and against flicker, with the Pareto front.
+void writePlots(const std::filesystem::path& out, const ReportInputs& in) {
+  const auto& [options, scenePath, device, modes, width, height, scenarios, layouts, rows, flicker, totals, series] = in;
   writePlot(out / "frame-ms-vs-misclassification.png", scenarios, layouts, rows, "misclassified pixels (share)",
             [](const Row& r) { return r.error.misclassification; }, false);
   writePlot(out / "shadow-ms-vs-misclassification.png", scenarios, layouts, rows, "misclassified pixels (share)",
@@ -256,7 +279,25 @@ std::string writeSpeedErrorReport(const std::filesystem::path& out, const SpeedE
   }
   panel.series.push_back({"Pareto front", glm::vec3(0.0f), paretoFront(all), true});
   writeImage(out / "frame-ms-vs-flicker.png", plotPanels({panel}, 1));
-  return md.str();
+}
+
+}  // namespace
+
+std::string writeSpeedErrorReport(const std::filesystem::path& out, const SpeedErrorOptions& options, const std::string& scenePath,
+                                  const std::string& device, const ordered_json& modes, int width, int height,
+                                  const std::vector<Scenario>& scenarios, const std::vector<MapLayout>& layouts,
+                                  const std::vector<Row>& rows, const std::vector<FlickerRow>& flicker) {
+  ReportInputs in{options, scenePath, device, modes, width, height, scenarios, layouts, rows, flicker, {}, allSeries(layouts)};
+  for (const MapLayout& l : layouts)
+    if (std::find(in.totals.begin(), in.totals.end(), l.totalSide) == in.totals.end()) in.totals.push_back(l.totalSide);
+  const ordered_json equalError = equalErrorSizes(in);
+  const auto [report, csv] = reportJsonAndCsv(in, equalError);
+  const std::string md = markdownTables(in, equalError);
+  writeFileAtomic(out / "report.json", report.dump(2) + "\n");
+  writeFileAtomic(out / "results.csv", csv);
+  writeFileAtomic(out / "table.md", md);
+  writePlots(out, in);
+  return md;
 }
 
 }  // namespace forest::app
