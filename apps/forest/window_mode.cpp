@@ -217,6 +217,65 @@ Image8 readWindow(int width, int height) {
   return image;
 }
 
+// The frame's input events applied to the controls: looks, quits, key presses and releases (taps
+// are released after the frame); Tab captures the mouse when the window is driven by hand (`input`).
+void applyEvents(const std::deque<InputEvent>& events, Controls& controls, std::vector<std::string>& tapped, WindowInput* input,
+                 GLFWwindow* handle) {
+  for (const InputEvent& e : events) {
+    if (e.kind == InputEvent::Kind::Quit) controls.quit = true;
+    if (e.kind == InputEvent::Kind::Look) controls.look(e.look);
+    if (e.kind != InputEvent::Kind::Key) continue;
+    if (e.action == InputEvent::Action::Release) {
+      controls.release(e.key);
+      continue;
+    }
+    controls.press(e.key);
+    if (e.action == InputEvent::Action::Tap) tapped.push_back(e.key);
+    if (e.key == "tab" && input) {
+      input->captured = !input->captured;
+      glfwSetInputMode(handle, GLFW_CURSOR, input->captured ? GLFW_CURSOR_DISABLED : GLFW_CURSOR_NORMAL);
+    }
+  }
+}
+
+std::string statsLineOf(double frameMs, const Controls& controls, const render::FrameStats& s) {
+  return fmt::format(
+      "{:.1f} ms | {} | {} {}{} | blur {} | visible {} | casters {} | tris {:.2f}M + {:.2f}M | n {:.3g} | z_f {:.0f} m | sun {:.0f}/{:.0f} deg{}",
+      frameMs, controls.frame.culling, controls.frame.method, controls.cascades > 1 ? fmt::format("{}x", controls.cascades) : "",
+      controls.frame.shadowSize, controls.frame.blur, s.visibleObjects, s.casterObjects, static_cast<double>(s.geometryTriangles) * 1e-6,
+      static_cast<double>(s.shadowTriangles) * 1e-6, s.shadow.n, s.farDepth, controls.sun.azimuthDeg, controls.sun.elevationDeg,
+      controls.frozen ? " | CULLING FROZEN" : "");
+}
+
+// The frame in the window's back buffer, the stats line along its bottom (one line where it fits,
+// about 7 px a character at 13 px, else split before "visible") and the help panel when shown.
+void showFrame(const render::Frame& frame, render::ImageOverlay& overlay, const std::string& statsLine, const Image8* help, int width,
+               int height) {
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+  frame.presentTo(0, width, height);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  std::vector<std::string> statsLines{statsLine};
+  const size_t split = statsLine.find(" | visible");
+  if (static_cast<double>(statsLine.size()) * 7.0 > width && split != std::string::npos)
+    statsLines = {statsLine.substr(0, split), statsLine.substr(split + 3)};
+  const Image8 statsPanel = textPanel(statsLines, width, 13);
+  overlay.draw(statsPanel, {0, height - statsPanel.height}, width, height);
+  if (help) overlay.draw(*help, {0, 0}, width, height);
+}
+
+// A frame's record in the window's report.json: the walkthrough's, with the settings it was drawn
+// with, a hash of its visible set and the stats line shown.
+nlohmann::ordered_json windowRecord(nlohmann::ordered_json r, const Controls& controls, const std::vector<std::uint32_t>& visible,
+                                    const std::string& statsLine) {
+  r["settings"] = {{"culling", controls.frame.culling},     {"method", controls.frame.method},
+                   {"shadow_size", controls.frame.shadowSize}, {"blur_px", controls.frame.blur},
+                   {"sun_azimuth_deg", controls.sun.azimuthDeg}, {"sun_elevation_deg", controls.sun.elevationDeg},
+                   {"frozen", controls.frozen},              {"help", controls.help}};
+  r["visible_set_hash"] = fmt::format("{:016x}", hashOf(visible));
+  r["stats_line"] = statsLine;
+  return r;
+}
+
 }  // namespace
 
 int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
@@ -295,21 +354,7 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
     } else {
       events.swap(input.events);
     }
-    for (const InputEvent& e : events) {
-      if (e.kind == InputEvent::Kind::Quit) controls.quit = true;
-      if (e.kind == InputEvent::Kind::Look) controls.look(e.look);
-      if (e.kind != InputEvent::Kind::Key) continue;
-      if (e.action == InputEvent::Action::Release) {
-        controls.release(e.key);
-        continue;
-      }
-      controls.press(e.key);
-      if (e.action == InputEvent::Action::Tap) tapped.push_back(e.key);
-      if (e.key == "tab" && !script) {
-        input.captured = !input.captured;
-        glfwSetInputMode(handle, GLFW_CURSOR, input.captured ? GLFW_CURSOR_DISABLED : GLFW_CURSOR_NORMAL);
-      }
-    }
+    applyEvents(events, controls, tapped, script ? nullptr : &input, handle);
     // The frame of a quit event, of the script's last event or the --frames-th is the last one.
     const bool lastFrame = controls.quit || (script && nextEvent == script->events().size()) ||
                            (options.length.frames > 0 && f + 1 == options.length.frames);
@@ -338,36 +383,14 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
     // Show it: the image, the stats line, the help.
     int width = 0, height = 0;
     glfwGetFramebufferSize(handle, &width, &height);
-    const std::string statsLine = fmt::format(
-        "{:.1f} ms | {} | {} {}{} | blur {} | visible {} | casters {} | tris {:.2f}M + {:.2f}M | n {:.3g} | z_f {:.0f} m | sun {:.0f}/{:.0f} deg{}",
-        frameMs, controls.frame.culling, controls.frame.method, controls.cascades > 1 ? fmt::format("{}x", controls.cascades) : "",
-        controls.frame.shadowSize, controls.frame.blur, s.visibleObjects,
-        s.casterObjects, static_cast<double>(s.geometryTriangles) * 1e-6, static_cast<double>(s.shadowTriangles) * 1e-6, s.shadow.n, s.farDepth, controls.sun.azimuthDeg,
-        controls.sun.elevationDeg, controls.frozen ? " | CULLING FROZEN" : "");
+    const std::string statsLine = statsLineOf(frameMs, controls, s);
     if (width > 0 && height > 0) {
-      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
-      frame.presentTo(0, width, height);
-      glBindFramebuffer(GL_FRAMEBUFFER, 0);
-      // One line where it fits (about 7 px a character at 13 px), else split before "visible".
-      std::vector<std::string> statsLines{statsLine};
-      const size_t split = statsLine.find(" | visible");
-      if (static_cast<double>(statsLine.size()) * 7.0 > width && split != std::string::npos)
-        statsLines = {statsLine.substr(0, split), statsLine.substr(split + 3)};
-      const Image8 statsPanel = textPanel(statsLines, width, 13);
-      overlay.draw(statsPanel, {0, height - statsPanel.height}, width, height);
-      if (controls.help) overlay.draw(helpPanel, {0, 0}, width, height);
+      showFrame(frame, overlay, statsLine, controls.help ? &helpPanel : nullptr, width, height);
       if (lastFrame) shown = readWindow(width, height);
       context->swapBuffers();
     }
-
-    nlohmann::ordered_json r = frameRecord(f, time, f < warmup, camera, controls.pose.yaw_deg, frameMs, s);
-    r["settings"] = {{"culling", controls.frame.culling},     {"method", controls.frame.method},
-                     {"shadow_size", controls.frame.shadowSize}, {"blur_px", controls.frame.blur},
-                     {"sun_azimuth_deg", controls.sun.azimuthDeg}, {"sun_elevation_deg", controls.sun.elevationDeg},
-                     {"frozen", controls.frozen},              {"help", controls.help}};
-    r["visible_set_hash"] = fmt::format("{:016x}", hashOf(frame.visibleObjects()));
-    r["stats_line"] = statsLine;
-    records.push_back(std::move(r));
+    records.push_back(windowRecord(frameRecord(f, time, f < warmup, camera, controls.pose.yaw_deg, frameMs, s), controls,
+                                   frame.visibleObjects(), statsLine));
     recordPassTimes(frame.takePassTimes(), records);
     if (flown.empty() || time > flown.back().time) flown.push_back({time, controls.pose});
     ++done;
