@@ -337,6 +337,10 @@ TEST(ForestCli, StressStaysExactWithMovingObjectsAndItsMemoryFlat) {
     EXPECT_GT(run["triangles_geometry_p50"].get<double>(), 0.0);
   }
   EXPECT_EQ(j["runs"][0]["trees"].get<int>(), 2000);
+  const std::string table = readTextFile(folder / "stress.md");  // the printed table, stamped, as Markdown
+  EXPECT_THAT(table, HasSubstr("Measured "));
+  EXPECT_THAT(table, HasSubstr("| trees | lod0 | p50 ms |"));
+  EXPECT_THAT(table, HasSubstr("| 2000 | "));
   const Image8 plot = readImage8(folder / "stress.png");
   EXPECT_GT(plot.width, 500);
 }

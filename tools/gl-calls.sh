@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Counts the GL calls one steady-state frame of `forest walkthrough` makes (DESIGN §9), with
 # apitrace: the walk is traced twice, A and B frames long, and per frame = (calls in B − calls in A)
-# / (B − A), so setup and teardown cancel out. Prints every call's count per frame and the figures
+# / (B − A), so setup and teardown cancel out (the walk without its video, whose read-back is output). Prints every call's count per frame and the figures
 # that stall a GPU or cost a lookup: glFinish, glGetUniformLocation, loose uniform sets
 # (gl[Program]Uniform*: per-frame values belong in uniform blocks), GL_QUERY_RESULT reads of
 # occlusion (samples-passed) and timestamp queries not preceded by a GL_QUERY_RESULT_AVAILABLE
@@ -10,10 +10,10 @@
 # culling/occlusion_culler.hpp, are counted as "fences"), waits on a fence with a timeout ("blocking
 # fence waits": the culler's async reads poll theirs, a ring waits only when the GPU is a whole ring
 # behind); with --json FILE also as
-# JSON. --max NAME=N (repeatable) exits 1 when that figure per frame exceeds N (the ctest
+# JSON, with --markdown FILE as a table stamped with the machine and date. --max NAME=N (repeatable) exits 1 when that figure per frame exceeds N (the ctest
 # gl_calls_per_frame). The rest of the arguments go to `forest walkthrough` (e.g. --timing queries).
 #
-#   tools/gl-calls.sh [--forest EXE] [--frames-a 6] [--frames-b 26] [--json FILE] [--max NAME=N ...]
+#   tools/gl-calls.sh [--forest EXE] [--frames-a 6] [--frames-b 26] [--json FILE] [--markdown FILE] [--max NAME=N ...]
 #                     [-- walkthrough flags]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -21,6 +21,7 @@ forest=./build/release/apps/forest
 a=6
 b=26
 json=""
+markdown=""
 limits=()
 while [[ $# -gt 0 ]]; do
   case "$1" in
@@ -28,6 +29,7 @@ while [[ $# -gt 0 ]]; do
     --frames-a) a="$2"; shift 2 ;;
     --frames-b) b="$2"; shift 2 ;;
     --json) json="$2"; shift 2 ;;
+    --markdown) markdown="$2"; shift 2 ;;
     --max) limits+=("$2"); shift 2 ;;
     --) shift; break ;;
     -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
@@ -39,12 +41,14 @@ command -v apitrace >/dev/null || { echo "gl-calls.sh: apitrace is not installed
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 for n in "$a" "$b"; do
-  apitrace trace --api egl -o "$work/$n.trace" "$forest" walkthrough --frames "$n" --width 320 --height 180 \
+  apitrace trace --api egl -o "$work/$n.trace" "$forest" walkthrough --frames "$n" --width 320 --height 180 --no-video \
     --quiet --out "$work/out-$n" "$@" >"$work/log-$n.txt" 2>&1 \
     || { echo "gl-calls.sh: the traced walkthrough failed:" >&2; tail -5 "$work/log-$n.txt" >&2; exit 1; }
   apitrace dump --call-nos=no --color=never "$work/$n.trace" >"$work/$n.txt"
 done
-python3 - "$work/$a.txt" "$work/$b.txt" "$a" "$b" "$json" "${limits[@]}" <<'EOF'
+device=$(sed -n 's/^\[info\] //p' "$work/log-$b.txt" | head -1)
+stamp="Measured $(date +%F) on $(nproc) cores of $(lscpu | sed -n 's/^Model name:[[:space:]]*//p' | head -1); GL: $device."
+python3 - "$work/$a.txt" "$work/$b.txt" "$a" "$b" "$json" "$markdown" "$stamp" "$*" "${limits[@]}" <<'EOF'
 import collections, json, re, sys
 
 def count(path):
@@ -93,7 +97,8 @@ def count(path):
     return calls, figures
 
 a_path, b_path, a, b, json_path = sys.argv[1], sys.argv[2], int(sys.argv[3]), int(sys.argv[4]), sys.argv[5]
-limits = [arg.rsplit("=", 1) for arg in sys.argv[6:]]
+markdown_path, stamp, walk_flags = sys.argv[6], sys.argv[7], sys.argv[8]
+limits = [arg.rsplit("=", 1) for arg in sys.argv[9:]]
 (ca, fa), (cb, fb) = count(a_path), count(b_path)
 frames = b - a
 per = lambda x, y: (y - x) / frames
@@ -101,10 +106,19 @@ figures = {k: per(fa[k], fb[k]) for k in sorted(set(fa) | set(fb) | {"blocking o
                                                                       "blocking fence waits", "uniform sets"})}
 calls = {k: per(ca[k], cb[k]) for k in set(ca) | set(cb) if cb[k] != ca[k]}
 print(f"GL calls per steady-state frame ((calls in {b} frames - calls in {a}) / {frames}):")
-for k in ["glFinish", "glGetUniformLocation", "blocking occlusion result reads", "blocking timestamp result reads",
-          "occlusion result reads", "timestamp result reads", "buffer uploads", "GL object creations", "GL object deletions",
-          "fences", "blocking fence waits", "uniform sets"]:
+headline = ["glFinish", "glGetUniformLocation", "blocking occlusion result reads", "blocking timestamp result reads",
+            "occlusion result reads", "timestamp result reads", "buffer uploads", "GL object creations", "GL object deletions",
+            "fences", "blocking fence waits", "uniform sets"]
+for k in headline:
     print(f"  {k:<34} {figures.get(k, 0.0):10.2f}")
+if markdown_path:
+    rows = "".join(f"| {k} | {figures.get(k, 0.0):.2f} |\n" for k in headline)
+    every = "".join(f"| {k} | {v:.2f} |\n" for k, v in sorted(calls.items(), key=lambda kv: -kv[1]))
+    with open(markdown_path, "w") as f:
+        f.write(f"# GL calls per steady-state frame\n\n{stamp}\n\n`bash tools/gl-calls.sh -- {walk_flags}`: the default walk traced "
+                f"with apitrace for {a} and {b} frames at 320x180; per frame = (calls in {b} frames - calls in {a}) / {frames}.\n\n"
+                f"| figure | per frame |\n|---|---:|\n{rows}\nEvery call that changes between the two runs:\n\n"
+                f"| call | per frame |\n|---|---:|\n{every}")
 print("every call:")
 for k, v in sorted(calls.items(), key=lambda kv: -kv[1]):
     print(f"  {k:<44} {v:10.2f}")

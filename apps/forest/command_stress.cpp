@@ -10,12 +10,14 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <numbers>
 #include <numeric>
 
 #include "commands.hpp"
+#include "run_output.hpp"
 #include "forest/core/error.hpp"
 #include "forest/core/files.hpp"
 #include "forest/core/log.hpp"
@@ -208,6 +210,49 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
   return r;
 }
 
+// The runs' table, for the console (aligned columns) or stress.md (Markdown).
+std::string stressTable(const ordered_json& runs, bool markdown) {
+  struct Column {
+    const char* heading;
+    int width;
+    std::function<std::string(const ordered_json&)> cell;
+  };
+  const auto number = [](const char* format, auto get) {
+    return [format, get](const ordered_json& r) { return fmt::format(fmt::runtime(format), get(r)); };
+  };
+  const std::vector<Column> columns{
+      {"trees", 7, number("{}", [](const ordered_json& r) { return r["trees"].get<int>(); })},
+      {"lod0", 6, number("{}", [](const ordered_json& r) { return r["lod0_triangles"].get<int>(); })},
+      {"p50 ms", 9, number("{:.1f}", [](const ordered_json& r) { return r["frame_ms"]["p50"].get<double>(); })},
+      {"p95 ms", 9, number("{:.1f}", [](const ordered_json& r) { return r["frame_ms"]["p95"].get<double>(); })},
+      {"max/p50", 9, number("{:.2f}", [](const ordered_json& r) { return r["max_over_median"].get<double>(); })},
+      {"geom ms", 8, number("{:.1f}", [](const ordered_json& r) { return r["geometry_ms_p50"].get<double>(); })},
+      {"eye tris", 11, number("{:.0f}", [](const ordered_json& r) { return r["triangles_geometry_p50"].get<double>(); })},
+      {"shadow tris", 11, number("{:.0f}", [](const ordered_json& r) { return r["triangles_shadow_p50"].get<double>(); })},
+      {"queries", 8, number("{:.0f}", [](const ordered_json& r) { return r["queries_p50"].get<double>(); })},
+      {"exactness", 10, [](const ordered_json& r) {
+         const long long px = r["exactness"]["mismatched_pixels"].get<long long>();
+         return px == 0 ? std::string("exact") : fmt::format("{} px", px);
+       }},
+      {"RSS %/100f", 11, number("{:+.2f}", [](const ordered_json& r) { return r["rss_mib"]["slope_percent_per_100_frames"].get<double>(); })},
+      {"heap %/100f", 11,
+       number("{:+.2f}", [](const ordered_json& r) { return r["heap_in_use_mib"]["slope_percent_per_100_frames"].get<double>(); })}};
+  std::string table = markdown ? "|" : " ";
+  for (const Column& c : columns) table += markdown ? fmt::format(" {} |", c.heading) : fmt::format(" {:>{}}", c.heading, c.width);
+  table += "\n";
+  if (markdown) {
+    table += "|";
+    for (size_t i = 0; i < columns.size(); ++i) table += "---:|";
+    table += "\n";
+  }
+  for (const ordered_json& r : runs) {
+    table += markdown ? "|" : " ";
+    for (const Column& c : columns) table += markdown ? fmt::format(" {} |", c.cell(r)) : fmt::format(" {:>{}}", c.cell(r), c.width);
+    table += "\n";
+  }
+  return table;
+}
+
 int runStress(const StressOptions& options) {
   const std::string scenePath = sceneFileOr(options.scene);
   const Scene base = loadScene(scenePath);
@@ -263,19 +308,13 @@ int runStress(const StressOptions& options) {
 
   std::cout << fmt::format("stress: {} at {}x{}, {} frames per run ({} warm-up), {:.0f}% of the trees and {} props moved per frame, day cycle\n",
                            scenePath, options.size.width, options.size.height, options.length.frames, options.length.warmup, 100 * options.moving, kProps);
-  std::cout << fmt::format("  {:>7} {:>6} {:>9} {:>9} {:>9} {:>8} {:>11} {:>11} {:>8} {:>10} {:>11} {:>11}\n", "trees", "lod0", "p50 ms",
-                           "p95 ms", "max/p50", "geom ms", "eye tris", "shadow tris", "queries", "exactness", "RSS %/100f", "heap %/100f");
-  for (const auto& r : runs)
-    std::cout << fmt::format("  {:>7} {:>6} {:>9.1f} {:>9.1f} {:>9.2f} {:>8.1f} {:>11.0f} {:>11.0f} {:>8.0f} {:>10} {:>+11.2f} {:>+11.2f}\n",
-                             r["trees"].get<int>(), r["lod0_triangles"].get<int>(), r["frame_ms"]["p50"].get<double>(),
-                             r["frame_ms"]["p95"].get<double>(), r["max_over_median"].get<double>(), r["geometry_ms_p50"].get<double>(),
-                             r["triangles_geometry_p50"].get<double>(), r["triangles_shadow_p50"].get<double>(),
-                             r["queries_p50"].get<double>(),
-                             r["exactness"]["mismatched_pixels"].get<long long>() == 0 ? std::string("exact")
-                                                                                      : fmt::format("{} px", r["exactness"]["mismatched_pixels"].get<long long>()),
-                             r["rss_mib"]["slope_percent_per_100_frames"].get<double>(),
-                             r["heap_in_use_mib"]["slope_percent_per_100_frames"].get<double>());
-  std::cout << fmt::format("  wrote {} and {}\n", (out / "stress.json").string(), (out / "stress.png").string());
+  std::cout << stressTable(runs, false);
+  writeFileAtomic(out / "stress.md", fmt::format("# Dynamic scenes (forest stress)\n\n{}\n\n{} at {}x{}, {} frames per run ({} warm-up), "
+                                                 "{:.0f}% of the trees and {} props moved per frame, a day cycle.\n\n{}",
+                                                 benchmarkStamp(gl::describe(context->info())), scenePath, options.size.width,
+                                                 options.size.height, options.length.frames, options.length.warmup, 100 * options.moving, kProps,
+                                                 stressTable(runs, true)));
+  std::cout << fmt::format("  wrote {}, {} and {}\n", (out / "stress.json").string(), (out / "stress.md").string(), (out / "stress.png").string());
   if (mismatched > 0) std::cerr << fmt::format("stress: culling was not exact: {} pixels differ from frustum culling\n", mismatched);
   return mismatched == 0 ? 0 : 1;
 }
@@ -289,7 +328,7 @@ Run addStressCommand(CLI::App& app) {
       "Polygon-rich dynamic scenes: for each tree count (terrain grown to keep the density) and LOD0 budget, a walk\n"
       "with a share of the trees and 20 props moved every frame (BVH refit), a day cycle of the sun and wind;\n"
       "frame time, geometry pass, triangles, queries, RSS and heap in use per run, and on sampled frames the culled geometry pass\n"
-      "(depth and object IDs) against frustum culling's. Writes stress.json (fields: docs/report-format.md) and stress.png; exit 1 if not exact.");
+      "(depth and object IDs) against frustum culling's. Writes stress.json (fields: docs/report-format.md) stress.md and stress.png; exit 1 if not exact.");
   options->gl.add(*command);
   command->add_option("--scene", options->scene, "Base scene (default: data/scenes/forest.toml)");
   command->add_option("--out", options->out, "Output folder")->capture_default_str();
