@@ -93,13 +93,12 @@ struct ReportInputs {
 // Equal-error sizes: per scenario, method and K (B from the receivers), the smallest total side
 // whose misclassification is at most the target.
 ordered_json equalErrorSizes(const ReportInputs& in) {
-  const auto& [options, scenePath, device, modes, width, height, scenarios, layouts, rows, flicker, totals, series] = in;
   ordered_json equalError;
-  for (const Scenario& s : scenarios)
-    for (const auto& [method, k] : series) {
+  for (const Scenario& s : in.scenarios)
+    for (const auto& [method, k] : in.series) {
       ordered_json size = nullptr;
-      for (int total : totals)
-        if (const Row* r = findRow(rows, s.name, method, k, total); r && r->error.misclassification <= options.target) {
+      for (int total : in.totals)
+        if (const Row* r = findRow(in.rows, s.name, method, k, total); r && r->error.misclassification <= in.options.target) {
           size = total;
           break;
         }
@@ -111,20 +110,19 @@ ordered_json equalErrorSizes(const ReportInputs& in) {
 
 // report.json's content and results.csv's.
 std::pair<ordered_json, std::string> reportJsonAndCsv(const ReportInputs& in, const ordered_json& equalError) {
-  const auto& [options, scenePath, device, modes, width, height, scenarios, layouts, rows, flicker, totals, series] = in;
   ordered_json report;
   report["version"] = 2;
-  report["scene"] = scenePath;
-  report["device"] = device;
-  report.update(modes);
-  report["resolution"] = {width, height};
-  report["quick"] = options.quick;
-  report["map_sizes"] = totals;
-  report["cascades"] = options.cascades;
-  report["soft_rays"] = options.softRays;
-  report["target_misclassification"] = options.target;
+  report["scene"] = in.scenePath;
+  report["device"] = in.device;
+  report.update(in.modes);
+  report["resolution"] = {in.width, in.height};
+  report["quick"] = in.options.quick;
+  report["map_sizes"] = in.totals;
+  report["cascades"] = in.options.cascades;
+  report["soft_rays"] = in.options.softRays;
+  report["target_misclassification"] = in.options.target;
   report["scenarios"] = ordered_json::array();
-  for (const Scenario& s : scenarios)
+  for (const Scenario& s : in.scenarios)
     report["scenarios"].push_back({{"name", s.name},
                                    {"camera", {s.camera.position.x, s.camera.position.y, s.camera.position.z}},
                                    {"yaw_deg", glm::degrees(s.camera.yaw)},
@@ -135,7 +133,7 @@ std::pair<ordered_json, std::string> reportJsonAndCsv(const ReportInputs& in, co
          "elsewhere,false_shadow,false_light,band_0_50,band_50_200,band_200_plus,soft_mae,aliasing_p95_px,aliasing_max_px,"
          "casters_selected,casters_needed,casters_missing,casters_needed_triangles\n";
   report["rows"] = ordered_json::array();
-  for (const Row& r : rows) {
+  for (const Row& r : in.rows) {
     const truth::FrameError& e = r.error;
     const long long texels = static_cast<long long>(r.layout.cascades) * r.layout.layerSize * r.layout.layerSize;
     report["rows"].push_back({{"scenario", r.scenario},
@@ -154,7 +152,7 @@ std::pair<ordered_json, std::string> reportJsonAndCsv(const ReportInputs& in, co
                               {"false_shadow", e.falseShadow},
                               {"false_light", e.falseLight},
                               {"bands", bandsJson(e.bands)},
-                              {"soft_mae", options.softRays > 0 ? ordered_json(r.softError) : ordered_json()},
+                              {"soft_mae", in.options.softRays > 0 ? ordered_json(r.softError) : ordered_json()},
                               {"aliasing_p95_px", e.aliasingPixels.p95},
                               {"aliasing_max_px", e.aliasingPixels.max},
                               {"lit_facing_pixels", e.litFacing},
@@ -170,7 +168,7 @@ std::pair<ordered_json, std::string> reportJsonAndCsv(const ReportInputs& in, co
                        e.casters.selected, e.casters.needed, e.casters.missing, e.casters.neededTriangles);
   }
   report["flicker"] = ordered_json::array();
-  for (const FlickerRow& f : flicker)
+  for (const FlickerRow& f : in.flicker)
     report["flicker"].push_back({{"method", f.method},
                                  {"focus", f.focus},
                                  {"cascades", f.layout.cascades},
@@ -186,44 +184,43 @@ std::pair<ordered_json, std::string> reportJsonAndCsv(const ReportInputs& in, co
 
 // table.md: misclassification and frame time per layout, by distance band, and flicker.
 std::string markdownTables(const ReportInputs& in, const ordered_json& equalError) {
-  const auto& [options, scenePath, device, modes, width, height, scenarios, layouts, rows, flicker, totals, series] = in;
   std::ostringstream md;
-  md << benchmarkStamp(device) << "\n\n";
+  md << benchmarkStamp(in.device) << "\n\n";
   md << fmt::format("Speed against error: {} at {}x{}, B from the visible receivers, blur 3 px, casters {} ({}). Layouts at "
                     "equal total texels: one map of N², or K slices of (N/√K)² (\"xK\").\n\n"
                     "Misclassified lit-facing pixels (%) / frame ms, per total texels N²:\n\n",
-                    std::filesystem::path(scenePath).filename().string(), width, height, modes.value("casters", std::string("?")), device);
+                    std::filesystem::path(in.scenePath).filename().string(), in.width, in.height, in.modes.value("casters", std::string("?")), in.device);
   md << "| scenario | method |";
-  for (int total : totals) md << fmt::format(" {}² |", total);
-  md << " equal-error size (≤ " << 100 * options.target << "%) |\n|---|---|";
-  for (size_t i = 0; i <= totals.size(); ++i) md << "---|";
+  for (int total : in.totals) md << fmt::format(" {}² |", total);
+  md << " equal-error size (≤ " << 100 * in.options.target << "%) |\n|---|---|";
+  for (size_t i = 0; i <= in.totals.size(); ++i) md << "---|";
   md << "\n";
-  for (const Scenario& s : scenarios)
-    for (const auto& [method, k] : series) {
+  for (const Scenario& s : in.scenarios)
+    for (const auto& [method, k] : in.series) {
       md << "| " << s.name << " | " << seriesName(method, k) << " |";
-      for (int total : totals) {
-        const Row* r = findRow(rows, s.name, method, k, total);
+      for (int total : in.totals) {
+        const Row* r = findRow(in.rows, s.name, method, k, total);
         md << (r ? fmt::format(" {:.2f} / {:.0f} |", 100 * r->error.misclassification, r->frameMs) : std::string(" – |"));
       }
       const ordered_json& e = equalError[s.name][seriesName(method, k)];
-      md << " " << (e.is_null() ? std::string("> ") + std::to_string(totals.back()) : std::to_string(e.get<int>())) << " |\n";
+      md << " " << (e.is_null() ? std::string("> ") + std::to_string(in.totals.back()) : std::to_string(e.get<int>())) << " |\n";
     }
 
   // By distance, at 2048² total texels when swept (else the largest total).
-  const int bandTotal = std::find(totals.begin(), totals.end(), 2048) != totals.end() ? 2048 : totals.back();
+  const int bandTotal = std::find(in.totals.begin(), in.totals.end(), 2048) != in.totals.end() ? 2048 : in.totals.back();
   md << fmt::format("\nBy distance from the eye at {}² total texels: misclassified lit-facing pixels (%) per band; the "
                     "shadow pass's triangles (all layers), the triangles of the casters the truth needs (the first "
                     "occluder of each lit-facing pixel) and the ratio of the two:\n\n| scenario | method |",
                     bandTotal);
-  const Row* any = findRow(rows, scenarios.front().name, series.front().first, series.front().second, bandTotal);
+  const Row* any = findRow(in.rows, in.scenarios.front().name, in.series.front().first, in.series.front().second, bandTotal);
   const size_t bandCount = any ? any->error.bands.size() : 0;
   for (size_t b = 0; b < bandCount; ++b) md << " " << bandName(any->error.bands[b]) << " |";
   md << " shadow triangles | needed | drawn / needed |\n|---|---|";
   for (size_t b = 0; b < bandCount + 3; ++b) md << "---|";
   md << "\n";
-  for (const Scenario& s : scenarios)
-    for (const auto& [method, k] : series) {
-      const Row* r = findRow(rows, s.name, method, k, bandTotal);
+  for (const Scenario& s : in.scenarios)
+    for (const auto& [method, k] : in.series) {
+      const Row* r = findRow(in.rows, s.name, method, k, bandTotal);
       if (!r) continue;
       md << "| " << s.name << " | " << seriesName(method, k) << " |";
       for (const truth::DistanceBand& b : r->error.bands) md << fmt::format(" {:.2f} |", 100 * b.misclassification);
@@ -232,17 +229,17 @@ std::string markdownTables(const ReportInputs& in, const ordered_json& equalErro
                         needed > 0 ? fmt::format("{:.2f}", static_cast<double>(r->shadowTriangles) / static_cast<double>(needed)) : std::string("–"));
     }
 
-  md << "\nFlicker (share of probe states that change between consecutive frames, " << scenarios.front().name
+  md << "\nFlicker (share of probe states that change between consecutive frames, " << in.scenarios.front().name
      << ", walking 0.4 m and turning 0.3 deg per frame), B from the receivers, per total texels:\n\n| method |";
-  for (int total : totals) md << fmt::format(" {}² |", total);
+  for (int total : in.totals) md << fmt::format(" {}² |", total);
   md << "\n|---|";
-  for (size_t i = 0; i < totals.size(); ++i) md << "---|";
+  for (size_t i = 0; i < in.totals.size(); ++i) md << "---|";
   md << "\n";
-  for (const auto& [method, k] : series) {
+  for (const auto& [method, k] : in.series) {
     md << "| " << seriesName(method, k) << " |";
-    for (int total : totals) {
+    for (int total : in.totals) {
       std::string cell = " – |";
-      for (const FlickerRow& f : flicker)
+      for (const FlickerRow& f : in.flicker)
         if (f.method == method && f.focus == "receivers" && f.layout.cascades == k && f.layout.totalSide == total)
           cell = fmt::format(" {:.4f} |", f.result.share());
       md << cell;
@@ -255,24 +252,23 @@ std::string markdownTables(const ReportInputs& in, const ordered_json& equalErro
 
 // The plots: frame or shadow ms against each error figure, and against flicker, with the Pareto front.
 void writePlots(const std::filesystem::path& out, const ReportInputs& in) {
-  const auto& [options, scenePath, device, modes, width, height, scenarios, layouts, rows, flicker, totals, series] = in;
-  writePlot(out / "frame-ms-vs-misclassification.png", scenarios, layouts, rows, "misclassified pixels (share)",
+  writePlot(out / "frame-ms-vs-misclassification.png", in.scenarios, in.layouts, in.rows, "misclassified pixels (share)",
             [](const Row& r) { return r.error.misclassification; }, false);
-  writePlot(out / "shadow-ms-vs-misclassification.png", scenarios, layouts, rows, "misclassified pixels (share)",
+  writePlot(out / "shadow-ms-vs-misclassification.png", in.scenarios, in.layouts, in.rows, "misclassified pixels (share)",
             [](const Row& r) { return r.error.misclassification; }, true);
-  if (options.softRays > 0)  // --soft-rays 0: no soft truth, no plot of it
-    writePlot(out / "frame-ms-vs-soft-error.png", scenarios, layouts, rows, "mean |term - soft truth|",
+  if (in.options.softRays > 0)  // --soft-rays 0: no soft truth, no plot of it
+    writePlot(out / "frame-ms-vs-soft-error.png", in.scenarios, in.layouts, in.rows, "mean |term - soft truth|",
               [](const Row& r) { return r.softError; }, false);
-  writePlot(out / "frame-ms-vs-aliasing.png", scenarios, layouts, rows, "aliasing p95 (px per texel)",
+  writePlot(out / "frame-ms-vs-aliasing.png", in.scenarios, in.layouts, in.rows, "aliasing p95 (px per texel)",
             [](const Row& r) { return r.error.aliasingPixels.p95; }, false);
   PlotPanel panel;
-  panel.title = "flicker, " + scenarios.front().name + " (moving camera)";
+  panel.title = "flicker, " + in.scenarios.front().name + " (moving camera)";
   panel.xLabel = "share of probes changing state per frame";
   panel.yLabel = "frame ms";
   std::vector<glm::dvec2> all;
-  for (const auto& [method, k] : series) {
+  for (const auto& [method, k] : in.series) {
     PlotSeries s{seriesName(method, k), seriesColour(method, k), {}, false};
-    for (const FlickerRow& f : flicker)
+    for (const FlickerRow& f : in.flicker)
       if (f.method == method && f.layout.cascades == k) s.points.emplace_back(f.result.share(), f.frameMs);
     all.insert(all.end(), s.points.begin(), s.points.end());
     panel.series.push_back(std::move(s));
