@@ -147,10 +147,6 @@ std::string shellQuoted(const std::string& text) {
 }
 
 VideoWriter::VideoWriter(const std::filesystem::path& file, int width, int height, double fps) : width_(width), height_(height) {
-  if (std::system("command -v ffmpeg > /dev/null 2>&1") != 0) {
-    why_ = "ffmpeg is not installed (tools/setup.sh installs it)";
-    return;
-  }
   const std::vector<std::string> arguments{"ffmpeg", "-loglevel", "error", "-y", "-f", "rawvideo", "-pix_fmt", "rgba", "-s",
                                            fmt::format("{}x{}", width, height), "-framerate", fmt::format("{}", fps), "-i", "-",
                                            "-threads", "1", "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264", "-preset",
@@ -179,7 +175,8 @@ VideoWriter::VideoWriter(const std::filesystem::path& file, int width, int heigh
   if (error != 0) {
     close(ends[0]);
     pid_ = -1;
-    why_ = fmt::format("ffmpeg could not be started: {}", std::strerror(error));
+    why_ = error == ENOENT ? std::string("ffmpeg is not installed (tools/setup.sh installs it)")
+                           : fmt::format("ffmpeg could not be started: {}", std::strerror(error));
     return;
   }
   socket_ = ends[0];

@@ -111,6 +111,7 @@ struct Frame::Inputs {
   ShadowLookupShape lookupShape;
   bool blurred, haze;
   bool readsPixels;  // the G-buffer is read back for the receiver mask (and the record of what showed)
+  bool recordsInLighting;  // else the lighting pass records what shows (FrameHistory::recordsInLighting)
   const terrain::TerrainLod* eyeLod() const { return lod ? &*lod : nullptr; }
 };
 
@@ -223,10 +224,9 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   // 5. Lighting, with the blur's vertical half (or the term's lookup, the blur off).
   {
     auto timed = timer_->scope(passName(FramePass::Lighting));
-    const bool record = p.history.recordsInLighting(in.readsPixels);
     p.lighting.run(p.geometry.gbuffer(), blurredTerm, p.shadow.map(), in.lookupShape, p.frameBlock, in.haze, settings.keepShadowTerm,
-                   record);
-    if (record) p.history.afterLighting();
+                   in.recordsInLighting);
+    if (in.recordsInLighting) p.history.afterLighting();
   }
   endFrame(in, visible, stats);
   return stats;
@@ -238,6 +238,7 @@ Frame::Inputs Frame::resolveInputs(const Camera& camera, double time, const Fram
   const glm::dvec3 l = glm::normalize(scene_.sun.direction);
   const bool sunBelowHorizon = !(l.y < 0.0);  // light travelling upward comes from below the horizon
   const ShadowSettings cascades = resolveCascades(settings, scene_);
+  const bool readsPixels = settings.casters == CasterSelection::ReceiverPixels && !sunBelowHorizon;
   return Inputs{camera,
                 time,
                 settings,
@@ -249,14 +250,15 @@ Frame::Inputs Frame::resolveInputs(const Camera& camera, double time, const Fram
                 ShadowLookupShape{settings.pcfRadius, cascades.cascades},
                 settings.blurRadius > 0.0,
                 hazeDensityOf(settings, scene_) > 0.0,
-                settings.casters == CasterSelection::ReceiverPixels && !sunBelowHorizon};
+                readsPixels,
+                passes_->history.recordsInLighting(readsPixels)};
 }
 
 // The programs this frame's passes use, compiled before any pass is timed; the timer's frame.
 FrameStats Frame::beginFrame(const Inputs& in) {
   Passes& p = *passes_;
   if (in.blurred) p.shadowTerm.prepare(in.lookupShape);
-  p.lighting.prepare(in.blurred, in.lookupShape, in.haze, p.history.recordsInLighting(in.readsPixels));
+  p.lighting.prepare(in.blurred, in.lookupShape, in.haze, in.recordsInLighting);
   if (!timer_ || timer_->mode() != in.settings.timing) timer_ = std::make_unique<gl::PassTimer>(in.settings.timing, 3, framesRendered_);
   FrameStats stats;
   stats.sunBelowHorizon = in.sunBelowHorizon;
@@ -307,7 +309,7 @@ const gl::Texture* Frame::shadowTerm(const Inputs& in) {
   {
     auto timed = timer_->scope(passName(FramePass::ShadowTerm));
     FrameBlock block = frameBlock(in.camera, p.plan, in.settings, scene_, in.l, !in.sunBelowHorizon);
-    if (p.history.recordsInLighting(in.readsPixels)) p.history.beforeLighting(block, in.camera);
+    if (in.recordsInLighting) p.history.beforeLighting(block, in.camera);
     p.frameBlock.write(block);
     if (in.blurred) p.shadowTerm.run(p.geometry.gbuffer(), p.shadow.map(), in.lookupShape, p.frameBlock);
   }
