@@ -1,7 +1,7 @@
 #version 450 core
 // Occlusion-query box: the unit cube scaled to the instance's [min, max] (camera-relative), depth
 // only; the boxes of consecutive queries go out in one instanced draw, each instance carrying its
-// query's result slot (OcclusionCuller::drawQueryBatch).
+// query's result slot (QueryBatches::drawBatch).
 layout(location = 0) in vec3 aUnit;
 layout(location = 1) in vec3 iMin;
 layout(location = 2) in vec3 iMax;

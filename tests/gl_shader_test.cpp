@@ -96,7 +96,7 @@ std::vector<BlockLayout> expectedBlocks() {
         {"skyFog", offsetof(FrameBlock, skyFog)},
         {"blur", offsetof(FrameBlock, blur)},
         {"modes", offsetof(FrameBlock, modes)}}},
-      // OcclusionCuller::QueryView (private): a mat4, then the frame's stamp in a uvec4.
+      // QueryBatches::QueryView (culling/src/query_batches.hpp): a mat4, then the frame's stamp in a uvec4.
       {"QueryViewBlock", 3, sizeof(glm::mat4) + sizeof(glm::uvec4), {{"viewProjectionRelative", 0}, {"frameStamp", sizeof(glm::mat4)}}},
   };
 }

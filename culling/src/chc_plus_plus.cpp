@@ -61,12 +61,35 @@ void queryBoxes(const std::vector<BvhNode>& nodes, std::int32_t node, int depth,
     for (std::int32_t n : best) out.push_back(nodes[n].bounds);
 }
 
-}  // namespace
+// chc++'s node state, kept from frame to frame, and its frame (ChcPlusPlus::Frame).
+class ChcPlusPlus final : public TraversalStrategy {
+ public:
+  void traverse(Traversal& t) override;
+  void forget() override { state_.clear(); }
 
-// One chc++ frame: the paper's queues and the steps on them, as member functions over the
-// culler's node state and query machinery.
-struct OcclusionCuller::ChcPlusPlusFrame {
-  OcclusionCuller& c;
+ private:
+  struct NodeState {
+    bool visible = false;
+    std::uint64_t lastVisited = 0;     // the frame that last took the node from the traversal queue
+    int invisibleFrames = 0;           // frames found invisible in a row (p_keep's i)
+    bool newlyVisible = false;         // found visible this frame (asked again next frame, then at §3.3's random interval)
+    std::uint64_t nextQueryFrame = 0;  // a visible leaf is queried again from this frame
+    bool geometryHidden = false;       // a leaf whose own triangles were hidden at its last query
+    bool unconfirmed = false;          // found visible, then hidden at its frame's end (c-queue), and hidden since
+  };
+  struct Frame;
+  // The state as of the frame before, from the last image's flags (see
+  // OcclusionCuller::setShownInLastImage), when chc++ did not cull that frame.
+  void takeStateFromLastImage(Traversal& t);
+
+  std::vector<NodeState> state_;
+  std::uint64_t lastFrame_ = 0;  // the last frame chc++ culled (0: none; the culler counts from 1)
+};
+
+// One chc++ frame: the paper's queues and the steps on them, as member functions over the node
+// state and the traversal's query batches.
+struct ChcPlusPlus::Frame {
+  std::vector<NodeState>& state;
   Traversal& t;
   const std::vector<BvhNode>& nodes;
   const CullingSettings& p;
@@ -74,7 +97,7 @@ struct OcclusionCuller::ChcPlusPlusFrame {
   // The lists live in the culler's scratch (allocated once); a pending query's nodes — several for
   // a multiquery — are a range of groupNodes; drawnAlready marks a visible leaf's query (v-queue):
   // drawn this frame, it asks about the next.
-  Scratch& scratch;
+  TraversalScratch& scratch;
   EntryHeap& traversal;
   FifoQueue<PendingQuery>& pending;
   std::vector<std::int32_t>& invisibleQueue;
@@ -84,12 +107,12 @@ struct OcclusionCuller::ChcPlusPlusFrame {
   std::vector<std::int32_t>& geometryQueue;
   std::vector<std::int32_t>& groupNodes;
 
-  ChcPlusPlusFrame(OcclusionCuller& culler, Traversal& traversalState)
-      : c(culler),
+  Frame(std::vector<NodeState>& nodeState, Traversal& traversalState)
+      : state(nodeState),
         t(traversalState),
         nodes(traversalState.nodes()),
-        p(culler.parameters_),
-        requery(static_cast<std::uint64_t>(std::max(1, culler.parameters_.visible_requery_frames))),
+        p(traversalState.settings),
+        requery(static_cast<std::uint64_t>(std::max(1, traversalState.settings.visible_requery_frames))),
         scratch(traversalState.scratch),
         traversal(scratch.traversal),
         pending(scratch.pending),
@@ -112,13 +135,13 @@ struct OcclusionCuller::ChcPlusPlusFrame {
       objects.insert(objects.end(), o.begin(), o.end());
     }
     renderQueue.clear();
-    c.drawObjects(t, objects);
+    t.drawObjects(objects);
   }
   // Before a batch of queries: what the draws held back (QueriesAfterTraversal::issueDuring) is
   // asked with it, and drawn once its results are in (takeResult), before the next batch.
   void drawBeforeQueries() {
     flushRender();
-    c.issueDuringTraversal();
+    t.parts.issueDuring();
   }
   void issue(std::span<const std::int32_t> group, bool drawnAlready) {
     std::vector<Aabb>& boxes = scratch.boxes;
@@ -128,7 +151,7 @@ struct OcclusionCuller::ChcPlusPlusFrame {
       queryBoxes(nodes, n, p.tight_box_depth, p.tight_box_area_ratio, boxes, scratch.level, scratch.next, scratch.best, appendBoxes);
     ++t.stats.queriesIssued;
     if (group.size() > 1) ++t.stats.multiQueries;
-    const std::size_t slot = c.issueQuery(boxes);
+    const std::size_t slot = t.queries.issueBoxes(boxes);
     const std::size_t first = groupNodes.size();
     groupNodes.insert(groupNodes.end(), group.begin(), group.end());
     pending.push({first, group.size(), slot, drawnAlready});
@@ -151,7 +174,7 @@ struct OcclusionCuller::ChcPlusPlusFrame {
   void issueGeometry(std::int32_t n, bool drawnAlready) {
     ++t.stats.queriesIssued;
     ++t.stats.geometryQueries;
-    const std::size_t slot = c.issueGeometryQuery(t.objectsOf(n), nearGeometry(n) ? QueryGeometry::Exact : QueryGeometry::HullOrOwn);
+    const std::size_t slot = t.queries.issueGeometry(t.objectsOf(n), nearGeometry(n) ? QueryGeometry::Exact : QueryGeometry::HullOrOwn);
     const std::size_t first = groupNodes.size();
     groupNodes.push_back(n);
     pending.push({first, 1, slot, drawnAlready, 0, true});
@@ -170,7 +193,7 @@ struct OcclusionCuller::ChcPlusPlusFrame {
   void issueInvisibleQueue();
   bool shownInImage(std::span<const std::uint32_t> leafObjects) const {
     for (std::uint32_t o : leafObjects)
-      if (o < c.shownInLastImage_.size() && c.shownInLastImage_[o] != 0) return true;
+      if (o < t.shownInLastImage.size() && t.shownInLastImage[o] != 0) return true;
     return false;
   }
   void traverseNode(std::int32_t n) {
@@ -182,15 +205,15 @@ struct OcclusionCuller::ChcPlusPlusFrame {
     }
   }
   void foundInvisible(std::int32_t n) {
-    c.state_[n].visible = false;
-    c.state_[n].invisibleFrames = std::min(c.state_[n].invisibleFrames + 1, 1000);
+    state[n].visible = false;
+    state[n].invisibleFrames = std::min(state[n].invisibleFrames + 1, 1000);
   }
   void handleResult(const PendingQuery& q, bool visible);
   void takeResult() {
     const PendingQuery q = pending.front();
     pending.pop();
-    handleResult(q, c.waitResult(q.slot, t.stats));
-    c.takeDuringTraversal(t.stats, false);
+    handleResult(q, t.queries.waitResult(q.slot, t.stats));
+    t.parts.takeDuring(t.stats, false);
   }
   // When the traversal queue is empty: the next batch of queries, or a result; false when done.
   bool onEmptyQueue();
@@ -201,7 +224,7 @@ struct OcclusionCuller::ChcPlusPlusFrame {
 // §3.1, §3.4: the i-queue goes out as one batch; with multiqueries, nodes sorted by p_keep are
 // grouped greedily while the group's queries saved per query issued, |M| / (1 + (1 − Π p)·|M|),
 // grows (a single node is an ordinary query: cost 1).
-void OcclusionCuller::ChcPlusPlusFrame::issueInvisibleQueue() {
+void ChcPlusPlus::Frame::issueInvisibleQueue() {
   if (invisibleQueue.empty()) return;
   drawBeforeQueries();
   if (!p.multiqueries) {
@@ -214,7 +237,7 @@ void OcclusionCuller::ChcPlusPlusFrame::issueInvisibleQueue() {
   auto& order = scratch.order;
   order.clear();
   for (size_t i = 0; i < invisibleQueue.size(); ++i)
-    order.push_back({-c.state_[invisibleQueue[i]].invisibleFrames, static_cast<int>(i), invisibleQueue[i]});
+    order.push_back({-state[invisibleQueue[i]].invisibleFrames, static_cast<int>(i), invisibleQueue[i]});
   std::sort(order.begin(), order.end());
   for (size_t i = 0; i < order.size(); ++i) invisibleQueue[i] = std::get<2>(order[i]);
   auto value = [](double keepAll, size_t size) {
@@ -224,7 +247,7 @@ void OcclusionCuller::ChcPlusPlusFrame::issueInvisibleQueue() {
   group.clear();
   double keepAll = 1.0;
   for (std::int32_t n : invisibleQueue) {
-    const double keep = keepProbability(c.state_[n].invisibleFrames);
+    const double keep = keepProbability(state[n].invisibleFrames);
     if (!group.empty() && value(keepAll * keep, group.size() + 1) <= value(keepAll, group.size())) {
       issue(group, false);
       group.clear();
@@ -238,7 +261,7 @@ void OcclusionCuller::ChcPlusPlusFrame::issueInvisibleQueue() {
   invisibleQueue.clear();
 }
 
-void OcclusionCuller::ChcPlusPlusFrame::handleResult(const PendingQuery& q, bool visible) {
+void ChcPlusPlus::Frame::handleResult(const PendingQuery& q, bool visible) {
   if (q.count > 1) {  // a multiquery: all hidden, or ask each node on its own
     // By index: issuing appends to groupNodes, which may move its storage.
     for (std::size_t i = q.first; i < q.first + q.count; ++i) {
@@ -248,7 +271,7 @@ void OcclusionCuller::ChcPlusPlusFrame::handleResult(const PendingQuery& q, bool
     return;
   }
   const std::int32_t n = groupNodes[q.first];
-  NodeState& s = c.state_[n];
+  NodeState& s = state[n];
   if (!visible) {
     foundInvisible(n);
     if (q.geometry) s.geometryHidden = true;
@@ -264,7 +287,7 @@ void OcclusionCuller::ChcPlusPlusFrame::handleResult(const PendingQuery& q, bool
     return;
   }
   if (q.geometry) s.geometryHidden = false;
-  c.pullUpVisibility(n);
+  pullUpVisibility(nodes, state, n);
   s.invisibleFrames = 0;
   if (nodes[n].leaf()) {
     // A query of a leaf not yet drawn tests this frame's depth before all of it is drawn (the
@@ -282,7 +305,7 @@ void OcclusionCuller::ChcPlusPlusFrame::handleResult(const PendingQuery& q, bool
   if (wasInvisible) traverseNode(n);
 }
 
-bool OcclusionCuller::ChcPlusPlusFrame::onEmptyQueue() {
+bool ChcPlusPlus::Frame::onEmptyQueue() {
   if (!invisibleQueue.empty()) {
     issueInvisibleQueue();
   } else if (!geometryQueue.empty()) {
@@ -302,18 +325,18 @@ bool OcclusionCuller::ChcPlusPlusFrame::onEmptyQueue() {
 }
 
 // A node taken from the traversal queue inside the frustum.
-void OcclusionCuller::ChcPlusPlusFrame::visit(std::int32_t n) {
+void ChcPlusPlus::Frame::visit(std::int32_t n) {
   ++t.stats.nodesVisited;
-  NodeState& s = c.state_[n];
-  const bool wasVisible = s.visible && s.lastVisited + 1 == c.frame_;
+  NodeState& s = state[n];
+  const bool wasVisible = s.visible && s.lastVisited + 1 == t.frame;
   // Beyond the paper: with the last image's object IDs (setShownInLastImage) a drawn leaf's
   // visibility then is known. Without a pixel it is asked before it is drawn, as a hidden leaf
   // whose triangles were hidden; with one it is drawn and needs no re-query.
-  const bool imageKnown = !c.shownInLastImage_.empty() && nodes[n].leaf();
+  const bool imageKnown = !t.shownInLastImage.empty() && nodes[n].leaf();
   const bool hiddenInImage = wasVisible && imageKnown && !shownInImage(t.objectsOf(n));
-  s.lastVisited = c.frame_;
+  s.lastVisited = t.frame;
   if (t.visibleWithoutQuery(n) && !nearGeometry(n)) {  // §3.6: the camera is in (or at) the box
-    c.pullUpVisibility(n);
+    pullUpVisibility(nodes, state, n);
     s.invisibleFrames = 0;
     if (nodes[n].leaf()) t.markVisible(n);
     traverseNode(n);
@@ -348,15 +371,15 @@ void OcclusionCuller::ChcPlusPlusFrame::visit(std::int32_t n) {
   // A visible leaf is drawn; it is queried again only every n_av frames (§3.3), else assumed
   // visible — with the last image's record, never.
   renderQueue.push_back(n);
-  if (!imageKnown && c.frame_ >= s.nextQueryFrame) {
+  if (!imageKnown && t.frame >= s.nextQueryFrame) {
     s.visible = false;
     // §3.3: a random first interval after the confirming query spreads the re-queries of the
     // leaves that became visible together; n_av after that.
-    s.nextQueryFrame = s.newlyVisible ? c.frame_ + 1 + hashDraw(static_cast<std::uint64_t>(n), c.frame_, requery) : c.frame_ + requery;
+    s.nextQueryFrame = s.newlyVisible ? t.frame + 1 + hashDraw(static_cast<std::uint64_t>(n), t.frame, requery) : t.frame + requery;
     s.newlyVisible = false;
     visibleQueue.push_back(n);
   } else {
-    c.pullUpVisibility(n);
+    pullUpVisibility(nodes, state, n);
     t.markVisible(n);
   }
 }
@@ -365,14 +388,14 @@ void OcclusionCuller::ChcPlusPlusFrame::visit(std::int32_t n) {
 // c-queue — the leaves found visible this frame, asked against the finished depth (and again next
 // frame, newlyVisible) — and the late leaves. Their results complete this frame's state and
 // visible set.
-void OcclusionCuller::ChcPlusPlusFrame::finish() {
-  c.takeDuringTraversal(t.stats, true);  // readable already: the loop's last wait covered them
+void ChcPlusPlus::Frame::finish() {
+  t.parts.takeDuring(t.stats, true);  // readable already: the loop's last wait covered them
   flushRender();
   for (std::int32_t n : visibleQueue) issueVisible(n);
   visibleQueue.clear();
   for (std::int32_t n : confirmQueue) {
-    c.state_[n].nextQueryFrame = c.frame_ + 1;
-    c.state_[n].newlyVisible = true;
+    state[n].nextQueryFrame = t.frame + 1;
+    state[n].newlyVisible = true;
     issueVisible(n);
   }
   confirmQueue.clear();
@@ -382,18 +405,18 @@ void OcclusionCuller::ChcPlusPlusFrame::finish() {
     pending.items.back().late = true;
     ++t.stats.lateQueries;
   }
-  c.issueAfterTraversal();  // in the same batch: answered by the same wait
+  t.parts.issueAfter();  // in the same batch: answered by the same wait
   while (!pending.empty()) takeResult();
   flushRender();  // the late leaves that showed
 }
 
-void OcclusionCuller::ChcPlusPlusFrame::run() {
+void ChcPlusPlus::Frame::run() {
   if (!nodes.empty()) traversal.push(t.entry(0));
   while (true) {
     // Results: async, those the GPU has finished; deterministic, none before the traversal queue
     // runs dry (onEmptyQueue).
-    if (c.queryMode_ == QueryMode::Async)
-      while (!pending.empty() && c.resultAvailable(pending.front().slot, t.stats)) takeResult();
+    if (t.queries.mode() == QueryMode::Async)
+      while (!pending.empty() && t.queries.resultAvailable(pending.front().slot, t.stats)) takeResult();
     if (traversal.empty()) {
       if (!onEmptyQueue()) break;
       continue;
@@ -405,6 +428,42 @@ void OcclusionCuller::ChcPlusPlusFrame::run() {
   finish();
 }
 
-void OcclusionCuller::cullChcPlusPlus(Traversal& t) { ChcPlusPlusFrame(*this, t).run(); }
+void ChcPlusPlus::takeStateFromLastImage(Traversal& t) {
+  if (t.shownInLastImage.empty()) return;
+  const std::vector<BvhNode>& nodes = t.nodes();
+  const std::uint64_t before = t.frame - 1;
+  const std::uint64_t requery = static_cast<std::uint64_t>(std::max(1, t.settings.visible_requery_frames));
+  for (NodeState& s : state_) {  // hidden in that frame, as far as the image tells
+    s.visible = false;
+    s.lastVisited = before;
+    s.invisibleFrames = std::min(s.invisibleFrames + 1, 1000);
+    s.newlyVisible = s.unconfirmed = false;
+  }
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    if (!nodes[n].leaf()) continue;
+    bool shown = false;
+    for (std::uint32_t o : t.objectsOf(static_cast<std::int32_t>(n)))
+      shown = shown || (o < t.shownInLastImage.size() && t.shownInLastImage[o] != 0);
+    if (!shown) continue;
+    NodeState& s = state_[n];
+    s.invisibleFrames = 0;
+    s.geometryHidden = false;
+    s.nextQueryFrame = t.frame + requery;
+    pullUpVisibility(nodes, state_, static_cast<std::int32_t>(n));
+  }
+}
+
+void ChcPlusPlus::traverse(Traversal& t) {
+  if (state_.size() != t.nodes().size()) state_.assign(t.nodes().size(), NodeState{});
+  // After frames chc++ did not cull (frustum culling where queries do not pay), its state is stale:
+  // taken from the last image instead.
+  if (lastFrame_ + 1 != t.frame) takeStateFromLastImage(t);
+  lastFrame_ = t.frame;
+  Frame(state_, t).run();
+}
+
+}  // namespace
+
+std::unique_ptr<TraversalStrategy> makeChcPlusPlus() { return std::make_unique<ChcPlusPlus>(); }
 
 }  // namespace forest::culling

@@ -8,6 +8,7 @@
 
 #include "forest/core/error.hpp"
 #include "forest/culling/occlusion_culler.hpp"
+#include "query_batches.hpp"
 #include "traversal.hpp"
 
 namespace forest::culling {
@@ -24,7 +25,7 @@ constexpr std::size_t kNoQuery = ~std::size_t{0};  // a group visible without a 
 
 void OcclusionCuller::issueAfterCull(std::span<const Aabb> boxes, std::span<const std::uint32_t> groupEnds,
                                      const SurfaceQueries& surfaces, std::span<const std::uint8_t> bySurface) {
-  if (!stateOf_) throw Error("OcclusionCuller::issueAfterCull: no frame was culled");
+  if (!culledBvh_) throw Error("OcclusionCuller::issueAfterCull: no frame was culled");
   if (afterCullIssued_) throw Error("OcclusionCuller::issueAfterCull: the previous queries' results were not taken");
   for (std::size_t g = 0; g < groupEnds.size(); ++g)
     if (groupEnds[g] > boxes.size() || (g > 0 && groupEnds[g] < groupEnds[g - 1]))
@@ -39,15 +40,16 @@ void OcclusionCuller::issueAfterCull(std::span<const Aabb> boxes, std::span<cons
   if (groupEnds.empty()) return;
   const auto start = std::chrono::steady_clock::now();
   CullingStats& stats = result_.stats;
-  if (used_ + groupEnds.size() > slots_) {
+  QueryBatches& queries = *queries_;
+  if (queries.used() + groupEnds.size() > queries.capacity()) {
     // Inside a cull, results still to be read live in the buffer: reserveAfterCull made too little room.
     if (inCull_)
       throw Error(fmt::format("OcclusionCuller::issueAfterCull: {} queries after a traversal that used {} of {} slots: more "
-                              "than the {} QueriesAfterTraversal::maxQueries promised", groupEnds.size(), used_, slots_, afterCullQueries_));
+                              "than the {} QueriesAfterTraversal::maxQueries promised", groupEnds.size(), queries.used(),
+                              queries.capacity(), afterCullQueries_));
     // After it, the traversal read every result it needed and dropped the rest: a larger, zeroed
-    // buffer loses nothing. Slots below used_ stay unused in it.
-    allocateResultSlots(std::max(2 * slots_, used_ + groupEnds.size()));
-    drawnSlots_ = readableSlots_ = used_;
+    // buffer loses nothing. The slots in use stay unused in it.
+    queries.growAfterFrame(std::max(2 * queries.capacity(), queries.used() + groupEnds.size()));
   }
   afterCullGroups_.clear();
   afterCullGroupSlots_.clear();
@@ -61,25 +63,25 @@ void OcclusionCuller::issueAfterCull(std::span<const Aabb> boxes, std::span<cons
       continue;
     }
     if (surfaces && (bySurface.empty() || bySurface[g] != 0)) {
-      const std::uint32_t slot = takeSlot(used_, slots_);
+      const std::size_t slot = queries.takeSlot();
       afterCullSlots_.push_back(slot);
       afterCullGroups_.push_back(static_cast<std::uint32_t>(g));
-      afterCullGroupSlots_.push_back(slot);
+      afterCullGroupSlots_.push_back(static_cast<std::uint32_t>(slot));
       ++stats.geometryQueries;
     } else {
-      afterCullSlots_.push_back(issueQuery(group));
+      afterCullSlots_.push_back(queries.issueBoxes(group));
     }
     ++stats.queriesIssued;
   }
   if (!afterCullGroups_.empty()) {
-    beginQueries();
-    glDepthFunc(GL_GEQUAL);  // as drawQueryBatch's geometry queries
+    queries.beginQueryState();
+    glDepthFunc(GL_GEQUAL);  // as QueryBatches::drawBatch's geometry queries
     stats.queryTriangles += surfaces(afterCullGroups_, afterCullGroupSlots_);
     glDepthFunc(GL_GREATER);
-    endQueries();
-    if (batch_.empty() && !geometryQueriesPending()) markQueriesDrawn();  // else drawQueryBatch does
+    queries.endQueryState();
+    if (!queries.batchPending()) queries.markDrawn();  // else drawBatch does
   }
-  drawQueryBatch();
+  queries.drawBatch(stats);
   // Inside a cull its own clock counts this.
   if (!inCull_) stats.cpuMilliseconds += 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -91,11 +93,10 @@ const std::vector<bool>& OcclusionCuller::afterCullResults() {
   CullingStats& stats = result_.stats;
   const double waitedBefore = stats.waitMilliseconds;
   for (std::size_t g = 0; g < afterCullSlots_.size(); ++g)
-    afterCullVisible_[g] = afterCullSlots_[g] == kNoQuery || waitResult(afterCullSlots_[g], stats);
-  endQueries();
+    afterCullVisible_[g] = afterCullSlots_[g] == kNoQuery || queries_->waitResult(afterCullSlots_[g], stats);
+  queries_->endQueryState();
   if (inCull_) return afterCullVisible_;  // its own clock counts this; later batches need the fences
-  for (const BatchFence& f : fences_) glDeleteSync(f.fence);
-  fences_.clear();
+  queries_->dropFences();
   stats.cpuMilliseconds += 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() -
                            (stats.waitMilliseconds - waitedBefore);
   return afterCullVisible_;
@@ -109,13 +110,12 @@ void OcclusionCuller::reserveAfterCull(std::size_t queries, std::size_t boxes) {
   refineEnds_.reserve(queries);
   afterCullVisible_.reserve(queries);
   refineBoxes_.reserve(boxes);
-  batch_.reserve(boxes);
-  if (stateOf_ && slots_ < 3 * stateOf_->nodes().size() + 2 + afterCullQueries_)
-    allocateResultSlots(3 * stateOf_->nodes().size() + 2 + afterCullQueries_);
+  queries_->reserveBatch(boxes, 0);
+  if (culledBvh_) queries_->reserveSlots(QueryBatches::slotsForFrame(culledNodes_, afterCullQueries_));
 }
 
 const CullingResult& OcclusionCuller::refineVisibleSet(std::span<const Aabb> objectBoxes, const QueryShapes& shapes) {
-  if (!stateOf_) throw Error("OcclusionCuller::refineVisibleSet: no frame was culled");
+  if (!culledBvh_) throw Error("OcclusionCuller::refineVisibleSet: no frame was culled");
   std::vector<std::uint32_t>& visible = result_.visibleObjects;
   refineBoxes_.clear();
   refineEnds_.clear();
@@ -139,28 +139,36 @@ const CullingResult& OcclusionCuller::refineVisibleSet(std::span<const Aabb> obj
   return result_;
 }
 
-void OcclusionCuller::issueAfterTraversal() {
-  QueriesAfterTraversal* after = afterTraversal_;
-  afterTraversal_ = nullptr;
-  if (after) after->issue(*this);
+void PartQueries::start(OcclusionCuller& culler, QueryBatches& queries, QueriesAfterTraversal* after) {
+  culler_ = &culler;
+  queries_ = &queries;
+  after_ = after;
+  duringIssued_ = false;
 }
 
-void OcclusionCuller::issueDuringTraversal() {
-  if (!afterTraversal_ || duringIssued_) return;
-  if (afterTraversal_->issueDuring(*this)) {
+void PartQueries::issueAfter() {
+  QueriesAfterTraversal* after = after_;
+  after_ = nullptr;
+  if (after) after->issue(*culler_);
+}
+
+void PartQueries::issueDuring() {
+  if (!after_ || duringIssued_) return;
+  if (after_->issueDuring(*culler_)) {
     duringIssued_ = true;
-    duringEnd_ = used_;
+    duringEnd_ = queries_->used();
   }
 }
 
-void OcclusionCuller::takeDuringTraversal(CullingStats& stats, bool wait) {
+void PartQueries::takeDuring(CullingStats& stats, bool wait) {
   if (!duringIssued_) return;
   // Readable without a wait: deterministic, once a wait covered them (never polled); async, once
   // the fence of their batch has signalled.
-  if (!wait && duringEnd_ > readableSlots_ && (queryMode_ == QueryMode::Deterministic || !resultAvailable(duringEnd_ - 1, stats)))
+  if (!wait && duringEnd_ > queries_->readable() &&
+      (queries_->mode() == QueryMode::Deterministic || !queries_->resultAvailable(duringEnd_ - 1, stats)))
     return;
   duringIssued_ = false;
-  const long long triangles = afterTraversal_->takeDuring(*this);  // afterCullResults ended the query state
+  const long long triangles = after_->takeDuring(*culler_);  // afterCullResults ended the query state
   if (triangles > 0) {
     stats.trianglesDrawn += triangles;
     ++stats.drawCalls;

@@ -1,11 +1,13 @@
 #pragma once
-// One culling frame's shared state and the helpers every traversal strategy uses (internal).
+// One culling frame's shared state, the helpers every traversal strategy uses, and the interface
+// each strategy implements (internal).
 #include <fmt/format.h>
 #include <glm/glm.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <span>
 #include <tuple>
 #include <utility>
@@ -15,6 +17,7 @@
 #include "forest/core/frustum.hpp"
 #include "forest/core/near_slab.hpp"
 #include "forest/culling/occlusion_culler.hpp"
+#include "query_batches.hpp"
 
 namespace forest::culling {
 
@@ -25,13 +28,6 @@ inline bool boxVisibleWithoutQuery(const Aabb& box, const Camera& camera, const 
   return grown.contains(camera.position) || nearSlab.meets(box);
 }
 
-// CHC's query results are collected at batch boundaries, every kBatchSteps traversal steps: the
-// queries issued before the previous boundary are taken (waiting if need be), the newer ones stay
-// pending while traversal and drawing go on. Taking results at fixed points, not whenever the
-// driver happens to have them, makes the traversal — and so the visible set, z_f and the shadows —
-// identical from run to run; polling for availability would also flush llvmpipe's command stream.
-constexpr int kBatchSteps = 64;
-
 // Eye-space depth range of a box's corners.
 inline std::pair<double, double> depthRange(const Aabb& box, const glm::dmat4& view) {
   double nearest = std::numeric_limits<double>::infinity(), farthest = -nearest;
@@ -41,15 +37,6 @@ inline std::pair<double, double> depthRange(const Aabb& box, const glm::dmat4& v
     farthest = std::max(farthest, depth);
   }
   return {nearest, farthest};
-}
-
-// At most 3N + 1 per frame for a BVH of N nodes: a node enters the traversal once, and is queried
-// once for itself, once more when a multiquery that held it found something; a leaf also once
-// with its own triangles (its geometry query) and, found visible, once more after the frame is
-// drawn (chc++'s c-queue). With L leaves and L − 1 inner nodes that is 4L + 2(L − 1) = 3N + 1.
-inline std::uint32_t takeSlot(std::size_t& used, std::size_t slots) {
-  if (used == slots) throw Error(fmt::format("OcclusionCuller: more than {} queries in a frame", slots));
-  return static_cast<std::uint32_t>(used++);
 }
 
 // Traversal queue entry: nearest first.
@@ -93,7 +80,7 @@ struct FifoQueue {
 };
 
 // A query waiting for its result: CHC's single node, or CHC++'s group of nodes (a multiquery),
-// `count` entries of Scratch::groupNodes from `first`.
+// `count` entries of TraversalScratch::groupNodes from `first`.
 struct PendingQuery {
   std::size_t first = 0, count = 0;
   std::size_t slot = 0;
@@ -104,7 +91,7 @@ struct PendingQuery {
 };
 
 // Every list the traversals use, kept by the culler so a steady-state frame allocates nothing.
-struct OcclusionCuller::Scratch {
+struct TraversalScratch {
   EntryHeap traversal;
   std::vector<std::int32_t> stack;
   FifoQueue<PendingQuery> pending;
@@ -141,18 +128,61 @@ struct OcclusionCuller::Scratch {
   }
 };
 
-struct OcclusionCuller::Traversal {
+// The queries of parts of the objects a traversal draws (QueriesAfterTraversal: the terrain's
+// blocks), asked on the culler's behalf during (chc++) and after the traversal
+// (queries_after_cull.cpp).
+class PartQueries {
+ public:
+  // A cull's start: `after` (may be null) is asked through `culler`, whose queries go out in
+  // `queries`' batches.
+  void start(OcclusionCuller& culler, QueryBatches& queries, QueriesAfterTraversal* after);
+  // chc++: after a draw that comes before a batch of queries, while no earlier issueDuring's
+  // results are untaken: QueriesAfterTraversal::issueDuring.
+  void issueDuring();
+  // Once those results are readable (`wait`: waiting for them if need be), before the next draw
+  // or query: QueriesAfterTraversal::takeDuring, its triangles counted in stats.
+  void takeDuring(CullingStats& stats, bool wait);
+  // Once per cull, after its last draw (chc++: before its last wait; the other strategies: at
+  // the end of the cull): QueriesAfterTraversal::issue.
+  void issueAfter();
+
+ private:
+  OcclusionCuller* culler_ = nullptr;
+  QueryBatches* queries_ = nullptr;
+  QueriesAfterTraversal* after_ = nullptr;  // the current cull's, until issued
+  bool duringIssued_ = false;  // issueDuring issued queries whose results are not taken
+  std::size_t duringEnd_ = 0;  // the slots below this one hold them
+};
+
+// What one cull hands its strategy: the hierarchy, the view, where to draw and query, where the
+// results go, and the scratch lists.
+struct Traversal {
   const Bvh& bvh;
   const Camera& camera;
   Frustum frustum;
   ObjectDrawer& drawer;
   CullingStats& stats;
   std::vector<std::uint32_t>& visible;  // objects of the leaves found visible (may repeat)
-  Scratch& scratch;
+  TraversalScratch& scratch;
   const QueryShapes& shapes;
-  double shapeAreaRatio;  // the chc++ tight-box rule (§3.5): shapes only when their area ≤ this × the box's
-  NearSlab nearSlab;      // of camera
+  const CullingSettings& settings;  // the chc++ parameters ([culling])
+  NearSlab nearSlab;                // of camera
+  QueryBatches& queries;
+  PartQueries& parts;
+  std::uint64_t frame;  // the culler's frame number, from 1
+  // Which objects had a pixel in the last image (OcclusionCuller::setShownInLastImage); empty
+  // when not known.
+  std::span<const std::uint8_t> shownInLastImage;
 
+  // Draws the objects: the queries issued before them go out first, testing the depth without them.
+  void drawObjects(std::span<const std::uint32_t> objects) {
+    if (objects.empty()) return;
+    queries.drawBatch(stats);
+    queries.endQueryState();
+    stats.trianglesDrawn += drawer.draw(objects);
+    stats.objectsDrawn += static_cast<int>(objects.size());
+    ++stats.drawCalls;
+  }
   const std::vector<BvhNode>& nodes() const { return bvh.nodes(); }
   std::span<const std::uint32_t> objectsOf(std::int32_t n) const {
     const BvhNode& node = bvh.nodes()[n];
@@ -163,7 +193,7 @@ struct OcclusionCuller::Traversal {
     visible.insert(visible.end(), objects.begin(), objects.end());
   }
   // What a query of node n draws: a leaf's objects' query shapes when there are some and their
-  // total surface area is at most shapeAreaRatio × the leaf box's (each box drawn costs its
+  // total surface area is at most tight_box_area_ratio × the leaf box's (each box drawn costs its
   // rasterised area: CHC++ §3.5's rule for tighter boxes), else the node's box.
   void appendQueryBoxes(std::int32_t n, std::vector<Aabb>& out) const {
     const BvhNode& node = bvh.nodes()[n];
@@ -174,7 +204,7 @@ struct OcclusionCuller::Traversal {
     double area = 0.0;
     for (std::uint32_t o : objectsOf(n))
       for (std::uint32_t k = 0; k < shapes.ranges[o].count; ++k) area += surfaceArea(shapes.boxes[shapes.ranges[o].first + k]);
-    if (area > shapeAreaRatio * surfaceArea(node.bounds)) {
+    if (area > settings.tight_box_area_ratio * surfaceArea(node.bounds)) {
       out.push_back(node.bounds);
       return;
     }
@@ -188,5 +218,31 @@ struct OcclusionCuller::Traversal {
   // where the near plane could clip the faces its query needs (NearSlab).
   bool visibleWithoutQuery(std::int32_t n) const { return boxVisibleWithoutQuery(bvh.nodes()[n].bounds, camera, nearSlab); }
 };
+
+// Marks node n and its not yet visible ancestors visible (CHC's pull-up): the node itself always
+// (it may still carry last frame's flag), then its ancestors up to the first one already visible
+// this frame (the ones opened this frame were reset to invisible). `State` has a `visible` flag.
+template <class State>
+void pullUpVisibility(const std::vector<BvhNode>& nodes, std::vector<State>& state, std::int32_t n) {
+  state[n].visible = true;
+  for (n = nodes[n].parent; n >= 0 && !state[n].visible; n = nodes[n].parent) state[n].visible = true;
+}
+
+// One culling strategy (OcclusionCuller's table names each): what it keeps of earlier frames per
+// node, and one frame's traversal.
+class TraversalStrategy {
+ public:
+  virtual ~TraversalStrategy() = default;
+  // One frame: traverses t.bvh inside t.frustum, draws what it finds visible (t.drawObjects) and
+  // adds the objects of the leaves it found visible to t.visible.
+  virtual void traverse(Traversal& t) = 0;
+  // Forgets what it kept of earlier frames (a BVH rebuild, a camera cut).
+  virtual void forget() {}
+};
+
+std::unique_ptr<TraversalStrategy> makeFrustumCulling(bool frustum);  // none (false) and frustum
+std::unique_ptr<TraversalStrategy> makeStopAndWait();
+std::unique_ptr<TraversalStrategy> makeChc();
+std::unique_ptr<TraversalStrategy> makeChcPlusPlus();
 
 }  // namespace forest::culling

@@ -32,6 +32,8 @@
 //                   triangles before it is drawn, and visible leaves are re-queried so; a leaf
 //                   found hidden so is queried with its triangles again while it stays hidden. A
 //                   box sees through the gaps between nearer crowns; a tree's own triangles do not.
+// Each strategy is a unit of its own in src/ (a TraversalStrategy owning its per-node state, one
+// file and one row of kStrategies); they share the query machinery (QueryBatches, src/).
 // A query is not a GL query object: its box's fragments that pass the depth test write the frame's
 // stamp into the query's slot of a persistently mapped buffer (query_box.frag, early fragment
 // tests), so a slot holds the stamp exactly when GL_SAMPLES_PASSED would be nonzero. The boxes of
@@ -45,8 +47,7 @@
 // while traversal goes on; a result is read only after its fence signalled, so the CPU never
 // blocks in a read. Both are exact.
 // A query tests the node's box (or, for a leaf, its objects' query shapes; grown by a few ulps)
-// against the depth of what has been drawn so
-// far, which only gets nearer as more is drawn: a box found hidden holds nothing visible, so the
+// against the depth of what has been drawn so far, which only gets nearer as more is drawn: a box found hidden holds nothing visible, so the
 // geometry pass equals drawing everything (exactness). Boxes holding the eye (grown by z_n) or
 // crossing the near plane count as visible without a query.
 #include <array>
@@ -63,10 +64,6 @@
 #include "forest/core/enum_names.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/culling/bvh.hpp"
-#include "forest/gl/objects.hpp"
-#include "forest/gl/shader.hpp"
-#include "forest/gl/stream_ring.hpp"
-#include "forest/gl/uniform_stream.hpp"
 
 namespace forest::culling {
 
@@ -120,6 +117,10 @@ struct QueryShapes {
 };
 
 class OcclusionCuller;
+class QueryBatches;       // src/query_batches.hpp
+class TraversalStrategy;  // src/traversal.hpp, one file per strategy
+struct TraversalScratch;
+class PartQueries;
 
 // Queries of parts of the objects a cull draws (render::TerrainBlockVisibility: the blocks of the
 // terrain tiles it draws), asked against the depth of everything the traversal drew. Handed to
@@ -254,127 +255,32 @@ class OcclusionCuller {
   QueryMode queryMode() const { return queryMode_; }
 
  private:
-  struct NodeState {
-    bool visible = false;
-    std::uint64_t lastVisited = 0;
-    int invisibleFrames = 0;          // chc++: frames found invisible in a row (p_keep's i)
-    bool newlyVisible = false;        // chc++: found visible this frame (asked again next frame, then at §3.3's random interval)
-    std::uint64_t nextQueryFrame = 0;  // chc++: a visible leaf is queried again from this frame
-    bool geometryHidden = false;  // chc++: a leaf whose own triangles were hidden at its last query
-    bool unconfirmed = false;  // chc++: found visible, then hidden at its frame's end (c-queue), and hidden since
-  };
-  struct Traversal;  // one frame's shared state (src/traversal.hpp)
-  struct Scratch;    // the traversals' queues and lists, kept from frame to frame (src/traversal.hpp)
-  // Issues one query for the boxes (drawn with the next batch); returns its result slot.
-  std::size_t issueQuery(std::span<const Aabb> boxes);
-  // Issues one query drawn with the objects' own triangles (ObjectDrawer::drawGeometryQueries),
-  // with the next batch; returns its result slot.
-  std::size_t issueGeometryQuery(std::span<const std::uint32_t> objects, QueryGeometry geometry);
-  // Draws the boxes of the queries issued since the last batch, in one instanced call, and the
-  // geometry queries' objects; async: fences them.
-  void drawQueryBatch();
-  // The queries issued so far are drawn: their slots may be waited for (async: behind a fence).
-  void markQueriesDrawn();
-  // Makes the results of every drawn query readable: waits for the GPU (deterministic) or for
-  // the fence covering `slot` (async).
-  void waitForResults(std::size_t slot, CullingStats& stats);
+  // The cull's start: the frame's number and query batches, cleared lists and counters, and room
+  // for the BVH's nodes, objects and queries.
   void beginCull(const Bvh& bvh, const Camera& camera, const QueryShapes& shapes, ObjectDrawer& drawer, QueriesAfterTraversal* after);
-  void cullByFrustum(Traversal& t, bool frustum);  // none (frustum false) and frustum
-  void cullStopAndWait(Traversal& t);
-  void cullChc(Traversal& t);
-  void drawObjects(Traversal& t, std::span<const std::uint32_t> objects);
-  void pullUpVisibility(std::int32_t node);  // marks the node and its not yet visible ancestors visible
-  // chc++'s state as of the frame before, from setShownInLastImage's flags (see there).
-  void takeStateFromLastImage(Traversal& t);
-  struct ChcPlusPlusFrame;  // one chc++ frame's queues and steps (src/chc_plus_plus.cpp)
-  void cullChcPlusPlus(Traversal& t);
-  // The query's result (true: a sample passed); waits for it when needed.
-  bool waitResult(std::size_t slot, CullingStats& stats);
-  // Async: whether the query's result is available now (one poll of its fence). Deterministic:
-  // never asked.
-  bool resultAvailable(std::size_t slot, CullingStats& stats);
-  void beginQueries();
-  void endQueries();
-  void allocateResultSlots(std::size_t slots);  // a zeroed, mapped results buffer of that many slots
+  TraversalStrategy& strategyUnit(CullingStrategy strategy);
 
-  // query_box.vert's block (binding 3): the camera-relative view-projection and the frame's
-  // stamp, written once per cull.
-  struct QueryView {
-    glm::mat4 viewProjectionRelative{1.0f};
-    glm::uvec4 frameStamp{0u};
-  };
-  // A query's box as its instance (query_box.vert): camera-relative corners and the result slot.
-  struct QueryBox {
-    glm::vec3 min;
-    std::uint32_t slot;
-    glm::vec3 max;
-    std::uint32_t padding;
-  };
-  struct BatchFence {
-    std::size_t endSlot;  // the queries before it were drawn before the fence
-    GLsync fence;
-  };
-
-  gl::Program program_;
-  gl::UniformStream viewUniforms_;
-  QueryView view_;
-  gl::VertexArray vertexArray_;
-  gl::Buffer cube_;
-  gl::Buffer cubeIndices_;
-  // The boxes of a batch, camera-relative, written once into a mapped ring (DESIGN §9).
-  std::unique_ptr<gl::StreamRing> boxes_;
-  std::vector<QueryBox> batch_;  // the boxes of the queries issued since the last batch was drawn
-  // The geometry queries issued since the last batch was drawn: each object and its query's slot,
-  // per QueryGeometry.
-  struct GeometryQueries {
-    std::vector<std::uint32_t> objects, slots;
-  };
-  std::array<GeometryQueries, 2> geometryQueries_;
-  bool geometryQueriesPending() const { return !geometryQueries_[0].objects.empty() || !geometryQueries_[1].objects.empty(); }
-  ObjectDrawer* drawer_ = nullptr;  // the current cull's (geometry queries)
-  CullingStats* stats_ = nullptr;   // the current cull's (the geometry queries' triangles)
-  // Per slot, the stamp of the last frame in which a sample of its query passed (query_box.frag):
-  // persistently and coherently mapped for reading.
-  gl::ReadMappedStamps results_;
-  std::size_t slots_ = 0;          // the buffer's capacity: three queries per BVH node
-  std::size_t used_ = 0;           // slots issued this frame
-  std::size_t drawnSlots_ = 0;     // slots whose boxes have been drawn
-  std::size_t readableSlots_ = 0;  // slots whose results the CPU may read
-  std::vector<BatchFence> fences_;  // async: the drawn batches not yet known complete
-  glm::dvec3 eye_{0.0};
-  Camera camera_;  // the last cull's
-  glm::dmat4 viewProjectionRelative_{1.0};
-  bool queryState_ = false;
-
+  std::unique_ptr<QueryBatches> queries_;  // slots, batches, fences, results
+  std::array<std::unique_ptr<TraversalStrategy>, 5> strategies_;  // one per CullingStrategy, made on first use
+  std::unique_ptr<TraversalScratch> scratch_;  // the traversals' lists, kept so a steady frame allocates nothing
+  std::unique_ptr<PartQueries> parts_;         // the cull's QueriesAfterTraversal
   CullingSettings parameters_;
   QueryMode queryMode_ = QueryMode::Deterministic;
-  int switches_ = 0;
-  std::vector<NodeState> state_;
   std::span<const std::uint8_t> shownInLastImage_;  // setShownInLastImage's, for one cull
-  // Reused every frame, so a steady-state frame allocates nothing (DESIGN §9).
-  std::unique_ptr<Scratch> scratch_;
+  const Bvh* culledBvh_ = nullptr;  // the BVH the lists, slots and node states are sized for
+  std::size_t culledNodes_ = 0;     // and its node count
+  std::uint64_t frame_ = 0;
+  Camera camera_;  // the last cull's
   CullingResult result_;
-  std::vector<std::size_t> afterCullSlots_;  // queryAfterCull's slots and results
+  // queryAfterCull's slots, groups and results; refineVisibleSet's boxes.
+  std::vector<std::size_t> afterCullSlots_;
   std::vector<std::uint32_t> afterCullGroups_, afterCullGroupSlots_;  // its surface queries
   std::vector<bool> afterCullVisible_;
-  std::vector<Aabb> refineBoxes_;  // refineVisibleSet's queries
+  std::vector<Aabb> refineBoxes_;
   std::vector<std::uint32_t> refineEnds_;
   std::size_t afterCullQueries_ = 0;  // reserveAfterCull's
   bool afterCullIssued_ = false;      // issueAfterCull was called, afterCullResults not yet
-  QueriesAfterTraversal* afterTraversal_ = nullptr;  // the current cull's, until issued
   bool inCull_ = false;
-  // Issues the current cull's QueriesAfterTraversal once (chc++: before its last wait; the other
-  // strategies: at the end of the cull).
-  void issueAfterTraversal();
-  // chc++: the current cull's QueriesAfterTraversal::issueDuring, after a draw; then
-  // takeDuringTraversal once its results are readable (`wait`: waiting for them if need be).
-  void issueDuringTraversal();
-  void takeDuringTraversal(CullingStats& stats, bool wait);
-  bool duringIssued_ = false;  // issueDuringTraversal issued queries whose results are not taken
-  std::size_t duringEnd_ = 0;  // the slots below this one hold them
-  const Bvh* stateOf_ = nullptr;
-  std::uint64_t frame_ = 0;
-  CullingStrategy lastStrategy_ = CullingStrategy::ChcPlusPlus;  // the previous cull's
 };
 
 }  // namespace forest::culling
