@@ -6,10 +6,12 @@
 # data/paths/thesis-walk.toml (chc++, LiSPSM 2048², blur off) at the same size, tree grid, warm-up
 # and frame count. It prints each run's mean and p95 frame time and triangles, the ratio
 # forest / classic per pair and the median of the pairs, and writes them as JSON and as a Markdown
-# table stamped with the machine and date (DIR/thesis-demo.md; the README's table: --out docs/benchmarks).
+# table stamped with the machine and date (DIR/thesis-demo.md, or FILE with --markdown; the README's
+# table: --markdown docs/benchmarks/thesis-demo.md). The runs' logs and reports stay in DIR.
 #
 # usage: bench/peer-thesis-demo.sh [--pairs N] [--trees "5000 10000"] [--size 800x600]
 #                                  [--warmup 30] [--frames 200] [--timing queries] [--out DIR]
+#                                  [--markdown FILE]
 #   --trees: the classic demo's request; it places a square grid (5000 → 72² = 5184, 10000 → 101² =
 #            10201 trees) and the forest scene gets the grid it placed.
 #   --timing: the engine's pass timing, queries (timer queries; nothing in a frame waits, as in the
@@ -37,6 +39,7 @@ WARMUP=30
 FRAMES=200
 TIMING=queries
 OUT=out/peer-thesis-demo
+MARKDOWN=
 
 usage() { sed -n '2,25p' "$0" | sed 's/^# \{0,1\}//'; }
 while [ $# -gt 0 ]; do
@@ -48,6 +51,7 @@ while [ $# -gt 0 ]; do
 		--frames) FRAMES=$2; shift 2 ;;
 		--timing) TIMING=$2; shift 2 ;;
 		--out) OUT=$2; shift 2 ;;
+		--markdown) MARKDOWN=$2; shift 2 ;;
 		-h|--help) usage; exit 0 ;;
 		*) echo "peer-thesis-demo: error: unknown option '$1'; see --help" >&2; exit 2 ;;
 	esac
@@ -126,7 +130,7 @@ EOF
 done
 
 MACHINE="$(nproc) cores of $(lscpu | sed -n 's/^Model name:[[:space:]]*//p' | head -1)"
-python3 - "$RESULTS" "$OUT/peer-thesis-demo.json" "$SIZE" "$OUT/thesis-demo.md" "$MACHINE" <<'EOF'
+python3 - "$RESULTS" "$OUT/peer-thesis-demo.json" "$SIZE" "${MARKDOWN:-$OUT/thesis-demo.md}" "$MACHINE" <<'EOF'
 import datetime, json, statistics, sys
 runs = [json.loads(line) for line in open(sys.argv[1])]
 size = sys.argv[3]
@@ -138,6 +142,7 @@ markdown = [f"# The thesis demo scene against the classic demo\n",
             "| trees | pair | classic mean ms | p95 | eye / shadow triangles | forest mean ms | p95 | eye / shadow triangles | forest / classic |",
             "|---|---|---|---|---|---|---|---|---|"]
 summary = {"size": size, "runs": runs, "median_ratio": {}}
+passLines = []
 print(f"\nforest walkthrough (chc++, lispsm 2048², blur off, --timing {runs[0]['forest']['timing']}) against the classic CHC + LiSPSM demo (CHC, 2048²), {size}, one machine, alternating runs")
 print("frame: the classic demo's display() to after swap + glFinish; the engine's frame interval (start to next start)")
 print(f"{'trees':>6} {'pair':>4} | {'classic mean':>12} {'p95':>7} {'eye tris':>9} {'shadow tris':>11} | {'forest mean':>11} {'p95':>7} {'eye tris':>9} {'shadow tris':>11} | {'forest/classic':>14}")
@@ -156,9 +161,11 @@ for trees in sorted({r["trees"] for r in runs}):
     print(f"{trees:>6} median of {len(ratios)} pairs: forest / classic mean frame = {median:.3f}")
     markdown.append(f"| {trees} | median of {len(ratios)} | | | | | | | **{median:.3f}** |")
     passes = {k: statistics.mean(r["forest"]["passes_ms"][k] for r in runs if r["trees"] == trees) for k in runs[0]["forest"]["passes_ms"]}
-    print("       forest passes (ms, mean of the pairs): " + ", ".join(f"{k} {v:.1f}" for k, v in passes.items()) +
-          f"; classic shadow pass {statistics.mean(r['classic']['shadow_ms_mean'] for r in runs if r['trees'] == trees):.1f} ms")
+    passLine = ("forest passes (ms, mean of the pairs): " + ", ".join(f"{k} {v:.1f}" for k, v in passes.items() if v > 0) +
+                f"; classic shadow pass {statistics.mean(r['classic']['shadow_ms_mean'] for r in runs if r['trees'] == trees):.1f} ms")
+    print("       " + passLine)
+    passLines.append(f"- {trees} trees: {passLine}")
 json.dump(summary, open(sys.argv[2], "w"), indent=1)
-open(sys.argv[4], "w").write("\n".join(markdown) + "\n")
+open(sys.argv[4], "w").write("\n".join(markdown) + "\n\n" + "\n".join(passLines) + "\n")
 print(f"wrote {sys.argv[2]} and {sys.argv[4]}")
 EOF

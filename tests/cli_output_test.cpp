@@ -132,5 +132,47 @@ TEST(RunOutput, WalkWritesAVideoOfEveryFrameByDefault) {
   EXPECT_THAT(r.out, ::testing::Not(::testing::HasSubstr("mp4")));
 }
 
+// An --out that cannot be written is a usage error (exit 2, one line naming --out and why) before
+// any work: the scene given with it is a bad file, and the error is still the --out one. The
+// check leaves nothing behind.
+void expectOutputError(const std::string& arguments, const std::string& why, bool withScene = true) {
+  SCOPED_TRACE("forest " + arguments);
+  const std::string badScene = std::string(FOREST_TEST_DATA) + "/bad/terrain-octaves.toml";
+  const test::CliResult r = test::runForest(arguments + (withScene ? " --scene " + badScene : std::string()));
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_THAT(r.err, ::testing::StartsWith("forest: error: "));
+  EXPECT_THAT(r.err, ::testing::HasSubstr("--out"));
+  EXPECT_THAT(r.err, ::testing::HasSubstr(why));
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+TEST(RunOutput, OutputPathMistakesAreUsageErrorsBeforeAnyWork) {
+  const fs::path base = fs::path(FOREST_TEST_OUTPUT) / "cli" / "out-mistakes";
+  fs::remove_all(base);
+  fs::create_directories(base / "folder.png");
+  const fs::path file = base / "file.txt";
+  std::ofstream(file) << "x";
+  // A folder-writing command given a file, a path under a file, a folder it cannot create.
+  const std::string budget = "budget --budget " + std::string(FOREST_REPO_DATA) + "/budgets/llvmpipe-2core.toml";
+  for (const std::string& command : {std::string("walkthrough"), budget, std::string("stress"), std::string("bench culling"),
+                                    std::string("bench speed-error")}) {
+    expectOutputError(command + " --out " + file.string(), "a file is there, expected a folder");
+    expectOutputError(command + " --out " + (file / "sub").string(), "is a file, not a folder");
+  }
+  expectOutputError("walkthrough --out /sys/forest-test-out", "cannot create the folder");
+  // A file-writing command given a folder, a missing folder (not created for it), an unwritable one.
+  expectOutputError("render --out " + (base / "folder.png").string(), "a folder is there, expected a file");
+  expectOutputError("render --out " + (base / "missing" / "x.png").string(), "does not exist");
+  EXPECT_FALSE(fs::exists(base / "missing"));
+  expectOutputError("render --out /sys/forest-test.png", "cannot create a file in it");
+  expectOutputError("stability --out " + (base / "folder.png").string(), "a folder is there, expected a file", false);
+  // The check creates nothing: a new, writable folder with a bad scene is left absent.
+  const test::CliResult r = test::runForest("walkthrough --out " + (base / "new" / "deeper").string() + " --scene " +
+                                            std::string(FOREST_TEST_DATA) + "/bad/terrain-octaves.toml");
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_THAT(r.err, ::testing::HasSubstr("terrain.octaves"));
+  EXPECT_FALSE(fs::exists(base / "new"));
+}
+
 }  // namespace
 }  // namespace forest

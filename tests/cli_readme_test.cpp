@@ -73,6 +73,7 @@ std::vector<std::string> shortened(std::vector<std::string> arguments, const fs:
   if (command == "walkthrough" || command == "budget")
     values = {{"--frames", "6"}, {"--width", "160"}, {"--height", "120"}, {"--warmup", "2"}, {"--out", out.string()}};
   if (command == "stability") values = {{"--random", "300"}};
+  if (command == "render") values = {{"--width", "160"}, {"--height", "90"}, {"--out", (out / "frame.png").string()}};
   for (size_t i = 1; i + 1 < arguments.size(); ++i)
     if (auto it = values.find(arguments[i]); it != values.end()) {
       arguments[i + 1] = it->second;
@@ -106,6 +107,7 @@ TEST(ForestReadme, EverySampleOutputHasTheShapeOfWhatTheCommandPrintsNow) {
   int index = 0;
   for (const Sample& sample : samples) {
     const fs::path out = fs::path(FOREST_TEST_OUTPUT) / "cli" / ("readme-" + std::to_string(index++));
+    fs::create_directories(out);  // render's --out names a file in it, whose folder must exist
     const std::vector<std::string> arguments = shortened(sample.arguments, out);
     std::string shown;
     for (const std::string& a : arguments) shown += " " + a;
@@ -117,10 +119,14 @@ TEST(ForestReadme, EverySampleOutputHasTheShapeOfWhatTheCommandPrintsNow) {
     for (const std::string& line : lines(r.out)) printed.push_back(shape(line));
     // What `info` prints depends on the machine's GL: only its labels ("backend:") must be there.
     const bool labelsOnly = sample.arguments.front() == "info";
-    // The sample's output folder (the default, out/walkthrough) is the test's folder here.
+    // The sample's output folder (the default, out/walkthrough; render's frame.png in the current
+    // folder) is the test's folder here.
     const std::string testFolder = fs::proximate(out, kRepository).string();
+    const bool render = sample.arguments.front() == "render";
+    const std::string given = render ? "frame." : "out/walkthrough", replacement = render ? testFolder + "/frame." : testFolder;
     for (std::string line : sample.output) {
-      for (size_t at; (at = line.find("out/walkthrough")) != std::string::npos;) line.replace(at, 15, testFolder);
+      for (size_t at = line.find(given); at != std::string::npos; at = line.find(given, at + replacement.size()))
+        line.replace(at, given.size(), replacement);
       const std::string expected = labelsOnly ? line.substr(0, line.find(':') + 1) : shape(line);
       const bool found = std::any_of(printed.begin(), printed.end(),
                                      [&](const std::string& p) { return labelsOnly ? p.rfind(expected, 0) == 0 : p == expected; });

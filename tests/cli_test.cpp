@@ -29,6 +29,7 @@ namespace forest {
 namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 using Result = test::CliResult;
 using test::expectOneLineError;
@@ -131,7 +132,8 @@ TEST(ForestCli, HelpExplainsEveryCommand) {
 TEST(ForestCli, RenderWritesALitImageHeadless) {
   const fs::path image = fs::path(FOREST_TEST_OUTPUT) / "cli" / "boxes.png";
   fs::remove(image);
-  const Result r = runForest("render --out " + image.string() + " --width 320 --height 180");
+  const Result r = runForest("render --scene " + std::string(FOREST_REPO_DATA) + "/scenes/boxes.toml --out " + image.string() +
+                             " --width 320 --height 180");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const Image8 png = readImage8(image);
   ASSERT_EQ(png.width, 320);
@@ -207,7 +209,17 @@ TEST(ForestCli, RenderDrawsTheTerrainScene) {
   // render blurs by default, as the walkthrough does (one default): the terms before and after differ.
   EXPECT_NE(readImage8(debug / "shadow-term.png").pixels, readImage8(debug / "shadow-term-blurred.png").pixels);
   EXPECT_EQ(readImageF(debug / "shadow-map.exr").height, 512);
-  EXPECT_EQ(readImage8(debug / "shadow-term.png").width, 320);
+  // The term pictures and the slices picture carry a caption band with text (dark pixels) under
+  // the 320×180 image.
+  for (const auto& [name, band] : {std::pair{"shadow-term.png", 22}, {"shadow-term-blurred.png", 22}, {"cascades.png", 24}}) {
+    const Image8 picture = readImage8(debug / name);
+    EXPECT_EQ(picture.width, 320) << name;
+    ASSERT_EQ(picture.height, 180 + band) << name;
+    int dark = 0;
+    for (int y = 180; y < picture.height; ++y)
+      for (int x = 0; x < 320; ++x) dark += picture.at(x, y, 0) < 80 ? 1 : 0;
+    EXPECT_GT(dark, 50) << name << ": no caption";
+  }
   EXPECT_EQ(readImageF(debug / "shadow-term-blurred.exr").width, 320);
   EXPECT_EQ(readImage8(debug / "top-down.png").width, 1024);
   const Image8 png = readImage8(image);
@@ -290,6 +302,20 @@ TEST(ForestCli, BudgetsPassFailAndNameTheirBadKeys) {
   const Result generous = runForest("budget --budget " + dir + "generous.toml" + out);
   EXPECT_EQ(generous.exitCode, 0) << generous.err;
   EXPECT_THAT(generous.out, HasSubstr("all 3 limits hold"));
+  // 40 measured frames cannot estimate a p99 (it needs 20 frames beyond it: 2000): undecided, exit 3.
+  const Result tooShort = runForest("budget --budget " + dir + "too-short.toml" + out);
+  EXPECT_EQ(tooShort.exitCode, 3) << tooShort.out << tooShort.err;
+  EXPECT_THAT(tooShort.out, HasSubstr("too short (needs 2000 frames)"));
+  EXPECT_THAT(tooShort.out, HasSubstr("1 of 2 limits undecided"));
+  // Limits in reference frames: timed on this machine, named in the table; the generous one holds,
+  // the impossible one is over.
+  const Result relative = runForest("budget --budget " + dir + "relative.toml" + out);
+  EXPECT_EQ(relative.exitCode, 1) << relative.out << relative.err;
+  EXPECT_THAT(relative.out, HasSubstr("reference frame "));
+  EXPECT_THAT(relative.out, HasSubstr("1 of 2 limits exceeded"));
+  const Result calibrate = runForest("budget --calibrate --budget " + dir + "relative.toml" + out);
+  EXPECT_EQ(calibrate.exitCode, 0) << calibrate.err;
+  EXPECT_THAT(calibrate.out, HasSubstr("reference frame at 160x90: "));
   expectOneLineError(runForest("budget --budget " + dir + "unknown-pass.toml" + out), dir + "unknown-pass.toml:4:9",
                      "unknown key 'passes.shadows'");
   expectOneLineError(runForest("budget --budget " + dir + "negative.toml" + out), dir + "negative.toml:3:7",
@@ -343,6 +369,28 @@ TEST(ForestCli, StressStaysExactWithMovingObjectsAndItsMemoryFlat) {
   EXPECT_THAT(table, HasSubstr("| 2000 | "));
   const Image8 plot = readImage8(folder / "stress.png");
   EXPECT_GT(plot.width, 500);
+}
+
+// A run too short for what stress reports says so and leaves those numbers out: 20 frames (the
+// default warm-up then at most half: 10) measure 10, fewer than the 100 a memory slope needs, and
+// the exactness check every 50th frame checks none.
+TEST(ForestCli, StressSaysWhenARunIsTooShortForItsSlopesAndChecks) {
+  const fs::path folder = fs::path(FOREST_TEST_OUTPUT) / "cli" / "stress-short";
+  fs::remove_all(folder);
+  const Result r = runForest("stress --scene " + std::string(FOREST_REPO_DATA) + "/scenes/park.toml --trees 200 --frames 20 "
+                             "--check-every 50 --width 64 --height 36 --quiet --out " + folder.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_THAT(r.err, HasSubstr("stress: warning: 20 frames per run (10 warm-up): 10 measured frames are too few for the memory "
+                               "slopes (they need 100; left out), no frame is checked for exactness"));
+  const nlohmann::json j = nlohmann::json::parse(readTextFile(folder / "stress.json"));
+  EXPECT_EQ(j["warmup"].get<int>(), 10);
+  const nlohmann::json& run = j["runs"][0];
+  EXPECT_TRUE(run["rss_mib"]["slope_percent_per_100_frames"].is_null());
+  EXPECT_TRUE(run["heap_in_use_mib"]["slope_percent_per_100_frames"].is_null());
+  EXPECT_EQ(run["exactness"]["checked_frames"].get<int>(), 0);
+  EXPECT_THAT(r.out, HasSubstr("not checked"));
+  EXPECT_THAT(r.out, Not(HasSubstr("exact, ")));  // the checked cell reads "exact, N fr"
+  EXPECT_THAT(readTextFile(folder / "stress.md"), HasSubstr("Too short: "));
 }
 
 // The summary printed on the screen against report.json's frame records (the frames after the

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_test_support.hpp"
+#include "forest/core/camera_path.hpp"
 #include "forest/core/files.hpp"
 #include "forest/core/image.hpp"
 #include "test_paths.hpp"
@@ -78,6 +79,12 @@ key = "h"
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const nlohmann::json frames = windowReport(out);
   ASSERT_EQ(frames.size(), 31u);  // frames 0 … 30; the last event is at frame 30
+  // Without --path the window starts where the headless walkthrough does, at the main walk's start
+  // (frame 0 has not moved yet: no time has passed).
+  const CameraPath walk = CameraPath::load(std::string(FOREST_REPO_DATA) + "/paths/walk.toml");
+  const CameraPose start = walk.at(walk.startTime());
+  EXPECT_NEAR(frames[0]["eye"][0].get<double>(), start.position.x, 1e-9);
+  EXPECT_NEAR(frames[0]["eye"][2].get<double>(), start.position.z, 1e-9);
   auto at = [&](int k) { return frames[static_cast<size_t>(k)]; };
   auto setting = [&](int k, const char* name) { return at(k)["settings"][name]; };
 

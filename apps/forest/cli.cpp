@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstddef>
 #include <cstdio>
 #include <fstream>
@@ -16,8 +17,10 @@
 
 #include "build_info.hpp"
 #include "commands.hpp"
+#include "help_format.hpp"
 #include "forest/core/error.hpp"
 #include "forest/core/resources.hpp"
+#include "forest/core/suggest.hpp"
 
 #if defined(__SANITIZE_ADDRESS__)
 // The sanitizer runtime's count of bytes allocated and not freed (compiler-rt's
@@ -30,17 +33,21 @@ extern "C" std::size_t __sanitizer_get_current_allocated_bytes();
 
 namespace forest::app {
 
-double percentile(std::vector<double> values, double p) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const double position = p * static_cast<double>(values.size() - 1);
-  const size_t below = static_cast<size_t>(position);
-  const size_t above = std::min(below + 1, values.size() - 1);
-  return values[below] + (values[above] - values[below]) * (position - static_cast<double>(below));
-}
-
 std::string sceneFileOr(const std::string& given) {
   return given.empty() ? (resourceDirectory("data") / "scenes" / "forest.toml").string() : given;
+}
+
+std::string shownPath(const std::filesystem::path& path) {
+  std::error_code ec;
+  const std::filesystem::path absolute = std::filesystem::absolute(path, ec), here = std::filesystem::current_path(ec);
+  if (ec) return path.string();
+  const std::filesystem::path relative = absolute.lexically_normal().lexically_relative(here);
+  const bool inside = !relative.empty() && *relative.begin() != "..";
+  return inside ? relative.string() : absolute.lexically_normal().string();
+}
+
+std::string walkPathOr(const std::string& given) {
+  return given.empty() ? (resourceDirectory("data") / "paths" / "walk.toml").string() : given;
 }
 
 double residentMegabytes() {
@@ -92,6 +99,36 @@ std::string commandPath(const CLI::App* command) {
   return path;
 }
 
+// Arguments left over: an unknown option (with the nearest known one, if it looks like a typo of
+// it), or values no option takes — named in the order given (CLI11 lists them reversed).
+std::string unexpectedArguments(const CLI::App& command) {
+  const std::vector<std::string> given = command.remaining();
+  const auto isFlag = [](const std::string& a) { return a.size() > 1 && a[0] == '-' && !std::isdigit(static_cast<unsigned char>(a[1])) && a[1] != '.'; };
+  const auto unknown = std::find_if(given.begin(), given.end(), isFlag);
+  if (unknown == given.end()) return fmt::format("unexpected argument{} '{}'", given.size() > 1 ? "s" : "", fmt::join(given, " "));
+  const std::string name = unknown->substr(0, unknown->find('='));
+  std::vector<std::string> known;
+  for (const CLI::Option* option : command.get_options())
+    for (const std::string& l : option->get_lnames()) known.push_back("--" + l);
+  const std::string nearest = nearestName(name, known);
+  return fmt::format("unknown option '{}'{}", name, nearest.empty() ? "" : fmt::format(" (did you mean '{}'?)", nearest));
+}
+
+// CLI11's "--camera: At Most 5 required but received 6" as "--camera: expected 5 values, got 6".
+std::string valueCountMismatch(const CLI::App& command, const std::string& message) {
+  const std::string name = message.substr(0, message.find(':'));
+  const std::string received = message.substr(message.find_last_of(' ') + 1);
+  const CLI::Option* option = nullptr;
+  try {
+    option = command.get_option(name);
+  } catch (const CLI::OptionNotFound&) {
+    return message;
+  }
+  const int low = option->get_expected_min(), high = option->get_expected_max();
+  const std::string expected = low == high ? fmt::format("{}", low) : fmt::format("{} to {}", low, high);
+  return fmt::format("{}: expected {} value{}, got {}", name, expected, high == 1 ? "" : "s", received);
+}
+
 // A usage error as one line: "forest: error: render: --shadow-size: …; see 'forest render --help'".
 std::string usageError(CLI::App& app, const CLI::ParseError& e) {
   CLI::App* command = namedCommand(app);
@@ -106,8 +143,9 @@ std::string usageError(CLI::App& app, const CLI::ParseError& e) {
     what = (given.empty() ? std::string("a command is required") : fmt::format("unknown command '{}'", given.front())) +
            fmt::format(" (one of: {})", fmt::join(names, ", "));
   } else if (dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr && !command->remaining().empty()) {
-    // CLI11 lists the arguments in reverse; name them in the order given.
-    what = fmt::format("unexpected argument{} '{}'", command->remaining().size() > 1 ? "s" : "", fmt::join(command->remaining(), " "));
+    what = unexpectedArguments(*command);
+  } else if (dynamic_cast<const CLI::ArgumentMismatch*>(&e) != nullptr) {
+    what = valueCountMismatch(*command, what);
   }
   std::replace(what.begin(), what.end(), '\n', ' ');
   const std::string prefix = command == &app ? std::string() : path.substr(path.find(' ') + 1) + ": ";
@@ -129,11 +167,12 @@ std::string versionText() {
 
 ForestCli::ForestCli()
     : app_("forest — large outdoor scenes: procedural terrain and trees, exact occlusion culling (CHC),\n"
-           "light space perspective shadow maps. Run 'forest <command> --help' for each command.\n"
-           "Output files (report.json, frame.json, truth.json, ...): docs/report-format.md.\n"
+           "light space perspective shadow maps. Run 'forest <command> --help' for each command.\n\n"
+           "Output files (report.json, frame.json, truth.json, ...): docs/report-format.md.\n\n"
            "Exit codes: 0 done, 1 a failure of the program or the machine (or a check that failed),\n"
            "2 bad input (a usage error, a bad file, key or value; one line 'forest: error: ...'), 130 interrupted.",
            "forest") {
+  app_.formatter(std::make_shared<HelpFormatter>());  // before the subcommands: they take their parent's
   app_.require_subcommand(1);
   app_.set_version_flag("--version", versionText(), "Print the version, the commit and the GL backends built in");
   for (Run (*factory)(CLI::App&) : {addInfoCommand, addRenderCommand, addTruthCommand, addCheckCommand, addStabilityCommand,

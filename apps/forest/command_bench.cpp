@@ -527,7 +527,7 @@ int runBenchCulling(const BenchOptions& options) {
   writeFileAtomic(outFolder / "bench-culling.json", out.json.dump(2) + "\n");
   writeFileAtomic(outFolder / "bench-culling.md", out.markdown);
   writeImage(outFolder / "bench-culling.png", plotPanels(out.panels, static_cast<int>(std::min<size_t>(3, plan.pathNames.size()))));
-  std::cout << fmt::format("wrote {0}/bench-culling.json, {0}/bench-culling.md, {0}/bench-culling.png\n", outFolder.string());
+  std::cout << fmt::format("wrote {0}/bench-culling.json, {0}/bench-culling.md, {0}/bench-culling.png\n", shownPath(outFolder));
   return 0;
 }
 
@@ -579,7 +579,7 @@ Run addBenchCommand(CLI::App& app) {
   options->modes.add(*cullingBench);
   cullingBench->add_option("--leaf-size", options->leafSize, "Objects per BVH leaf (1 to 64; default: the scene's [culling] leaf_size)")
       ->check(CLI::Range(1, 64));
-  cullingBench->add_option("--out", options->out, "Output folder")->capture_default_str();
+  cullingBench->add_option("--out", options->out, "Output folder (created when missing)")->check(outputFolder())->capture_default_str();
   const Run speedError = addSpeedErrorCommand(*bench);
   return [options, cullingBench, speedError] { return cullingBench->parsed() ? runBenchCulling(*options) : speedError(); };
 }

@@ -53,15 +53,21 @@ ImageF channelImage(const std::vector<float>& values, int width, int height) {
   return image;
 }
 
-// [0, 1] → byte; values outside are clamped, NaN becomes 0 (never an out-of-range conversion).
-unsigned char toByte(double v) {
-  if (!(v > 0.0)) return 0;
-  return static_cast<unsigned char>(std::min(v, 1.0) * 255.0 + 0.5);
+// What the blur did, for the blurred term's picture: with the radius r px up to the reference depth
+// d and r·d/z beyond, it stops moving a pixel where r·d/z < ½ (thesis §6.3).
+std::string blurCaption(const std::vector<float>& term, const std::vector<float>& blurred, const render::FrameSettings& settings) {
+  if (settings.blurRadius <= 0.0) return "after the blur: the blur is off (--blur 0), the same as shadow-term.png";
+  std::size_t changed = 0;
+  for (std::size_t i = 0; i < term.size(); ++i) changed += std::abs(blurred[i] - term[i]) > 1.0f / 255.0f ? 1 : 0;
+  return fmt::format("after the blur: {:g} px up to {:g} m, r*{:g}/z beyond (none past {:.0f} m); {:.1f}% of the pixels changed",
+                     settings.blurRadius, settings.blurReferenceDepth, settings.blurReferenceDepth,
+                     2.0 * settings.blurRadius * settings.blurReferenceDepth, 100.0 * double(changed) / std::max<double>(1.0, double(term.size())));
 }
 
-// Shadow map (EXR and a picture with its scale) and the shadow term before and after the blur.
+// Shadow map (EXR and a picture with its scale), the slices picture, and the shadow term before
+// and after the blur (EXR, and pictures captioned with what the blur changed).
 void writeDebugImages(const render::Frame& frame, const Camera& camera, const glm::dvec3& sunDirection,
-                      const std::filesystem::path& folder) {
+                      const render::FrameStats& stats, const render::FrameSettings& settings, const std::filesystem::path& folder) {
   const int size = frame.shadowMapSize();
   for (int slice = 0; slice < frame.cascadeCount(); ++slice) {  // cascades: shadow-map-<slice>.*
     const std::string name = frame.cascadeCount() == 1 ? "shadow-map" : fmt::format("shadow-map-{}", slice);
@@ -69,18 +75,14 @@ void writeDebugImages(const render::Frame& frame, const Camera& camera, const gl
     writeImage(folder / (name + ".exr"), channelImage(map, size, size));
     writeImage(folder / (name + ".png"), render::shadowMapPicture(map, size));
   }
-  writeImage(folder / "cascades.png", render::cascadesPicture(frame, camera));
-  const ImageF term = channelImage(frame.readShadowTerm(), frame.width(), frame.height());
-  const ImageF blurred = channelImage(frame.readBlurredShadowTerm(), frame.width(), frame.height());
-  writeImage(folder / "shadow-term.exr", term);
-  writeImage(folder / "shadow-term-blurred.exr", blurred);
-  auto toPng = [](const ImageF& f) {
-    Image8 out(f.width, f.height, 1);
-    for (size_t i = 0; i < f.pixels.size(); ++i) out.pixels[i] = toByte(f.pixels[i]);
-    return out;
-  };
-  writeImage(folder / "shadow-term.png", toPng(term));
-  writeImage(folder / "shadow-term-blurred.png", toPng(blurred));
+  writeImage(folder / "cascades.png", render::cascadesPicture(frame, camera, stats));
+  const std::vector<float> term = frame.readShadowTerm(), blurred = frame.readBlurredShadowTerm();
+  writeImage(folder / "shadow-term.exr", channelImage(term, frame.width(), frame.height()));
+  writeImage(folder / "shadow-term-blurred.exr", channelImage(blurred, frame.width(), frame.height()));
+  writeImage(folder / "shadow-term.png",
+             render::captionedTerm(term, frame.width(), frame.height(), "shadow term before the blur (PCF): white lit, black shadow"));
+  writeImage(folder / "shadow-term-blurred.png",
+             render::captionedTerm(blurred, frame.width(), frame.height(), blurCaption(term, blurred, settings)));
   writeImage(folder / "top-down.png", render::topDownDiagram(frame, sunDirection));
 }
 
@@ -164,12 +166,11 @@ void writeTruth(const render::Frame& frame, const render::FrameStats& stats, con
            : std::string("not measured (--soft-rays 0)"),
       e.aliasingPixels.max,
       e.aliasingPixels.p95, e.aliasingPixels.mean, e.casters.selected, e.casters.selectedTriangles, e.casters.needed,
-      e.casters.neededTriangles, e.casters.missing, (folder / "truth.json").string(), (folder / "error.png").string());
+      e.casters.neededTriangles, e.casters.missing, shownPath(folder / "truth.json"), shownPath(folder / "error.png"));
 }
 
 int runRender(const RenderOptions& options) {
-  const std::string scenePath =
-      options.scene.empty() ? (resourceDirectory("data") / "scenes" / "boxes.toml").string() : options.scene;
+  const std::string scenePath = sceneFileOr(options.scene);  // the forest, as every command
   Scene scene = loadScene(scenePath);
   if (options.size.width > 0) scene.render.width = options.size.width;
   if (options.size.height > 0) scene.render.height = options.size.height;
@@ -208,7 +209,7 @@ int runRender(const RenderOptions& options) {
                             gl::debugErrorMessages().front()));
   }
   writeImage(options.out, image);
-  if (!options.debug.empty()) writeDebugImages(frame, camera, scene.sun.direction, options.debug);
+  if (!options.debug.empty()) writeDebugImages(frame, camera, scene.sun.direction, stats, settings, options.debug);
   if (!options.truthFolder.empty()) writeTruth(frame, stats, scene, camera, options);
 
   nlohmann::ordered_json j;
@@ -251,7 +252,7 @@ int runRender(const RenderOptions& options) {
   std::cout << fmt::format(
       "wrote {} and {} ({}x{}): {} visible objects, {} triangles; shadow {} {}{}² with {} casters, {} triangles; "
       "z_f {:.1f} m, n {:.2f}, γ {:.1f}°{}\n",
-      options.out, jsonPath, image.width, image.height, stats.visibleObjects, stats.geometryTriangles, options.frame.method,
+      shownPath(options.out), shownPath(jsonPath), image.width, image.height, stats.visibleObjects, stats.geometryTriangles, options.frame.method,
       cascades.cascades > 1 ? fmt::format("{}×", cascades.cascades) : "", options.frame.shadowSize, stats.casterObjects, stats.shadowTriangles, stats.farDepth, stats.shadow.n, stats.shadow.gammaDeg,
       stats.sunBelowHorizon ? " (sun below the horizon: ambient only)" : "");
   return 0;
@@ -260,7 +261,7 @@ int runRender(const RenderOptions& options) {
 // The scene, camera and frame flags render and truth share.
 void addFrameInputs(CLI::App* command, RenderOptions* options) {
   options->gl.add(*command);
-  command->add_option("--scene", options->scene, "Scene file (TOML; default: data/scenes/boxes.toml)");
+  command->add_option("--scene", options->scene, "Scene file (TOML; default: data/scenes/forest.toml)");
   options->size.add(*command, " (default: the scene's render.width / height)");
   command->add_option("--time", options->time, "Seconds since the start (wind sway; 0 to 10^6)")
       ->check(CLI::Range(0.0, 1e6))
@@ -288,20 +289,22 @@ Run addRenderCommand(CLI::App& app) {
       "Render one frame of a scene (culling, shadows, lighting) to an image and a JSON record (headless;\n"
       "fields: docs/report-format.md)");
   addFrameInputs(command, options.get());
-  command->add_option("--out", options->out, "Output image (.png or .exr)")
+  command->add_option("--out", options->out, "Output image file (.png or .exr; its folder must exist)")
       ->required()
       ->check(CLI::Validator(
           [](std::string& file) -> std::string {
             const std::string extension = std::filesystem::path(file).extension().string();
             return extension == ".png" || extension == ".exr" ? std::string() : "expected a file name ending in .png or .exr, not " + file;
           },
-          "", "image file"));
-  command->add_option("--json", options->json, "JSON record of the frame (default: the image path with .json)");
+          "", "image file"))
+      ->check(outputFile());
+  command->add_option("--json", options->json, "JSON record of the frame (default: the image path with .json)")->check(outputFile());
   command->add_option("--debug", options->debug,
                       "Folder for debug images: shadow map (EXR, and a PNG with its depth scale; with cascades one per\n"
                       "slice, shadow-map-<i>.*), shadow term before and after the blur, top-down.png (legend, view frustum,\n"
                       "focus body B, light frustum — per slice with cascades —, receivers, casters), cascades.png (the image\n"
-                      "tinted by the slice each pixel reads)");
+                      "tinted by the slice each pixel reads)")
+      ->check(outputFolder());
   return [options] { return runRender(*options); };
 }
 
@@ -316,8 +319,9 @@ Run addTruthCommand(CLI::App& app) {
       "(fields: docs/report-format.md)");
   addFrameInputs(command, options.get());
   command->add_option("--out", *folder, "Folder for frame.png, frame.json, truth.json and error.png (false shadow\n"
-                                        "red, false light blue, agreement grey)")
-      ->required();
+                                        "red, false light blue, agreement grey; created when missing)")
+      ->required()
+      ->check(outputFolder());
   addSoftRaysOption(*command, options->softRays);
   return [options, folder] {
     RenderOptions o = *options;

@@ -231,7 +231,7 @@ int runSpeedError(const SpeedErrorOptions& options) {
   const std::string table = writeSpeedErrorReport(out, options, scenePath, gl::describe(context->info()), modes,
                                                   width, height, scenarios, layouts, rows, flicker);
   for (const auto& [series, w] : worst) writeImage(out / fmt::format("worst-{}.png", series), w.second);
-  std::cout << table << fmt::format("\nwrote {}/report.json, results.csv, table.md, 5 plots, {} worst-case error images\n", out.string(),
+  std::cout << table << fmt::format("\nwrote {}/report.json, results.csv, table.md, 5 plots, {} worst-case error images\n", shownPath(out),
                                     worst.size());
   return 0;
 }
@@ -249,7 +249,7 @@ Run addSpeedErrorCommand(CLI::App& bench) {
       "the error image of each method's worst case.");
   options->gl.add(*command);
   command->add_option("--scene", options->scene, "Scene file (default: data/scenes/forest.toml)");
-  command->add_option("--out", options->out, "Output folder")->capture_default_str();
+  command->add_option("--out", options->out, "Output folder (created when missing)")->check(outputFolder())->capture_default_str();
   command->add_flag("--quick", options->quick, "All methods at 1024² on two scenarios at 640x360 (CI; under 3 minutes)");
   options->size.add(*command);
   command->add_option("--sizes", options->sizes, "Shadow map sizes, texels per side (comma-separated, 512 to 8192)")

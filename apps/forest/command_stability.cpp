@@ -309,7 +309,9 @@ Run addStabilityCommand(CLI::App& app) {
       ->capture_default_str();
   command->add_option("--out", options->out,
                       "Write one JSON record per case and method (JSON Lines): diagnostics, invariants, the\n"
-                      "float32 world → shadow-clip matrix (16 numbers, column-major) and the case itself");
+                      "float32 world → shadow-clip matrix (16 numbers, column-major) and the case itself; a file,\n"
+                      "its folder must exist)")
+      ->check(outputFile());
   command->add_option("--cascades", options->cascades,
                       "Z-partitioning: split each case's view [near, far] into K slices (Zhang et al. 2006 eq. 4)\n"
                       "and check every invariant on every slice's setup (1 to 4; 1: the whole view)")

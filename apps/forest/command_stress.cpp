@@ -64,6 +64,13 @@ struct StressOptions {
 };
 
 constexpr int kProps = 20;
+// A memory slope is given in % per 100 frames: from fewer measured frames it would extrapolate
+// beyond the run, and one allocation early in the run would read as a trend. Shorter runs leave
+// the slopes out (null) and say so.
+constexpr int kMinSlopeFrames = 100;
+// Exactness sampled on fewer frames than this is reported with a warning (one checked frame is
+// one view, not a walk).
+constexpr int kMinCheckedFrames = 3;
 
 
 // Least-squares slope of y over x.
@@ -82,13 +89,15 @@ double slope(const std::vector<double>& y) {
 }
 
 // A memory series (MiB per measured frame): first, last, least-squares slope in % of its mean per
-// 100 frames, every 10th value.
+// 100 frames (null from fewer than kMinSlopeFrames frames), every 10th value.
 ordered_json memoryTrend(const std::vector<double>& mib) {
   const double mean = mib.empty() ? 0.0 : std::accumulate(mib.begin(), mib.end(), 0.0) / static_cast<double>(mib.size());
   std::vector<double> every10th;
   for (size_t k = 0; k < mib.size(); k += 10) every10th.push_back(mib[k]);
+  ordered_json slopePercent = nullptr;
+  if (static_cast<int>(mib.size()) >= kMinSlopeFrames) slopePercent = mean > 0.0 ? 100.0 * 100.0 * slope(mib) / mean : 0.0;
   return {{"first", mib.empty() ? 0.0 : mib.front()}, {"last", mib.empty() ? 0.0 : mib.back()},
-          {"slope_percent_per_100_frames", mean > 0.0 ? 100.0 * 100.0 * slope(mib) / mean : 0.0}, {"every_10th_frame", every10th}};
+          {"slope_percent_per_100_frames", slopePercent}, {"every_10th_frame", every10th}};
 }
 
 // The sun over the run: rising at 5°, 85° at the middle, setting again, turning a full circle.
@@ -220,6 +229,12 @@ std::string stressTable(const ordered_json& runs, bool markdown) {
   const auto number = [](const char* format, auto get) {
     return [format, get](const ordered_json& r) { return fmt::format(fmt::runtime(format), get(r)); };
   };
+  const auto slopeCell = [](const char* series) {  // "-" where the run was too short for a slope
+    return [series](const ordered_json& r) {
+      const ordered_json& v = r[series]["slope_percent_per_100_frames"];
+      return v.is_null() ? std::string("-") : fmt::format("{:+.2f}", v.get<double>());
+    };
+  };
   const std::vector<Column> columns{
       {"trees", 7, number("{}", [](const ordered_json& r) { return r["trees"].get<int>(); })},
       {"lod0", 6, number("{}", [](const ordered_json& r) { return r["lod0_triangles"].get<int>(); })},
@@ -230,13 +245,14 @@ std::string stressTable(const ordered_json& runs, bool markdown) {
       {"eye tris", 11, number("{:.0f}", [](const ordered_json& r) { return r["triangles_geometry_p50"].get<double>(); })},
       {"shadow tris", 11, number("{:.0f}", [](const ordered_json& r) { return r["triangles_shadow_p50"].get<double>(); })},
       {"queries", 8, number("{:.0f}", [](const ordered_json& r) { return r["queries_p50"].get<double>(); })},
-      {"exactness", 10, [](const ordered_json& r) {
+      {"exactness", 16, [](const ordered_json& r) {
          const long long px = r["exactness"]["mismatched_pixels"].get<long long>();
-         return px == 0 ? std::string("exact") : fmt::format("{} px", px);
+         const int checked = r["exactness"]["checked_frames"].get<int>();
+         if (checked == 0) return std::string("not checked");
+         return px == 0 ? fmt::format("exact, {} fr", checked) : fmt::format("{} px, {} fr", px, checked);
        }},
-      {"RSS %/100f", 11, number("{:+.2f}", [](const ordered_json& r) { return r["rss_mib"]["slope_percent_per_100_frames"].get<double>(); })},
-      {"heap %/100f", 11,
-       number("{:+.2f}", [](const ordered_json& r) { return r["heap_in_use_mib"]["slope_percent_per_100_frames"].get<double>(); })}};
+      {"RSS %/100f", 11, slopeCell("rss_mib")},
+      {"heap %/100f", 11, slopeCell("heap_in_use_mib")}};
   std::string table = markdown ? "|" : " ";
   for (const Column& c : columns) table += markdown ? fmt::format(" {} |", c.heading) : fmt::format(" {:>{}}", c.heading, c.width);
   table += "\n";
@@ -253,14 +269,33 @@ std::string stressTable(const ordered_json& runs, bool markdown) {
   return table;
 }
 
-int runStress(const StressOptions& options) {
+// What a run of `frames` frames (`warmup` of them warm-up) is too short for: empty when nothing.
+std::string shortRunWarning(int frames, int warmup, int checkEvery) {
+  const int measured = frames - warmup;
+  const int checked = checkEvery > 0 ? frames / checkEvery : 0;
+  std::vector<std::string> missing;
+  if (measured < kMinSlopeFrames)
+    missing.push_back(fmt::format("{} measured frames are too few for the memory slopes (they need {}; left out)", measured, kMinSlopeFrames));
+  if (checkEvery > 0 && checked < kMinCheckedFrames)
+    missing.push_back(checked == 0 ? fmt::format("no frame is checked for exactness (every {}th is)", checkEvery)
+                                   : fmt::format("exactness is checked on {} frame{} only", checked, checked == 1 ? "" : "s"));
+  if (missing.empty()) return {};
+  const int enough = std::max(warmup + kMinSlopeFrames, checkEvery * kMinCheckedFrames);
+  return fmt::format("{} frames per run ({} warm-up): {}; --frames {} or more measures both", frames, warmup, fmt::join(missing, ", "), enough);
+}
+
+int runStress(const StressOptions& given) {
+  StressOptions options = given;
+  options.length.warmup = given.length.warmupFor(given.length.frames);  // the default: at most half of a shorter run
   const std::string scenePath = sceneFileOr(options.scene);
-  const Scene base = loadScene(scenePath);
   for (int n : options.trees)
     if (n < 1 || n > 1000000) throw InputError(fmt::format("--trees {}: expected 1 to 1000000", n));
   for (int l : options.lod0)
     if (l < 1000 || l > 20000) throw InputError(fmt::format("--lod0 {}: expected 1000 to 20000 triangles", l));
   if (options.length.frames <= options.length.warmup) throw InputError(fmt::format("--frames {}: expected more than --warmup {}", options.length.frames, options.length.warmup));
+  const std::string shortRun = shortRunWarning(options.length.frames, options.length.warmup, options.checkEvery);
+  if (!shortRun.empty()) std::cerr << "stress: warning: " << shortRun << "\n";
+  const Scene base = loadScene(scenePath);
   const std::filesystem::path out = options.out;
   std::filesystem::create_directories(out);
   // RSS shows live memory, not glibc's trimming: main() keeps freed heap in the process
@@ -313,8 +348,9 @@ int runStress(const StressOptions& options) {
                                                  "{:.0f}% of the trees and {} props moved per frame, a day cycle.\n\n{}",
                                                  benchmarkStamp(gl::describe(context->info())), scenePath, options.size.width,
                                                  options.size.height, options.length.frames, options.length.warmup, 100 * options.moving, kProps,
-                                                 stressTable(runs, true)));
-  std::cout << fmt::format("  wrote {}, {} and {}\n", (out / "stress.json").string(), (out / "stress.md").string(), (out / "stress.png").string());
+                                                 stressTable(runs, true)) +
+                                         (shortRun.empty() ? std::string() : "\nToo short: " + shortRun + ".\n"));
+  std::cout << fmt::format("  wrote {0}/stress.json, {0}/stress.md and {0}/stress.png\n", shownPath(out));
   if (mismatched > 0) std::cerr << fmt::format("stress: culling was not exact: {} pixels differ from frustum culling\n", mismatched);
   return mismatched == 0 ? 0 : 1;
 }
@@ -331,7 +367,7 @@ Run addStressCommand(CLI::App& app) {
       "(depth and object IDs) against frustum culling's. Writes stress.json (fields: docs/report-format.md) stress.md and stress.png; exit 1 if not exact.");
   options->gl.add(*command);
   command->add_option("--scene", options->scene, "Base scene (default: data/scenes/forest.toml)");
-  command->add_option("--out", options->out, "Output folder")->capture_default_str();
+  command->add_option("--out", options->out, "Output folder (created when missing)")->check(outputFolder())->capture_default_str();
   command->add_option("--trees", options->trees, "Tree counts (comma-separated, 1 to 10^6)")
       ->delimiter(',')
       ->check(CLI::Range(1, 1000000))

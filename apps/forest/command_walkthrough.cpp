@@ -142,8 +142,7 @@ void printSummary(const nlohmann::ordered_json& summary) {
 int runWalkthrough(const WalkthroughOptions& options) {
   // Everything that can be wrong with the input is checked before any output exists.
   const std::string scenePath = sceneFileOr(options.scene);
-  const std::string pathPath =
-      options.path.empty() ? (resourceDirectory("data") / "paths" / "walk.toml").string() : options.path;
+  const std::string pathPath = walkPathOr(options.path);
   Scene scene = loadScene(scenePath);
   const CameraPath path = CameraPath::load(pathPath);
   if (path.aboveGround() && !scene.terrain) throw InputError(pathPath + ": heights = \"above_ground\" needs a scene with [terrain]");
@@ -251,16 +250,17 @@ int runWalkthrough(const WalkthroughOptions& options) {
   const bool videoDone = video && video->finish();
   const std::string noVideo = !video ? "" : fmt::format(" (no MP4: {})", video->why());
 
-  // Paths as the user would type them from here (the report keeps them absolute).
+  // Paths as every command shows them (shownPath; the report keeps them absolute).
   const int slices = render::resolveCascades(options.frame.settings(), scene).cascades;
   std::cout << fmt::format("walkthrough: {} of {} frames of {} along {} at {}x{} ({}, {}{}², {})\n", done, total,
-                           fs::proximate(scenePath).string(), fs::proximate(pathPath).string(), width, height, options.frame.method,
+                           shownPath(scenePath), shownPath(pathPath), width, height, options.frame.method,
                            slices > 1 ? fmt::format("{}×", slices) : "", options.frame.shadowSize, options.frame.culling);
   if (warmup > 0) std::cout << fmt::format("  (the first {} frames are warm-up, not in the summary)\n", warmup);
   printSummary(summary);
-  const std::string shownOut = fs::proximate(out).string();
-  std::cout << fmt::format("  wrote {}/report.json, {}/contact-sheet.png, frames every {} in {}/frames{}\n", shownOut, shownOut,
-                           options.every, shownOut, videoDone ? fmt::format(", walkthrough.mp4 of all {} frames", done) : noVideo);
+  const std::string shownOut = shownPath(out);
+  const std::string frames = options.every == kFirstFrameOnly ? std::string("the first frame") : fmt::format("frames every {}", options.every);
+  std::cout << fmt::format("  wrote {}/report.json, {}/contact-sheet.png, {} in {}/frames{}\n", shownOut, shownOut,
+                           frames, shownOut, videoDone ? fmt::format(", walkthrough.mp4 of all {} frames", done) : noVideo);
   if (gInterrupted) {
     std::cout << "  interrupted: the report holds the frames done\n";
     return 130;
@@ -271,8 +271,9 @@ int runWalkthrough(const WalkthroughOptions& options) {
 void WalkthroughOptions::add(CLI::App& command, bool withFramesOut) {
   gl.add(command);
   command.add_option("--scene", scene, "Scene file (default: data/scenes/forest.toml, 5000 trees)");
-  command.add_option("--path", path, "Camera path (default: data/paths/walk.toml)");
-  command.add_option("--out", out, "Output folder (what an earlier run of this command wrote there is removed first)")
+  command.add_option("--path", path, "Camera path (default: data/paths/walk.toml; --window starts at its start)");
+  command.add_option("--out", out, "Output folder, created when missing (what an earlier run of this command wrote there is\nremoved first)")
+      ->check(outputFolder())
       ->capture_default_str();
   if (withFramesOut) {
     size.add(command);

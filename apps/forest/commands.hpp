@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "forest/core/statistics.hpp"  // percentile
 #include "forest/render/frame.hpp"
 #include "forest/truth/frame_truth.hpp"
 
@@ -21,6 +22,12 @@ using Run = std::function<int()>;
 
 // Every numeric flag of every command (recursively) must be finite: "nan", "inf" are usage errors.
 void requireFiniteNumbers(CLI::App& app);
+
+// Checks for an --out: a folder the command writes its files into, or one file. Run when the
+// option is parsed, so a path that cannot be written is a usage error (one line, exit 2) before
+// any scene is loaded (whyFolderIsNotWritable, whyFileIsNotWritable: nothing is left behind).
+CLI::Validator outputFolder();
+CLI::Validator outputFile();
 
 // --gl: the GL backend.
 struct GlOptions {
@@ -166,6 +173,14 @@ Scene scaledScene(const Scene& base, int trees, int lod0);
 
 // The scene file given, or the default forest (data/scenes/forest.toml, 5000 trees) when empty.
 std::string sceneFileOr(const std::string& given);
+// WalkthroughOptions::every of a run that writes its first frame only (budget; --every's maximum).
+inline constexpr int kFirstFrameOnly = 1000000;
+
+// A path as the console shows it, one way for every command: relative to the current folder when
+// inside it (data/scenes/forest.toml), else absolute (/tmp/run, not ../../tmp/run).
+std::string shownPath(const std::filesystem::path& path);
+// The camera-path file given, or the main walk (data/paths/walk.toml) when empty.
+std::string walkPathOr(const std::string& given);
 
 // Resident memory of this process, MiB (/proc/self/statm).
 double residentMegabytes();
@@ -178,8 +193,6 @@ double heapInUseMegabytes();
 // tenth and at the end. Nothing when quiet.
 void showProgress(std::string_view what, std::string_view unit, int done, int total, double elapsedSeconds, bool quiet);
 
-// Linear-interpolated percentile p ∈ [0, 1] of the values (0 for none).
-double percentile(std::vector<double> values, double p);
 
 Run addInfoCommand(CLI::App& app);
 Run addRenderCommand(CLI::App& app);

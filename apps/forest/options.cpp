@@ -8,6 +8,7 @@
 #include <cstdlib>
 
 #include "commands.hpp"
+#include "forest/core/files.hpp"
 
 namespace forest::app {
 
@@ -29,6 +30,14 @@ CLI::Validator finiteNumber() {
 }
 
 }  // namespace
+
+CLI::Validator outputFolder() {
+  return CLI::Validator([](std::string& folder) { return whyFolderIsNotWritable(folder); }, "", "output folder");
+}
+
+CLI::Validator outputFile() {
+  return CLI::Validator([](std::string& file) { return whyFileIsNotWritable(file); }, "", "output file");
+}
 
 void requireFiniteNumbers(CLI::App& app) {
   for (CLI::Option* option : app.get_options()) {

@@ -286,8 +286,10 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
   // Warm-up frames: --warmup when given; else the default, capped at half of a --frames run.
   const int warmup = options.length.warmupFor(options.length.frames > 0 ? options.length.frames : 1 << 30);
   Scene scene = loadScene(scenePath);
+  // The walk's start, as the headless walkthrough's (the default walk's only where the scene has the
+  // terrain it follows; else the scene's camera).
   std::optional<CameraPath> start;
-  if (!options.path.empty()) start = CameraPath::load(options.path);
+  if (!options.path.empty() || scene.terrain) start = CameraPath::load(walkPathOr(options.path));
   if (start && start->aboveGround() && !scene.terrain)
     throw InputError(options.path + ": heights = \"above_ground\" needs a scene with [terrain]");
   std::optional<InputScript> script;
@@ -418,7 +420,7 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
 
   std::cout << fmt::format("window: {} frames of {} ({})\n", done, scenePath, script ? "scripted by " + window.script : "interactive");
   printSummary(summary);
-  std::cout << fmt::format("  wrote {}/report.json, {}/window.png{}\n", out.string(), out.string(),
+  std::cout << fmt::format("  wrote {}/report.json, {}/window.png{}\n", shownPath(out), shownPath(out),
                            window.record.empty() ? "" : ", the camera path " + window.record);
   return 0;
 }

@@ -1,5 +1,8 @@
 #include "forest/core/budget.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "forest/core/files.hpp"
 #include "forest/core/frame_passes.hpp"
 #include "toml_schema.hpp"
@@ -32,6 +35,7 @@ Budget parseBudget(const std::string& text, const std::string& name) {
   b.width = static_cast<int>(root.integer("width", b.width, 16, 8192));
   b.height = static_cast<int>(root.integer("height", b.height, 16, 8192));
   b.frames = static_cast<int>(root.integer("frames", b.frames, 0, 1000000));
+  b.unit = kBudgetUnitNames.parse(root.oneOf("unit", std::string("ms"), kBudgetUnitNames.names()));
   if (auto frame = root.table("frame")) readLimits(*frame, "frame", b);
   if (auto passes = root.table("passes")) {
     for (const std::string& pass : budgetPasses())
@@ -44,5 +48,36 @@ Budget parseBudget(const std::string& text, const std::string& name) {
 }
 
 Budget loadBudget(const std::filesystem::path& file) { return parseBudget(readTextFile(file), file.string()); }
+
+Statistic BudgetLimit::measure() const {
+  if (statistic == "mean") return {true, 0.0};
+  return {false, std::stod(statistic.substr(1)) / 100.0};  // "p95" → 0.95 (parseBudget admits only kStatistics)
+}
+
+LimitVerdict judgeLimit(std::span<const double> series, const BudgetLimit& limit, BudgetUnit unit, double referenceMs) {
+  LimitVerdict v;
+  v.limitMs = unit == BudgetUnit::ReferenceFrames ? limit.value * referenceMs : limit.value;
+  const Statistic statistic = limit.measure();
+  const int n = static_cast<int>(series.size());
+  if (n < statistic.framesNeeded()) {
+    v.verdict = Verdict::TooShort;
+    v.framesToDecide = statistic.framesNeeded();
+    return v;
+  }
+  v.measured = bootstrapInterval(series, statistic);
+  if (v.measured.low > v.limitMs) {
+    v.verdict = Verdict::Over;
+  } else if (v.measured.high <= v.limitMs) {
+    v.verdict = Verdict::Holds;
+  } else {
+    v.verdict = Verdict::Inconclusive;
+    const double halfWidth = 0.5 * (v.measured.high - v.measured.low), distance = std::abs(v.measured.value - v.limitMs);
+    if (distance > 0.0) {
+      const double frames = std::ceil(n * (halfWidth / distance) * (halfWidth / distance));
+      v.framesToDecide = static_cast<int>(std::min(frames, 1e9));
+    }
+  }
+  return v;
+}
 
 }  // namespace forest

@@ -37,7 +37,12 @@ void writeWithOiio(const fs::path& file, const Image<T>& image, OIIO::TypeDesc t
     spec.attribute("oiio:UnassociatedAlpha", 1);  // pixels are stored as given, never premultiplied
     if (!out->open(temporary.string(), spec) || !out->write_image(type, image.pixels.data()) ||
         !out->close()) {
-      throw Error(file.string() + ": writing the image failed: " + out->geterror());
+      // OpenImageIO names the temporary file; the user asked for `file`.
+      std::string why = out->geterror();
+      for (const std::string& name : {temporary.string(), temporary.filename().string()})
+        for (std::size_t at = why.find(name); at != std::string::npos; at = why.find(name, at + file.string().size()))
+          why.replace(at, name.size(), file.string());
+      throw Error(file.string() + ": writing the image failed: " + why);
     }
   });
 }

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "forest/core/error.hpp"
+#include "forest/core/suggest.hpp"
 #include "forest/core/files.hpp"
 
 namespace forest::detail {
@@ -191,40 +192,13 @@ std::vector<TomlSection> TomlSection::tables(std::string_view key) {
   return result;
 }
 
-namespace {
-
-// Levenshtein distance (insertions, deletions, substitutions), for "did you mean" hints.
-size_t editDistance(std::string_view a, std::string_view b) {
-  std::vector<size_t> row(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    size_t diagonal = row[0];
-    row[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t above = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = above;
-    }
-  }
-  return row[b.size()];
-}
-
-}  // namespace
-
 void TomlSection::finish() const {
   for (auto&& [key, node] : *table_) {
     if (used_.find(key.str()) == used_.end()) {
       std::vector<std::string> known(used_.begin(), used_.end());
-      // The nearest known key, if it is a plausible typo (at most a third of its letters differ).
-      std::string hint;
-      size_t best = std::string::npos;
-      for (const std::string& k : known) {
-        const size_t d = editDistance(key.str(), k);
-        if (d < best && 3 * d <= std::max<size_t>(3, k.size())) {
-          best = d;
-          hint = fmt::format("did you mean '{}'? ", qualified(k));
-        }
-      }
+      // The nearest known key, if it is a plausible typo.
+      const std::string nearest = nearestName(key.str(), known);
+      const std::string hint = nearest.empty() ? std::string() : fmt::format("did you mean '{}'? ", qualified(nearest));
       throw InputError(fmt::format("{}: unknown key '{}' ({}known here: {})", location(file_, key.source()), qualified(key.str()), hint,
                                    fmt::join(known, ", ")));
     }

@@ -178,18 +178,48 @@ Image8 topDownDiagram(const Frame& frame, const dvec3& sunDirection, int size) {
   return result;
 }
 
-Image8 cascadesPicture(const Frame& frame, const Camera& camera) {
-  Image8 image = frame.readColor();
+Image8 cascadesPicture(const Frame& frame, const Camera& camera, const FrameStats& stats) {
+  const Image8 tinted = frame.readColor();
+  Image8 image = filled(tinted.width, tinted.height + kCascadesLegendHeight, kBackground);
+  for (int y = 0; y < tinted.height; ++y)
+    for (int x = 0; x < tinted.width; ++x)
+      for (int c = 0; c < 3; ++c) image.at(x, y, c) = tinted.at(x, y, c);
   const std::vector<float> depth = frame.readDepth();  // bottom row first, reversed-Z
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x) {
-      const float d = depth[static_cast<size_t>(image.height - 1 - y) * image.width + x];
+  std::array<long long, shadows::kMaxCascades> pixels{};
+  for (int y = 0; y < tinted.height; ++y)
+    for (int x = 0; x < tinted.width; ++x) {
+      const float d = depth[static_cast<size_t>(tinted.height - 1 - y) * tinted.width + x];
       if (!(d > 0.0f)) continue;  // sky
       const double z = camera.eyeDepthOfReversedZ(d);
-      const glm::vec3 tint = kSlice[frame.cascadeOf(z)];
+      const int slice = frame.cascadeOf(z);
+      ++pixels[static_cast<size_t>(slice)];
       for (int c = 0; c < 3; ++c)
-        image.at(x, y, c) = static_cast<std::uint8_t>(std::lround(0.5f * image.at(x, y, c) + 0.5f * 255.0f * tint[c]));
+        image.at(x, y, c) = static_cast<std::uint8_t>(std::lround(0.5f * image.at(x, y, c) + 0.5f * 255.0f * kSlice[slice][c]));
     }
+  // The legend: one swatch and line per slice, side by side.
+  const int slices = std::max(1, stats.cascades), column = image.width / slices;
+  const double total = static_cast<double>(tinted.width) * tinted.height;
+  for (int i = 0; i < slices; ++i) {
+    const CascadeStats& s = stats.cascade[static_cast<size_t>(i)];
+    const int left = i * column + 6, top = tinted.height + 6;
+    for (int y = top; y < top + 12; ++y)
+      for (int x = left; x < left + 12; ++x)
+        for (int c = 0; c < 3; ++c) image.at(x, y, c) = static_cast<std::uint8_t>(255.0f * kSlice[i][c]);
+    drawText(image, {left + 16, top + 11}, fmt::format("slice {}: {:.1f}-{:.0f} m, {:.0f}% px", i, s.fromM, s.toM, 100.0 * static_cast<double>(pixels[static_cast<size_t>(i)]) / total),
+             kText, 11);
+  }
+  return image;
+}
+
+Image8 captionedTerm(const std::vector<float>& term, int width, int height, const std::string& caption) {
+  Image8 image = filled(width, height + kCaptionHeight, kBackground);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const float v = term[static_cast<size_t>(height - 1 - y) * width + x];  // top row first
+      const auto grey = static_cast<std::uint8_t>(v > 0.0f ? std::lround(std::min(v, 1.0f) * 255.0f) : 0);
+      for (int c = 0; c < 3; ++c) image.at(x, y, c) = grey;
+    }
+  drawText(image, {6, height + kCaptionHeight - 6}, caption, kText, 12);
   return image;
 }
 
@@ -225,7 +255,7 @@ Image8 shadowMapPicture(const std::vector<float>& depth, int size) {
     for (int y = rampTop; y < rampBottom; ++y)
       for (int c = 0; c < 3; ++c) image.at(x, y, c) = static_cast<std::uint8_t>(255.0f * kNoCaster[c]);
   drawText(image, {rampRight + 34, rampBottom},
-           fmt::format("no caster ({:.1f}% of texels drawn)", 100.0 * double(drawn) / std::max<double>(1.0, double(depth.size()))), kText,
+           fmt::format("no caster (casters cover {:.1f}% of the map)", 100.0 * double(drawn) / std::max<double>(1.0, double(depth.size()))), kText,
            textSize);
   return image;
 }

@@ -19,14 +19,22 @@ inline constexpr int kTopDownLegendHeight = 112;
 Image8 topDownDiagram(const Frame& frame, const glm::dvec3& sunDirection, int size = 1024);
 
 // The last frame's image with each pixel tinted by the slice whose layer it reads (slices 0–3:
-// blue, teal, purple, red; the sky untinted). `camera`: the frame's (its near and far convert the
-// depth buffer).
-Image8 cascadesPicture(const Frame& frame, const Camera& camera);
+// blue, teal, purple, red; the sky untinted), over a legend band of kCascadesLegendHeight pixels:
+// each slice's colour, its eye depths and its share of the image's pixels. `camera`: the frame's
+// (its near and far convert the depth buffer); `stats`: the frame's (the slices' depths).
+inline constexpr int kCascadesLegendHeight = 24;
+Image8 cascadesPicture(const Frame& frame, const Camera& camera, const FrameStats& stats);
+
+// A shadow term (1 lit, 0 shadow; rows bottom first, as Frame::readShadowTerm gives them) as a
+// grey picture over a band of kCaptionHeight pixels with `caption` in it. RGB.
+inline constexpr int kCaptionHeight = 22;
+Image8 captionedTerm(const std::vector<float>& term, int width, int height, const std::string& caption);
 
 // The shadow map (light depth per texel, rows bottom first, as Frame::readShadowMap gives them) as
 // a picture: depths of the drawn texels stretched over their own range, near the light dark and far
 // bright; texels no caster reached (still at the clear value 1) pale blue; under the map a band
-// with the scale (the depths at its ends) and the share of texels drawn. RGB, size wide.
+// with the scale (the depths at its ends) and the share of the map the casters cover (not the
+// frame record's texels_drawn: the texels the shadow pass drew into, covered or not). RGB, size wide.
 inline constexpr int kShadowMapLegendHeight = 44;
 Image8 shadowMapPicture(const std::vector<float>& depth, int size);
 
