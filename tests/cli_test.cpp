@@ -321,7 +321,7 @@ TEST(ForestCli, BudgetsPassFailAndNameTheirBadKeys) {
   expectOneLineError(runForest("budget --budget " + dir + "negative.toml" + out), dir + "negative.toml:3:7",
                      "passes.lighting.p95 = -3.0: expected a finite number > 0");
   // The shipped budgets parse.
-  for (const char* name : {"llvmpipe-2core.toml", "desktop-gpu.toml"})
+  for (const char* name : {"llvmpipe-2core.toml", "desktop-gpu.toml", "walk-relative.toml"})
     EXPECT_NO_THROW(loadBudget(std::string(FOREST_REPO_DATA) + "/budgets/" + name)) << name;
 }
 
@@ -369,6 +369,21 @@ TEST(ForestCli, StressStaysExactWithMovingObjectsAndItsMemoryFlat) {
   EXPECT_THAT(table, HasSubstr("| 2000 | "));
   const Image8 plot = readImage8(folder / "stress.png");
   EXPECT_GT(plot.width, 500);
+}
+
+// The main walk keeps its camera clear of every trunk, crown and prop in every frame (the eye
+// outside them, nothing between it and the near plane: raytrace::cameraClearance, checked against
+// the trees at the LOD and sway the renderer gives them); the walk it replaced passed through
+// conifers and shrubs, and the check names those frames.
+TEST(ForestCli, TheMainWalkStaysClearOfTrunksAndCrowns) {
+  const std::string scene = " --scene " + std::string(FOREST_REPO_DATA) + "/scenes/forest.toml --clearance --path ";
+  const Result walk = runForest("check" + scene + std::string(FOREST_REPO_DATA) + "/paths/walk.toml");
+  EXPECT_EQ(walk.exitCode, 0) << walk.out << walk.err;
+  EXPECT_THAT(walk.out, HasSubstr("clearance: 1201 of 1201 frames clear"));
+  const Result old = runForest("check" + scene + std::string(FOREST_TEST_DATA) + "/paths/walk-through-crowns.toml");
+  EXPECT_EQ(old.exitCode, 1) << old.out << old.err;
+  EXPECT_THAT(old.out, HasSubstr("the eye is inside: tree "));
+  EXPECT_THAT(old.out, HasSubstr("it cuts the near plane: tree "));
 }
 
 // A run too short for what stress reports says so and leaves those numbers out: 20 frames (the

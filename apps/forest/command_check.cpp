@@ -1,5 +1,6 @@
 // forest check: validates scene and camera-path files without rendering, and summarises them;
-// --stats places the scene's trees (CPU only) and prints the vegetation statistics.
+// --stats places the scene's trees (CPU only) and prints the vegetation statistics; --clearance
+// checks every frame's camera of a path against the trees and props it would show.
 #include <fmt/format.h>
 
 #include <nlohmann/json.hpp>
@@ -10,6 +11,8 @@
 #include "forest/core/camera_path.hpp"
 #include "forest/core/error.hpp"
 #include "forest/core/scene.hpp"
+#include "forest/raytrace/clearance.hpp"
+#include "forest/raytrace/scene_mirror.hpp"
 #include "forest/terrain/terrain.hpp"
 #include "forest/vegetation/forest.hpp"
 
@@ -21,7 +24,47 @@ struct CheckOptions {
   std::string path;
   bool stats = false;
   bool json = false;
+  bool clearance = false;
+  double fps = 30.0;
 };
+
+// Every frame of the path (at `fps`) against the trees (at the LOD and sway the renderer gives
+// them) and the props: the eye outside them and nothing between it and the near plane
+// (raytrace::cameraClearance). Prints the frames that are not clear; returns their count.
+int checkClearance(const Scene& scene, const CameraPath& path, double fps) {
+  const terrain::Terrain terrain(*scene.terrain);
+  const vegetation::Forest forest(*scene.vegetation, terrain);
+  const int frames = path.frameCount(fps);
+  const auto treeCount = static_cast<std::uint32_t>(forest.trees().size());
+  int blocked = 0;
+  for (int f = 0; f < frames; ++f) {
+    const double time = path.startTime() + f / fps;
+    const CameraPose pose = path.at(time);
+    Camera camera = scene.startCamera();
+    camera.aspect = static_cast<double>(scene.render.width) / scene.render.height;
+    camera.position = pose.position;
+    if (path.aboveGround()) camera.position.y += terrain.heightAt(pose.position.x, pose.position.z);
+    camera.yaw = glm::radians(pose.yaw_deg);
+    camera.pitch = glm::radians(pose.pitch_deg);
+    raytrace::RayScene rays;
+    raytrace::mirrorScene(rays, nullptr, nullptr, &forest, camera, {0, 0, treeCount, time, &scene.props});
+    const raytrace::Clearance c = raytrace::cameraClearance(rays, camera);
+    if (c.clear) continue;
+    if (++blocked <= 20) {
+      std::string object = fmt::format("prop {}", c.objectId - treeCount);
+      if (c.objectId < treeCount) {
+        const vegetation::TreeInstance& tree = forest.trees()[c.objectId];
+        object = fmt::format("tree {} ({} at x {:.1f}, z {:.1f})", c.objectId, vegetation::speciesName(tree.species), tree.position.x,
+                             tree.position.z);
+      }
+      std::cout << fmt::format("  frame {} (t {:.2f} s, eye {:.1f} {:.1f} {:.1f}): {}: {}\n", f, time, camera.position.x,
+                               camera.position.y, camera.position.z, c.what, object);
+    }
+  }
+  std::cout << fmt::format("  clearance: {} of {} frames clear of trunks, crowns and props{}\n", frames - blocked, frames,
+                           blocked > 20 ? fmt::format(" (the first 20 of {} others listed)", blocked) : "");
+  return blocked;
+}
 
 // The vegetation statistics (vegetation::forestStats) of a scene, as JSON.
 nlohmann::ordered_json vegetationStats(const Scene& scene) {
@@ -68,6 +111,8 @@ int runCheck(const CheckOptions& options) {
   if (options.scene.empty() && options.path.empty()) throw InputError("check: give --scene FILE and/or --path FILE");
   if (options.stats && options.scene.empty()) throw InputError("check --stats: give --scene FILE");
   if (options.json && !options.stats) throw InputError("check --json: prints the --stats; give --stats too");
+  if (options.clearance && (options.scene.empty() || options.path.empty()))
+    throw InputError("check --clearance: give --scene FILE and --path FILE");
   if (options.stats) {
     const Scene scene = loadScene(options.scene);
     if (!scene.terrain || !scene.vegetation) throw InputError(options.scene + ": --stats needs a scene with [terrain] and [vegetation]");
@@ -88,6 +133,12 @@ int runCheck(const CheckOptions& options) {
     const CameraPath path = CameraPath::load(options.path);
     std::cout << fmt::format("{}: ok — {} keys, t = {} … {} s\n", options.path, path.keys().size(),
                              path.startTime(), path.endTime());
+    if (options.clearance) {
+      const Scene scene = loadScene(options.scene);
+      if (!scene.terrain || !scene.vegetation) throw InputError(options.scene + ": --clearance needs a scene with [terrain] and [vegetation]");
+      if (path.aboveGround() && !scene.terrain) throw InputError(options.path + ": heights = \"above_ground\" needs a scene with [terrain]");
+      return checkClearance(scene, path, options.fps) == 0 ? 0 : 1;
+    }
   }
   return 0;
 }
@@ -103,6 +154,12 @@ Run addCheckCommand(CLI::App& app) {
                     "Place the scene's trees (no rendering) and print the vegetation statistics: trees per species,\n"
                     "stand area, share of trees in stands, stems per hectare in them");
   command->add_flag("--json", options->json, "With --stats: print them as JSON");
+  command->add_flag("--clearance", options->clearance,
+                    "With --scene and --path: check every frame's camera against the trees and props (ray traced): the\n"
+                    "eye outside them and nothing between it and the near plane; exit 1 naming the frames that fail");
+  command->add_option("--fps", options->fps, "With --clearance: frames per second of path time (0.1 to 1000)")
+      ->check(CLI::Range(0.1, 1000.0))
+      ->capture_default_str();
   return [options] { return runCheck(*options); };
 }
 
