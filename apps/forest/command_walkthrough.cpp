@@ -210,6 +210,12 @@ int runWalkthrough(const WalkthroughOptions& options) {
       if (videoFrame) video->add(image);
       outputSeconds = std::chrono::duration<double>(Clock::now() - outputStart).count();
     }
+    if (options.betweenFrames && f % options.betweenFramesEvery == options.betweenFramesEvery - 1) {
+      glFinish();  // the frame's work stays in its interval, the hook's does not
+      const auto hookStart = Clock::now();
+      options.betweenFrames();
+      outputSeconds += std::chrono::duration<double>(Clock::now() - hookStart).count();
+    }
     records.push_back(frameRecord(f, time, f < warmup, camera, pose.yaw_deg, frameMs, s));
     recordPassTimes(frame.takePassTimes(), records);  // timer queries: earlier frames' pass times
     ++done;

@@ -128,6 +128,11 @@ struct WalkthroughOptions {
   int every = 10;           // write every k-th frame as PNG
   bool video = false;       // walkthrough.mp4 of every frame (walkthrough: on unless --no-video; budget: off)
   FrameOptions frame;
+  // Called in the run's GL context after every betweenFramesEvery-th frame, once its work is done
+  // (budget: times the reference frame under the run's own load); its time is left out of the
+  // frames' intervals. Unset: nothing.
+  std::function<void()> betweenFrames;
+  int betweenFramesEvery = 20;
   // The flags walkthrough and budget share (budget: without --every and --fps).
   void add(CLI::App& command, bool withFramesOut);
 };

@@ -16,16 +16,11 @@ namespace {
 // command stream.
 constexpr int kBatchSteps = 64;
 
-class Chc final : public TraversalStrategy {
+class Chc final : public StrategyWithNodeState<CoherentNodeState> {
  public:
   void traverse(Traversal& t) override;
-  void forget() override { state_.clear(); }
 
  private:
-  struct NodeState {
-    bool visible = false;
-    std::uint64_t lastVisited = 0;  // the frame that last took the node from the traversal queue
-  };
   // A leaf is drawn, an interior node's children are queued.
   void traverseNode(Traversal& t, std::int32_t n) {
     if (t.nodes()[n].leaf()) {
@@ -52,14 +47,12 @@ class Chc final : public TraversalStrategy {
     return steps % kBatchSteps == 0 && t.scratch.pending.front().step <= steps - kBatchSteps;
   }
   void visit(Traversal& t, std::int32_t n, int steps);
-
-  std::vector<NodeState> state_;
 };
 
 // A node taken from the traversal queue inside the frustum.
 void Chc::visit(Traversal& t, std::int32_t n, int steps) {
   ++t.stats.nodesVisited;
-  NodeState& s = state_[n];
+  CoherentNodeState& s = state_[n];
   if (t.visibleWithoutQuery(n)) {
     s.lastVisited = t.frame;
     pullUpVisibility(t.nodes(), state_, n);
@@ -83,7 +76,7 @@ void Chc::visit(Traversal& t, std::int32_t n, int steps) {
 
 void Chc::traverse(Traversal& t) {
   const std::vector<BvhNode>& nodes = t.nodes();
-  if (state_.size() != nodes.size()) state_.assign(nodes.size(), NodeState{});
+  nodeState(t);
   EntryHeap& traversal = t.scratch.traversal;
   FifoQueue<PendingQuery>& queries = t.scratch.pending;
   if (!nodes.empty()) traversal.push(t.entry(0));

@@ -61,28 +61,27 @@ void queryBoxes(const std::vector<BvhNode>& nodes, std::int32_t node, int depth,
     for (std::int32_t n : best) out.push_back(nodes[n].bounds);
 }
 
-// chc++'s node state, kept from frame to frame, and its frame (ChcPlusPlus::Frame).
-class ChcPlusPlus final : public TraversalStrategy {
+// What chc++ keeps of a node from one frame to the next.
+struct ChcPlusPlusNodeState : CoherentNodeState {
+  int invisibleFrames = 0;           // frames found invisible in a row (p_keep's i)
+  bool newlyVisible = false;         // found visible this frame (asked again next frame, then at §3.3's random interval)
+  std::uint64_t nextQueryFrame = 0;  // a visible leaf is queried again from this frame
+  bool geometryHidden = false;       // a leaf whose own triangles were hidden at its last query
+  bool unconfirmed = false;          // found visible, then hidden at its frame's end (c-queue), and hidden since
+};
+
+// chc++: its node state and its frame (ChcPlusPlus::Frame).
+class ChcPlusPlus final : public StrategyWithNodeState<ChcPlusPlusNodeState> {
  public:
   void traverse(Traversal& t) override;
-  void forget() override { state_.clear(); }
 
  private:
-  struct NodeState {
-    bool visible = false;
-    std::uint64_t lastVisited = 0;     // the frame that last took the node from the traversal queue
-    int invisibleFrames = 0;           // frames found invisible in a row (p_keep's i)
-    bool newlyVisible = false;         // found visible this frame (asked again next frame, then at §3.3's random interval)
-    std::uint64_t nextQueryFrame = 0;  // a visible leaf is queried again from this frame
-    bool geometryHidden = false;       // a leaf whose own triangles were hidden at its last query
-    bool unconfirmed = false;          // found visible, then hidden at its frame's end (c-queue), and hidden since
-  };
+  using NodeState = ChcPlusPlusNodeState;
   struct Frame;
   // The state as of the frame before, from the last image's flags (see
   // OcclusionCuller::setShownInLastImage), when chc++ did not cull that frame.
   void takeStateFromLastImage(Traversal& t);
 
-  std::vector<NodeState> state_;
   std::uint64_t lastFrame_ = 0;  // the last frame chc++ culled (0: none; the culler counts from 1)
 };
 
@@ -454,7 +453,7 @@ void ChcPlusPlus::takeStateFromLastImage(Traversal& t) {
 }
 
 void ChcPlusPlus::traverse(Traversal& t) {
-  if (state_.size() != t.nodes().size()) state_.assign(t.nodes().size(), NodeState{});
+  nodeState(t);
   // After frames chc++ did not cull (frustum culling where queries do not pay), its state is stale:
   // taken from the last image instead.
   if (lastFrame_ + 1 != t.frame) takeStateFromLastImage(t);

@@ -240,6 +240,27 @@ class TraversalStrategy {
   virtual void forget() {}
 };
 
+// What the coherent strategies (CHC, CHC++) keep of a node from one frame to the next.
+struct CoherentNodeState {
+  bool visible = false;
+  std::uint64_t lastVisited = 0;  // the frame that last took the node from the traversal queue
+};
+
+// A strategy that keeps a State per BVH node: fresh for a BVH of another size, gone when forgotten.
+template <class State>
+class StrategyWithNodeState : public TraversalStrategy {
+ public:
+  void forget() override { state_.clear(); }
+
+ protected:
+  // The state, one per node of the traversal's BVH.
+  std::vector<State>& nodeState(const Traversal& t) {
+    if (state_.size() != t.nodes().size()) state_.assign(t.nodes().size(), State{});
+    return state_;
+  }
+  std::vector<State> state_;
+};
+
 std::unique_ptr<TraversalStrategy> makeFrustumCulling(bool frustum);  // none (false) and frustum
 std::unique_ptr<TraversalStrategy> makeStopAndWait();
 std::unique_ptr<TraversalStrategy> makeChc();
