@@ -86,6 +86,19 @@ TEST(SceneFile, TerrainSectionLoadsAndRoundTrips) {
 }
 
 TEST(SceneFile, BadCullingValuesNameTheKey) {
+  EXPECT_THAT(errorOf("[vegetation.trail]\npoints = [1.0, 2.0, 3.0]\n"), HasSubstr("expected an array of at least 4 numbers"));
+  EXPECT_THAT(errorOf("[vegetation.trail]\npoints = [1.0, 2.0, 3.0, 4.0, 5.0]\n"), HasSubstr("expected x, z pairs"));
+  EXPECT_THAT(errorOf("[vegetation.trail]\npoints = [1.0, 2.0, 3.0, 4.0]\nwidth = 0.0\n"), HasSubstr("vegetation.trail.width = 0"));
+  {
+    const Scene trail = parseScene("[terrain]\n[vegetation]\n[vegetation.trail]\npoints = [1.0, 2.0, 3.0, 4.5]\nwidth = 3.0\n", "t.toml");
+    ASSERT_TRUE(trail.vegetation && trail.vegetation->trail);
+    ASSERT_EQ(trail.vegetation->trail->points.size(), 2u);
+    EXPECT_EQ(trail.vegetation->trail->points[1], glm::dvec2(3.0, 4.5));
+    EXPECT_EQ(trail.vegetation->trail->width, 3.0);
+    const Scene again = parseScene(sceneToToml(trail), "again.toml");  // the trail survives a round trip
+    ASSERT_TRUE(again.vegetation->trail);
+    EXPECT_EQ(again.vegetation->trail->points, trail.vegetation->trail->points);
+  }
   EXPECT_THAT(errorOf("[culling]\nbatch_size = 0\n"), HasSubstr("culling.batch_size = 0: expected an integer in [1, 1000]"));
   EXPECT_THAT(errorOf("[culling]\nleaf_size = 65\n"), HasSubstr("culling.leaf_size = 65: expected an integer in [1, 64]"));
   EXPECT_THAT(errorOf("[culling]\nvisible_requery_frames = 101\n"), HasSubstr("culling.visible_requery_frames = 101"));

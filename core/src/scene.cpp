@@ -159,6 +159,14 @@ void readVegetation(TomlSection& s, VegetationSettings& v) {
   if (auto t = s.table("shrub")) readSpeciesPlacement(*t, v.shrub);
   if (auto t = s.table("sizes")) readSizes(*t, v.sizes);
   if (auto t = s.table("stands")) readStands(*t, v.stands.emplace());
+  if (auto t = s.table("trail")) {
+    TrailSettings& trail = v.trail.emplace();
+    const std::vector<double> xz = t->numberList("points", 4, detail::anyFinite());
+    if (xz.size() % 2 != 0) t->fail(nullptr, "points", "expected x, z pairs: an even count of numbers");
+    for (size_t i = 0; i + 1 < xz.size(); i += 2) trail.points.emplace_back(xz[i], xz[i + 1]);
+    trail.width = t->number("width", trail.width, detail::closed(1e-3, 20.0));
+    t->finish();
+  }
   if (v.stands && v.grid > 0) s.fail(nullptr, "grid", "a grid places trees evenly; leave it out (or 0) with [vegetation.stands]");
   if (!(v.conifer.share + v.broadleaf.share + v.shrub.share > 0.0)) s.fail(nullptr, "conifer.share", "the species shares must not all be 0");
   s.finish();
@@ -307,6 +315,14 @@ std::string sceneToToml(const Scene& scene) {
                                               {"feature_m", v.stands->feature_m},
                                               {"edge", v.stands->edge},
                                               {"meadow", v.stands->meadow}});
+    if (v.trail) {
+      toml::array points;
+      for (const glm::dvec2& p : v.trail->points) {
+        points.push_back(p.x);
+        points.push_back(p.y);
+      }
+      vegetation.insert("trail", toml::table{{"points", std::move(points)}, {"width", v.trail->width}});
+    }
     document.insert("vegetation", std::move(vegetation));
   }
   std::ostringstream out;

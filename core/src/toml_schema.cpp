@@ -128,6 +128,14 @@ std::vector<double> TomlSection::numbers(std::string_view key, const std::vector
   return v;
 }
 
+std::vector<double> TomlSection::numberList(std::string_view key, size_t minCount, const NumberRange& range) {
+  const toml::node* node = find(key);
+  if (node == nullptr || node->as_array() == nullptr) fail(node, key, "expected an array of numbers");
+  const size_t count = node->as_array()->size();
+  if (count < minCount) fail(node, key, "expected an array of at least " + std::to_string(minCount) + " numbers");
+  return numbers(key, nullptr, count, range);
+}
+
 size_t TomlSection::arraySize(std::string_view key) const {
   const toml::node* node = table_->get(key);
   return node != nullptr && node->is_array() ? node->as_array()->size() : 0;

@@ -54,6 +54,8 @@ class TomlSection {
     used_.emplace(key);
     return table_->contains(key);
   }
+  // An array of any length (at least `minCount`) of numbers in `range`; missing: an error.
+  std::vector<double> numberList(std::string_view key, size_t minCount, const NumberRange& range);
   // Elements of the array at `key` (0 when absent or not an array): for keys of 2 or 3 numbers.
   size_t arraySize(std::string_view key) const;
   // Throws for the first key of this table that no reader asked for.

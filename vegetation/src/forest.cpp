@@ -9,11 +9,13 @@
 #include <map>
 #include <tuple>
 #include <numbers>
+#include <optional>
 #include <unordered_map>
 
 #include "forest/core/error.hpp"
 #include "forest/core/log.hpp"
 #include "forest/core/random.hpp"
+#include "trail.hpp"
 
 namespace forest::vegetation {
 namespace {
@@ -35,6 +37,33 @@ const SpeciesPlacementSettings& placementOf(const VegetationSettings& s, Species
 double siteWeight(const SpeciesPlacementSettings& rule, double altitude, double slope, double shade) {
   return rule.share * (1.0 + rule.altitude_bias * (2.0 * altitude - 1.0)) * (1.0 + rule.slope_bias * (2.0 * slope - 1.0)) *
          (1.0 + rule.shade_bias * (2.0 * shade - 1.0));
+}
+
+// A kept dart's site: terrain height (m), slope (degrees), altitude in the terrain's range [0, 1],
+// the stand density there.
+struct Site {
+  double height, slope, altitude, density;
+};
+
+// The species at a site, by its weights among those whose height band and slope limit it passes
+// (`draw` ∈ [0, 1) picks one); none when no species may grow there. inBand: some species' height
+// band holds the site (the slope refused it).
+std::optional<Species> speciesForSite(const VegetationSettings& settings, const Site& site, double draw, bool& inBand) {
+  std::array<double, kSpeciesCount> weight{};
+  for (Species s : kAllSpecies) {
+    const SpeciesPlacementSettings& rule = placementOf(settings, s);
+    if (!(rule.share > 0.0) || site.height < rule.min_height || site.height > rule.max_height) continue;
+    inBand = true;
+    if (site.slope > rule.max_slope_deg) continue;
+    weight[static_cast<size_t>(s)] = siteWeight(rule, site.altitude, std::min(site.slope / 45.0, 1.0), site.density);
+  }
+  const double total = weight[0] + weight[1] + weight[2];
+  if (!(total > 0.0)) return std::nullopt;
+  for (double below = 0.0; Species s : kAllSpecies) {
+    below += weight[static_cast<size_t>(s)];
+    if (draw * total < below) return s;
+  }
+  return Species::Shrub;
 }
 
 // The size class for a uniform draw u in [0, 1), by the classes' normalised shares.
@@ -171,8 +200,10 @@ void Forest::place() {
   const Aabb ground = terrain_.bounds();
   const double altitudeRange = std::max(ground.max.y - ground.min.y, 1e-9);
   struct {
-    std::int64_t field = 0, height = 0, slope = 0, spacing = 0;
+    std::int64_t field = 0, height = 0, slope = 0, spacing = 0, trail = 0;
   } refused;
+  std::optional<TrailClearance> trail;
+  if (settings_.trail) trail.emplace(*settings_.trail, species_, settings_.wind_strength, terrain_);
   SplitMix64 random(SplitMix64::substream(settings_.seed, 0x7ee5ull));
   SplitMix64 sizeRandom(SplitMix64::substream(settings_.seed, 0x512eull));
   const std::int64_t darts = static_cast<std::int64_t>(kDartsPerTree * settings_.count / std::max(keptShare, 0.01)) + 1000;
@@ -190,27 +221,17 @@ void Forest::place() {
     const double height = terrain_.heightAt(p.x, p.y);
     const double slope = glm::degrees(std::acos(std::clamp(terrain_.normalAt(p.x, p.y).y, -1.0, 1.0)));
     const double altitude = std::clamp((height - ground.min.y) / altitudeRange, 0.0, 1.0);
-    std::array<double, kSpeciesCount> weight{};
     bool inBand = false;
-    for (Species s : kAllSpecies) {
-      const SpeciesPlacementSettings& rule = placementOf(settings_, s);
-      if (!(rule.share > 0.0) || height < rule.min_height || height > rule.max_height) continue;
-      inBand = true;
-      if (slope > rule.max_slope_deg) continue;
-      weight[static_cast<size_t>(s)] = siteWeight(rule, altitude, std::min(slope / 45.0, 1.0), density);
-    }
-    const double total = weight[0] + weight[1] + weight[2];
-    if (!(total > 0.0)) {
+    const std::optional<Species> chosen = speciesForSite(settings_, {height, slope, altitude, density}, speciesDraw, inBand);
+    if (!chosen) {
       ++(inBand ? refused.slope : refused.height);
       continue;
     }
-    Species species = Species::Shrub;
-    for (double below = 0.0; Species s : kAllSpecies) {
-      below += weight[static_cast<size_t>(s)];
-      if (speciesDraw * total < below) {
-        species = s;
-        break;
-      }
+    const Species species = *chosen;
+    const TreeInstance tree = varied(species, size, {p.x, height, p.y}, variation);
+    if (trail && trail->reaches(tree)) {  // the walkway stays free
+      ++refused.trail;
+      continue;
     }
     // Poisson-disk condition: no tree closer than the larger of the two trees' spacings.
     const double spacing = placementOf(settings_, species).spacing * settings_.sizes.scale[static_cast<int>(size)];
@@ -234,10 +255,10 @@ void Forest::place() {
     }
     grid[key(c.x, c.y)].push_back(static_cast<std::uint32_t>(trees_.size()));
     spacingOf.push_back(spacing);
-    trees_.push_back(varied(species, size, {p.x, height, p.y}, variation));
+    trees_.push_back(tree);
   }
-  const std::string why = fmt::format("darts refused: {} by the density field, {} by the height band, {} by the slope, {} by the spacing",
-                                      refused.field, refused.height, refused.slope, refused.spacing);
+  const std::string why = fmt::format("darts refused: {} by the density field, {} by the height band, {} by the slope, {} by the spacing, "
+                                      "{} by the trail", refused.field, refused.height, refused.slope, refused.spacing, refused.trail);
   if (static_cast<int>(trees_.size()) < settings_.count)
     log::warn("vegetation: {} of {} trees fit the terrain ({})", trees_.size(), settings_.count, why);
   else

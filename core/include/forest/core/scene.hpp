@@ -126,6 +126,14 @@ struct StandSettings {
 // objects" of the thesis demo (ch. 10) — a closed cone and a closed torus ring around it.
 enum class TreeStyle { Procedural, Thesis };
 
+// [vegetation.trail]: a walkway kept free of trees — no tree whose branches reach, between 0.3 and
+// 3 m above its base, within width / 2 of the polyline through `points` (x, z) is placed (a walk's
+// camera along it keeps clear of trunks and crowns).
+struct TrailSettings {
+  std::vector<glm::dvec2> points;  // at least 2
+  double width = 2.0;              // metres, (0, 20]
+};
+
 struct VegetationSettings {
   TreeStyle style = TreeStyle::Procedural;
   int count = 5000;               // trees requested, [0, 1000000]; fewer when they do not fit (reported)
@@ -145,6 +153,7 @@ struct VegetationSettings {
   SpeciesPlacementSettings shrub{0.0, 1.5, 40.0, -1e4, 1e4};  // understorey; none unless a share is given
   SizeClassSettings sizes;
   std::optional<StandSettings> stands;  // absent: trees spread evenly
+  std::optional<TrailSettings> trail;   // absent: none
 };
 
 // [culling]: parameters of the chc++ strategy (Mattausch, Bittner, Wimmer, EG 2008).
