@@ -210,7 +210,7 @@ int runWalkthrough(const WalkthroughOptions& options) {
       if (videoFrame) video->add(image);
       outputSeconds = std::chrono::duration<double>(Clock::now() - outputStart).count();
     }
-    if (options.betweenFrames && f % options.betweenFramesEvery == options.betweenFramesEvery - 1) {
+    if (options.betweenFrames && f % kBetweenFramesEvery == kBetweenFramesEvery - 1) {
       glFinish();  // the frame's work stays in its interval, the hook's does not
       const auto hookStart = Clock::now();
       options.betweenFrames();

@@ -117,6 +117,8 @@ struct FrameOptions {
 void addSoftRaysOption(CLI::App& command, int& softRays);
 
 // The walkthrough (main job) and what `forest budget` runs.
+inline constexpr int kBetweenFramesEvery = 20;  // WalkthroughOptions::betweenFrames' spacing
+
 struct WalkthroughOptions {
   GlOptions gl;
   std::string scene;
@@ -128,11 +130,10 @@ struct WalkthroughOptions {
   int every = 10;           // write every k-th frame as PNG
   bool video = false;       // walkthrough.mp4 of every frame (walkthrough: on unless --no-video; budget: off)
   FrameOptions frame;
-  // Called in the run's GL context after every betweenFramesEvery-th frame, once its work is done
-  // (budget: times the reference frame under the run's own load); its time is left out of the
-  // frames' intervals. Unset: nothing.
+  // Called in the run's GL context after every kBetweenFramesEvery-th frame, once its work is done (budget: times
+  // the reference frame under the run's own load); its time is left out of the frames' intervals.
+  // Unset: nothing.
   std::function<void()> betweenFrames;
-  int betweenFramesEvery = 20;
   // The flags walkthrough and budget share (budget: without --every and --fps).
   void add(CLI::App& command, bool withFramesOut);
 };

@@ -21,7 +21,6 @@ std::string withoutRanges(std::string typeName);
 
 class HelpFormatter : public CLI::Formatter {
  public:
-  HelpFormatter() { column_width(30); }
   std::string make_option(const CLI::Option* option, bool isPositional) const override;
   std::string make_option_opts(const CLI::Option* option) const override;
   std::string make_subcommand(const CLI::App* command) const override;

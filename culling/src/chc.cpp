@@ -76,7 +76,7 @@ void Chc::visit(Traversal& t, std::int32_t n, int steps) {
 
 void Chc::traverse(Traversal& t) {
   const std::vector<BvhNode>& nodes = t.nodes();
-  nodeState(t);
+  fitStateTo(t);
   EntryHeap& traversal = t.scratch.traversal;
   FifoQueue<PendingQuery>& queries = t.scratch.pending;
   if (!nodes.empty()) traversal.push(t.entry(0));

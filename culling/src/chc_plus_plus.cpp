@@ -106,8 +106,8 @@ struct ChcPlusPlus::Frame {
   std::vector<std::int32_t>& geometryQueue;
   std::vector<std::int32_t>& groupNodes;
 
-  Frame(std::vector<NodeState>& nodeState, Traversal& traversalState)
-      : state(nodeState),
+  Frame(std::vector<NodeState>& states, Traversal& traversalState)
+      : state(states),
         t(traversalState),
         nodes(traversalState.nodes()),
         p(traversalState.settings),
@@ -453,7 +453,7 @@ void ChcPlusPlus::takeStateFromLastImage(Traversal& t) {
 }
 
 void ChcPlusPlus::traverse(Traversal& t) {
-  nodeState(t);
+  fitStateTo(t);
   // After frames chc++ did not cull (frustum culling where queries do not pay), its state is stale:
   // taken from the last image instead.
   if (lastFrame_ + 1 != t.frame) takeStateFromLastImage(t);

@@ -253,10 +253,9 @@ class StrategyWithNodeState : public TraversalStrategy {
   void forget() override { state_.clear(); }
 
  protected:
-  // The state, one per node of the traversal's BVH.
-  std::vector<State>& nodeState(const Traversal& t) {
+  // Sizes the state to the traversal's BVH (fresh for a BVH of another size).
+  void fitStateTo(const Traversal& t) {
     if (state_.size() != t.nodes().size()) state_.assign(t.nodes().size(), State{});
-    return state_;
   }
   std::vector<State> state_;
 };
