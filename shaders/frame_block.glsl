@@ -7,7 +7,8 @@ layout(std140, binding = 2) uniform FrameBlock {
   vec4 toSunUp;                // xyz: unit vector toward the sun; w: 1 when the sun is above the horizon
   vec4 sunColorAmbient;        // rgb: sun colour; w: ambient share
   vec4 skyFog;                 // rgb: sky colour, linear (the scene's to the power 2.2); w: fog density per metre (0: none)
-  vec4 blur;                   // x: radius (pixels), y: reference depth (m), z: relative depth tolerance
+  vec4 blur;                   // x: radius (image pixels), y: reference depth (m), z: relative depth tolerance,
+                               // w: image pixels per shadow term texel side (1, or 2 at half resolution)
   vec4 cascadeEnds;            // the eye depth (m) where slice 0, 1, 2, 3 ends (pixels beyond read the next)
   vec4 cascadeBlend;           // x: the blend band beyond a split, as a share of its distance (0: none)
   ivec4 modes;                 // x: PCF radius; y: tsm linear depth (1/0); z: slices (1 to 4) — x and z

@@ -5,6 +5,10 @@
 layout(binding = 5) uniform usampler2D uSurface;
 
 uvec4 surfaceAt(ivec2 pixel) { return texelFetch(uSurface, pixel, 0); }
+ivec2 lastPixel() { return textureSize(uSurface, 0) - 1; }
+// The eye depths' bits of the 2 × 2 pixels from `corner`, in textureGather's order: (0, 1),
+// (1, 1), (1, 0), (0, 0) (at the image's edge, clamped).
+uvec4 surfaceGatherAt(ivec2 corner) { return textureGather(uSurface, vec2(corner + 1) / vec2(textureSize(uSurface, 0)), 0); }
 float eyeDepthOf(uvec4 surface) { return uintBitsToFloat(surface.x); }  // 0: the sky
 vec3 albedoOf(uvec4 surface) { return unpackUnorm4x8(surface.y).rgb; }
 bool facesSunOf(uvec4 surface) { return (surface.y >> 24) >= 128u; }

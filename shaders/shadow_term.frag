@@ -1,12 +1,49 @@
 #version 450 core
-// Pass 4 (with the blur on): the shadow term of every pixel into a texture the blur reads
-// (shadow_lookup.frag).
+// Pass 4 (with the blur on): the shadow term into a texture the blur reads (shadow_lookup.frag).
+// TERM_SCALE 1: at every pixel. TERM_SCALE 2: at half resolution, one texel per 2 × 2 block of
+// pixels, standing for the block's nearest surface — the lookup at that pixel's own position (its
+// rays from their screen derivatives), so a thin twig in front of the ground keeps its term rather
+// than the ground's; the block's other surfaces take theirs from the neighbouring texels in the
+// lighting pass's depth-aware upsample (term_upsample.frag). Games compute the sun's shadow mask at
+// reduced resolution for the same reason: after the blur the term is low-frequency.
 
-// r: the shadow term; g: the pixel's eye depth in metres (0 for the sky), so that the blur reads
-// one texture per tap.
+// r: the shadow term; g: the eye depth in metres of the pixel it was looked up at (0 for the sky),
+// so that the blur and the upsample read one texture per tap.
 out vec2 shadowTerm;
 
 uvec4 surfaceAt(ivec2 pixel);  // gbuffer_read.frag
+ivec2 lastPixel();
+uvec4 surfaceGatherAt(ivec2 corner);
+float eyeDepthOf(uvec4 surface);
+struct SliceRays {
+  vec4 shadow[SHADOW_SLICES];
+  float lightDepth[SHADOW_SLICES];
+};
+SliceRays sliceRaysAt(vec2 offset);
 vec2 shadowTermOf(uvec4 surface);
+vec2 shadowTermAlong(uvec4 surface, SliceRays rays);
 
+#if TERM_SCALE == 1
 void main() { shadowTerm = shadowTermOf(surfaceAt(ivec2(gl_FragCoord.xy))); }
+#else
+// The pixel of the block with the nearest surface (the sky, depth 0, only when the block is all
+// sky; ties keep the first in the gather's order). One gather reads the block's four eye depths.
+void main() {
+  ivec2 corner = 2 * ivec2(gl_FragCoord.xy);
+  // The gather's order from the corner: (0, 1), (1, 1), (1, 0), (0, 0); at an odd width or height
+  // the edge's pixels again (clamped).
+  vec4 depths = uintBitsToFloat(surfaceGatherAt(corner));
+  vec4 candidates = mix(depths, vec4(3.0e38), equal(depths, vec4(0.0)));  // the sky last
+  const ivec2 kInBlock[4] = ivec2[4](ivec2(0, 1), ivec2(1, 1), ivec2(1, 0), ivec2(0, 0));
+  int chosen = 3;
+  float best = candidates.w;
+  for (int i = 0; i < 3; ++i)
+    if (candidates[i] < best) {
+      best = candidates[i];
+      chosen = i;
+    }
+  ivec2 pixel = min(corner + kInBlock[chosen], lastPixel());
+  // The fragment's centre is the block's centre: the chosen pixel's centre is ±1/4 of a texel off.
+  shadowTerm = shadowTermAlong(surfaceAt(pixel), sliceRaysAt(vec2(pixel - corner) * 0.5 - 0.25));
+}
+#endif

@@ -133,9 +133,11 @@ TEST_F(BlurGl, BlurDoesNotLeakAcrossADepthDiscontinuity) {
   scene.props.push_back({dvec3(-12, 12, -34), dvec3(12, 13, -14), dvec3(0.8)});     // shadows the plane behind
   render::Frame frame(scene, kWidth, kHeight);
   const Camera camera = cameraAt({0, 2.5, 2}, 0.0, -5.0, 300.0);
+  for (const int scale : {1, 2}) {  // at half resolution the upsample must not leak either
   render::FrameSettings settings;
   settings.blurRadius = 8.0;
   settings.blurReferenceDepth = 40.0;  // full radius everywhere in view
+  settings.shadowTermScale = scale;
   frame.render(camera, 0.0, settings);
   const std::vector<float> term = frame.readShadowTerm(), blurred = frame.readBlurredShadowTerm(), depth = frame.readDepth();
   const std::vector<std::uint32_t> ids = frame.readObjectIds();
@@ -161,9 +163,72 @@ TEST_F(BlurGl, BlurDoesNotLeakAcrossADepthDiscontinuity) {
       ++checked;
       leaked += blurred[i] < term[i] - 1e-3f ? 1 : 0;
     }
-  std::printf("[blur] %d lit box pixels beside a shadow, %d darkened by the blur\n", checked, leaked);
-  EXPECT_GT(checked, 20);
-  EXPECT_EQ(leaked, 0);
+  std::printf("[blur] term scale %d: %d lit box pixels beside a shadow, %d darkened by the blur\n", scale, checked, leaked);
+  EXPECT_GT(checked, 20) << "scale " << scale;
+  EXPECT_EQ(leaked, 0) << "scale " << scale;
+  }
+}
+
+// The term at half resolution (FrameSettings::shadowTermScale 2: a lookup per 2 × 2 block at its
+// nearest surface, the blur on the blocks, a depth-aware upsample in the lighting) against the full
+// resolution one, on the box's shadow on the plane, blur 3 px (σ = 1.5 px; at half resolution
+// σ_s = sqrt(1.5² − 3/6) / 2 = 0.66 texel, cut at 3σ: 1 tap each side).
+// (1) Away from every edge they are equal: a pixel's half-resolution term reads texels at most one
+// upsample texel and one blur tap from its block — within b = 2 · (1 + 1) + 1 = 5 pixels — and the
+// full one reads 3 taps; where the unblurred full term is one value over that window, on one surface
+// (the same object, depth within the blur's 5%), both are that value.
+// (2) Near the shadow's edge the half term's lookups stand at pixel centres of its blocks and the
+// blur and the upsample weigh them symmetrically about the pixel, so the term's 0.5 crossing moves
+// by less than a pixel: every pixel with no change of the full term's state within 1 pixel keeps
+// its state.
+TEST_F(BlurGl, HalfResolutionTermEqualsTheFullOneAwayFromEdgesAndKeepsItsEdges) {
+  const Scene scene = boxOverPlane();  // the frame keeps a reference
+  render::Frame frame(scene, kWidth, kHeight);
+  const Camera camera = boxOverPlaneView();
+  render::FrameSettings settings;
+  settings.blurRadius = 3.0;
+  frame.render(camera, 0.0, settings);
+  const std::vector<float> unblurred = frame.readShadowTerm(), full = frame.readBlurredShadowTerm(), depth = frame.readDepth();
+  const std::vector<std::uint32_t> ids = frame.readObjectIds();
+  settings.shadowTermScale = 2;
+  frame.render(camera, 0.0, settings);
+  const std::vector<float> half = frame.readBlurredShadowTerm();
+  ASSERT_EQ(half.size(), full.size());
+  EXPECT_NE(half, full);  // the half-resolution path ran: its edges differ somewhere
+  auto at = [](int x, int y) { return static_cast<size_t>(y) * kWidth + x; };
+  // Within `b` of (x, y): one surface, and the unblurred term one value (`uniformTerm`) or one state.
+  auto windowIs = [&](int x, int y, int b, bool uniformTerm) {
+    const size_t i = at(x, y);
+    const double z = eyeDepthAt(camera, depth[i]);
+    for (int dy = -b; dy <= b; ++dy)
+      for (int dx = -b; dx <= b; ++dx) {
+        const size_t j = at(x + dx, y + dy);
+        if (ids[j] != ids[i] || std::abs(eyeDepthAt(camera, depth[j]) - z) > 0.05 * z) return false;
+        if (uniformTerm ? unblurred[j] != unblurred[i] : (full[j] < 0.5f) != (full[i] < 0.5f)) return false;
+      }
+    return true;
+  };
+  int equal[2] = {0, 0}, unequal = 0, nearEdge = 0, flipped = 0;
+  for (int y = 8; y < kHeight - 8; ++y)
+    for (int x = 8; x < kWidth - 8; ++x) {
+      const size_t i = at(x, y);
+      if (ids[i] == 0) continue;
+      if (windowIs(x, y, 5, true)) {
+        ++equal[unblurred[i] < 0.5f ? 0 : 1];
+        unequal += std::abs(half[i] - full[i]) > 1e-3f ? 1 : 0;
+      } else if (windowIs(x, y, 1, false) && !windowIs(x, y, 5, false)) {  // on one surface, 1-5 px from an edge
+        ++nearEdge;
+        flipped += (half[i] < 0.5f) != (full[i] < 0.5f) ? 1 : 0;
+      }
+    }
+  std::printf("[half term] %d shadowed and %d lit pixels away from edges, %d differ; %d pixels 1-5 px from an edge, %d flipped\n",
+              equal[0], equal[1], unequal, nearEdge, flipped);
+  EXPECT_GT(equal[0], 500);
+  EXPECT_GT(equal[1], 500);
+  EXPECT_EQ(unequal, 0);
+  EXPECT_GT(nearEdge, 100);
+  EXPECT_EQ(flipped, 0);
+  EXPECT_EQ(gl::debugErrorCount(), 0u);
 }
 
 }  // namespace

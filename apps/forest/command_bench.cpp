@@ -581,7 +581,12 @@ Run addBenchCommand(CLI::App& app) {
       ->check(CLI::Range(1, 64));
   cullingBench->add_option("--out", options->out, "Output folder (created when missing)")->check(outputFolder())->capture_default_str();
   const Run speedError = addSpeedErrorCommand(*bench);
-  return [options, cullingBench, speedError] { return cullingBench->parsed() ? runBenchCulling(*options) : speedError(); };
+  CLI::App* speedErrorCommand = bench->get_subcommand("speed-error");
+  const Run passes = addPassesBenchCommand(*bench);
+  return [options, cullingBench, speedErrorCommand, speedError, passes] {
+    if (cullingBench->parsed()) return runBenchCulling(*options);
+    return speedErrorCommand->parsed() ? speedError() : passes();
+  };
 }
 
 }  // namespace forest::app

@@ -159,6 +159,7 @@ int runSpeedError(const SpeedErrorOptions& options) {
           options.modes.resolve(settings, context->info());
           settings.casters = casters;
           settings.blurRadius = 3.0;
+          settings.shadowTermScale = options.termResolution == "half" ? 2 : 1;
           // One frame to settle CHC, the smoothed n and the splits, then the measured one.
           frame.resetHistory();
           frame.render(camera, 0.0, settings);
@@ -175,11 +176,12 @@ int runSpeedError(const SpeedErrorOptions& options) {
           // Blur on (as rendered) and off: the same frame rendered again with no blur at all (no
           // horizontal pass, no vertical half in the lighting), timed on its own; the history it
           // starts from is the measured frame's, as that one's was the settling frame's.
-          // Misclassification is of the unblurred term in both.
+          // Misclassification is of the term each lit with: blurred, and the blur off's looked up.
           render::FrameSettings noBlur = settings;
           noBlur.blurRadius = 0.0;
           const render::FrameStats offStats = renderWithPassTimes(frame, camera, 0.0, noBlur);
           Row on = r, off = r;
+          off.error.misclassification = truth::misclassificationOf(r.error, frame.readBlurredShadowTerm());
           on.blur = true;
           on.frameMs = frameMs;
           on.softError = r.error.softMeanAbsoluteError;
@@ -264,6 +266,9 @@ Run addSpeedErrorCommand(CLI::App& bench) {
       ->capture_default_str();
   command->add_option("--target", options->target, "Misclassification share for the equal-error map sizes (1e-06 to 0.999999)")
       ->check(CLI::Range(1e-6, 0.999999))
+      ->capture_default_str();
+  command->add_option("--term-resolution", options->termResolution, "Resolution of the blurred shadow term (as the frame's flag)")
+      ->check(CLI::IsMember({"full", "half"}))
       ->capture_default_str();
   addSoftRaysOption(*command, options->softRays);
   options->modes.add(*command);

@@ -90,6 +90,7 @@ struct FrameOptions {
   int pcf = 0;
   double blur = 3.0;         // eye-space blur radius, pixels (0: off)
   double blurDepth = 10.0;   // metres up to which the full radius applies
+  std::string termResolution = "half";  // of the blurred shadow term: full or half (FrameSettings::shadowTermScale)
   CasterOptions casters;
   // Z-partitioning; each left unset (the scene's [shadows]) unless its flag is given.
   int cascades = 1;
@@ -208,6 +209,7 @@ Run addStabilityCommand(CLI::App& app);
 Run addBenchCommand(CLI::App& app);
 // `forest bench speed-error`, registered under `bench`.
 Run addSpeedErrorCommand(CLI::App& bench);
+Run addPassesBenchCommand(CLI::App& bench);  // command_bench_passes.cpp
 Run addWalkthroughCommand(CLI::App& app);
 Run addBudgetCommand(CLI::App& app);
 Run addStressCommand(CLI::App& app);

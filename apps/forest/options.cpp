@@ -113,6 +113,13 @@ void FrameOptions::add(CLI::App& command, bool withCulling) {
   command.add_option("--blur-depth", blurDepth, "Depth (m, 0.01 to 10000) up to which the blur has its full radius")
       ->check(CLI::Range(0.01, 1e4))
       ->capture_default_str();
+  command.add_option("--term-resolution", termResolution,
+                     "Resolution of the shadow term the blur smooths: full (a lookup at every pixel, the blur's\n"
+                     "vertical half in the lighting pass) or half (a lookup per 2x2 block at its nearest\n"
+                     "surface, both blur halves on a quarter of the pixels, a depth-aware upsample in the\n"
+                     "lighting pass); the blur off, the term is looked up at every pixel")
+      ->check(CLI::IsMember({"full", "half"}))
+      ->capture_default_str();
   modes.add(command);
 }
 
@@ -161,6 +168,7 @@ render::FrameSettings FrameOptions::settings(const gl::ContextInfo& context) con
   s.pcfRadius = pcf;
   s.blurRadius = blur;
   s.blurReferenceDepth = blurDepth;
+  s.shadowTermScale = termResolution == "half" ? 2 : 1;
   if (cascadesOption && cascadesOption->count() > 0) s.cascades = cascades;
   if (splitLambdaOption && splitLambdaOption->count() > 0) s.splitLambda = splitLambda;
   if (cascadeBlendOption && cascadeBlendOption->count() > 0) s.cascadeBlend = cascadeBlend;
@@ -200,7 +208,8 @@ nlohmann::ordered_json FrameOptions::json(const gl::ContextInfo& context, const 
                               {"casters", render::kCasterSelectionNames.name(settings(context).casters)},
                               {"pcf_radius", pcf},
                               {"blur_px", blur},
-                              {"blur_depth_m", blurDepth}};
+                              {"blur_depth_m", blurDepth},
+                              {"term_resolution", termResolution}};
   j.update(modes.json(context));
   return j;
 }

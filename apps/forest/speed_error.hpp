@@ -26,6 +26,7 @@ struct SpeedErrorOptions {
   std::vector<int> cascades{1, 4};
   double target = 0.02;  // misclassification for the equal-error map sizes
   int softRays = 8;      // fewer than truth's 16: the sweep scores 130 frames
+  std::string termResolution = FrameOptions{}.termResolution;  // of the blurred term: full or half
   ModeOptions modes;
   CasterOptions casters;
   bool quiet = false;

@@ -1,22 +1,45 @@
 #include "blur_pass.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace forest::render {
 
-BlurPass::BlurPass(int width, int height)
-    : horizontal_(GL_RG16F, width, height),
-      program_(loadFullScreenProgram({"shadow_blur.frag", "blur_taps.frag"})) {
-  framebuffer_.attach(GL_COLOR_ATTACHMENT0, horizontal_);
-  framebuffer_.checkComplete("blur");
-  glTextureParameteri(horizontal_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTextureParameteri(horizontal_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+int blurTapsBound(double radius, int scale) {
+  // As blur_taps.frag: σ = r/2 at full radius, less the upsample's tent, in texels; cut at 3σ and
+  // at R/s. The 1e-4 keeps the bound at or above the shader's float result.
+  const double sigmaImage = 0.5 * radius, s = scale;
+  const double sigma = std::max(std::sqrt(std::max(sigmaImage * sigmaImage - (s * s - 1.0) / 6.0, 0.0)) / s, 0.25);
+  return std::min({kMaxBlurTaps, static_cast<int>(std::ceil(radius / s)), static_cast<int>(3.0 * sigma + 1e-4)});
 }
 
-const gl::Texture& BlurPass::run(const gl::Texture& term, const FrameBlockBuffer& frameBlock) {
+std::string blurTapsDefine(int taps) { return "#define BLUR_TAPS " + std::to_string(taps) + "\n"; }
+
+const gl::Program& BlurPass::program(int taps, bool vertical) {
+  auto it = programs_.find({taps, vertical});
+  if (it == programs_.end())
+    it = programs_.emplace(std::pair{taps, vertical}, loadFullScreenProgram({"shadow_blur.frag", "blur_taps.frag"},
+                                                                            blurTapsDefine(taps) + (vertical ? "#define BLUR_VERTICAL\n" : "")))
+             .first;
+  return it->second;
+}
+
+const gl::Texture& BlurPass::run(const gl::Texture& term, int scale, int taps, const FrameBlockBuffer& frameBlock) {
+  const bool halfResolution = scale > 1;
+  std::optional<Images>& images = images_[halfResolution ? 1 : 0];
+  if (!images) {
+    images.emplace(Images{PassImage(term.width(), term.height(), "blur"), std::nullopt});
+    if (halfResolution) images->vertical.emplace(term.width(), term.height(), "blur", GL_R32UI);
+  }
   frameBlock.bind();
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
+  images->horizontal.bindForDrawing();
   glBindTextureUnit(0, term.id());
-  triangle_.draw(program_);
-  return horizontal_;
+  triangle_.draw(program(taps, false));
+  if (!halfResolution) return images->horizontal.texture;
+  images->vertical->bindForDrawing();
+  glBindTextureUnit(0, images->horizontal.texture.id());
+  triangle_.draw(program(taps, true));
+  return images->vertical->texture;
 }
 
 }  // namespace forest::render

@@ -11,6 +11,7 @@
 #include "frame_uniforms.hpp"
 #include "geometry_pass.hpp"
 #include "lighting_pass.hpp"
+#include "pass_floors.hpp"
 #include "nearest_depth_pass.hpp"
 #include "receiver_pixels.hpp"
 #include "shadow_pass.hpp"
@@ -33,6 +34,8 @@ void validate(const FrameSettings& settings) {
     throw InputError(fmt::format("blur radius {}: expected 0 to 16 pixels", settings.blurRadius));
   if (!std::isfinite(settings.lookupShiftTexels.x) || !std::isfinite(settings.lookupShiftTexels.y))
     throw InputError("lookup shift: expected finite texels");
+  if (settings.shadowTermScale != 1 && settings.shadowTermScale != 2)
+    throw InputError(fmt::format("shadow term scale {}: expected 1 (full resolution) or 2 (half)", settings.shadowTermScale));
   if (!(settings.blurReferenceDepth > 0.0) || !std::isfinite(settings.blurReferenceDepth))
     throw InputError(fmt::format("blur reference depth {}: expected > 0 m", settings.blurReferenceDepth));
   if (settings.cascades && (*settings.cascades < 1 || *settings.cascades > shadows::kMaxCascades))
@@ -93,8 +96,7 @@ struct Frame::Passes {
         shadowSetup(cpuWorkers),
         shadow(objects, terrain, forest, props),
         shadowTerm(width, height),
-        blur(width, height),
-        lighting(width, height),
+        lighting(width, height, geometry.gbuffer()),
         history(objects, culling) {}
 };
 
@@ -110,9 +112,13 @@ struct Frame::Inputs {
   ShadowSettings cascades;                 // the settings' or the scene's
   ShadowLookupShape lookupShape;
   bool blurred, haze;
+  int termScale;           // pixels per term texel side (1 with the blur off)
+  TermSource termSource;   // where lighting takes the term from
+  int blurTaps;            // the blur's tap bound (blurTapsBound; 0 with the blur off)
   bool readsPixels;  // the G-buffer is read back for the receiver mask (and the record of what showed)
   bool recordsInLighting;  // else the lighting pass records what shows (FrameHistory::recordsInLighting)
   const terrain::TerrainLod* eyeLod() const { return lod ? &*lod : nullptr; }
+  LightingPass::ProgramKey lightingProgram() const { return {termSource, lookupShape, blurTaps, haze, recordsInLighting}; }
 };
 
 Frame::Frame(const Scene& scene, int width, int height) : scene_(scene), width_(width), height_(height) {
@@ -224,8 +230,7 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   // 5. Lighting, with the blur's vertical half (or the term's lookup, the blur off).
   {
     auto timed = timer_->scope(passName(FramePass::Lighting));
-    p.lighting.run(p.geometry.gbuffer(), blurredTerm, p.shadow.map(), in.lookupShape, p.frameBlock, in.haze, settings.keepShadowTerm,
-                   in.recordsInLighting);
+    p.lighting.run(p.geometry.gbuffer(), blurredTerm, in.lightingProgram(), p.shadow.map(), p.frameBlock, settings.keepShadowTerm);
     if (in.recordsInLighting) p.history.afterLighting();
   }
   endFrame(in, visible, stats);
@@ -239,6 +244,7 @@ Frame::Inputs Frame::resolveInputs(const Camera& camera, double time, const Fram
   const bool sunBelowHorizon = !(l.y < 0.0);  // light travelling upward comes from below the horizon
   const ShadowSettings cascades = resolveCascades(settings, scene_);
   const bool readsPixels = settings.casters == CasterSelection::ReceiverPixels && !sunBelowHorizon;
+  const bool blurred = settings.blurRadius > 0.0;
   return Inputs{camera,
                 time,
                 settings,
@@ -248,8 +254,11 @@ Frame::Inputs Frame::resolveInputs(const Camera& camera, double time, const Fram
                 terrainLodFor(camera),
                 cascades,
                 ShadowLookupShape{settings.pcfRadius, cascades.cascades},
-                settings.blurRadius > 0.0,
+                blurred,
                 hazeDensityOf(settings, scene_) > 0.0,
+                blurred ? settings.shadowTermScale : 1,
+                !blurred ? TermSource::Lookup : settings.shadowTermScale > 1 ? TermSource::Upsample : TermSource::VerticalBlur,
+                blurred ? blurTapsBound(settings.blurRadius, settings.shadowTermScale) : 0,
                 readsPixels,
                 passes_->history.recordsInLighting(readsPixels)};
 }
@@ -257,8 +266,11 @@ Frame::Inputs Frame::resolveInputs(const Camera& camera, double time, const Fram
 // The programs this frame's passes use, compiled before any pass is timed; the timer's frame.
 FrameStats Frame::beginFrame(const Inputs& in) {
   Passes& p = *passes_;
-  if (in.blurred) p.shadowTerm.prepare(in.lookupShape);
-  p.lighting.prepare(in.blurred, in.lookupShape, in.haze, in.recordsInLighting);
+  if (in.blurred) {
+    p.shadowTerm.prepare(in.lookupShape, in.termScale);
+    p.blur.prepare(in.termScale, in.blurTaps);
+  }
+  p.lighting.prepare(in.lightingProgram());
   if (!timer_ || timer_->mode() != in.settings.timing) timer_ = std::make_unique<gl::PassTimer>(in.settings.timing, 3, framesRendered_);
   FrameStats stats;
   stats.sunBelowHorizon = in.sunBelowHorizon;
@@ -308,13 +320,13 @@ const gl::Texture* Frame::shadowTerm(const Inputs& in) {
   Passes& p = *passes_;
   {
     auto timed = timer_->scope(passName(FramePass::ShadowTerm));
-    FrameBlock block = frameBlock(in.camera, p.plan, in.settings, scene_, in.l, !in.sunBelowHorizon);
+    FrameBlock block = frameBlock(in.camera, p.plan, in.settings, in.termScale, scene_, in.l, !in.sunBelowHorizon);
     if (in.recordsInLighting) p.history.beforeLighting(block, in.camera);
     p.frameBlock.write(block);
-    if (in.blurred) p.shadowTerm.run(p.geometry.gbuffer(), p.shadow.map(), in.lookupShape, p.frameBlock);
+    if (in.blurred) p.shadowTerm.run(p.geometry.gbuffer(), p.shadow.map(), in.lookupShape, in.termScale, p.frameBlock);
   }
   auto timed = timer_->scope(passName(FramePass::Blur));
-  return in.blurred ? &p.blur.run(p.shadowTerm.term(), p.frameBlock) : nullptr;
+  return in.blurred ? &p.blur.run(p.shadowTerm.term(), in.termScale, in.blurTaps, p.frameBlock) : nullptr;
 }
 
 // What the frame leaves for readers and for the next frame; the pass times where known.
@@ -351,6 +363,11 @@ void Frame::presentTo(GLuint framebuffer, int width, int height) const {
                          GL_COLOR_BUFFER_BIT, GL_LINEAR);
 }
 
+PassFloorTimes Frame::timePassFloors(int repeats) {
+  if (!floors_) floors_ = std::make_unique<PassFloors>(width_, height_);
+  return floors_->time(passes_->geometry.gbuffer(), std::max(1, repeats));
+}
+
 Image8 Frame::readColor() const {
   Image8 image(width_, height_, 4);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
@@ -369,10 +386,17 @@ void Frame::requireUsedTerm(const char* reader) const {
 std::vector<float> Frame::readShadowTerm() const {
   // The blur off, the lighting pass looked the term up and wrote it as the term it used.
   if (!termWritten_) requireUsedTerm("readShadowTerm");
-  std::vector<float> v(static_cast<size_t>(width_) * height_);
-  glPixelStorei(GL_PACK_ALIGNMENT, 4);
   const gl::Texture& term = termWritten_ ? passes_->shadowTerm.term() : passes_->lighting.usedTerm();
-  glGetTextureImage(term.id(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(v.size() * 4), v.data());
+  std::vector<float> texels(static_cast<size_t>(term.width()) * term.height());
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureImage(term.id(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(texels.size() * 4), texels.data());
+  if (term.width() == width_) return texels;
+  // At half resolution: each pixel the texel of its block.
+  std::vector<float> v(static_cast<size_t>(width_) * height_);
+  const int scale = passes_->shadowTerm.scale();
+  for (int y = 0; y < height_; ++y)
+    for (int x = 0; x < width_; ++x)
+      v[static_cast<size_t>(y) * width_ + x] = texels[static_cast<size_t>(y / scale) * term.width() + x / scale];
   return v;
 }
 

@@ -5,8 +5,8 @@
 
 namespace forest::render {
 
-FrameBlock frameBlock(const Camera& camera, const ShadowPlan& plan, const FrameSettings& settings, const Scene& scene,
-                      const glm::dvec3& l, bool sunUp) {
+FrameBlock frameBlock(const Camera& camera, const ShadowPlan& plan, const FrameSettings& settings, int termScale,
+                      const Scene& scene, const glm::dvec3& l, bool sunUp) {
   FrameBlock b;
   glm::dmat4 shift(1.0);  // clip x, y += 2·shift/size · w
   shift[3][0] = 2.0 * settings.lookupShiftTexels.x / settings.shadowMapSize;
@@ -24,7 +24,7 @@ FrameBlock frameBlock(const Camera& camera, const ShadowPlan& plan, const FrameS
   b.sunColorAmbient = glm::vec4(glm::vec3(scene.sun.color), static_cast<float>(scene.sun.ambient));
   b.skyFog = glm::vec4(glm::vec3(glm::pow(scene.render.sky_color, glm::dvec3(2.2))), static_cast<float>(hazeDensityOf(settings, scene)));
   b.blur = glm::vec4(static_cast<float>(settings.blurRadius), static_cast<float>(settings.blurReferenceDepth),
-                     static_cast<float>(kBlurDepthTolerance), 0.0f);
+                     static_cast<float>(kBlurDepthTolerance), static_cast<float>(termScale));
   b.modes = glm::ivec4(settings.pcfRadius, plan.slices[0].setup.linearDepth ? 1 : 0, plan.cascades, plan.shadowed ? 1 : 0);
   return b;
 }

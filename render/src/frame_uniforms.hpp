@@ -23,9 +23,10 @@ constexpr double kBlurDepthTolerance = 0.05;
 // compiles the haze in only where it is above 0 (HAZE, shaders/lighting.frag).
 inline double hazeDensityOf(const FrameSettings& settings, const Scene& scene) { return settings.fogDensity.value_or(scene.render.haze); }
 
-// This frame's block: `l` the unit light direction, `sunUp` whether the sun is above the horizon;
-// the plan says whether the map holds its shadows (else the term is 0 everywhere).
-FrameBlock frameBlock(const Camera& camera, const ShadowPlan& plan, const FrameSettings& settings, const Scene& scene,
-                      const glm::dvec3& l, bool sunUp);
+// This frame's block: `termScale` the image's pixels per shadow term texel side (the blur's
+// radius is in image pixels), `l` the unit light direction, `sunUp` whether the sun is above the
+// horizon; the plan says whether the map holds its shadows (else the term is 0 everywhere).
+FrameBlock frameBlock(const Camera& camera, const ShadowPlan& plan, const FrameSettings& settings, int termScale,
+                      const Scene& scene, const glm::dvec3& l, bool sunUp);
 
 }  // namespace forest::render

@@ -23,6 +23,20 @@ gl::Program loadFullScreenProgram(const std::vector<std::string>& fragments, con
   return gl::loadProgram(files, defines + gl::readShader("frame_block.glsl"));
 }
 
+PassImage::PassImage(int width, int height, const char* label, GLenum format) : texture(format, width, height) {
+  framebuffer.attach(GL_COLOR_ATTACHMENT0, texture);
+  framebuffer.checkComplete(label);
+  glTextureParameteri(texture.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(texture.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTextureParameteri(texture.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(texture.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+}
+
+void PassImage::bindForDrawing() const {
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.id());
+  glViewport(0, 0, texture.width(), texture.height());
+}
+
 void FullScreenTriangle::draw(const gl::Program& program) const {
   program.use();
   glBindVertexArray(empty_.id());

@@ -1,7 +1,7 @@
 #pragma once
 // What the full-screen passes (shadow term, blur, lighting) share: one triangle over the viewport
 // whose positions and pixel rays shaders/fullscreen.vert makes from gl_VertexID, so there is no
-// vertex data — an empty vertex array.
+// vertex data — an empty vertex array; the term's image.
 #include <glm/glm.hpp>
 
 #include <string>
@@ -20,6 +20,18 @@ glm::mat3 pixelRays(const Camera& camera);
 // fullscreen.vert linked with `fragments`, every stage declaring the frame block (frame_block.glsl)
 // after `defines` (lines such as "#define X\n").
 gl::Program loadFullScreenProgram(const std::vector<std::string>& fragments, const std::string& defines = "");
+
+// An image a full-screen pass writes: its texture (nearest filtering, clamped at the edges for the
+// upsample's gathers) and framebuffer. For the shadow term and its eye depth: RG16F (r: term, g:
+// eye depth), or R32UI with the two as halves (packHalf2x16: the upsample reads four texels' terms
+// and depths with one gather).
+struct PassImage {
+  PassImage(int width, int height, const char* label, GLenum format = GL_RG16F);
+  // Binds its framebuffer and viewport.
+  void bindForDrawing() const;
+  gl::Texture texture;
+  gl::Framebuffer framebuffer;
+};
 
 class FullScreenTriangle {
  public:

@@ -10,6 +10,9 @@ GBuffer::GBuffer(int width, int height)
   for (const gl::Texture* t : {&surface, &depth}) {
     glTextureParameteri(t->id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(t->id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    // Gathers at the image's edge (the half-resolution term's blocks) read the edge again.
+    glTextureParameteri(t->id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(t->id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   }
 }
 

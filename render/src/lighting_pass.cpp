@@ -4,52 +4,69 @@
 
 namespace forest::render {
 
-LightingPass::LightingPass(int width, int height)
-    : width_(width), height_(height), usedTerm_(GL_RG16F, width, height), color_(GL_RGBA8, width, height) {
+LightingPass::LightingPass(int width, int height, const GBuffer& gbuffer)
+    : width_(width),
+      height_(height),
+      usedTerm_(GL_RG16F, width, height),
+      color_(GL_RGBA8, width, height),
+      sky_(loadFullScreenProgram({"sky.frag", "sky_radiance.frag", "display_gamma.frag"})) {
   framebuffer_.attach(GL_COLOR_ATTACHMENT0, color_);
   framebuffer_.attach(GL_COLOR_ATTACHMENT1, usedTerm_);
+  framebuffer_.attach(GL_DEPTH_ATTACHMENT, gbuffer.depth);
   framebuffer_.checkComplete("colour");
   glTextureParameteri(usedTerm_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTextureParameteri(usedTerm_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
 }
 
-std::string LightingPass::defines(bool haze, bool record) {
-  return std::string(haze ? "#define HAZE\n" : "") + (record ? "#define RECORD_SHOWN\n" : "");
-}
-
-const gl::Program& LightingPass::program(bool blurred, const ShadowLookupShape& shape, bool haze, bool record) {
-  const std::size_t variant = static_cast<std::size_t>(haze) + 2 * static_cast<std::size_t>(record);
-  if (!blurred) {
-    std::optional<ShadowLookupPrograms>& programs = lookup_[variant];
-    if (!programs) programs.emplace(std::vector<std::string>{"lighting.frag", "display_gamma.frag"}, defines(haze, record));
-    return programs->get(shape);
+const gl::Program& LightingPass::program(const ProgramKey& key) {
+  auto it = programs_.find(key);
+  if (it != programs_.end()) return it->second;
+  std::vector<std::string> files{"lighting.frag", "sky_radiance.frag", "display_gamma.frag", "gbuffer_read.frag"};
+  std::string defines = std::string(key.haze ? "#define HAZE\n" : "") + (key.record ? "#define RECORD_SHOWN\n" : "");
+  switch (key.source) {
+    case TermSource::Lookup:
+      files.push_back("shadow_lookup.frag");
+      defines += shadowLookupDefines(key.shape);
+      break;
+    case TermSource::VerticalBlur:
+      files.push_back("blur_taps.frag");
+      defines += "#define BLURRED_TERM\n" + blurTapsDefine(key.blurTaps);
+      break;
+    case TermSource::Upsample:
+      files.push_back("term_upsample.frag");
+      defines += "#define UPSAMPLED_TERM\n";
+      break;
   }
-  std::optional<gl::Program>& program = blurred_[variant];
-  if (!program)
-    program = loadFullScreenProgram({"lighting.frag", "display_gamma.frag", "blur_taps.frag", "gbuffer_read.frag"},
-                                    "#define BLURRED_TERM\n" + defines(haze, record));
-  return *program;
+  return programs_.emplace(key, loadFullScreenProgram(files, defines)).first->second;
 }
 
-void LightingPass::run(const GBuffer& gbuffer, const gl::Texture* term, const gl::Texture& shadowMap, const ShadowLookupShape& shape,
-                       const FrameBlockBuffer& frameBlock, bool haze, bool keepTerm, bool record) {
+void LightingPass::run(const GBuffer& gbuffer, const gl::Texture* term, const ProgramKey& key, const gl::Texture& shadowMap,
+                       const FrameBlockBuffer& frameBlock, bool keepTerm) {
   frameBlock.bind();
   // Without the term's target the shader's second output goes nowhere.
   const GLenum buffers[2] = {GL_COLOR_ATTACHMENT0, keepTerm ? GLenum{GL_COLOR_ATTACHMENT1} : GLenum{GL_NONE}};
   glNamedFramebufferDrawBuffers(framebuffer_.id(), 2, buffers);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
   glViewport(0, 0, width_, height_);
-  glDisable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
-  if (term) {
+  // The full-screen triangle lies at depth 0, the reversed-Z clear value: it passes GL_LESS where
+  // the geometry pass drew (depth > 0) and GL_EQUAL where it did not. Fragments that fail are not
+  // shaded (early depth test: the shaders neither discard nor write depth).
+  glEnable(GL_DEPTH_TEST);
+  glDepthMask(GL_FALSE);
+  glDepthFunc(GL_LESS);
+  if (key.source != TermSource::Lookup) {
     glBindTextureUnit(5, gbuffer.surface.id());  // shaders/gbuffer_read.frag
     glBindTextureUnit(4, term->id());
   } else {
     bindShadowLookupInputs(gbuffer, shadowMap);
   }
-  triangle_.draw(program(term != nullptr, shape, haze, record));
+  triangle_.draw(program(key));
+  glDepthFunc(GL_EQUAL);
+  triangle_.draw(sky_);
   for (GLuint unit = 0; unit < 7; ++unit) glBindTextureUnit(unit, 0);
-  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_GREATER);  // the frame's reversed-Z state
+  glDepthMask(GL_TRUE);
   glEnable(GL_CULL_FACE);
 }
 

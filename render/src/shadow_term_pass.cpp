@@ -7,12 +7,9 @@ void bindShadowLookupInputs(const GBuffer& gbuffer, const gl::Texture& shadowMap
   glBindTextureUnit(3, shadowMap.id());
 }
 
-namespace {
-// The lines that make `shape` compile-time constants of shaders/shadow_lookup.frag.
 std::string shadowLookupDefines(const ShadowLookupShape& shape) {
   return "#define PCF_RADIUS " + std::to_string(shape.pcfRadius) + "\n#define SHADOW_SLICES " + std::to_string(shape.slices) + "\n";
 }
-}  // namespace
 
 ShadowLookupPrograms::ShadowLookupPrograms(std::vector<std::string> fragments, std::string defines)
     : fragments_(std::move(fragments)), defines_(std::move(defines)) {
@@ -27,22 +24,23 @@ const gl::Program& ShadowLookupPrograms::get(const ShadowLookupShape& shape) {
 }
 
 ShadowTermPass::ShadowTermPass(int width, int height)
-    : width_(width), height_(height), term_(GL_RG16F, width, height), programs_({"shadow_term.frag"}) {
-  framebuffer_.attach(GL_COLOR_ATTACHMENT0, term_);
-  framebuffer_.checkComplete("shadow term");
-  glTextureParameteri(term_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTextureParameteri(term_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-}
+    : width_(width),
+      height_(height),
+      programs_{ShadowLookupPrograms({"shadow_term.frag"}, "#define TERM_SCALE 1\n"),
+                ShadowLookupPrograms({"shadow_term.frag"}, "#define TERM_SCALE 2\n")} {}
 
-void ShadowTermPass::run(const GBuffer& gbuffer, const gl::Texture& shadowMap, const ShadowLookupShape& shape,
+void ShadowTermPass::run(const GBuffer& gbuffer, const gl::Texture& shadowMap, const ShadowLookupShape& shape, int scale,
                          const FrameBlockBuffer& frameBlock) {
+  std::optional<PassImage>& image = images_[index(scale)];
+  // A texel for every whole or partial block of scale × scale pixels.
+  if (!image) image.emplace((width_ + scale - 1) / scale, (height_ + scale - 1) / scale, "shadow term");
+  lastScale_ = scale;
   frameBlock.bind();
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.id());
-  glViewport(0, 0, width_, height_);
+  image->bindForDrawing();
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
   bindShadowLookupInputs(gbuffer, shadowMap);
-  triangle_.draw(programs_.get(shape));
+  triangle_.draw(programs_[index(scale)].get(shape));
 }
 
 }  // namespace forest::render

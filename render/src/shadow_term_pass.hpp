@@ -6,7 +6,9 @@
 // one full-screen pass fewer.
 #include <glm/glm.hpp>
 
+#include <array>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +31,9 @@ struct ShadowLookupShape {
   auto operator<=>(const ShadowLookupShape&) const = default;
 };
 
+// The lines that make `shape` compile-time constants of shaders/shadow_lookup.frag.
+std::string shadowLookupDefines(const ShadowLookupShape& shape);
+
 // A full-screen program that links shaders/shadow_lookup.frag, one per lookup shape, compiled when
 // the shape is first used. With the filter radius and the slice count constant the lookup's loops
 // unroll: read from the frame block as loop bounds, they cost the lighting pass ~7 of its ~40 ms
@@ -48,19 +53,26 @@ class ShadowLookupPrograms {
   std::map<ShadowLookupShape, gl::Program> programs_;
 };
 
+// The term's resolution: pixels per term texel side (FrameSettings::shadowTermScale), 1 or 2.
+inline constexpr int kMaxShadowTermScale = 2;
+
 class ShadowTermPass {
  public:
   ShadowTermPass(int width, int height);
-  // Reads the lookup, the sun and the filter from the frame block.
-  void run(const GBuffer& gbuffer, const gl::Texture& shadowMap, const ShadowLookupShape& shape, const FrameBlockBuffer& frameBlock);
-  void prepare(const ShadowLookupShape& shape) { programs_.get(shape); }  // compiles its program now
-  const gl::Texture& term() const { return term_; }
+  // Reads the lookup, the sun and the filter from the frame block; writes the term at `scale`
+  // (shaders/shadow_term.frag: at every pixel, or at the nearest surface of each 2 × 2 block).
+  void run(const GBuffer& gbuffer, const gl::Texture& shadowMap, const ShadowLookupShape& shape, int scale,
+           const FrameBlockBuffer& frameBlock);
+  void prepare(const ShadowLookupShape& shape, int scale) { programs_[index(scale)].get(shape); }  // compiles its program now
+  const gl::Texture& term() const { return images_[index(lastScale_)]->texture; }  // the last run's
+  int scale() const { return lastScale_; }
 
  private:
+  static std::size_t index(int scale) { return static_cast<std::size_t>(scale - 1); }
   int width_, height_;
-  gl::Texture term_;
-  gl::Framebuffer framebuffer_;
-  ShadowLookupPrograms programs_;
+  int lastScale_ = 1;
+  std::array<std::optional<PassImage>, kMaxShadowTermScale> images_;  // per scale, made on first use
+  std::array<ShadowLookupPrograms, kMaxShadowTermScale> programs_;
   FullScreenTriangle triangle_;
 };
 

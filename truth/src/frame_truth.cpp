@@ -156,7 +156,7 @@ void scorePixels(const render::Frame& frame, const std::vector<PixelTruth>& trut
       ++band.litFacing;
       const bool nearEdge = nearTrueEdge(truth, x, y, width, height, options.edgePixels);
       e.nearEdge += nearEdge ? 1 : 0;
-      const bool renderedShadow = term[i] < 0.5f;
+      const bool renderedShadow = blurred[i] < 0.5f;  // what the image shows
       if (renderedShadow != t.shadowed) {
         ++n.wrong;
         ++band.misclassified;
@@ -252,6 +252,15 @@ FrameError evaluateFrame(const render::Frame& frame, const render::FrameStats& s
   e.aliasingRelative = shadows::summarise(std::move(n.aliasingRelative));
   e.casters = casterOracle(frame, stats, rays, truth);
   return e;
+}
+
+double misclassificationOf(const FrameError& evaluated, const std::vector<float>& term) {
+  if (term.size() != evaluated.truthState.size())
+    throw Error(fmt::format("misclassificationOf: {} term values for {} pixels", term.size(), evaluated.truthState.size()));
+  long long wrong = 0;
+  for (size_t i = 0; i < term.size(); ++i)
+    if (evaluated.truthState[i] >= 0) wrong += (term[i] < 0.5f) != (evaluated.truthState[i] == 0) ? 1 : 0;
+  return evaluated.litFacing > 0 ? static_cast<double>(wrong) / evaluated.litFacing : 0.0;
 }
 
 FlickerResult measureFlicker(render::Frame& frame, const Scene& scene, std::span<const Camera> cameras, double time,

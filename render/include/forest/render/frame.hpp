@@ -76,6 +76,12 @@ struct FrameSettings {
   // blurReferenceDepth away, shrinking as 1/z beyond; 0 = off. [0, 16].
   double blurRadius = 0.0;
   double blurReferenceDepth = 10.0;  // metres, > 0
+  // With the blur on, the shadow term's resolution: pixels per term texel side. 1: a term at every
+  // pixel, the blur's vertical half inside the lighting pass; 2: a term at the nearest surface of
+  // each 2 × 2 block, both blur halves on a quarter of the pixels, and a depth-aware upsample in the
+  // lighting pass (render/src/shadow_term_pass.hpp). The blur off, lighting looks the term up at
+  // every pixel either way.
+  int shadowTermScale = 1;
   std::optional<double> fogDensity;  // distance haze per metre, [0, 1] (0: none); unset: the scene's [render] haze
   // Error injection for validating the error figures (ground truth tests): the shadow-term lookup
   // reads the map this many texels off in x and y. 0 in normal use.
@@ -165,6 +171,18 @@ struct FrameStats {
   void setPassTimes(const gl::FrameTiming& timing);
 };
 
+// The floors of the full-screen passes at this frame's size (Frame::timePassFloors): passes that
+// only read what the real ones read and write a colour, ms.
+struct PassFloorTimes {
+  double emptyMs = 0.0;           // no reads: a constant colour
+  double gbufferMs = 0.0;         // the G-buffer's surface texel (the lighting's reads with the term looked up)
+  double gbufferAndTermMs = 0.0;  // that and a gather of the half-resolution term (the lighting's with the upsample)
+  double gbufferBlocksMs = 0.0;   // at half resolution, a 2 × 2 block's depths and one texel (the half-resolution term's)
+  double termTapsMs = 0.0;        // at half resolution, three texels of the term (one half of the blur's, one tap each side)
+};
+
+class PassFloors;  // src/pass_floors.hpp
+
 class Frame {
  public:
   // Generates the scene's terrain and forest and uploads everything (needs a current GL context).
@@ -193,10 +211,16 @@ class Frame {
   // after a camera cut.
   void resetHistory();
 
+  // The full-screen passes' floors on the last frame's G-buffer, each the median of `repeats`
+  // runs timed with glFinish (render/src/pass_floors.hpp; its programs compile on the first call).
+  PassFloorTimes timePassFloors(int repeats);
+
   Image8 readColor() const;                       // top row first
   // Copies the lit image into a framebuffer of that size (0: a window's back buffer).
   void presentTo(GLuint framebuffer, int width, int height) const;
-  std::vector<float> readShadowTerm() const;      // bottom row first (GL), 1 lit, 0 shadowed; before the blur
+  // Bottom row first (GL), 1 lit, 0 shadowed; before the blur. With the term at half resolution
+  // (shadowTermScale 2) each pixel holds the term of its 2 × 2 block.
+  std::vector<float> readShadowTerm() const;
   std::vector<float> readBlurredShadowTerm() const;  // what lighting used (= the term when the blur is off)
   // Both throw forest::Error where the last frame did not keep the term they read (keepShadowTerm).
   std::vector<std::uint32_t> readObjectIds() const;  // bottom row first, 0 = sky
@@ -259,6 +283,7 @@ class Frame {
   std::unique_ptr<vegetation::Forest> forest_;
   std::unique_ptr<SceneObjects> objects_;
   std::unique_ptr<Passes> passes_;
+  std::unique_ptr<PassFloors> floors_;  // made by the first timePassFloors
   culling::Bvh bvh_;
   culling::OcclusionCuller culler_;
   std::unique_ptr<culling::OcclusionCuller> referenceCuller_;  // renderReferenceGeometry's, built on first use

@@ -37,7 +37,7 @@ struct FrameBlock {
   glm::vec4 toSunUp{0.0f};                // xyz: toward the sun; w: 1 when above the horizon
   glm::vec4 sunColorAmbient{0.0f};
   glm::vec4 skyFog{0.0f};                 // rgb: sky, linear; w: fog density per metre
-  glm::vec4 blur{0.0f};                   // radius px, reference depth m, relative depth tolerance
+  glm::vec4 blur{0.0f};                   // radius px, reference depth m, relative depth tolerance, pixels per term texel side
   glm::vec4 cascadeEnds{0.0f};            // eye depth (m) where slice 0, 1, 2, 3 ends
   glm::vec4 cascadeBlend{0.0f};           // x: the blend band's share of a split's distance
   glm::ivec4 modes{0};                    // PCF radius, tsm linear depth, slices, shadowed

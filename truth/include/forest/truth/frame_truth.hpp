@@ -51,7 +51,8 @@ struct FrameError {
   int scored = 0;              // truth and G-buffer see the same object (not sky)
   int litFacing = 0;           // scored, geometric normal towards the sun
   int nearEdge = 0;            // lit-facing, within edgePixels of a true edge
-  // Shares of the lit-facing pixels whose unblurred term (threshold 0.5) disagrees with the truth.
+  // Shares of the lit-facing pixels where the term the lighting used (after the blur and, at half
+  // resolution, the upsample; threshold 0.5) disagrees with the truth.
   double misclassification = 0.0;
   double misclassificationNearEdge = 0.0;   // of the near-edge pixels
   double misclassificationElsewhere = 0.0;  // of the others
@@ -73,6 +74,11 @@ struct FrameError {
 // scene the frame was built from. Needs the frame's GL context current (reads its buffers back).
 FrameError evaluateFrame(const render::Frame& frame, const render::FrameStats& stats, const Scene& scene,
                          const Camera& camera, double time, const TruthOptions& options = {});
+
+// The share of the evaluated frame's lit-facing pixels where `term` (rows bottom-up, threshold 0.5)
+// disagrees with its truth: another term of the same view scored against the same truth (the
+// frame drawn again with other settings: the blur off).
+double misclassificationOf(const FrameError& evaluated, const std::vector<float>& term);
 
 struct FlickerResult {
   int probes = 0;        // world points on visible lit-facing receivers of the first frame
