@@ -21,5 +21,9 @@ void main() {
     vLightDepthRay[i] = dot(uFrame.eyeRelativeLightDepth[i].xyz, vRay);
   }
 #endif
-  gl_Position = vec4(ndc, 0.0, 1.0);
+#ifdef AT_HALF_TERM_DEPTH  // the lighting's draws either side of that depth (render/src/lighting_pass.cpp)
+  gl_Position = vec4(ndc, uFrame.halfTerm.x, 1.0);
+#else
+  gl_Position = vec4(ndc, 0.0, 1.0);  // the reversed-Z clear value: the sky's
+#endif
 }

@@ -243,5 +243,38 @@ TEST(ForestCli, BenchCullingRunsACameraPathFile) {
   EXPECT_THAT(shortPath.err, HasSubstr("--warmup 5: expected fewer than the 5 frames of"));
 }
 
+// forest bench passes: every variant and floor measured, the ratios as the table prints them, the
+// variants' images compared; a bad size refused.
+TEST(ForestCli, BenchPassesTimesTheVariantsAgainstTheirFloors) {
+  const fs::path out = fs::path(FOREST_TEST_OUTPUT) / "cli" / "bench-passes";
+  fs::remove_all(out);
+  const Result r = runForest(fmt::format("bench passes --views 2 --rounds 1 --sizes 320x180 --quiet --out {}", out.string()));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(readTextFile(out / "passes.json"));
+  ASSERT_EQ(j["sizes"].size(), 1u);
+  const auto& size = j["sizes"][0];
+  EXPECT_EQ(size["width"], 320);
+  for (const char* variant : {"full", "half", "blur off"}) {
+    const auto& v = size["variants"][variant];
+    EXPECT_GT(v["lighting_ms_p50"].get<double>(), 0.0) << variant;
+    EXPECT_NEAR(v["full_screen_ms_p50"].get<double>(),
+                v["term_ms_p50"].get<double>() + v["blur_ms_p50"].get<double>() + v["lighting_ms_p50"].get<double>(),
+                0.5 * v["full_screen_ms_p50"].get<double>())  // p50 of sums against the sum of p50s: 2 views
+        << variant;
+  }
+  EXPECT_EQ(size["variants"]["full"]["mean_difference_255"], 0.0);  // the reference itself
+  EXPECT_GT(size["variants"]["blur off"]["differing_share_max"].get<double>(), 0.0);  // no blur: edges differ
+  for (const auto& [name, ms] : size["floors_ms_p50"].items()) EXPECT_GT(ms.get<double>(), 0.0) << name;
+  EXPECT_EQ(size["floors_ms_p50"].size(), 5u);
+  const auto& ratios = size["ratios"];
+  EXPECT_NEAR(ratios["half_over_full_full_screen"].get<double>(),
+              size["variants"]["half"]["full_screen_ms_p50"].get<double>() / size["variants"]["full"]["full_screen_ms_p50"].get<double>(),
+              1e-9);
+  EXPECT_THAT(readTextFile(out / "passes.md"), HasSubstr("| half |"));
+  const Result bad = runForest(fmt::format("bench passes --sizes 320by180 --out {}", (out / "bad").string()));
+  EXPECT_EQ(bad.exitCode, 2);
+  EXPECT_THAT(bad.err, HasSubstr("--sizes 320by180: expected WIDTHxHEIGHT"));
+}
+
 }  // namespace
 }  // namespace forest

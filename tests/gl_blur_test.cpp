@@ -171,8 +171,10 @@ TEST_F(BlurGl, BlurDoesNotLeakAcrossADepthDiscontinuity) {
 
 // The term at half resolution (FrameSettings::shadowTermScale 2: a lookup per 2 × 2 block at its
 // nearest surface, the blur on the blocks, a depth-aware upsample in the lighting) against the full
-// resolution one, on the box's shadow on the plane, blur 3 px (σ = 1.5 px; at half resolution
-// σ_s = sqrt(1.5² − 3/6) / 2 = 0.66 texel, cut at 3σ: 1 tap each side).
+// resolution one, on the box's shadow on the plane, blur 3 px up to 40 m — the whole plane in view,
+// and nearer than the depth where the radius falls to 2 px (60 m), within which lighting upsamples
+// the half-resolution term (σ = 1.5 px; at half resolution σ_s = sqrt(1.5² − 3/6) / 2 = 0.66 texel,
+// cut at 3σ: 1 tap each side).
 // (1) Away from every edge they are equal: a pixel's half-resolution term reads texels at most one
 // upsample texel and one blur tap from its block — within b = 2 · (1 + 1) + 1 = 5 pixels — and the
 // full one reads 3 taps; where the unblurred full term is one value over that window, on one surface
@@ -187,6 +189,7 @@ TEST_F(BlurGl, HalfResolutionTermEqualsTheFullOneAwayFromEdgesAndKeepsItsEdges) 
   const Camera camera = boxOverPlaneView();
   render::FrameSettings settings;
   settings.blurRadius = 3.0;
+  settings.blurReferenceDepth = 40.0;
   frame.render(camera, 0.0, settings);
   const std::vector<float> unblurred = frame.readShadowTerm(), full = frame.readBlurredShadowTerm(), depth = frame.readDepth();
   const std::vector<std::uint32_t> ids = frame.readObjectIds();
@@ -228,6 +231,44 @@ TEST_F(BlurGl, HalfResolutionTermEqualsTheFullOneAwayFromEdgesAndKeepsItsEdges) 
   EXPECT_EQ(unequal, 0);
   EXPECT_GT(nearEdge, 100);
   EXPECT_EQ(flipped, 0);
+  EXPECT_EQ(gl::debugErrorCount(), 0u);
+}
+
+// Beyond the eye depth where the blur's radius falls to 2 px (R · z_ref / 2: 15 m for 3 px up to
+// 10 m) the half-resolution term would lose the map's detail, so the lighting looks the term up
+// there: the term it used equals, pixel for pixel, the term of the same frame with the blur off
+// (the same lookup); nearer, it is the upsampled one, which differs at the shadow's edges.
+TEST_F(BlurGl, BeyondTheHalfTermDepthLightingLooksTheTermUp) {
+  const Scene scene = boxOverPlane();  // the frame keeps a reference
+  render::Frame frame(scene, kWidth, kHeight);
+  const Camera camera = cameraAt({0, 3, 17}, 0.0, -8.0, 300.0);  // the plane from ~7 m to 97 m, the box's shadow across 15 m
+  render::FrameSettings settings;
+  frame.render(camera, 0.0, settings);  // blur off
+  const std::vector<float> lookedUp = frame.readBlurredShadowTerm(), depth = frame.readDepth();
+  settings.blurRadius = 3.0;
+  settings.shadowTermScale = 2;
+  frame.render(camera, 0.0, settings);
+  const std::vector<float> used = frame.readBlurredShadowTerm();
+  const double split = 0.5 * settings.blurRadius * settings.blurReferenceDepth;
+  int beyond = 0, beyondDiffer = 0, nearer = 0, nearerDiffer = 0, nearerEdges = 0;
+  for (size_t i = 0; i < depth.size(); ++i) {
+    if (depth[i] == 0.0f) continue;  // sky
+    const double z = eyeDepthAt(camera, depth[i]);
+    if (z > split * 1.001) {  // the float depth test's rounding
+      ++beyond;
+      beyondDiffer += used[i] != lookedUp[i] ? 1 : 0;
+    } else if (z < split * 0.999) {
+      ++nearer;
+      nearerDiffer += used[i] != lookedUp[i] ? 1 : 0;
+      nearerEdges += lookedUp[i] > 0.0f && lookedUp[i] < 1.0f ? 1 : 0;
+    }
+  }
+  std::printf("[half term depth] %d pixels beyond %.0f m, %d differ from the lookup; %d nearer, %d differ\n", beyond, split, beyondDiffer,
+              nearer, nearerDiffer);
+  EXPECT_GT(beyond, 1000);
+  EXPECT_EQ(beyondDiffer, 0);
+  ASSERT_GT(nearer, 1000);
+  EXPECT_GT(nearerDiffer, 0);  // the upsample's blurred edges (and its shadowed pixels are the box's)
   EXPECT_EQ(gl::debugErrorCount(), 0u);
 }
 

@@ -1,5 +1,7 @@
 #include "frame_uniforms.hpp"
 
+#include <algorithm>
+
 #include "fullscreen_triangle.hpp"
 #include "shadow_pass.hpp"
 
@@ -25,6 +27,14 @@ FrameBlock frameBlock(const Camera& camera, const ShadowPlan& plan, const FrameS
   b.skyFog = glm::vec4(glm::vec3(glm::pow(scene.render.sky_color, glm::dvec3(2.2))), static_cast<float>(hazeDensityOf(settings, scene)));
   b.blur = glm::vec4(static_cast<float>(settings.blurRadius), static_cast<float>(settings.blurReferenceDepth),
                      static_cast<float>(kBlurDepthTolerance), static_cast<float>(termScale));
+  if (termScale > 1) {
+    // Where the blur's radius r(z) = R · z_ref / z falls to 2 pixels: nearer, the term is smooth
+    // over a 2 × 2 block and the half-resolution one serves; beyond, a half-resolution term would
+    // lose the map's detail, and the lighting looks the term up at every pixel (blur_taps.frag).
+    const double split = 0.5 * settings.blurRadius * settings.blurReferenceDepth;
+    const glm::dvec4 clip = camera.projection() * glm::dvec4(0.0, 0.0, -std::clamp(split, camera.near, camera.far), 1.0);
+    b.halfTerm = glm::vec4(static_cast<float>(std::clamp(clip.z / clip.w, 0.0, 1.0)), static_cast<float>(split), 0.0f, 0.0f);
+  }
   b.modes = glm::ivec4(settings.pcfRadius, plan.slices[0].setup.linearDepth ? 1 : 0, plan.cascades, plan.shadowed ? 1 : 0);
   return b;
 }

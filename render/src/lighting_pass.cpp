@@ -18,11 +18,33 @@ LightingPass::LightingPass(int width, int height, const GBuffer& gbuffer)
   glTextureParameteri(usedTerm_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
 }
 
+LightingPass::ProgramKey LightingPass::nearHalfTermDepth(ProgramKey key) {
+  key.atHalfTermDepth = true;
+  return key;
+}
+
+LightingPass::ProgramKey LightingPass::beyondHalfTermDepth(ProgramKey key) {
+  key.source = TermSource::Lookup;
+  key.blurTaps = 0;
+  key.atHalfTermDepth = true;
+  return key;
+}
+
+void LightingPass::prepare(const ProgramKey& key) {
+  if (key.source != TermSource::Upsample) {
+    program(key);
+    return;
+  }
+  program(nearHalfTermDepth(key));
+  program(beyondHalfTermDepth(key));
+}
+
 const gl::Program& LightingPass::program(const ProgramKey& key) {
   auto it = programs_.find(key);
   if (it != programs_.end()) return it->second;
   std::vector<std::string> files{"lighting.frag", "sky_radiance.frag", "display_gamma.frag", "gbuffer_read.frag"};
-  std::string defines = std::string(key.haze ? "#define HAZE\n" : "") + (key.record ? "#define RECORD_SHOWN\n" : "");
+  std::string defines = std::string(key.haze ? "#define HAZE\n" : "") + (key.record ? "#define RECORD_SHOWN\n" : "") +
+                        (key.atHalfTermDepth ? "#define AT_HALF_TERM_DEPTH\n" : "");
   switch (key.source) {
     case TermSource::Lookup:
       files.push_back("shadow_lookup.frag");
@@ -55,13 +77,17 @@ void LightingPass::run(const GBuffer& gbuffer, const gl::Texture* term, const Pr
   glEnable(GL_DEPTH_TEST);
   glDepthMask(GL_FALSE);
   glDepthFunc(GL_LESS);
-  if (key.source != TermSource::Lookup) {
-    glBindTextureUnit(5, gbuffer.surface.id());  // shaders/gbuffer_read.frag
-    glBindTextureUnit(4, term->id());
+  bindShadowLookupInputs(gbuffer, shadowMap);
+  if (key.source != TermSource::Lookup) glBindTextureUnit(4, term->id());
+  if (key.source == TermSource::Upsample) {
+    // Nearer than the half-resolution term's depth (FrameBlock::halfTerm), its upsample; beyond,
+    // and on the sky (which the sky's draw then covers), the lookup at every pixel.
+    triangle_.draw(program(nearHalfTermDepth(key)));
+    glDepthFunc(GL_GEQUAL);
+    triangle_.draw(program(beyondHalfTermDepth(key)));
   } else {
-    bindShadowLookupInputs(gbuffer, shadowMap);
+    triangle_.draw(program(key));
   }
-  triangle_.draw(program(key));
   glDepthFunc(GL_EQUAL);
   triangle_.draw(sky_);
   for (GLuint unit = 0; unit < 7; ++unit) glBindTextureUnit(unit, 0);

@@ -39,6 +39,7 @@ class LightingPass {
     ShadowLookupShape shape;
     int blurTaps = 0;
     bool haze = false, record = false;
+    bool atHalfTermDepth = false;  // the full-screen triangle at FrameBlock::halfTerm's depth (set by run())
     auto operator<=>(const ProgramKey&) const = default;
   };
   // `term`: the blur pass's output for TermSource::VerticalBlur and Upsample, else null (the term
@@ -47,7 +48,7 @@ class LightingPass {
   void run(const GBuffer& gbuffer, const gl::Texture* term, const ProgramKey& key, const gl::Texture& shadowMap,
            const FrameBlockBuffer& frameBlock, bool keepTerm);
   // Compiles the program run() will use now (before any pass is timed).
-  void prepare(const ProgramKey& key) { program(key); }
+  void prepare(const ProgramKey& key);
 
   const gl::Texture& color() const { return color_; }
   const gl::Texture& usedTerm() const { return usedTerm_; }
@@ -58,6 +59,10 @@ class LightingPass {
   gl::Texture usedTerm_, color_;
   gl::Framebuffer framebuffer_;
   const gl::Program& program(const ProgramKey& key);
+  // TermSource::Upsample draws twice (run()): the upsample nearer than the half-resolution term's
+  // depth, the lookup beyond it.
+  static ProgramKey nearHalfTermDepth(ProgramKey key);
+  static ProgramKey beyondHalfTermDepth(ProgramKey key);
   std::map<ProgramKey, gl::Program> programs_;  // compiled on first use
   gl::Program sky_;
   FullScreenTriangle triangle_;

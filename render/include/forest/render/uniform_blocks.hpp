@@ -45,6 +45,7 @@ struct FrameBlock {
   // (0: none), tiles per side, tiles (IDs 1 to this are tiles), the first block's slot.
   glm::uvec4 imageRecord{0u};
   glm::vec4 imageTerrain{0.0f};  // the eye in terrain samples from the heightfield's origin (x, z), 1 / spacing, quads per tile
+  glm::vec4 halfTerm{0.0f};      // x: the window depth of y, the eye depth (m) within which lighting upsamples the half-resolution term
 };
 constexpr GLuint kFrameBlockBinding = 2;
 
