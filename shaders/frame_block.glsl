@@ -18,6 +18,8 @@ layout(std140, binding = 2) uniform FrameBlock {
                                // (IDs 1 to z), w: the first block's slot (lighting.frag's recordShown)
   vec4 imageTerrain;           // xy: the eye in terrain samples from the heightfield's origin (x, z);
                                // z: 1 / sample spacing; w: quads per tile side
-  vec4 halfTerm;               // x: the window depth (reversed-Z) of y, the eye depth (m) within which the
-                               // lighting upsamples the half-resolution term (beyond, it looks the term up)
+  vec4 halfTerm;               // x: the window depth (reversed-Z) of the eye depth within which lighting
+                               // upsamples the half-resolution term (beyond, it looks the term up); y: that
+                               // of the depth up to which the blur computes it; z, w: a, b of the window
+                               // depth a / z + b of eye depth z
 } uFrame;

@@ -21,8 +21,10 @@ void main() {
     vLightDepthRay[i] = dot(uFrame.eyeRelativeLightDepth[i].xyz, vRay);
   }
 #endif
-#ifdef AT_HALF_TERM_DEPTH  // the lighting's draws either side of that depth (render/src/lighting_pass.cpp)
+#if defined(AT_HALF_TERM_DEPTH)  // the lighting's draws either side of that depth (render/src/lighting_pass.cpp)
   gl_Position = vec4(ndc, uFrame.halfTerm.x, 1.0);
+#elif defined(AT_HALF_TERM_REACH)  // the half-resolution passes, nearer than what lighting reads (shadow_term_pass.cpp)
+  gl_Position = vec4(ndc, uFrame.halfTerm.y, 1.0);
 #else
   gl_Position = vec4(ndc, 0.0, 1.0);  // the reversed-Z clear value: the sky's
 #endif

@@ -60,10 +60,14 @@ void recordShown(uvec4 surface) {
 
 // The sky's and the haze's colours (sky_radiance.frag).
 vec3 hazeRadiance(vec3 d, vec3 zenith, vec3 toSun, vec3 sunColor, bool sunUp);
+vec3 skyRadiance(vec3 d, vec3 zenith, vec3 toSun, vec3 sunColor, bool sunUp);
 
 // The lit surface's radiance (linear).
 vec3 surfaceRadiance(uvec4 surface, vec2 term, vec3 view, vec3 zenith, vec3 toSun, vec3 sunColor, bool sunUp, float ambient,
                      float hazeDensity) {
+#ifdef WITH_SKY  // (the draw beyond the half-resolution term's depth, which the sky's pixels pass too)
+  if (term.g == 0.0) return skyRadiance(view, zenith, toSun, sunColor, sunUp);
+#endif
   vec3 albedo = albedoOf(surface);
   vec3 n = shadingNormalOf(surface);
   float shadow = term.r;

@@ -33,7 +33,7 @@ void main() {
   // The gather's order from the corner: (0, 1), (1, 1), (1, 0), (0, 0); at an odd width or height
   // the edge's pixels again (clamped).
   vec4 depths = uintBitsToFloat(surfaceGatherAt(corner));
-  vec4 candidates = mix(depths, vec4(3.0e38), equal(depths, vec4(0.0)));  // the sky last
+  vec4 candidates = mix(depths, vec4(3.0e38), equal(depths, vec4(0.0)));  // the sky last (still 3e38 if all sky)
   const ivec2 kInBlock[4] = ivec2[4](ivec2(0, 1), ivec2(1, 1), ivec2(1, 0), ivec2(0, 0));
   int chosen = 3;
   float best = candidates.w;
@@ -45,5 +45,8 @@ void main() {
   ivec2 pixel = min(corner + kInBlock[chosen], lastPixel());
   // The fragment's centre is the block's centre: the chosen pixel's centre is ±1/4 of a texel off.
   shadowTerm = shadowTermAlong(surfaceAt(pixel), sliceRaysAt(vec2(pixel - corner) * 0.5 - 0.25));
+  // The block's nearest window depth (reversed-Z, a/z + b) into the term's depth buffer, which the
+  // blur's half-resolution passes test against (render/src/shadow_term_pass.hpp); the sky's 0.
+  gl_FragDepth = best > 1.0e38 ? 0.0 : uFrame.halfTerm.z / best + uFrame.halfTerm.w;
 }
 #endif

@@ -8,7 +8,7 @@
 #include <map>
 #include <optional>
 #include <string>
-#include <utility>
+#include <tuple>
 
 #include "forest/gl/objects.hpp"
 #include "forest/gl/shader.hpp"
@@ -32,11 +32,13 @@ class BlurPass {
   // The term blurred horizontally (`term` at full resolution, `scale` 1), or both ways (at half
   // resolution, `scale` 2), for the lighting pass. The radii come from the frame block (in image
   // pixels; blur_taps.frag scales them to the term's). Runs only with the blur on.
-  const gl::Texture& run(const gl::Texture& term, int scale, int taps, const FrameBlockBuffer& frameBlock);
+  // At half resolution `blockDepth` (ShadowTermPass::blockDepth) limits both halves to the blocks
+  // the lighting reads, as it limits the term.
+  const gl::Texture& run(const gl::Texture& term, int scale, int taps, const gl::Texture* blockDepth, const FrameBlockBuffer& frameBlock);
   // Compiles the programs run() will use now (before any pass is timed).
   void prepare(int scale, int taps) {
-    program(taps, false);
-    if (scale > 1) program(taps, true);
+    program(taps, false, scale > 1);
+    if (scale > 1) program(taps, true, true);
   }
 
  private:
@@ -48,8 +50,8 @@ class BlurPass {
   };
   std::array<std::optional<Images>, 2> images_;
   // Per tap bound: the horizontal and the vertical half's programs (compiled on first use).
-  const gl::Program& program(int taps, bool vertical);
-  std::map<std::pair<int, bool>, gl::Program> programs_;
+  const gl::Program& program(int taps, bool vertical, bool halfResolution);
+  std::map<std::tuple<int, bool, bool>, gl::Program> programs_;
   FullScreenTriangle triangle_;
 };
 

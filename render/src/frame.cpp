@@ -326,7 +326,7 @@ const gl::Texture* Frame::shadowTerm(const Inputs& in) {
     if (in.blurred) p.shadowTerm.run(p.geometry.gbuffer(), p.shadow.map(), in.lookupShape, in.termScale, p.frameBlock);
   }
   auto timed = timer_->scope(passName(FramePass::Blur));
-  return in.blurred ? &p.blur.run(p.shadowTerm.term(), in.termScale, in.blurTaps, p.frameBlock) : nullptr;
+  return in.blurred ? &p.blur.run(p.shadowTerm.term(), in.termScale, in.blurTaps, p.shadowTerm.blockDepth(), p.frameBlock) : nullptr;
 }
 
 // What the frame leaves for readers and for the next frame; the pass times where known.

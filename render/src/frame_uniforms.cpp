@@ -31,9 +31,17 @@ FrameBlock frameBlock(const Camera& camera, const ShadowPlan& plan, const FrameS
     // Where the blur's radius r(z) = R · z_ref / z falls to 2 pixels: nearer, the term is smooth
     // over a 2 × 2 block and the half-resolution one serves; beyond, a half-resolution term would
     // lose the map's detail, and the lighting looks the term up at every pixel (blur_taps.frag).
-    const double split = 0.5 * settings.blurRadius * settings.blurReferenceDepth;
-    const glm::dvec4 clip = camera.projection() * glm::dvec4(0.0, 0.0, -std::clamp(split, camera.near, camera.far), 1.0);
-    b.halfTerm = glm::vec4(static_cast<float>(std::clamp(clip.z / clip.w, 0.0, 1.0)), static_cast<float>(split), 0.0f, 0.0f);
+    // The texels lighting reads for a pixel nearer than that lie within the blur's depth tolerance
+    // (5%) of it, and their blur taps within 5% of theirs, and those taps' taps likewise: the term
+    // and blur passes need nothing beyond 1.05³ of it (kHalfTermReach) and skip those blocks.
+    const double split = 0.5 * settings.blurRadius * settings.blurReferenceDepth, reach = kHalfTermReach * split;
+    const auto windowDepth = [&](double z) {
+      const glm::dvec4 clip = camera.projection() * glm::dvec4(0.0, 0.0, -std::clamp(z, camera.near, camera.far), 1.0);
+      return static_cast<float>(std::clamp(clip.z / clip.w, 0.0, 1.0));
+    };
+    // Reversed-Z (core/camera.cpp): eye depth z → window depth n (f − z) / (z (f − n)) = a / z + b.
+    const double a = camera.near * camera.far / (camera.far - camera.near), bOffset = -camera.near / (camera.far - camera.near);
+    b.halfTerm = glm::vec4(windowDepth(split), windowDepth(reach), static_cast<float>(a), static_cast<float>(bOffset));
   }
   b.modes = glm::ivec4(settings.pcfRadius, plan.slices[0].setup.linearDepth ? 1 : 0, plan.cascades, plan.shadowed ? 1 : 0);
   return b;

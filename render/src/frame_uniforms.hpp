@@ -18,6 +18,9 @@ namespace forest::render {
 // The blur averages only samples whose eye depth is within this share of the centre's (no bleeding
 // across silhouettes; a sloped surface's depth changes less than this over 16 pixels).
 constexpr double kBlurDepthTolerance = 0.05;
+// How far beyond the depth where lighting stops upsampling the half-resolution term its passes
+// compute it: three steps (the upsample, the vertical tap, the horizontal tap) of the tolerance.
+constexpr double kHalfTermReach = (1.0 + kBlurDepthTolerance) * (1.0 + kBlurDepthTolerance) * (1.0 + kBlurDepthTolerance);
 
 // The frame's distance haze per metre: the settings' fog density, else the scene's haze. Lighting
 // compiles the haze in only where it is above 0 (HAZE, shaders/lighting.frag).

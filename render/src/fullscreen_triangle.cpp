@@ -37,6 +37,21 @@ void PassImage::bindForDrawing() const {
   glViewport(0, 0, texture.width(), texture.height());
 }
 
+void PassImage::attachDepth(const gl::Texture& depth) {
+  framebuffer.attach(GL_DEPTH_ATTACHMENT, depth);
+  framebuffer.checkComplete("term image with depth");
+}
+
+void PassImage::clearToSky() const {
+  if (texture.format() == GL_R32UI) {
+    const GLuint packed[4] = {0x3C00u, 0u, 0u, 0u};  // packHalf2x16(vec2(1, 0)): 1.0 as a half in the low bits
+    glClearNamedFramebufferuiv(framebuffer.id(), GL_COLOR, 0, packed);
+  } else {
+    const GLfloat sky[4] = {1.0f, 0.0f, 0.0f, 0.0f};
+    glClearNamedFramebufferfv(framebuffer.id(), GL_COLOR, 0, sky);
+  }
+}
+
 void FullScreenTriangle::draw(const gl::Program& program) const {
   program.use();
   glBindVertexArray(empty_.id());

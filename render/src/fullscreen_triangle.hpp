@@ -29,6 +29,10 @@ struct PassImage {
   PassImage(int width, int height, const char* label, GLenum format = GL_RG16F);
   // Binds its framebuffer and viewport.
   void bindForDrawing() const;
+  // Attaches `depth` (its size) as the depth buffer the pass tests against.
+  void attachDepth(const gl::Texture& depth);
+  // Clears it to the sky's term, 1 at eye depth 0 (RG16F (1, 0); R32UI packHalf2x16(1, 0)).
+  void clearToSky() const;
   gl::Texture texture;
   gl::Framebuffer framebuffer;
 };

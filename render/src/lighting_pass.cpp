@@ -44,7 +44,8 @@ const gl::Program& LightingPass::program(const ProgramKey& key) {
   if (it != programs_.end()) return it->second;
   std::vector<std::string> files{"lighting.frag", "sky_radiance.frag", "display_gamma.frag", "gbuffer_read.frag"};
   std::string defines = std::string(key.haze ? "#define HAZE\n" : "") + (key.record ? "#define RECORD_SHOWN\n" : "") +
-                        (key.atHalfTermDepth ? "#define AT_HALF_TERM_DEPTH\n" : "");
+                        (key.atHalfTermDepth ? "#define AT_HALF_TERM_DEPTH\n" : "") +
+                        (key.atHalfTermDepth && key.source == TermSource::Lookup ? "#define WITH_SKY\n" : "");
   switch (key.source) {
     case TermSource::Lookup:
       files.push_back("shadow_lookup.frag");
@@ -81,15 +82,15 @@ void LightingPass::run(const GBuffer& gbuffer, const gl::Texture* term, const Pr
   if (key.source != TermSource::Lookup) glBindTextureUnit(4, term->id());
   if (key.source == TermSource::Upsample) {
     // Nearer than the half-resolution term's depth (FrameBlock::halfTerm), its upsample; beyond,
-    // and on the sky (which the sky's draw then covers), the lookup at every pixel.
+    // the lookup at every pixel, and the sky, which the depth test passes too.
     triangle_.draw(program(nearHalfTermDepth(key)));
     glDepthFunc(GL_GEQUAL);
     triangle_.draw(program(beyondHalfTermDepth(key)));
   } else {
     triangle_.draw(program(key));
+    glDepthFunc(GL_EQUAL);
+    triangle_.draw(sky_);
   }
-  glDepthFunc(GL_EQUAL);
-  triangle_.draw(sky_);
   for (GLuint unit = 0; unit < 7; ++unit) glBindTextureUnit(unit, 0);
   glDepthFunc(GL_GREATER);  // the frame's reversed-Z state
   glDepthMask(GL_TRUE);

@@ -33,14 +33,30 @@ void ShadowTermPass::run(const GBuffer& gbuffer, const gl::Texture& shadowMap, c
                          const FrameBlockBuffer& frameBlock) {
   std::optional<PassImage>& image = images_[index(scale)];
   // A texel for every whole or partial block of scale × scale pixels.
-  if (!image) image.emplace((width_ + scale - 1) / scale, (height_ + scale - 1) / scale, "shadow term");
+  if (!image) {
+    image.emplace((width_ + scale - 1) / scale, (height_ + scale - 1) / scale, "shadow term");
+    if (scale > 1) {
+      blockDepth_.emplace(GL_DEPTH_COMPONENT32F, image->texture.width(), image->texture.height());
+      image->attachDepth(*blockDepth_);
+    }
+  }
   lastScale_ = scale;
   frameBlock.bind();
   image->bindForDrawing();
-  glDisable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
   bindShadowLookupInputs(gbuffer, shadowMap);
+  if (scale == 1) {
+    glDisable(GL_DEPTH_TEST);
+    triangle_.draw(programs_[index(scale)].get(shape));
+    return;
+  }
+  // At half resolution the term and, into the term's depth buffer, the block's nearest window
+  // depth, against which the blur's passes skip the blocks lighting does not read.
+  glEnable(GL_DEPTH_TEST);
+  glDepthMask(GL_TRUE);
+  glDepthFunc(GL_ALWAYS);
   triangle_.draw(programs_[index(scale)].get(shape));
+  glDepthFunc(GL_GREATER);  // the frame's reversed-Z state
 }
 
 }  // namespace forest::render

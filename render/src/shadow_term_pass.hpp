@@ -66,6 +66,9 @@ class ShadowTermPass {
   void prepare(const ShadowLookupShape& shape, int scale) { programs_[index(scale)].get(shape); }  // compiles its program now
   const gl::Texture& term() const { return images_[index(lastScale_)]->texture; }  // the last run's
   int scale() const { return lastScale_; }
+  // At half resolution: per block the nearest surface's window depth (written by the term pass),
+  // which the blur's passes test against; null before the first half-resolution run.
+  const gl::Texture* blockDepth() const { return blockDepth_ ? &*blockDepth_ : nullptr; }
 
  private:
   static std::size_t index(int scale) { return static_cast<std::size_t>(scale - 1); }
@@ -73,6 +76,7 @@ class ShadowTermPass {
   int lastScale_ = 1;
   std::array<std::optional<PassImage>, kMaxShadowTermScale> images_;  // per scale, made on first use
   std::array<ShadowLookupPrograms, kMaxShadowTermScale> programs_;
+  std::optional<gl::Texture> blockDepth_;
   FullScreenTriangle triangle_;
 };
 

@@ -45,7 +45,9 @@ struct FrameBlock {
   // (0: none), tiles per side, tiles (IDs 1 to this are tiles), the first block's slot.
   glm::uvec4 imageRecord{0u};
   glm::vec4 imageTerrain{0.0f};  // the eye in terrain samples from the heightfield's origin (x, z), 1 / spacing, quads per tile
-  glm::vec4 halfTerm{0.0f};      // x: the window depth of y, the eye depth (m) within which lighting upsamples the half-resolution term
+  // x: the window depth of the eye depth within which lighting upsamples the half-resolution term;
+  // y: that of the eye depth up to which the blur computes it; z, w: a, b of the window depth a/z + b.
+  glm::vec4 halfTerm{0.0f};
 };
 constexpr GLuint kFrameBlockBinding = 2;
 
