@@ -95,7 +95,8 @@ std::vector<BlockLayout> expectedBlocks() {
         {"sunColorAmbient", offsetof(FrameBlock, sunColorAmbient)},
         {"skyFog", offsetof(FrameBlock, skyFog)},
         {"blur", offsetof(FrameBlock, blur)},
-        {"modes", offsetof(FrameBlock, modes)}}},
+        {"modes", offsetof(FrameBlock, modes)},
+        {"halfTerm", offsetof(FrameBlock, halfTerm)}}},
       // QueryBatches::QueryView (culling/src/query_batches.hpp): a mat4, then the frame's stamp in a uvec4.
       {"QueryViewBlock", 3, sizeof(glm::mat4) + sizeof(glm::uvec4), {{"viewProjectionRelative", 0}, {"frameStamp", sizeof(glm::mat4)}}},
   };
@@ -119,10 +120,22 @@ TEST_F(GlTest, UniformBlocksMatchTheShaders) {
     programs.emplace_back("terrain/" + tag, render::loadSurfaceProgram("terrain.vert", "terrain.frag", output, levels));
   }
   const std::string lookup = "#define PCF_RADIUS 1\n#define SHADOW_SLICES 4\n";  // the lookup's constants (ShadowLookupPrograms)
-  programs.emplace_back("shadow term", gl::loadProgram({"fullscreen.vert", "shadow_term.frag", "shadow_lookup.frag", "gbuffer_read.frag"}, lookup + frameBlock));
-  programs.emplace_back("blur", gl::loadProgram({"fullscreen.vert", "shadow_blur.frag", "blur_taps.frag"}, frameBlock));
-  programs.emplace_back("lighting, blurred term", gl::loadProgram({"fullscreen.vert", "lighting.frag", "display_gamma.frag", "blur_taps.frag", "gbuffer_read.frag"}, "#define BLURRED_TERM\n#define HAZE\n" + frameBlock));
-  programs.emplace_back("lighting, term looked up", gl::loadProgram({"fullscreen.vert", "lighting.frag", "display_gamma.frag", "shadow_lookup.frag", "gbuffer_read.frag"}, lookup + frameBlock));
+  // The half-resolution term and the lighting beyond its depth (AT_HALF_TERM_DEPTH) read halfTerm.
+  programs.emplace_back("shadow term, half resolution",
+                        gl::loadProgram({"fullscreen.vert", "shadow_term.frag", "shadow_lookup.frag", "gbuffer_read.frag"},
+                                        "#define TERM_SCALE 2\n" + lookup + frameBlock));
+  programs.emplace_back("blur", gl::loadProgram({"fullscreen.vert", "shadow_blur.frag", "blur_taps.frag"},
+                                                "#define BLUR_TAPS 2\n#define BLUR_VERTICAL\n#define AT_HALF_TERM_REACH\n" + frameBlock));
+  programs.emplace_back("lighting, blurred term",
+                        gl::loadProgram({"fullscreen.vert", "lighting.frag", "sky_radiance.frag", "display_gamma.frag", "blur_taps.frag", "gbuffer_read.frag"},
+                                        "#define BLURRED_TERM\n#define BLUR_TAPS 3\n#define HAZE\n" + frameBlock));
+  programs.emplace_back("lighting, term upsampled",
+                        gl::loadProgram({"fullscreen.vert", "lighting.frag", "sky_radiance.frag", "display_gamma.frag", "term_upsample.frag", "gbuffer_read.frag"},
+                                        "#define UPSAMPLED_TERM\n#define AT_HALF_TERM_DEPTH\n" + frameBlock));
+  programs.emplace_back("lighting, term looked up",
+                        gl::loadProgram({"fullscreen.vert", "lighting.frag", "sky_radiance.frag", "display_gamma.frag", "shadow_lookup.frag", "gbuffer_read.frag"},
+                                        "#define AT_HALF_TERM_DEPTH\n#define WITH_SKY\n" + lookup + frameBlock));
+  programs.emplace_back("sky", gl::loadProgram({"fullscreen.vert", "sky.frag", "sky_radiance.frag", "display_gamma.frag"}, frameBlock));
   programs.emplace_back("query box", gl::loadProgram({"query_box.vert", "query_box.frag"}, gl::readShader("query_block.glsl")));
 
   std::map<std::string, int> programsWith;
@@ -143,10 +156,10 @@ TEST_F(GlTest, UniformBlocksMatchTheShaders) {
     }
   }
   // Every surface program reads the view block, the terrain's its own, the full-screen passes (the
-  // term, the blur, two lighting programs) the frame block, the query boxes theirs.
+  // term, the blur, three lighting programs, the sky) the frame block, the query boxes theirs.
   EXPECT_EQ(programsWith["ViewBlock"], 12);
   EXPECT_EQ(programsWith["TerrainViewBlock"], 4);
-  EXPECT_EQ(programsWith["FrameBlock"], 4);
+  EXPECT_EQ(programsWith["FrameBlock"], 6);
   EXPECT_EQ(programsWith["QueryViewBlock"], 1);
 }
 

@@ -176,19 +176,19 @@ int runSpeedError(const SpeedErrorOptions& options) {
           // Blur on (as rendered) and off: the same frame rendered again with no blur at all (no
           // horizontal pass, no vertical half in the lighting), timed on its own; the history it
           // starts from is the measured frame's, as that one's was the settling frame's.
-          // Misclassification is of the term each lit with: blurred, and the blur off's looked up.
+          // Each scored on the term it lit with: blurred, and the blur off's looked up.
           render::FrameSettings noBlur = settings;
           noBlur.blurRadius = 0.0;
           const render::FrameStats offStats = renderWithPassTimes(frame, camera, 0.0, noBlur);
           Row on = r, off = r;
-          off.error.misclassification = truth::misclassificationOf(r.error, frame.readBlurredShadowTerm());
+          off.error = truth::evaluateFrame(frame, offStats, scene, camera, 0.0, truthOptions);
           on.blur = true;
           on.frameMs = frameMs;
           on.softError = r.error.softMeanAbsoluteError;
           off.blur = false;
           off.frameMs = offStats.passMs.total();
           off.shadowMs = offStats.passMs[FramePass::Shadow];
-          off.softError = r.error.softMeanAbsoluteErrorUnblurred;
+          off.softError = off.error.softMeanAbsoluteError;  // (the blur off: the term it lit with is unblurred)
           const std::string series = layout.cascades == 1 ? method : fmt::format("{}-x{}", method, layout.cascades);
           if (worst[series].second.empty() || r.error.misclassification > worst[series].first)
             worst[series] = {r.error.misclassification, r.error.errorImage};

@@ -254,15 +254,6 @@ FrameError evaluateFrame(const render::Frame& frame, const render::FrameStats& s
   return e;
 }
 
-double misclassificationOf(const FrameError& evaluated, const std::vector<float>& term) {
-  if (term.size() != evaluated.truthState.size())
-    throw Error(fmt::format("misclassificationOf: {} term values for {} pixels", term.size(), evaluated.truthState.size()));
-  long long wrong = 0;
-  for (size_t i = 0; i < term.size(); ++i)
-    if (evaluated.truthState[i] >= 0) wrong += (term[i] < 0.5f) != (evaluated.truthState[i] == 0) ? 1 : 0;
-  return evaluated.litFacing > 0 ? static_cast<double>(wrong) / evaluated.litFacing : 0.0;
-}
-
 FlickerResult measureFlicker(render::Frame& frame, const Scene& scene, std::span<const Camera> cameras, double time,
                              const render::FrameSettings& settings, int probeSpacingPixels) {
   FlickerResult result;

@@ -75,11 +75,6 @@ struct FrameError {
 FrameError evaluateFrame(const render::Frame& frame, const render::FrameStats& stats, const Scene& scene,
                          const Camera& camera, double time, const TruthOptions& options = {});
 
-// The share of the evaluated frame's lit-facing pixels where `term` (rows bottom-up, threshold 0.5)
-// disagrees with its truth: another term of the same view scored against the same truth (the
-// frame drawn again with other settings: the blur off).
-double misclassificationOf(const FrameError& evaluated, const std::vector<float>& term);
-
 struct FlickerResult {
   int probes = 0;        // world points on visible lit-facing receivers of the first frame
   int comparisons = 0;   // probe states compared between consecutive frames (probe in both maps)
