@@ -13,7 +13,8 @@
 // which at R = 3 near the eye is 0.66 texels, one tap each side.
 // Depth-aware: a sample counts only when its eye depth is within blur.z (relative) of the
 // centre's, so a shadow does not bleed across a silhouette. Texels: r = term, g = eye depth
-// (0 = sky, kept as is).
+// (0 = sky, kept as is; negated at half resolution where the surface faces away from the sun, so
+// that the two sides of a terminator do not mix: shadow_term.frag).
 
 // BLUR_TAPS: the most taps any pixel takes this frame (render/src/blur_pass.hpp: blurTapsBound), a
 // compile-time loop bound, so the loop unrolls; a pixel that takes fewer weighs the rest 0.
@@ -24,7 +25,7 @@ vec2 blurTaps(sampler2D term, ivec2 pixel, ivec2 direction) {
   float z = centre.g;
   if (z == 0.0) return centre;  // sky
   float scale = uFrame.blur.w, radius = uFrame.blur.x, tolerance = uFrame.blur.z;
-  float sigmaImage = 0.5 * radius * min(1.0, uFrame.blur.y / z);
+  float sigmaImage = 0.5 * radius * min(1.0, uFrame.blur.y / abs(z));
   float sigma = max(sqrt(max(sigmaImage * sigmaImage - (scale * scale - 1.0) / 6.0, 0.0)) / scale, 0.25);
   int taps = min(min(kMaxTaps, int(ceil(radius / scale))), int(3.0 * sigma));
   ivec2 last = textureSize(term, 0) - 1;
@@ -34,7 +35,7 @@ vec2 blurTaps(sampler2D term, ivec2 pixel, ivec2 direction) {
   for (int i = 1; i <= BLUR_TAPS; ++i, w *= ratio, ratio *= q * q) {
     for (int side = -1; side <= 1; side += 2) {
       vec2 s = texelFetch(term, clamp(pixel + side * i * direction, ivec2(0), last), 0).rg;
-      float same = (i <= taps && s.g != 0.0 && abs(s.g - z) <= tolerance * z) ? 1.0 : 0.0;
+      float same = (i <= taps && s.g != 0.0 && abs(s.g - z) <= tolerance * abs(z)) ? 1.0 : 0.0;
       sum += same * w * s.r;
       weights += same * w;
     }

@@ -14,6 +14,7 @@ out vec2 shadowTerm;
 uvec4 surfaceAt(ivec2 pixel);  // gbuffer_read.frag
 ivec2 lastPixel();
 uvec4 surfaceGatherAt(ivec2 corner);
+bool facesSunOf(uvec4 surface);
 float eyeDepthOf(uvec4 surface);
 struct SliceRays {
   vec4 shadow[SHADOW_SLICES];
@@ -44,7 +45,13 @@ void main() {
     }
   ivec2 pixel = min(corner + kInBlock[chosen], lastPixel());
   // The fragment's centre is the block's centre: the chosen pixel's centre is ±1/4 of a texel off.
-  shadowTerm = shadowTermAlong(surfaceAt(pixel), sliceRaysAt(vec2(pixel - corner) * 0.5 - 0.25));
+  uvec4 surface = surfaceAt(pixel);
+  shadowTerm = shadowTermAlong(surface, sliceRaysAt(vec2(pixel - corner) * 0.5 - 0.25));
+  // A surface facing away from the sun has the term 0 by fiat (shadow_lookup.frag), so its texels
+  // must not stand for the sun-facing side of the same surface across the terminator: their depth
+  // is stored negated, and the blur and the upsample, which take texels of equal depth only, keep
+  // the two sides apart.
+  if (!facesSunOf(surface)) shadowTerm.y = -shadowTerm.y;
   // The block's nearest window depth (reversed-Z, a/z + b) into the term's depth buffer, which the
   // blur's half-resolution passes test against (render/src/shadow_term_pass.hpp); the sky's 0.
   gl_FragDepth = best > 1.0e38 ? 0.0 : uFrame.halfTerm.z / best + uFrame.halfTerm.w;

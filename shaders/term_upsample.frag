@@ -9,6 +9,8 @@
 // Texel j of the term stands for pixels 2j and 2j + 1 (each axis): pixel p's centre lies at
 // (p + 0.5) / 2 in the term's texel units, between texels floor(q) and floor(q) + 1, q = (p + 0.5) / 2 − 0.5.
 
+// `z`: the pixel's eye depth, negated where its surface faces away from the sun (as the term's
+// texels store theirs: shadow_term.frag), so that it takes texels of its own side of a terminator.
 vec2 upsampledTerm(usampler2D term, ivec2 pixel, float z) {
   if (z == 0.0) return vec2(1.0, 0.0);  // the sky
   vec2 q = (vec2(pixel) + 0.5) * 0.5 - 0.5;
@@ -20,12 +22,12 @@ vec2 upsampledTerm(usampler2D term, ivec2 pixel, float z) {
   vec4 terms = vec4(t0.x, t1.x, t2.x, t3.x), depths = vec4(t0.y, t1.y, t2.y, t3.y);
   vec4 bilinear = vec4((1.0 - f.x) * f.y, f.x * f.y, f.x * (1.0 - f.y), (1.0 - f.x) * (1.0 - f.y));
   vec4 distance = abs(depths - z);
-  vec4 weights = bilinear * step(distance, vec4(uFrame.blur.z * z));
+  vec4 weights = bilinear * step(distance, vec4(uFrame.blur.z * abs(z)));
   float sum = dot(weights, vec4(1.0));
   // The texel nearest in depth (ties: the first of x, y, z, w).
   float nearest = terms.x, best = distance.x;
   if (distance.y < best) { nearest = terms.y; best = distance.y; }
   if (distance.z < best) { nearest = terms.z; best = distance.z; }
   if (distance.w < best) { nearest = terms.w; }
-  return vec2(sum > 0.0 ? dot(weights, terms) / sum : nearest, z);
+  return vec2(sum > 0.0 ? dot(weights, terms) / sum : nearest, abs(z));
 }

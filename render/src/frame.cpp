@@ -225,9 +225,9 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
     auto timed = timer_->scope(passName(FramePass::Shadow));
     stats.shadowTriangles = p.shadow.run(p.plan, in.eye, in.eyeLod(), settings, in.l, stats);
   }
-  // 4. The frame block the full-screen passes read; the shadow term and the blur's horizontal half.
+  // 4. The frame block the full-screen passes read; the shadow term and the blur.
   const gl::Texture* blurredTerm = shadowTerm(in);
-  // 5. Lighting, with the blur's vertical half (or the term's lookup, the blur off).
+  // 5. Lighting: the term upsampled, blurred vertically or looked up (TermSource); the sky.
   {
     auto timed = timer_->scope(passName(FramePass::Lighting));
     p.lighting.run(p.geometry.gbuffer(), blurredTerm, in.lightingProgram(), p.shadow.map(), p.frameBlock, settings.keepShadowTerm);
@@ -314,8 +314,9 @@ const culling::CullingResult& Frame::setUpShadows(const Inputs& in, const cullin
 }
 
 // The frame block (with the record's stamp where the lighting pass records what shows); with the
-// blur on, the shadow term into a texture and the blur's horizontal half, which lighting reads;
-// with it off, lighting looks the term up itself (no full-screen pass writes it).
+// blur on, the shadow term into a texture and the blur (both halves at half resolution, the
+// horizontal one at full), which lighting reads; with it off, lighting looks the term up itself (no
+// full-screen pass writes it).
 const gl::Texture* Frame::shadowTerm(const Inputs& in) {
   Passes& p = *passes_;
   {

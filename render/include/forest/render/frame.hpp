@@ -7,11 +7,13 @@
 //      per slice of the visible depth range when z-partitioned (cascades, DESIGN §4);
 //   3. shadow pass — only the selected casters, front faces culled (backside rendering), into a
 //      float depth map (one layer of an array per slice); casters drawn at the eye's LOD;
-//   4. shadow term — full screen from the G-buffer, hardware 2×2 PCF (sampler2DShadow), 0 where the
-//      geometric N·L ≤ 0; then an optional depth-aware eye-space blur (separable, shrinking with
-//      depth): its horizontal pass; both only with the blur on;
-//   5. lighting — the blur's vertical pass (the blur off: the shadow term looked up here), Phong
-//      with a weak global ambient, sky colour.
+//   4. shadow term — from the G-buffer, hardware 2×2 PCF (sampler2DShadow), 0 where the geometric
+//      N·L ≤ 0, at half resolution (or full: shadowTermScale); then the depth-aware eye-space blur
+//      (separable, shrinking with depth): both halves at half resolution, the horizontal one at
+//      full; both only with the blur on;
+//   5. lighting — the term upsampled within the depth where the blur is 2 px wide and looked up
+//      beyond (at full resolution: the blur's vertical pass; the blur off: looked up), Phong with a
+//      weak global ambient, haze; the sky where nothing was drawn.
 // Eye → light matrices are composed in double, camera-relative.
 #include <array>
 #include <memory>
@@ -140,8 +142,8 @@ struct CascadeStats {
 };
 
 struct FrameStats {
-  // Per pass (kFramePassNames). The blur's: its horizontal pass; its vertical pass is part of the
-  // lighting's.
+  // Per pass (kFramePassNames). The blur's: both halves at half resolution; at full resolution its
+  // horizontal pass, its vertical pass being part of the lighting's.
   PassTimes passMs;
   int visibleObjects = 0;
   int hiddenByReprojection = 0;  // trees and props that showed in the last image, guessed hidden now ([culling] image_reprojection)
