@@ -219,7 +219,7 @@ int runBenchPasses(const PassesOptions& options) {
                                "with the depth-aware upsample (half), and the blur off (lighting looks the term up); blur 3 px up to 10 m. "
                                "The variants take turns on each view; p50 over views and rounds. Floors: passes that only read what the "
                                "real ones read (shaders/pass_floor.frag).\n",
-                               scenePath, pathFile);
+                               shownPath(scenePath), shownPath(pathFile));
   for (const auto& [width, height] : sizes) md += reportSize(runSize(options, scene, path, *context, width, height, tick), options, json);
   if (gl::debugErrorCount() > 0) throw Error(fmt::format("{} GL errors (first: {})", gl::debugErrorCount(), gl::debugErrorMessages().front()));
   writeFileAtomic(out / "passes.json", json.dump(2) + "\n");
