@@ -144,11 +144,7 @@ SizeRun runSize(const PassesOptions& options, const Scene& scene, const CameraPa
 }
 
 double p50(const std::vector<double>& v) { return percentile(v, 0.5); }
-double mean(const std::vector<double>& v) {
-  double sum = 0.0;
-  for (double x : v) sum += x;
-  return v.empty() ? 0.0 : sum / static_cast<double>(v.size());
-}
+double mean(const std::vector<double>& v) { return Statistic{true}.of(v); }
 double largest(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
 
 constexpr const char* kFloorNames[5] = {"empty", "G-buffer", "G-buffer + half-res term", "G-buffer blocks (half res)",

@@ -35,12 +35,11 @@ FrameBlock frameBlock(const Camera& camera, const ShadowPlan& plan, const FrameS
     // (5%) of it, and their blur taps within 5% of theirs, and those taps' taps likewise: the term
     // and blur passes need nothing beyond 1.05³ of it (kHalfTermReach) and skip those blocks.
     const double split = 0.5 * settings.blurRadius * settings.blurReferenceDepth, reach = kHalfTermReach * split;
-    const auto windowDepth = [&](double z) {
-      const glm::dvec4 clip = camera.projection() * glm::dvec4(0.0, 0.0, -std::clamp(z, camera.near, camera.far), 1.0);
-      return static_cast<float>(std::clamp(clip.z / clip.w, 0.0, 1.0));
-    };
     // Reversed-Z (core/camera.cpp): eye depth z → window depth n (f − z) / (z (f − n)) = a / z + b.
     const double a = camera.near * camera.far / (camera.far - camera.near), bOffset = -camera.near / (camera.far - camera.near);
+    const auto windowDepth = [&](double z) {
+      return static_cast<float>(std::clamp(a / std::clamp(z, camera.near, camera.far) + bOffset, 0.0, 1.0));
+    };
     b.halfTerm = glm::vec4(windowDepth(split), windowDepth(reach), static_cast<float>(a), static_cast<float>(bOffset));
   }
   b.modes = glm::ivec4(settings.pcfRadius, plan.slices[0].setup.linearDepth ? 1 : 0, plan.cascades, plan.shadowed ? 1 : 0);
