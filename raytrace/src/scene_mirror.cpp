@@ -1,6 +1,6 @@
 #include "forest/raytrace/scene_mirror.hpp"
 
-#include <thread>
+#include "forest/core/parallel.hpp"
 
 namespace forest::raytrace {
 
@@ -58,8 +58,7 @@ std::vector<std::uint32_t> traceObjectIds(const RayScene& scene, const Camera& c
   std::vector<std::uint32_t> ids(static_cast<size_t>(width) * height, kNoObject);
   const glm::dmat4 inverse = glm::inverse(camera.projection() * camera.view());
   const glm::dvec3 forward = camera.forward();
-  auto traceRows = [&](int first, int step) {
-    for (int y = first; y < height; y += step) {
+  parallelFor(height, [&](int y) {
       for (int x = 0; x < width; ++x) {
         const glm::dvec4 ndc(2.0 * (x + 0.5) / width - 1.0, 2.0 * (y + 0.5) / height - 1.0, 0.5, 1.0);
         const glm::dvec4 h = inverse * ndc;
@@ -69,13 +68,7 @@ std::vector<std::uint32_t> traceObjectIds(const RayScene& scene, const Camera& c
         const RayHit hit = scene.intersect(camera.position, direction, camera.near / cosine, camera.far / cosine);
         if (hit.hit) ids[static_cast<size_t>(y) * width + x] = hit.objectId;
       }
-    }
-  };
-  const int threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(traceRows, t, threads);
-  traceRows(0, threads);
-  for (std::thread& t : pool) t.join();
+  });
   return ids;
 }
 

@@ -2,13 +2,12 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <thread>
 
 #include "forest/core/error.hpp"
+#include "forest/core/parallel.hpp"
 #include "forest/terrain/terrain.hpp"
 
 namespace forest::terrain {
@@ -81,15 +80,7 @@ BlockFacing::BlockFacing(const Heightfield& h, int tilesPerSide) {
           }
       }
   };
-  const int threads = std::max(1, std::min(16, static_cast<int>(std::thread::hardware_concurrency())));
-  std::atomic<int> next{0};
-  auto work = [&] {
-    for (int tile = next++; tile < tiles; tile = next++) tileWork(tile);
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(work);
-  work();
-  for (std::thread& t : pool) t.join();
+  parallelFor(tiles, tileWork);
 }
 
 bool BlockFacing::mayFaceAway(int tile, int level, int block, BlockMorph morph, const dvec3& toSun) const {

@@ -6,10 +6,10 @@
 #include <atomic>
 #include <cmath>
 #include <numeric>
-#include <thread>
 
 #include "forest/core/error.hpp"
 #include "forest/core/log.hpp"
+#include "forest/core/parallel.hpp"
 #include "forest/core/random.hpp"
 
 namespace forest::terrain {
@@ -99,26 +99,15 @@ Heightfield::Heightfield(const TerrainSettings& settings) {
     return (1.0 - settings.ridged) * fbm + settings.ridged * (2.0 * ridged - 1.0);
   };
 
-  const int threads = std::max(1, std::min(16, static_cast<int>(std::thread::hardware_concurrency())));
-  std::atomic<int> nextRow{0}, rowsDone{0};
+  std::atomic<int> rowsDone{0};
   const bool large = samples_ > 2049;
-  auto work = [&](bool reportsProgress) {
-    int reported = 0;
-    for (int j; (j = nextRow++) < samples_;) {
-      for (int i = 0; i < samples_; ++i)
-        heights_[static_cast<size_t>(j) * samples_ + i] =
-            static_cast<float>(raw(origin_.x + i * spacing_, origin_.y + j * spacing_));
-      const int quarter = 4 * ++rowsDone / samples_;
-      if (reportsProgress && large && quarter > reported && quarter < 4) {
-        reported = quarter;
-        log::info("terrain: {}% of {}x{} heights", 25 * quarter, samples_, samples_);
-      }
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(work, false);
-  work(true);
-  for (std::thread& t : pool) t.join();
+  parallelFor(samples_, [&](int j) {
+    for (int i = 0; i < samples_; ++i)
+      heights_[static_cast<size_t>(j) * samples_ + i] = static_cast<float>(raw(origin_.x + i * spacing_, origin_.y + j * spacing_));
+    const int done = ++rowsDone;  // the row that completes a quarter reports it, once
+    if (large && 4 * done / samples_ > 4 * (done - 1) / samples_ && 4 * done / samples_ < 4)
+      log::info("terrain: {}% of {}x{} heights", 25 * (4 * done / samples_), samples_, samples_);
+  });
   if (large) log::info("terrain: {}x{} heights done", samples_, samples_);
 
   // Rescale to fill [height_min, height_max] exactly.

@@ -5,9 +5,9 @@
 #include <limits>
 #include <optional>
 #include <set>
-#include <thread>
 
 #include "forest/core/error.hpp"
+#include "forest/core/parallel.hpp"
 #include "forest/raytrace/scene_mirror.hpp"
 
 namespace forest::truth {
@@ -41,19 +41,6 @@ void buildMirror(raytrace::RayScene& rays, const render::Frame& frame, const Sce
   options.time = time;
   options.props = &scene.props;
   raytrace::mirrorScene(rays, frame.terrain(), lod ? &*lod : nullptr, frame.forest(), camera, options);
-}
-
-// Runs body(row) for every row on all cores.
-template <typename Body>
-void forEachRow(int rows, const Body& body) {
-  const int threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  auto worker = [&](int first) {
-    for (int y = first; y < rows; y += threads) body(y);
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker, t);
-  worker(0);
-  for (std::thread& t : pool) t.join();
 }
 
 // Traces pixel (x, y) (rows bottom-up, as GL stores them) against the G-buffer's object ID.
@@ -222,7 +209,7 @@ FrameError evaluateFrame(const render::Frame& frame, const render::FrameStats& s
   const bool sunUp = l.y < 0.0;
 
   std::vector<PixelTruth> truth(static_cast<size_t>(width) * height);
-  forEachRow(height, [&](int y) {
+  parallelFor(height, [&](int y) {
     for (int x = 0; x < width; ++x) {
       const size_t i = static_cast<size_t>(y) * width + x;
       truth[i] = tracePixel(rays, camera, inverse, x, y, width, height, ids[i], toSun, options, true);
