@@ -1,10 +1,14 @@
 #include "forest/core/scene.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <sstream>
 
+#include "forest/core/camera_path.hpp"
 #include "forest/core/error.hpp"
 #include "forest/core/files.hpp"
 #include "toml_schema.hpp"
@@ -131,6 +135,23 @@ void readStands(TomlSection& s, StandSettings& t) {
   s.finish();
 }
 
+// [vegetation.trail] path: the camera path's position every kTrailStep seconds and at its end,
+// the path file relative to the scene file's folder.
+std::vector<glm::dvec2> trailAlongPath(TomlSection& t, const std::string& pathFile) {
+  constexpr double kTrailStep = 0.5;
+  const std::filesystem::path file = std::filesystem::path(t.file()).parent_path() / pathFile;
+  if (!std::filesystem::is_regular_file(file))
+    t.fail(nullptr, "path", fmt::format("no camera-path file {} (the path is relative to the scene file's folder)", file.string()));
+  const CameraPath path = CameraPath::load(file);
+  std::vector<glm::dvec2> points;
+  for (double time = path.startTime(); time < path.endTime() + kTrailStep; time += kTrailStep) {
+    const glm::dvec3 p = path.at(std::min(time, path.endTime())).position;
+    points.emplace_back(p.x, p.z);
+  }
+  if (points.size() < 2) points.push_back(points.front() + glm::dvec2(1e-3, 0.0));  // a one-key path: a point-like trail
+  return points;
+}
+
 void readVegetation(TomlSection& s, VegetationSettings& v) {
   v.style = s.oneOf("style", std::string("procedural"), {"procedural", "thesis"}) == "thesis" ? TreeStyle::Thesis : TreeStyle::Procedural;
   v.count = static_cast<int>(s.integer("count", v.count, 0, 1000000));
@@ -161,9 +182,14 @@ void readVegetation(TomlSection& s, VegetationSettings& v) {
   if (auto t = s.table("stands")) readStands(*t, v.stands.emplace());
   if (auto t = s.table("trail")) {
     TrailSettings& trail = v.trail.emplace();
-    const std::vector<double> xz = t->numberList("points", 4, detail::anyFinite());
-    if (xz.size() % 2 != 0) t->fail(nullptr, "points", "expected x, z pairs: an even count of numbers");
-    for (size_t i = 0; i + 1 < xz.size(); i += 2) trail.points.emplace_back(xz[i], xz[i + 1]);
+    if (const std::optional<std::string> path = t->text("path")) {
+      if (t->has("points")) t->fail(nullptr, "points", "give the trail's points or its path, not both");
+      trail.points = trailAlongPath(*t, *path);
+    } else {
+      const std::vector<double> xz = t->numberList("points", 4, detail::anyFinite());
+      if (xz.size() % 2 != 0) t->fail(nullptr, "points", "expected x, z pairs: an even count of numbers");
+      for (size_t i = 0; i + 1 < xz.size(); i += 2) trail.points.emplace_back(xz[i], xz[i + 1]);
+    }
     trail.width = t->number("width", trail.width, detail::closed(1e-3, 20.0));
     t->finish();
   }

@@ -179,6 +179,13 @@ std::string TomlSection::oneOf(std::string_view key, std::optional<std::string> 
   fail(node, key, expected);
 }
 
+std::optional<std::string> TomlSection::text(std::string_view key) {
+  const toml::node* node = find(key);
+  if (node == nullptr) return std::nullopt;
+  if (!node->is_string() || node->value<std::string>()->empty()) fail(node, key, "expected a non-empty string");
+  return node->value<std::string>().value();
+}
+
 std::optional<TomlSection> TomlSection::table(std::string_view key) {
   const toml::node* node = find(key);
   if (node == nullptr) return std::nullopt;

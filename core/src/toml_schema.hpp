@@ -44,6 +44,8 @@ class TomlSection {
   bool boolean(std::string_view key, std::optional<bool> fallback);
   std::string oneOf(std::string_view key, std::optional<std::string> fallback,
                     const std::vector<std::string>& allowed);
+  // A non-empty string; nullopt when absent.
+  std::optional<std::string> text(std::string_view key);
   // Optional sub-table; nullopt when absent.
   std::optional<TomlSection> table(std::string_view key);
   // Array of tables ([[key]]); empty when absent.
