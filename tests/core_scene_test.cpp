@@ -3,6 +3,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+
 #include "forest/core/error.hpp"
 #include "forest/core/scene.hpp"
 #include "test_paths.hpp"
@@ -105,6 +109,45 @@ TEST(SceneFile, BadCullingValuesNameTheKey) {
   EXPECT_THAT(errorOf("[culling]\ntight_box_area_ratio = nan\n"), HasSubstr("culling.tight_box_area_ratio = nan"));
   EXPECT_THAT(errorOf("[culling]\nmultiqueries = 1\n"), HasSubstr("culling.multiqueries = 1: expected true or false"));
   EXPECT_THAT(errorOf("[culling]\nbatch = 3\n"), HasSubstr("unknown key 'culling.batch'"));
+}
+
+// [vegetation.trail] path: the trail is the camera path's position every 0.5 s and at its end.
+// Two keys make the Hermite path a straight line at constant speed (both tangents the chord over
+// the time), so the points are at x = 10 · t / 2.2 (closed form).
+TEST(SceneFile, TrailFollowsACameraPathRelativeToTheSceneFile) {
+  const std::filesystem::path folder = std::filesystem::path(FOREST_TEST_OUTPUT) / "scene-trail";
+  std::filesystem::create_directories(folder / "paths");
+  {
+    std::ofstream path(folder / "paths" / "line.toml");
+    path << "[[key]]\nt = 0.0\nposition = [0.0, 1.7, 5.0]\n[[key]]\nt = 2.2\nposition = [10.0, 1.7, 5.0]\n";
+  }
+  const std::filesystem::path sceneFile = folder / "scenes" / "trail.toml";
+  const std::string text = "[terrain]\n[vegetation]\n[vegetation.trail]\npath = \"../paths/line.toml\"\n";
+  std::filesystem::create_directories(sceneFile.parent_path());
+  std::ofstream(sceneFile) << text;
+  const Scene scene = loadScene(sceneFile);
+  ASSERT_TRUE(scene.vegetation && scene.vegetation->trail);
+  const std::vector<glm::dvec2>& points = scene.vegetation->trail->points;
+  ASSERT_EQ(points.size(), 6u);  // t = 0, 0.5, 1, 1.5, 2 and the end, 2.2
+  for (size_t i = 0; i < points.size(); ++i) {
+    const double t = std::min(0.5 * static_cast<double>(i), 2.2);
+    EXPECT_NEAR(points[i].x, 10.0 * t / 2.2, 1e-9) << i;
+    EXPECT_NEAR(points[i].y, 5.0, 1e-9) << i;
+  }
+  EXPECT_THAT(errorOf("[terrain]\n[vegetation]\n[vegetation.trail]\npath = \"no-such-path.toml\"\n"), HasSubstr("no camera-path file"));
+  EXPECT_THAT(errorOf("[terrain]\n[vegetation]\n[vegetation.trail]\npath = \"\"\n"), HasSubstr("expected a non-empty string"));
+  EXPECT_THAT(errorOf("[terrain]\n[vegetation]\n[vegetation.trail]\npath = \"x.toml\"\npoints = [0.0, 0.0, 1.0, 1.0]\n"),
+              HasSubstr("not both"));
+}
+
+TEST(SceneFile, VegetationAreaIsARectangleThatRoundTrips) {
+  const Scene scene = parseScene("[terrain]\n[vegetation]\narea = [-100.0, -50.0, 50.0, 100.0]\n", "area.toml");
+  ASSERT_TRUE(scene.vegetation && scene.vegetation->area);
+  EXPECT_EQ(*scene.vegetation->area, glm::dvec4(-100.0, -50.0, 50.0, 100.0));
+  const Scene again = parseScene(sceneToToml(scene), "again.toml");
+  EXPECT_EQ(again.vegetation->area, scene.vegetation->area);
+  EXPECT_THAT(errorOf("[terrain]\n[vegetation]\narea = [0.0, 0.0, 0.0, 1.0]\n"), HasSubstr("x0 < x1 and z0 < z1"));
+  EXPECT_THAT(errorOf("[terrain]\n[vegetation]\narea = [0.0, 0.0, 1.0]\n"), HasSubstr("vegetation.area"));
 }
 
 TEST(SceneFile, BadTerrainValuesNameTheKey) {

@@ -4,6 +4,8 @@
 #include <glm/glm.hpp>
 
 #include <cmath>
+#include <cstdio>
+#include <functional>
 #include <cstdint>
 #include <vector>
 
@@ -55,6 +57,42 @@ TEST(Bvh, EveryObjectInsideItsLeafAfterBuildAndRefit) {
     }
   }
   EXPECT_THROW(culling::Bvh(boxes, 0), InputError);
+}
+
+// A landscape's upper levels are split by binned SAH (more than kBinnedSahAbove objects): on a
+// 256 × 256 grid of unit boxes (65 536 trees on flat ground) every object is in one leaf, every
+// child inside its parent, and the SAH cost is within 5% of the balanced tree's that halves the
+// grid's longer side at each level (the test's own reference: on a uniform grid that split is the
+// SAH optimum up to rounding).
+TEST(Bvh, BinnedSplitsOfALargeGridMatchTheBalancedTree) {
+  constexpr int kSide = 256;
+  static_assert(kSide * kSide > static_cast<int>(culling::kBinnedSahAbove));
+  std::vector<Aabb> boxes;
+  for (int z = 0; z < kSide; ++z)
+    for (int x = 0; x < kSide; ++x) boxes.push_back({dvec3(x * 3.0, 0.0, z * 3.0), dvec3(x * 3.0 + 1.0, 10.0, z * 3.0 + 1.0)});
+  const culling::Bvh bvh(boxes, 1);
+  std::vector<int> seen(boxes.size(), 0);
+  for (const culling::BvhNode& n : bvh.nodes()) {
+    if (!n.leaf()) {
+      for (std::int32_t child : {n.left, n.right})
+        ASSERT_TRUE(n.bounds.contains(bvh.nodes()[child].bounds.min) && n.bounds.contains(bvh.nodes()[child].bounds.max));
+      continue;
+    }
+    ASSERT_EQ(n.count, 1u);
+    ++seen[bvh.objects()[n.first]];
+  }
+  for (int s : seen) ASSERT_EQ(s, 1);
+  // The balanced reference: Σ over nodes of area(node) / area(root) × (1, or the count at a leaf).
+  const std::function<double(int, int, int, int)> balanced = [&](int x0, int z0, int nx, int nz) -> double {
+    const Aabb box{dvec3(x0 * 3.0, 0.0, z0 * 3.0), dvec3((x0 + nx - 1) * 3.0 + 1.0, 10.0, (z0 + nz - 1) * 3.0 + 1.0)};
+    const double area = culling::surfaceArea(box);
+    if (nx * nz == 1) return area;
+    if (nx >= nz) return area + balanced(x0, z0, nx / 2, nz) + balanced(x0 + nx / 2, z0, nx - nx / 2, nz);
+    return area + balanced(x0, z0, nx, nz / 2) + balanced(x0, z0 + nz / 2, nx, nz - nz / 2);
+  };
+  const double reference = balanced(0, 0, kSide, kSide) / culling::surfaceArea(bvh.nodes()[0].bounds);
+  EXPECT_LE(bvh.sahCost(), 1.05 * reference);
+  std::printf("[bvh] binned SAH cost %.1f, balanced tree's %.1f\n", bvh.sahCost(), reference);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <numbers>
 #include <random>
 #include <set>
+#include <tuple>
 
 #include "forest/core/camera_path.hpp"
 #include "forest/core/scene.hpp"
@@ -75,6 +76,27 @@ TEST(TreePlacement, HonoursCountSpacingSlopeHeightAndGround) {
   }
   EXPECT_GT(conifers, 1000);  // broadleaves are limited to a height band and gentler slopes
   EXPECT_LT(conifers, 2000);
+}
+
+// [vegetation] area: every tree inside the rectangle's part on the terrain (±250 m; 1 m inset), and
+// the stats count that part's hectares.
+TEST(TreePlacement, StaysInsideItsArea) {
+  VegetationSettings inside = testVegetation(150);
+  inside.area = glm::dvec4(-100.0, -50.0, 50.0, 100.0);
+  VegetationSettings overEdge = testVegetation(40);
+  overEdge.area = glm::dvec4(200.0, 180.0, 400.0, 400.0);
+  for (const auto& [settings, lo, hi, hectares] : {std::tuple{inside, glm::dvec2(-100.0, -50.0), glm::dvec2(50.0, 100.0), 2.25},
+                                                   std::tuple{overEdge, glm::dvec2(200.0, 180.0), glm::dvec2(249.0, 249.0), 50.0 * 70.0 / 1e4}}) {
+    const Forest forest(settings, testTerrain());
+    ASSERT_EQ(forest.trees().size(), static_cast<size_t>(settings.count));
+    for (const TreeInstance& t : forest.trees()) {
+      EXPECT_GE(t.position.x, lo.x);
+      EXPECT_LE(t.position.x, hi.x);
+      EXPECT_GE(t.position.z, lo.y);
+      EXPECT_LE(t.position.z, hi.y);
+    }
+    EXPECT_NEAR(forestStats(forest).terrainAreaHa, hectares, 1e-9);
+  }
 }
 
 TEST(TreePlacement, SharesWithoutLimits) {
@@ -321,6 +343,67 @@ TEST(TreeLod, DistanceBandsFromTheEyeOnly) {
   v.force_lod0 = true;
   const Forest forced(v, testTerrain());
   EXPECT_EQ(forced.lodFor(0, forced.trees()[0].position + dvec3(0, 2, 5000)), 0);
+}
+
+// The landscape (data/scenes/landscape.toml) as its issue asks: ≥ 1 000 000 trees on ≥ 4 km × 4 km,
+// stands on ≥ 40% at 600–1500 stems/ha (measured on a 500 m square of it placed alone: the density
+// in stands is the count per area, the same on any part), and its walk: from under the canopy out
+// across a clearing, up ≥ 40 m to a ridge whose view holds forest kilometres away.
+TEST(LandscapeWalk, LeavesAStandCrossesAClearingAndClimbsToARidgeOverKilometresOfForest) {
+  const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/landscape.toml");
+  ASSERT_TRUE(scene.terrain && scene.vegetation && scene.vegetation->stands);
+  EXPECT_GE(scene.vegetation->count, 1000000);
+  EXPECT_GE(scene.terrain->size, 4000.0);
+  const terrain::Terrain terrain(*scene.terrain);
+  VegetationSettings part = *scene.vegetation;
+  const double side = 500.0, share = side * side / (scene.terrain->size * scene.terrain->size);
+  part.area = glm::dvec4(-side / 2, -side / 2, side / 2, side / 2);
+  part.count = static_cast<int>(scene.vegetation->count * share);
+  part.trail.reset();
+  const ForestStats stats = forestStats(Forest(part, terrain));
+  EXPECT_GE(stats.stemsPerHaInStands, 600.0);
+  EXPECT_LE(stats.stemsPerHaInStands, 1500.0);
+  const double h = scene.terrain->size / 2 - 1.0;  // the whole landscape's field (the placement's area)
+  const StandField stands(*scene.vegetation->stands, scene.vegetation->seed, {-h, -h}, {h, h});
+  EXPECT_GE(stands.standShare(), 0.40);
+
+  const CameraPath path = CameraPath::load(std::string(FOREST_REPO_DATA) + "/paths/landscape-walk.toml");
+  ASSERT_TRUE(path.aboveGround());
+  const CameraPose start = path.at(path.startTime()), end = path.at(path.endTime());
+  EXPECT_GE(stands.density(start.position.x, start.position.z), 0.9);  // under the canopy
+  double clearing = 0.0, lowest = 1e9;
+  for (double t = path.startTime(); t <= path.endTime(); t += 0.1) {
+    const CameraPose pose = path.at(t);
+    if (stands.density(pose.position.x, pose.position.z) < 0.1) clearing += 0.1;
+    lowest = std::min(lowest, terrain.heightAt(pose.position.x, pose.position.z));
+  }
+  EXPECT_GE(clearing, 10.0);
+  const double ridge = terrain.heightAt(end.position.x, end.position.z);
+  EXPECT_GE(ridge - lowest, 40.0);
+  // The view from the ridge: terrain points 1–3 km away across the view's 60° that the eye sees
+  // over the terrain (line of sight 10 m over the ground there, a tree's height): a quarter or more,
+  // a third of those in stands.
+  const dvec3 eye(end.position.x, ridge + end.position.y, end.position.z);
+  int targets = 0, seen = 0, seenInStands = 0;
+  for (double r = 1000.0; r <= 3000.0; r += 100.0)
+    for (double a = -30.0; a <= 30.0; a += 5.0) {
+      const double yaw = glm::radians(end.yaw_deg + a);
+      const glm::dvec2 p(eye.x - r * std::sin(yaw), eye.z - r * std::cos(yaw));
+      if (std::max(std::abs(p.x), std::abs(p.y)) > h) continue;
+      ++targets;
+      const double top = terrain.heightAt(p.x, p.y) + 10.0;
+      bool visible = true;
+      for (double f = 0.01; f < 1.0 && visible; f += 0.01)
+        visible = terrain.heightAt(eye.x + (p.x - eye.x) * f, eye.z + (p.y - eye.z) * f) < eye.y + (top - eye.y) * f;
+      seen += visible ? 1 : 0;
+      seenInStands += visible && stands.density(p.x, p.y) >= 0.5 ? 1 : 0;
+    }
+  ASSERT_GT(targets, 100);
+  EXPECT_GE(seen, targets / 4);
+  EXPECT_GE(3 * seenInStands, seen);
+  std::printf("[landscape] %.0f stems/ha in stands, cover %.2f; walk: %.1f s in clearings, up %.0f m; ridge view: %d of %d points 1-3 km "
+              "seen, %d of them in stands\n",
+              stats.stemsPerHaInStands, stands.standShare(), clearing, ridge - lowest, seen, targets, seenInStands);
 }
 
 }  // namespace

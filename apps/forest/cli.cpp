@@ -5,7 +5,6 @@
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
-#include <malloc.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -21,12 +20,6 @@
 #include "forest/core/error.hpp"
 #include "forest/core/resources.hpp"
 #include "forest/core/suggest.hpp"
-
-#if defined(__SANITIZE_ADDRESS__)
-// The sanitizer runtime's count of bytes allocated and not freed (compiler-rt's
-// sanitizer/allocator_interface.h, which GCC does not ship).
-extern "C" std::size_t __sanitizer_get_current_allocated_bytes();
-#endif
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -48,23 +41,6 @@ std::string shownPath(const std::filesystem::path& path) {
 
 std::string walkPathOr(const std::string& given) {
   return given.empty() ? (resourceDirectory("data") / "paths" / "walk.toml").string() : given;
-}
-
-double residentMegabytes() {
-  std::ifstream statm("/proc/self/statm");
-  long pages = 0, resident = 0;
-  statm >> pages >> resident;
-  return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1 << 20);
-}
-
-double heapInUseMegabytes() {
-#if defined(__SANITIZE_ADDRESS__)
-  const double bytes = static_cast<double>(__sanitizer_get_current_allocated_bytes());  // ASan's allocator replaces glibc's
-#else
-  const struct mallinfo2 m = mallinfo2();  // every arena: in use from the heaps, plus blocks of their own mmap
-  const double bytes = static_cast<double>(m.uordblks) + static_cast<double>(m.hblkhd);
-#endif
-  return bytes / (1 << 20);
 }
 
 void showProgress(std::string_view what, std::string_view unit, int done, int total, double elapsed, bool quiet) {

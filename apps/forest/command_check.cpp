@@ -36,6 +36,15 @@ int checkClearance(const Scene& scene, const CameraPath& path, double fps) {
   const vegetation::Forest forest(*scene.vegetation, terrain);
   const int frames = path.frameCount(fps);
   const auto treeCount = static_cast<std::uint32_t>(forest.trees().size());
+  // Only a tree whose box (over all times) comes within the near distance plus the near
+  // rectangle's half diagonal of the eye can hold the eye or cut the near plane (a million trees
+  // are not mirrored for every frame).
+  std::vector<Aabb> treeBoxes(treeCount);
+  for (std::uint32_t t = 0; t < treeCount; ++t) treeBoxes[t] = forest.treeBounds(t);
+  const Camera lens = scene.startCamera();
+  const double halfHeight = lens.near * std::tan(0.5 * lens.fovy);
+  const double reach = lens.near + std::hypot(halfHeight, halfHeight * scene.render.width / scene.render.height);
+  std::vector<std::uint32_t> nearby;
   int blocked = 0;
   for (int f = 0; f < frames; ++f) {
     const double time = path.startTime() + f / fps;
@@ -46,8 +55,11 @@ int checkClearance(const Scene& scene, const CameraPath& path, double fps) {
     if (path.aboveGround()) camera.position.y += terrain.heightAt(pose.position.x, pose.position.z);
     camera.yaw = glm::radians(pose.yaw_deg);
     camera.pitch = glm::radians(pose.pitch_deg);
+    nearby.clear();
+    for (std::uint32_t t = 0; t < treeCount; ++t)
+      if (treeBoxes[t].distanceTo(camera.position) <= reach) nearby.push_back(t);
     raytrace::RayScene rays;
-    raytrace::mirrorScene(rays, nullptr, nullptr, &forest, camera, {0, 0, treeCount, time, &scene.props});
+    raytrace::mirrorScene(rays, nullptr, nullptr, &forest, camera, {0, 0, treeCount, time, &scene.props, &nearby});
     const raytrace::Clearance c = raytrace::cameraClearance(rays, camera);
     if (c.clear) continue;
     if (++blocked <= 20) {

@@ -18,6 +18,7 @@
 
 #include "commands.hpp"
 #include "run_output.hpp"
+#include "forest/core/heap.hpp"
 #include "forest/core/error.hpp"
 #include "forest/core/files.hpp"
 #include "forest/core/log.hpp"

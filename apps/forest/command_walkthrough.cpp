@@ -17,6 +17,7 @@
 
 #include "commands.hpp"
 #include "run_output.hpp"
+#include "forest/core/heap.hpp"
 #include "forest/core/camera_path.hpp"
 #include "forest/core/error.hpp"
 #include "forest/core/files.hpp"
@@ -56,6 +57,7 @@ nlohmann::ordered_json frameRecord(int index, double time, bool warmup, const Ca
   r["casters"] = s.casterObjects;
   r["triangles"] = {{"geometry", s.geometryTriangles}, {"shadow", s.shadowTriangles}};
   r["queries"] = s.culling.queriesIssued;
+  r["culling_cpu_ms"] = s.culling.cpuMilliseconds;
   r["culled_by_frustum"] = s.culledByFrustum;
   r["z_f"] = s.farDepth;
   r["far"] = camera.far;
@@ -109,12 +111,39 @@ nlohmann::ordered_json summariseFrames(const nlohmann::ordered_json& records, in
   summary["triangles_shadow"] = column([](const auto& r) { return r["triangles"]["shadow"].template get<double>(); });
   summary["casters"] = column([](const auto& r) { return r["casters"].template get<double>(); });
   summary["queries"] = column([](const auto& r) { return r["queries"].template get<double>(); });
+  summary["culling_cpu_ms"] = column([](const auto& r) { return r["culling_cpu_ms"].template get<double>(); });
   summary["frames_measured"] = measured;
   int byFrustum = 0;
   for (const auto& r : records)
     if (!r["warmup"].template get<bool>() && r.value("culled_by_frustum", false)) ++byFrustum;
   summary["frames_culled_by_frustum"] = byFrustum;
   return summary;
+}
+
+nlohmann::ordered_json startupRecord(const render::Frame& frame) {
+  nlohmann::ordered_json r;
+  double total = 0.0;
+  for (const render::StartupStep& step : frame.startupSteps()) {
+    r[std::string(step.name) + "_ms"] = step.ms;
+    total += step.ms;
+  }
+  r["total_ms"] = total;
+  const std::vector<render::StartupStep>& steps = frame.startupSteps();
+  r["rss_mib"] = steps.empty() ? 0.0 : steps.back().rssMib;
+  const size_t trees = frame.forest() ? frame.forest()->trees().size() : 0;
+  // From the memory after the terrain to the end: the trees' share of every step after it.
+  const auto terrain = std::find_if(steps.begin(), steps.end(), [](const render::StartupStep& s) { return std::string_view(s.name) == "terrain"; });
+  r["bytes_per_tree"] = trees > 0 && terrain != steps.end() ? (steps.back().rssMib - terrain->rssMib) * (1 << 20) / static_cast<double>(trees) : 0.0;
+  return r;
+}
+
+std::string startupLine(const nlohmann::ordered_json& startup) {
+  std::string steps;
+  for (const auto& [key, value] : startup.items())
+    if (key.ends_with("_ms") && key != "total_ms")
+      steps += fmt::format("{}{} {:.1f}", steps.empty() ? "" : ", ", key.substr(0, key.size() - 3), value.get<double>() / 1e3);
+  return fmt::format("start-up {:.1f} s ({} s), {:.0f} MiB resident, {:.0f} bytes per tree", startup["total_ms"].get<double>() / 1e3, steps,
+                     startup["rss_mib"].get<double>(), startup["bytes_per_tree"].get<double>());
 }
 
 void printSummary(const nlohmann::ordered_json& summary) {
@@ -132,9 +161,11 @@ void printSummary(const nlohmann::ordered_json& summary) {
     std::cout << fmt::format("  {:<13} {:>9.2f} {:>9.2f} {:>9.2f} {:>9.2f}\n", pass, p["mean"].get<double>(), p["p50"].get<double>(),
                              p["p95"].get<double>(), p["p99"].get<double>());
   }
-  std::cout << fmt::format("  mean per frame: {:.0f} eye triangles, {:.0f} shadow triangles, {:.0f} casters, {:.0f} queries\n",
+  std::cout << fmt::format("  mean per frame: {:.0f} eye triangles, {:.0f} shadow triangles, {:.0f} casters, {:.0f} queries, "
+                           "culler {:.2f} ms CPU\n",
                            summary["triangles_geometry"]["mean"].get<double>(), summary["triangles_shadow"]["mean"].get<double>(),
-                           summary["casters"]["mean"].get<double>(), summary["queries"]["mean"].get<double>());
+                           summary["casters"]["mean"].get<double>(), summary["queries"]["mean"].get<double>(),
+                           summary["culling_cpu_ms"]["mean"].get<double>());
   std::cout << fmt::format("  {} of {} frames drawn by frustum culling, where chc++'s queries did not pay ([culling] query_payoff)\n",
                            summary["frames_culled_by_frustum"].get<int>(), summary["frames_measured"].get<int>());
 }
@@ -247,6 +278,7 @@ int runWalkthrough(const WalkthroughOptions& options) {
   report["frames_requested"] = total;
   report["frames_done"] = done;
   report["interrupted"] = gInterrupted.load();
+  report["startup"] = startupRecord(frame);
   report["summary"] = summary;
   report["frames"] = records;
   writeFileAtomic(out / "report.json", report.dump(1) + "\n");
@@ -262,6 +294,7 @@ int runWalkthrough(const WalkthroughOptions& options) {
                            shownPath(scenePath), shownPath(pathPath), width, height, options.frame.method,
                            slices > 1 ? fmt::format("{}×", slices) : "", options.frame.shadowSize, options.frame.culling);
   if (warmup > 0) std::cout << fmt::format("  (the first {} frames are warm-up, not in the summary)\n", warmup);
+  std::cout << "  " << startupLine(report["startup"]) << "\n";
   printSummary(summary);
   const std::string shownOut = shownPath(out);
   const std::string frames = options.every == kFirstFrameOnly ? std::string("the first frame") : fmt::format("frames every {}", options.every);

@@ -165,6 +165,11 @@ nlohmann::ordered_json cascadesJson(const render::FrameStats& stats);
 void recordPassTimes(const std::vector<gl::FrameTiming>& timings, nlohmann::ordered_json& records);
 nlohmann::ordered_json summariseFrames(const nlohmann::ordered_json& records, int measured);
 void printSummary(const nlohmann::ordered_json& summary);
+// report.json's `startup`: each step of building the frame's scene (render::StartupStep) as
+// <step>_ms, total_ms, rss_mib after it, bytes_per_tree (the resident memory added after the
+// terrain, per tree); and that as one line for stdout.
+nlohmann::ordered_json startupRecord(const render::Frame& frame);
+std::string startupLine(const nlohmann::ordered_json& startup);
 
 // A walker's path through a terrain scene: from the scene's start, 1.4 m per frame along the view,
 // turning 0.8° per frame, camera.above_ground (or 1.7 m) over the ground.
@@ -188,13 +193,6 @@ inline constexpr int kFirstFrameOnly = 1000000;
 std::string shownPath(const std::filesystem::path& path);
 // The camera-path file given, or the main walk (data/paths/walk.toml) when empty.
 std::string walkPathOr(const std::string& given);
-
-// Resident memory of this process, MiB (/proc/self/statm).
-double residentMegabytes();
-
-// Heap memory this process holds in blocks not yet freed (malloc's, every thread's arena; under
-// AddressSanitizer its allocator's count), MiB. Unlike RSS it falls again when memory is freed.
-double heapInUseMegabytes();
 
 // A progress line on stderr: a bar with ETA redrawn in place on a terminal, else a line at every
 // tenth and at the end. Nothing when quiet.

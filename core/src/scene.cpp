@@ -193,6 +193,12 @@ void readVegetation(TomlSection& s, VegetationSettings& v) {
     trail.width = t->number("width", trail.width, detail::closed(1e-3, 20.0));
     t->finish();
   }
+  if (s.has("area")) {
+    const std::vector<double> a = s.numberList("area", 4, detail::anyFinite());
+    if (a.size() != 4 || !(a[0] < a[2]) || !(a[1] < a[3]))
+      s.fail(nullptr, "area", "expected [x0, z0, x1, z1] with x0 < x1 and z0 < z1 (metres)");
+    v.area = glm::dvec4(a[0], a[1], a[2], a[3]);
+  }
   if (v.stands && v.grid > 0) s.fail(nullptr, "grid", "a grid places trees evenly; leave it out (or 0) with [vegetation.stands]");
   if (!(v.conifer.share + v.broadleaf.share + v.shrub.share > 0.0)) s.fail(nullptr, "conifer.share", "the species shares must not all be 0");
   s.finish();
@@ -336,6 +342,7 @@ std::string sceneToToml(const Scene& scene) {
                            {"broadleaf", species(v.broadleaf)},
                            {"shrub", species(v.shrub)},
                            {"sizes", toml::table{{"share", tomlArray(v.sizes.share)}, {"scale", tomlArray(v.sizes.scale)}}}};
+    if (v.area) vegetation.insert("area", toml::array{v.area->x, v.area->y, v.area->z, v.area->w});
     if (v.stands)
       vegetation.insert("stands", toml::table{{"cover", v.stands->cover},
                                               {"feature_m", v.stands->feature_m},

@@ -1,6 +1,7 @@
 #include "forest/culling/bvh.hpp"
 
 #include <algorithm>
+#include <array>
 #include <limits>
 #include <numeric>
 
@@ -27,10 +28,11 @@ void Bvh::build(std::span<const Aabb> boxes) {
   builtCost_ = sahCost();
 }
 
-// Top-down SAH (MacDonald & Booth 1990): on each axis, objects sorted by centroid; the split
-// minimising area(left)·n(left) + area(right)·n(right) wins. A range of at most leafSize objects
-// is a leaf: the leaf size is what a query decides for (one tree by default, DESIGN §4), not
-// left to the SAH, which would split every pair of trees apart anyway.
+// Top-down SAH (MacDonald & Booth 1990): the split minimising area(left)·n(left) +
+// area(right)·n(right). A range of at most leafSize objects is a leaf: the leaf size is what a
+// query decides for (one tree by default, DESIGN §4), not left to the SAH, which would split every
+// pair of trees apart anyway. Ranges of more than kBinnedSahAbove objects (a landscape's upper
+// levels) are split by binned SAH, the rest by the exact sweep.
 std::int32_t Bvh::buildRange(std::span<const Aabb> boxes, std::uint32_t first, std::uint32_t count, std::int32_t parent) {
   const std::int32_t index = static_cast<std::int32_t>(nodes_.size());
   nodes_.emplace_back();
@@ -38,23 +40,34 @@ std::int32_t Bvh::buildRange(std::span<const Aabb> boxes, std::uint32_t first, s
   Aabb bounds;
   for (std::uint32_t i = first; i < first + count; ++i) bounds.extend(boxes[objects_[i]]);
   nodes_[index].bounds = bounds;
-  auto makeLeaf = [&] {
+  if (count <= static_cast<std::uint32_t>(leafSize_)) {
     nodes_[index].first = first;
     nodes_[index].count = count;
     return index;
-  };
-  if (count <= static_cast<std::uint32_t>(leafSize_)) return makeLeaf();
+  }
+  const std::uint32_t split = count > kBinnedSahAbove ? binnedSplit(boxes, first, count) : sweepSplit(boxes, first, count);
+  const std::int32_t left = buildRange(boxes, first, split, index);
+  const std::int32_t right = buildRange(boxes, first + split, count - split, index);
+  nodes_[index].left = left;
+  nodes_[index].right = right;
+  return index;
+}
 
+// On each axis, the objects sorted by centroid; every split between neighbours is costed.
+std::uint32_t Bvh::sweepSplit(std::span<const Aabb> boxes, std::uint32_t first, std::uint32_t count) {
   const auto begin = objects_.begin() + first, end = begin + count;
   double bestCost = std::numeric_limits<double>::infinity();
-  int bestAxis = -1;
-  std::uint32_t bestSplit = 0;
+  int bestAxis = 0;
+  std::uint32_t bestSplit = count / 2;
   std::vector<double> rightArea(count);
-  for (int axis = 0; axis < 3; ++axis) {
-    std::sort(begin, end, [&](std::uint32_t a, std::uint32_t b) {
+  const auto byCentroid = [&](int axis) {
+    return [&boxes, axis](std::uint32_t a, std::uint32_t b) {
       const double ca = boxes[a].min[axis] + boxes[a].max[axis], cb = boxes[b].min[axis] + boxes[b].max[axis];
       return ca < cb || (ca == cb && a < b);
-    });
+    };
+  };
+  for (int axis = 0; axis < 3; ++axis) {
+    std::sort(begin, end, byCentroid(axis));
     Aabb right;
     for (std::uint32_t k = count; k-- > 1;) {
       right.extend(boxes[objects_[first + k]]);
@@ -71,15 +84,59 @@ std::int32_t Bvh::buildRange(std::span<const Aabb> boxes, std::uint32_t first, s
       }
     }
   }
-  std::sort(begin, end, [&](std::uint32_t a, std::uint32_t b) {
-    const double ca = boxes[a].min[bestAxis] + boxes[a].max[bestAxis], cb = boxes[b].min[bestAxis] + boxes[b].max[bestAxis];
-    return ca < cb || (ca == cb && a < b);
-  });
-  const std::int32_t left = buildRange(boxes, first, bestSplit, index);
-  const std::int32_t right = buildRange(boxes, first + bestSplit, count - bestSplit, index);
-  nodes_[index].left = left;
-  nodes_[index].right = right;
-  return index;
+  std::sort(begin, end, byCentroid(bestAxis));
+  return bestSplit;
+}
+
+// Binned SAH (Wald, "On fast construction of SAH-based bounding volume hierarchies", 2007): the
+// centroids' range on each axis cut into kSahBins equal bins; the kSahBins − 1 planes between bins
+// are costed from the bins' boxes and counts. Where every centroid coincides, a median split.
+std::uint32_t Bvh::binnedSplit(std::span<const Aabb> boxes, std::uint32_t first, std::uint32_t count) {
+  const auto begin = objects_.begin() + first, end = begin + count;
+  Aabb centroids;
+  for (auto it = begin; it != end; ++it) centroids.extend(boxes[*it].centre());
+  struct Bin {
+    Aabb box;
+    std::uint32_t count = 0;
+  };
+  double bestCost = std::numeric_limits<double>::infinity();
+  int bestAxis = -1, bestPlane = 0;
+  const auto binOf = [&](std::uint32_t object, int axis) {
+    const double lo = centroids.min[axis], width = centroids.max[axis] - lo;
+    return std::min(static_cast<int>((boxes[object].centre()[axis] - lo) / width * kSahBins), kSahBins - 1);
+  };
+  for (int axis = 0; axis < 3; ++axis) {
+    if (!(centroids.max[axis] > centroids.min[axis])) continue;
+    std::array<Bin, kSahBins> bins;
+    for (auto it = begin; it != end; ++it) {
+      Bin& bin = bins[static_cast<size_t>(binOf(*it, axis))];
+      bin.box.extend(boxes[*it]);
+      ++bin.count;
+    }
+    std::array<double, kSahBins> rightCost{};  // rightCost[p]: the bins from p on
+    Aabb right;
+    std::uint32_t rightCount = 0;
+    for (int p = kSahBins; p-- > 1;) {
+      right.extend(bins[static_cast<size_t>(p)].box);
+      rightCount += bins[static_cast<size_t>(p)].count;
+      rightCost[static_cast<size_t>(p)] = surfaceArea(right) * rightCount;
+    }
+    Aabb left;
+    std::uint32_t leftCount = 0;
+    for (int p = 1; p < kSahBins; ++p) {
+      left.extend(bins[static_cast<size_t>(p - 1)].box);
+      leftCount += bins[static_cast<size_t>(p - 1)].count;
+      const double cost = surfaceArea(left) * leftCount + rightCost[static_cast<size_t>(p)];
+      if (leftCount > 0 && leftCount < count && cost < bestCost) {
+        bestCost = cost;
+        bestAxis = axis;
+        bestPlane = p;
+      }
+    }
+  }
+  if (bestAxis < 0) return count / 2;  // one point: any split is as good
+  const auto middle = std::stable_partition(begin, end, [&](std::uint32_t o) { return binOf(o, bestAxis) < bestPlane; });
+  return static_cast<std::uint32_t>(middle - begin);
 }
 
 double Bvh::sahCost() const {

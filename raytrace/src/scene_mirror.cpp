@@ -31,11 +31,15 @@ void mirrorScene(RayScene& scene, const terrain::Terrain* terrain, const terrain
         const vegetation::TreeMesh& m = forest->species()[s].lods[l];
         meshes[s][l] = scene.addMesh(m.positions, m.indices);
       }
-    for (std::uint32_t t = 0; t < forest->trees().size(); ++t) {
+    const auto addTree = [&](std::uint32_t t) {
       const int treeLod = forest->lodFor(t, camera.position);
       scene.addInstance(meshes[static_cast<int>(forest->trees()[t].species)][treeLod], forest->treeTransform(t, options.time),
                         options.treeIdBase + t);
-    }
+    };
+    if (options.trees)
+      for (std::uint32_t t : *options.trees) addTree(t);
+    else
+      for (std::uint32_t t = 0; t < forest->trees().size(); ++t) addTree(t);
   }
   if (options.props && !options.props->empty()) {
     // A unit cube, outward-facing (counter-clockwise seen from outside), placed by scale + offset.

@@ -2,11 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
 #include <cmath>
 #include <optional>
 
 #include "blur_pass.hpp"
 #include "forest/core/error.hpp"
+#include "forest/core/heap.hpp"
 #include "frame_history.hpp"
 #include "frame_uniforms.hpp"
 #include "geometry_pass.hpp"
@@ -123,15 +125,27 @@ struct Frame::Inputs {
 
 Frame::Frame(const Scene& scene, int width, int height) : scene_(scene), width_(width), height_(height) {
   if (width < 1 || height < 1) throw InputError("frame: width and height must be at least 1");
+  auto start = std::chrono::steady_clock::now();
+  const auto stepDone = [&](const char* name) {
+    const auto now = std::chrono::steady_clock::now();
+    startup_.push_back({name, std::chrono::duration<double, std::milli>(now - start).count(), residentMegabytes()});
+    start = now;
+  };
   if (scene.terrain) {
     terrain_ = std::make_unique<terrain::Terrain>(*scene.terrain);
+    stepDone("terrain");
     if (scene.vegetation) forest_ = std::make_unique<vegetation::Forest>(*scene.vegetation, *terrain_);
+    stepDone("trees");
   }
   objects_ = std::make_unique<SceneObjects>(terrain_.get(), forest_.get(), scene.props);
+  stepDone("objects");
   passes_ = std::make_unique<Passes>(*objects_, terrain_.get(), forest_.get(), scene.props, width, height, scene.culling);
+  glFinish();  // the upload's copies done, not only queued
+  stepDone("gpu_upload");
   bvh_ = culling::Bvh(objects_->boxes(), scene.culling.leaf_size);
   culler_.setParameters(scene_.culling);
   for (const Aabb& b : objects_->boxes()) sceneBounds_.extend(b);
+  stepDone("bvh");
 }
 
 Frame::~Frame() = default;

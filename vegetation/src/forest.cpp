@@ -204,13 +204,31 @@ glm::dvec2 densestStand(const Forest& forest, double cell) {
   return {(static_cast<double>(densest.first) + 0.5) * cell, (static_cast<double>(densest.second) + 0.5) * cell};
 }
 
+std::pair<glm::dvec2, glm::dvec2> Forest::placementArea() const {
+  const terrain::Heightfield& h = terrain_.heightfield();
+  constexpr double inset = 1.0;
+  dvec2 lo(h.origin().x + inset, h.origin().y + inset), hi(h.origin().x + h.size() - inset, h.origin().y + h.size() - inset);
+  if (settings_.area) {
+    lo = glm::max(lo, dvec2(settings_.area->x, settings_.area->y));
+    hi = glm::max(lo, glm::min(hi, dvec2(settings_.area->z, settings_.area->w)));  // off the terrain: empty
+  }
+  return {lo, hi};
+}
+
+double Forest::areaHa() const {
+  // Trees stand within 1 m of the terrain's edge (the placement's inset); the area is the terrain's.
+  const terrain::Heightfield& h = terrain_.heightfield();
+  if (!settings_.area) return h.size() * h.size() / 1e4;
+  const dvec2 lo = glm::max(h.origin(), dvec2(settings_.area->x, settings_.area->y));
+  const dvec2 hi = glm::min(h.origin() + dvec2(h.size()), dvec2(settings_.area->z, settings_.area->w));
+  return std::max(hi.x - lo.x, 0.0) * std::max(hi.y - lo.y, 0.0) / 1e4;
+}
+
 ForestStats forestStats(const Forest& forest) {
   ForestStats stats;
   stats.trees = static_cast<int>(forest.trees().size());
   stats.requested = forest.requestedCount();
-  // Trees stand within 1 m of the terrain's edge (the placement's inset); the area is the terrain's.
-  const double size = forest.terrainSize();
-  stats.terrainAreaHa = size * size / 1e4;
+  stats.terrainAreaHa = forest.areaHa();
   for (const TreeInstance& tree : forest.trees()) {
     ++stats.perSpecies[static_cast<size_t>(tree.species)];
     ++stats.perSpeciesAndSize[static_cast<size_t>(tree.species)][static_cast<size_t>(tree.size)];

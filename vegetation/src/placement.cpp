@@ -151,11 +151,10 @@ TreeInstance Forest::varied(Species species, SizeClass size, const glm::dvec3& b
 }
 
 void Forest::placeOnGrid() {
-  // grid × grid cells over the terrain (1 m inset), one tree per cell, moved from the cell's centre
+  // grid × grid cells over the placement area, one tree per cell, moved from the cell's centre
   // by up to ±40% of the cell in x and z (a jittered regular grid, thesis ch. 10).
-  const terrain::Heightfield& h = terrain_.heightfield();
-  const double inset = 1.0, cell = (h.size() - 2.0 * inset) / settings_.grid;
-  const dvec2 lo(h.origin().x + inset, h.origin().y + inset);
+  const auto [lo, hi] = placementArea();
+  const dvec2 cell = (hi - lo) / static_cast<double>(settings_.grid);
   const double shares = settings_.conifer.share + settings_.broadleaf.share + settings_.shrub.share;
   SplitMix64 random(SplitMix64::substream(settings_.seed, 0x96edull));
   SplitMix64 sizeRandom(SplitMix64::substream(settings_.seed, 0x512eull));
@@ -175,9 +174,7 @@ void Forest::placeOnGrid() {
 }
 
 void Forest::place() {
-  const terrain::Heightfield& h = terrain_.heightfield();
-  const double inset = 1.0;
-  const dvec2 lo(h.origin().x + inset, h.origin().y + inset), hi(h.origin().x + h.size() - inset, h.origin().y + h.size() - inset);
+  const auto [lo, hi] = placementArea();
   const double cell = std::max({settings_.conifer.spacing, settings_.broadleaf.spacing, settings_.shrub.spacing}) *
                       std::max({settings_.sizes.scale.x, settings_.sizes.scale.y, settings_.sizes.scale.z});
   SpacingGrid grid(lo, hi, cell);

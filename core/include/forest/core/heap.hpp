@@ -1,5 +1,5 @@
 #pragma once
-// The process's heap policy, set once at the start of main().
+// The process's heap policy, set once at the start of main(), and its memory in use.
 
 namespace forest {
 
@@ -14,5 +14,12 @@ namespace forest {
 // triangles. Here: the trim threshold 1 GiB, and blocks up to 32 MiB (glibc's largest
 // threshold) from the heap, not from mmap. A no-op on other C libraries and under AddressSanitizer.
 void keepFreedHeapMemory();
+
+// Resident memory of this process, MiB (/proc/self/statm).
+double residentMegabytes();
+
+// Heap memory this process holds in blocks not yet freed (malloc's, every thread's arena; under
+// AddressSanitizer its allocator's count), MiB. Unlike RSS it falls again when memory is freed.
+double heapInUseMegabytes();
 
 }  // namespace forest

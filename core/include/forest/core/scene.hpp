@@ -154,6 +154,9 @@ struct VegetationSettings {
   SizeClassSettings sizes;
   std::optional<StandSettings> stands;  // absent: trees spread evenly
   std::optional<TrailSettings> trail;   // absent: none
+  // x0, z0, x1, z1 (x0 < x1, z0 < z1): the trees stand inside this rectangle (its part on the
+  // terrain); absent: on the whole terrain. The stands' cover is of this area.
+  std::optional<glm::dvec4> area;
 };
 
 // [culling]: parameters of the chc++ strategy (Mattausch, Bittner, Wimmer, EG 2008).

@@ -20,6 +20,7 @@ struct MirrorOptions {
   std::uint32_t propIdBase = 1;
   double time = 0.0;
   const std::vector<PropBox>* props = nullptr;  // boxes, as the renderer draws them
+  const std::vector<std::uint32_t>* trees = nullptr;  // only these trees (indices); null: every tree
 };
 
 // Adds the terrain (may be null), the forest (may be null) and the props to `scene` and commits it.

@@ -185,6 +185,16 @@ struct PassFloorTimes {
 
 class PassFloors;  // src/pass_floors.hpp
 
+// One step of building a frame's scene (Frame::Frame), in order: `terrain` (heights, normals,
+// tiles), `trees` (the species' meshes and LOD chains, placement, clusters), `objects` (every
+// object's box and query shapes), `gpu_upload` (the passes' buffers, textures and programs),
+// `bvh` (the culling hierarchy): its wall time and the process's resident memory after it.
+struct StartupStep {
+  const char* name;
+  double ms = 0.0;
+  double rssMib = 0.0;
+};
+
 class Frame {
  public:
   // Generates the scene's terrain and forest and uploads everything (needs a current GL context).
@@ -244,6 +254,7 @@ class Frame {
 
   int width() const { return width_; }
   int height() const { return height_; }
+  const std::vector<StartupStep>& startupSteps() const { return startup_; }
   const SceneObjects& objects() const { return *objects_; }
   const terrain::Terrain* terrain() const { return terrain_.get(); }
   const vegetation::Forest* forest() const { return forest_.get(); }
@@ -281,6 +292,7 @@ class Frame {
   const struct ShadowSlice& slice(int index) const;  // throws InputError past the last frame's slices
   const Scene& scene_;
   int width_, height_;
+  std::vector<StartupStep> startup_;
   std::unique_ptr<terrain::Terrain> terrain_;
   std::unique_ptr<vegetation::Forest> forest_;
   std::unique_ptr<SceneObjects> objects_;

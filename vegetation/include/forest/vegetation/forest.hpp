@@ -57,7 +57,11 @@ class Forest {
   int requestedCount() const { return settings_.grid > 0 ? settings_.grid * settings_.grid : settings_.count; }
   // The density field the trees were placed by ([vegetation.stands]); null when spread evenly.
   const StandField* stands() const { return stands_ ? &*stands_ : nullptr; }
-  double terrainSize() const { return terrain_.heightfield().size(); }  // metres per side
+  // Where trees are placed: (x0, z0) and (x1, z1) of the terrain 1 m in from its edges, cut to
+  // [vegetation] area where given.
+  std::pair<glm::dvec2, glm::dvec2> placementArea() const;
+  // Its area in hectares as the stats count it: the whole terrain's without [vegetation] area.
+  double areaHa() const;
 
   // Object → world at `time`: translate · windShear · rotateY(yaw) · scale.
   glm::dmat4 treeTransform(std::uint32_t tree, double time) const;
