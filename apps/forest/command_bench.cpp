@@ -583,9 +583,12 @@ Run addBenchCommand(CLI::App& app) {
   const Run speedError = addSpeedErrorCommand(*bench);
   CLI::App* speedErrorCommand = bench->get_subcommand("speed-error");
   const Run passes = addPassesBenchCommand(*bench);
-  return [options, cullingBench, speedErrorCommand, speedError, passes] {
+  CLI::App* passesCommand = bench->get_subcommand("passes");
+  const Run scale = addScaleBenchCommand(*bench);
+  return [options, cullingBench, speedErrorCommand, speedError, passesCommand, passes, scale] {
     if (cullingBench->parsed()) return runBenchCulling(*options);
-    return speedErrorCommand->parsed() ? speedError() : passes();
+    if (speedErrorCommand->parsed()) return speedError();
+    return passesCommand->parsed() ? passes() : scale();
   };
 }
 

@@ -130,10 +130,12 @@ nlohmann::ordered_json startupRecord(const render::Frame& frame) {
   r["total_ms"] = total;
   const std::vector<render::StartupStep>& steps = frame.startupSteps();
   r["rss_mib"] = steps.empty() ? 0.0 : steps.back().rssMib;
+  r["heap_mib"] = steps.empty() ? 0.0 : steps.back().heapMib;
   const size_t trees = frame.forest() ? frame.forest()->trees().size() : 0;
-  // From the memory after the terrain to the end: the trees' share of every step after it.
+  // The heap in use added after the terrain, per tree: what the trees cost in every later step
+  // (a heap count, not RSS, so that runs in one process each count their own).
   const auto terrain = std::find_if(steps.begin(), steps.end(), [](const render::StartupStep& s) { return std::string_view(s.name) == "terrain"; });
-  r["bytes_per_tree"] = trees > 0 && terrain != steps.end() ? (steps.back().rssMib - terrain->rssMib) * (1 << 20) / static_cast<double>(trees) : 0.0;
+  r["bytes_per_tree"] = trees > 0 && terrain != steps.end() ? (steps.back().heapMib - terrain->heapMib) * (1 << 20) / static_cast<double>(trees) : 0.0;
   return r;
 }
 

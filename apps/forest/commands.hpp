@@ -166,8 +166,8 @@ void recordPassTimes(const std::vector<gl::FrameTiming>& timings, nlohmann::orde
 nlohmann::ordered_json summariseFrames(const nlohmann::ordered_json& records, int measured);
 void printSummary(const nlohmann::ordered_json& summary);
 // report.json's `startup`: each step of building the frame's scene (render::StartupStep) as
-// <step>_ms, total_ms, rss_mib after it, bytes_per_tree (the resident memory added after the
-// terrain, per tree); and that as one line for stdout.
+// <step>_ms, total_ms, rss_mib and heap_mib after it, bytes_per_tree (the heap in use added after the terrain,
+// per tree); and that as one line for stdout.
 nlohmann::ordered_json startupRecord(const render::Frame& frame);
 std::string startupLine(const nlohmann::ordered_json& startup);
 
@@ -208,6 +208,7 @@ Run addBenchCommand(CLI::App& app);
 // `forest bench speed-error`, registered under `bench`.
 Run addSpeedErrorCommand(CLI::App& bench);
 Run addPassesBenchCommand(CLI::App& bench);  // command_bench_passes.cpp
+Run addScaleBenchCommand(CLI::App& bench);   // command_bench_scale.cpp
 Run addWalkthroughCommand(CLI::App& app);
 Run addBudgetCommand(CLI::App& app);
 Run addStressCommand(CLI::App& app);

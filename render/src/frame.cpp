@@ -128,7 +128,7 @@ Frame::Frame(const Scene& scene, int width, int height) : scene_(scene), width_(
   auto start = std::chrono::steady_clock::now();
   const auto stepDone = [&](const char* name) {
     const auto now = std::chrono::steady_clock::now();
-    startup_.push_back({name, std::chrono::duration<double, std::milli>(now - start).count(), residentMegabytes()});
+    startup_.push_back({name, std::chrono::duration<double, std::milli>(now - start).count(), residentMegabytes(), heapInUseMegabytes()});
     start = now;
   };
   if (scene.terrain) {
@@ -318,7 +318,7 @@ const culling::CullingResult& Frame::setUpShadows(const Inputs& in, const cullin
     p.receiverPixels.read(p.geometry.gbuffer(), width_, height_, in.camera);
     visible = &p.history.afterReadback(p.receiverPixels, p.cpuWorkers, p.cullPlan, culled, in.camera);
   }
-  p.shadowSetup.run(in.camera, *visible, in.settings, in.cascades, nearest, in.l, in.sunBelowHorizon, *objects_, in.eyeLod(),
+  p.shadowSetup.run(in.camera, *visible, in.settings, in.cascades, nearest, in.l, in.sunBelowHorizon, *objects_, bvh_, in.eyeLod(),
                     sceneBounds_, in.readsPixels ? &p.receiverPixels : nullptr, p.plan, stats);
   stats.casterObjects = 0;
   for (int i = 0; i < p.plan.cascades; ++i) stats.casterObjects += static_cast<int>(p.plan.slices[static_cast<size_t>(i)].casters.size());

@@ -86,9 +86,10 @@ int ShadowPlan::sliceOf(double eyeDepth) const {
 // first (a 125 m terrain tile at the edge of the view does not pull in the casters of its unseen
 // part), then grown by the filter's footprint in the slice's map. With a receiver mask, a caster
 // also has to cover one of its pixels (refineCasters).
-void ShadowSetupPass::selectCastersOfReceivers(ShadowSlice& slice, const FrameSettings& settings, const dvec3& l,
-                                               const SceneObjects& objects, const terrain::TerrainLod* lod, const Aabb& sceneBounds,
-                                               const shadows::ReceiverMask* mask) {
+void ShadowSetupPass::selectCastersOfReceivers(ShadowSlice& slice, const SliceContext& context, const shadows::ReceiverMask* mask) {
+  const FrameSettings& settings = context.settings;
+  const dvec3& l = context.l;
+  const Aabb& sceneBounds = context.sceneBounds;
   const ConvexBody view = shadows::viewFrustumBody(slice.camera);
   const Frustum viewPlanes(slice.camera);
   const double reach = filterReachWithMarginTexels(settings.pcfRadius);
@@ -104,8 +105,32 @@ void ShadowSetupPass::selectCastersOfReceivers(ShadowSlice& slice, const FrameSe
     if (!part.empty()) footprints_.push_back(grownByFilter(part.bounds(), slice.setup, settings.shadowMapSize, reach, l, sceneBounds));
   }
   selector_.rebuild(l, footprints_);
-  selector_.select(objects.boxes(), slice.casters);
-  refineCasters(slice, settings, l, objects, lod, mask);
+  selectByHierarchy(context.bvh, context.objects.boxes(), slice.casters);
+  refineCasters(slice, settings, l, context.objects, context.lod, mask);
+}
+
+// A node whose box, swept along the light, meets no receiver holds no object that does (a box
+// inside a box sweeps inside its sweep): its subtree is skipped. The same casters as testing every
+// object (CasterSelector::select), without a test per tree of a landscape.
+void ShadowSetupPass::selectByHierarchy(const culling::Bvh& bvh, std::span<const Aabb> boxes, std::vector<std::uint32_t>& selected) {
+  selected.clear();
+  if (bvh.nodes().empty() || selector_.receiverCount() == 0) return;
+  nodeStack_.assign(1, 0);
+  while (!nodeStack_.empty()) {
+    const culling::BvhNode& node = bvh.nodes()[static_cast<size_t>(nodeStack_.back())];
+    nodeStack_.pop_back();
+    if (!selector_.needed(node.bounds)) continue;
+    if (!node.leaf()) {
+      nodeStack_.push_back(node.right);
+      nodeStack_.push_back(node.left);
+      continue;
+    }
+    for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
+      const std::uint32_t o = bvh.objects()[k];
+      if (node.count == 1 || selector_.needed(boxes[o])) selected.push_back(o);  // a one-object leaf's box is the object's
+    }
+  }
+  std::sort(selected.begin(), selected.end());
 }
 
 // A caster tile is drawn by its blocks at the level the eye's LOD gives it (Terrain::blockBoxes):
@@ -203,7 +228,7 @@ shadows::SplitDepths ShadowSetupPass::splitsFor(const Camera& camera, double far
 
 void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& visible, const FrameSettings& settings,
                           const ShadowSettings& cascades, std::optional<double> nearestDepth, const dvec3& l,
-                          bool sunBelowHorizon, const SceneObjects& objects, const terrain::TerrainLod* lod,
+                          bool sunBelowHorizon, const SceneObjects& objects, const culling::Bvh& bvh, const terrain::TerrainLod* lod,
                           const Aabb& sceneBounds, const ReceiverPixels* receiverPixels, ShadowPlan& plan,
                           FrameStats& stats) {
   startPlan(visible, objects, cascades, plan, stats);
@@ -215,7 +240,7 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
   const shadows::SplitDepths splits = splitsFor(camera, farDepth, nearestDepth, cascades);
   stats.nearestDepth = nearestDepth.value_or(camera.near);
   measureReceiverDepths(camera);
-  const SliceContext context{settings, l, objects, lod, sceneBounds, receiverPixels};
+  const SliceContext context{settings, l, objects, bvh, lod, sceneBounds, receiverPixels};
   for (int i = 0; i < plan.cascades; ++i) {
     ShadowSlice& slice = plan.slices[static_cast<size_t>(i)];
     const size_t s = static_cast<size_t>(i);
@@ -324,13 +349,13 @@ void ShadowSetupPass::selectCasters(ShadowSlice& slice, const SliceContext& cont
   const std::size_t objectCount = context.objects.boxes().size();
   switch (settings.casters) {
     case CasterSelection::Receivers:
-      selectCastersOfReceivers(slice, settings, context.l, context.objects, context.lod, context.sceneBounds, nullptr);
+      selectCastersOfReceivers(slice, context, nullptr);
       break;
     case CasterSelection::ReceiverPixels:
       if (!context.receiverPixels) throw Error("shadow setup: receiver-pixels casters without the receiver pixels");
       fillReceiverMask(slice, settings, *context.receiverPixels);
       slice.texelsRead = mask_.texelsRead(lookupReachTexels(settings));
-      selectCastersOfReceivers(slice, settings, context.l, context.objects, context.lod, context.sceneBounds, &mask_);
+      selectCastersOfReceivers(slice, context, &mask_);
       break;
     case CasterSelection::FrustumBody: {
       const ConvexBody body = shadows::computeFocusBody(slice.camera, context.l, context.sceneBounds);

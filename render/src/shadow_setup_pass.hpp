@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "forest/culling/bvh.hpp"
 #include "forest/culling/occlusion_culler.hpp"
 #include "forest/render/frame.hpp"
 #include "forest/render/scene_objects.hpp"
@@ -62,7 +63,7 @@ class ShadowSetupPass {
   // CasterSelection::ReceiverPixels; null otherwise.
   void run(const Camera& camera, const culling::CullingResult& visible, const FrameSettings& settings,
            const ShadowSettings& cascades, std::optional<double> nearestDepth, const glm::dvec3& l, bool sunBelowHorizon,
-           const SceneObjects& objects, const terrain::TerrainLod* lod, const Aabb& sceneBounds,
+           const SceneObjects& objects, const culling::Bvh& bvh, const terrain::TerrainLod* lod, const Aabb& sceneBounds,
            const ReceiverPixels* receiverPixels, ShadowPlan& plan, FrameStats& stats);
   // Forgets the smoothed n and splits and the stable maps' radii (a camera cut).
   void reset() {
@@ -76,6 +77,7 @@ class ShadowSetupPass {
     const FrameSettings& settings;
     const glm::dvec3& l;
     const SceneObjects& objects;
+    const culling::Bvh& bvh;  // over objects.boxes()
     const terrain::TerrainLod* lod;
     const Aabb& sceneBounds;
     const ReceiverPixels* receiverPixels;
@@ -92,9 +94,9 @@ class ShadowSetupPass {
   // Casters of the slice's receivers (DESIGN §4): each receiver's part inside the slice's view,
   // grown by the filter's footprint, swept along the light (shadows::CasterSelector); then
   // refineCasters.
-  void selectCastersOfReceivers(ShadowSlice& slice, const FrameSettings& settings, const glm::dvec3& l,
-                                const SceneObjects& objects, const terrain::TerrainLod* lod, const Aabb& sceneBounds,
-                                const shadows::ReceiverMask* mask);
+  // The objects whose boxes selector_ needs, in increasing order, found down the BVH.
+  void selectByHierarchy(const culling::Bvh& bvh, std::span<const Aabb> boxes, std::vector<std::uint32_t>& selected);
+  void selectCastersOfReceivers(ShadowSlice& slice, const SliceContext& context, const shadows::ReceiverMask* mask);
   // Replaces the caster tiles by their blocks that may write into the map and meet a receiver
   // (selector_ must hold the slice's receivers), and with a mask keeps only the casters and blocks
   // that may darken one of its pixels.
@@ -108,6 +110,7 @@ class ShadowSetupPass {
   shadows::SplitDepths previousSplits_;  // cascades 0: none
   // Kept from frame to frame, so a steady-state frame allocates nothing (DESIGN §9).
   std::vector<Aabb> receivers_, sliceReceivers_, footprints_;
+  std::vector<std::int32_t> nodeStack_;  // selectByHierarchy's, kept between frames
   std::vector<terrain::CellSpan> cellRuns_;  // one terrain block's (refineCasters)
   std::vector<glm::dvec2> receiverDepths_;  // each receiver's eye-depth range
   shadows::CasterSelector selector_;

@@ -54,6 +54,7 @@ void CasterSelector::reserve(std::size_t receivers) {
   receivers_.reserve(receivers);
   footprints_.reserve(receivers);
   cellItems_.reserve(receivers);
+  largeItems_.reserve(receivers);
   const size_t side = static_cast<size_t>(gridSide(receivers));
   cellStart_.reserve(side * side + 1);
 }
@@ -72,18 +73,30 @@ void CasterSelector::rebuild(const dvec3& lightDirection, std::span<const Aabb> 
   std::vector<Footprint>& footprints = footprints_;
   footprints.clear();
   dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
-  largestFootprint_ = dvec2(0.0);
   for (const Aabb& r : receivers_) {
     const Footprint f = footprint(r);
     footprints.push_back(f);
     lo = glm::min(lo, f.min);
     hi = glm::max(hi, f.max);
-    largestFootprint_ = glm::max(largestFootprint_, f.max - f.min);
   }
   const int side = gridSide(receivers_.size());
   gridCells_ = glm::ivec2(side);
   gridMin_ = lo;
   cellSize_ = glm::max((hi - lo) / static_cast<double>(side), dvec2(1e-300));
+  // A few large receivers (terrain tiles at a landscape's distance, stretched along a low sun)
+  // would widen every search by their footprint: they are kept apart, in a list each caster
+  // scans, and the grid's search reach is the largest footprint of the rest.
+  largeItems_.clear();
+  largestFootprint_ = dvec2(0.0);
+  const dvec2 largeAbove = kLargeFootprintCells * cellSize_;
+  const auto isLarge = [&](std::uint32_t i) {
+    const dvec2 extent = footprints[i].max - footprints[i].min;
+    return extent.x > largeAbove.x || extent.y > largeAbove.y;
+  };
+  for (std::uint32_t i = 0; i < footprints.size(); ++i) {
+    if (isLarge(i)) largeItems_.push_back(i);
+    else largestFootprint_ = glm::max(largestFootprint_, footprints[i].max - footprints[i].min);
+  }
   // Counting sort by the low corner's cell: count, prefix sums, fill (each cell keeps increasing
   // order).
   const size_t cells = static_cast<size_t>(side) * side;
@@ -92,10 +105,12 @@ void CasterSelector::rebuild(const dvec3& lightDirection, std::span<const Aabb> 
     const glm::ivec2 a = cellOf(footprints[i].min);
     return static_cast<size_t>(a.y) * side + a.x;
   };
-  for (std::uint32_t i = 0; i < footprints.size(); ++i) ++cellStart_[cellIndex(i) + 1];
+  for (std::uint32_t i = 0; i < footprints.size(); ++i)
+    if (!isLarge(i)) ++cellStart_[cellIndex(i) + 1];
   for (size_t c = 0; c < cells; ++c) cellStart_[c + 1] += cellStart_[c];
-  cellItems_.resize(footprints.size());
-  for (std::uint32_t i = 0; i < footprints.size(); ++i) cellItems_[cellStart_[cellIndex(i)]++] = i;
+  cellItems_.resize(footprints.size() - largeItems_.size());
+  for (std::uint32_t i = 0; i < footprints.size(); ++i)
+    if (!isLarge(i)) cellItems_[cellStart_[cellIndex(i)]++] = i;
   // Each start was moved to its cell's end, which is the next cell's start: shift back by one.
   for (size_t c = cells; c > 0; --c) cellStart_[c] = cellStart_[c - 1];
   cellStart_[0] = 0;
@@ -127,6 +142,11 @@ bool CasterSelector::needed(const Aabb& caster) const {
   if (f.max.x < gridMin_.x || f.max.y < gridMin_.y || f.min.x > gridMax.x || f.min.y > gridMax.y) return false;
   // A receiver filed in cell (x, y) has its low corner there; it can reach this footprint only if
   // that corner is within the largest footprint below the footprint's low corner.
+  for (std::uint32_t k : largeItems_) {
+    const Footprint& r = footprints_[k];  // apart in the plane across the light: the sweep cannot meet it
+    if (r.max.x < f.min.x || r.max.y < f.min.y || r.min.x > f.max.x || r.min.y > f.max.y) continue;
+    if (sweptBoxMeetsBox(caster, light_, receivers_[k])) return true;
+  }
   const glm::ivec2 a = cellOf(f.min - largestFootprint_), b = cellOf(f.max);
   for (int y = a.y; y <= b.y; ++y)
     for (int x = a.x; x <= b.x; ++x) {

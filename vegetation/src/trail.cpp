@@ -22,6 +22,11 @@ TrailClearance::TrailClearance(const TrailSettings& trail, const std::array<Spec
       widest_[s] = std::max(widest_[s], double(t.radius));
     }
   }
+  for (const glm::dvec2& p : trail_.points) {
+    trailMin_ = glm::min(trailMin_, p);
+    trailMax_ = glm::max(trailMax_, p);
+  }
+  groundTop_ = terrain.bounds().max.y;
 }
 
 glm::dvec2 TrailClearance::nearestOnTrail(const glm::dvec2& p) const {
@@ -38,7 +43,13 @@ glm::dvec2 TrailClearance::nearestOnTrail(const glm::dvec2& p) const {
 bool TrailClearance::reaches(const TreeInstance& tree) const {
   const std::size_t s = static_cast<std::size_t>(tree.species);
   const double halfWidth = 0.5 * trail_.width;
-  const glm::dvec2 base(tree.position.x, tree.position.z), onTrail = nearestOnTrail(base);
+  const glm::dvec2 base(tree.position.x, tree.position.z);
+  // Far from the trail's bounding rectangle (a landscape's trees but a few): no test per segment.
+  // The sway below is at most that of the band's top over the terrain's highest point.
+  const double swayBound = windStrength_ * std::max(0.0, groundTop_ - tree.position.y + kBandHigh);
+  const glm::dvec2 outside = glm::max(glm::max(trailMin_ - base, base - trailMax_), glm::dvec2(0.0));
+  if (glm::length(outside) >= widest_[s] * tree.scale + swayBound + halfWidth) return false;
+  const glm::dvec2 onTrail = nearestOnTrail(base);
   const double distance = glm::distance(base, onTrail);
   // The band in the tree's object space (its base at 0), and the widest triangle within it; the
   // sway shifts a point at height h by up to strength · h.

@@ -37,6 +37,8 @@ class TrailClearance {
   double windStrength_;
   std::array<std::vector<TriangleReach>, kSpeciesCount> reach_;
   std::array<double, kSpeciesCount> widest_{};  // the largest radius of each species (a quick reject)
+  glm::dvec2 trailMin_{1e300}, trailMax_{-1e300};  // the trail's bounding rectangle (x, z)
+  double groundTop_ = 0.0;                        // the terrain's highest point
 };
 
 }  // namespace forest::vegetation

@@ -188,11 +188,13 @@ class PassFloors;  // src/pass_floors.hpp
 // One step of building a frame's scene (Frame::Frame), in order: `terrain` (heights, normals,
 // tiles), `trees` (the species' meshes and LOD chains, placement, clusters), `objects` (every
 // object's box and query shapes), `gpu_upload` (the passes' buffers, textures and programs),
-// `bvh` (the culling hierarchy): its wall time and the process's resident memory after it.
+// `bvh` (the culling hierarchy): its wall time, the process's resident memory and its heap in use
+// after it (core/heap.hpp; on a software renderer the GPU's buffers are heap too).
 struct StartupStep {
   const char* name;
   double ms = 0.0;
   double rssMib = 0.0;
+  double heapMib = 0.0;
 };
 
 class Frame {

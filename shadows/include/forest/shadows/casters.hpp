@@ -63,6 +63,10 @@ class CasterSelector {
   // Receiver indices per cell (by the footprint's low corner), row-major, in one list: cell c
   // holds cellItems_[cellStart_[c], cellStart_[c + 1]).
   std::vector<std::uint32_t> cellStart_, cellItems_;
+  // Receivers whose footprint spans more than kLargeFootprintCells cells on an axis: not in the
+  // grid, tested by every caster whose footprint overlaps theirs.
+  static constexpr double kLargeFootprintCells = 4.0;
+  std::vector<std::uint32_t> largeItems_;
 };
 
 // Conservative overlap of a convex body and a box (separating planes: B's faces and the box's
