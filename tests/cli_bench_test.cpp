@@ -276,5 +276,34 @@ TEST(ForestCli, BenchPassesTimesTheVariantsAgainstTheirFloors) {
   EXPECT_THAT(bad.err, HasSubstr("--sizes 320by180: expected WIDTHxHEIGHT"));
 }
 
+// bench scale on the landscape with few trees and frames: a run per path and count, every tree
+// placed, the summary over the frames after the warm-up, and at each path's last view no caster
+// the ray-traced truth needs left out (the selection is exact, so selected ≥ needed).
+TEST(ForestCli, BenchScaleRunsEachPathWithEachTreeCount) {
+  const fs::path out = fs::path(FOREST_TEST_OUTPUT) / "cli" / "bench-scale";
+  fs::remove_all(out);
+  const Result r = runForest(fmt::format("bench scale --trees 1000,4000 --fps 0.25 --width 320 --height 180 --quiet --out {}", out.string()));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(readTextFile(out / "scale.json"));
+  ASSERT_EQ(j["runs"].size(), 4u);  // the landscape walk and flight, 1000 and 4000 trees each
+  for (const auto& run : j["runs"]) {
+    const std::string what = fmt::format("{} trees along {}", run["trees"].get<int>(), run["path"].get<std::string>());
+    EXPECT_EQ(run["trees_placed"], run["trees"]) << what;
+    const bool walk = run["path"].get<std::string>().find("landscape-walk") != std::string::npos;
+    const int frames = walk ? 11 : 8;  // 40 s and 30 s at 0.25 frames a second, both ends
+    EXPECT_EQ(run["summary"]["frames_measured"].get<int>(), frames - frames / 2) << what;
+    EXPECT_GT(run["summary"]["interval_ms"]["p50"].get<double>(), 0.0) << what;
+    EXPECT_GT(run["startup"]["total_ms"].get<double>(), 0.0) << what;
+    EXPECT_EQ(run["truth"]["casters_missing"].get<int>(), 0) << what;
+    EXPECT_GE(run["truth"]["casters_selected"].get<int>(), run["truth"]["casters_needed"].get<int>()) << what;
+  }
+  EXPECT_THAT(readTextFile(out / "scale.md"), HasSubstr("| landscape-flight | 4000 |"));
+  EXPECT_TRUE(fs::exists(out / "scale.png"));
+  EXPECT_EQ(runForest(fmt::format("bench scale --trees 0 --out {}", (out / "bad").string())).exitCode, 2);
+  const Result tooMany = runForest(fmt::format("bench scale --scene {}/scenes/forest.toml --trees 6000 --out {}", FOREST_REPO_DATA, (out / "bad").string()));
+  EXPECT_EQ(tooMany.exitCode, 2);
+  EXPECT_THAT(tooMany.err, HasSubstr("--trees 6000: at most the scene's count, 5000"));
+}
+
 }  // namespace
 }  // namespace forest

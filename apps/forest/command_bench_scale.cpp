@@ -67,7 +67,7 @@ Scene sceneWithTrees(const Scene& full, const CameraPath& path, int trees) {
 
 struct ScaleRun {
   std::string path;
-  int trees = 0;
+  int trees = 0, placed = 0;  // requested, and placed (fewer when they do not fit)
   ordered_json startup, summary, truth;
 };
 
@@ -98,7 +98,8 @@ ScaleRun runOne(const ScaleOptions& options, const Scene& scene, const CameraPat
   records.back()["interval_ms"] = std::chrono::duration<double, std::milli>(Clock::now() - previous).count();
   recordPassTimes(frame.drainPassTimes(), records);
   if (!options.quiet) std::cerr << "\n";
-  ScaleRun run{pathName, scene.vegetation->count, startupRecord(frame), summariseFrames(records, frames - warmup), {}};
+  ScaleRun run{pathName, scene.vegetation->count, static_cast<int>(frame.forest()->trees().size()), startupRecord(frame),
+               summariseFrames(records, frames - warmup), {}};
   if (options.truth) {  // the last view again, its term kept and the whole map drawn, against the truth
     settings.keepShadowTerm = true;
     settings.wholeShadowMap = true;
@@ -190,7 +191,7 @@ int runBenchScale(const ScaleOptions& options) {
     for (int trees : options.trees) {
       runs.push_back(runOne(options, sceneWithTrees(full, paths[k], trees), paths[k], names[k], *context));
       const ScaleRun& r = runs.back();
-      json["runs"].push_back({{"path", pathFiles[k]}, {"trees", r.trees}, {"startup", r.startup}, {"summary", r.summary}, {"truth", r.truth}});
+      json["runs"].push_back({{"path", pathFiles[k]}, {"trees", r.trees}, {"trees_placed", r.placed}, {"startup", r.startup}, {"summary", r.summary}, {"truth", r.truth}});
       std::cerr << fmt::format("  {} trees along {}: {}; interval p50 {:.0f} ms\n", trees, names[k], startupLine(r.startup),
                                r.summary["interval_ms"]["p50"].get<double>());
     }

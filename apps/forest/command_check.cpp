@@ -2,14 +2,15 @@
 // --stats places the scene's trees (CPU only) and prints the vegetation statistics; --clearance
 // checks every frame's camera of a path against the trees and props it would show.
 #include <fmt/format.h>
-
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <iostream>
 
 #include "commands.hpp"
 #include "forest/core/camera_path.hpp"
 #include "forest/core/error.hpp"
+#include "forest/core/heap.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/raytrace/clearance.hpp"
 #include "forest/raytrace/scene_mirror.hpp"
@@ -81,7 +82,11 @@ int checkClearance(const Scene& scene, const CameraPath& path, double fps) {
 // The vegetation statistics (vegetation::forestStats) of a scene, as JSON.
 nlohmann::ordered_json vegetationStats(const Scene& scene) {
   const terrain::Terrain terrain(*scene.terrain);
+  const double heapBefore = heapInUseMegabytes();
+  const auto start = std::chrono::steady_clock::now();
   const vegetation::Forest forest(*scene.vegetation, terrain);
+  const double placementSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double forestMib = heapInUseMegabytes() - heapBefore;
   const vegetation::ForestStats s = vegetation::forestStats(forest);
   // Per species: its trees, and how many of them in each size class.
   nlohmann::ordered_json species;
@@ -99,7 +104,9 @@ nlohmann::ordered_json vegetationStats(const Scene& scene) {
                               {"trees_in_stands", s.inStands},
                               {"share_in_stands", s.shareInStands},
                               {"stems_per_ha_in_stands", s.stemsPerHaInStands},
-                              {"stems_per_ha_overall", s.terrainAreaHa > 0.0 ? s.trees / s.terrainAreaHa : 0.0}};
+                              {"stems_per_ha_overall", s.terrainAreaHa > 0.0 ? s.trees / s.terrainAreaHa : 0.0},
+                              {"placement_s", placementSeconds},
+                              {"bytes_per_tree", s.trees > 0 ? forestMib * (1 << 20) / s.trees : 0.0}};
   return j;
 }
 
@@ -110,6 +117,9 @@ void printStats(const nlohmann::ordered_json& j) {
                            count["young"].get<int>(), count["mature"].get<int>(), count["old"].get<int>());
   std::cout << fmt::format("  trees: {} of {} requested ({}); {:.1f} ha of terrain, {:.1f} stems/ha overall\n", j["trees"].get<int>(),
                            j["requested"].get<int>(), species, j["terrain_area_ha"].get<double>(), j["stems_per_ha_overall"].get<double>());
+  std::cout << fmt::format("  placed in {:.1f} s (species meshes, placement, clusters); {:.0f} bytes per tree on the CPU (the forest's heap; "
+                           "the frame adds its boxes, query shapes, BVH and instance buffers: forest walkthrough reports the start-up)\n",
+                           j["placement_s"].get<double>(), j["bytes_per_tree"].get<double>());
   if (!j["stands"].get<bool>()) {
     std::cout << "  stands: none (no [vegetation.stands]: trees spread evenly)\n";
     return;
