@@ -67,9 +67,14 @@ TEST(Bvh, EveryObjectInsideItsLeafAfterBuildAndRefit) {
 TEST(Bvh, BinnedSplitsOfALargeGridMatchTheBalancedTree) {
   constexpr int kSide = 256;
   static_assert(kSide * kSide > static_cast<int>(culling::kBinnedSahAbove));
+  // In a scrambled order (cell i · 40503 mod 2^16: an odd multiplier permutes), so that the objects'
+  // order says nothing about where they are.
   std::vector<Aabb> boxes;
-  for (int z = 0; z < kSide; ++z)
-    for (int x = 0; x < kSide; ++x) boxes.push_back({dvec3(x * 3.0, 0.0, z * 3.0), dvec3(x * 3.0 + 1.0, 10.0, z * 3.0 + 1.0)});
+  for (std::uint32_t i = 0; i < kSide * kSide; ++i) {
+    const std::uint32_t cell = (i * 40503u) % (kSide * kSide);
+    const double x = cell % kSide, z = cell / kSide;
+    boxes.push_back({dvec3(x * 3.0, 0.0, z * 3.0), dvec3(x * 3.0 + 1.0, 10.0, z * 3.0 + 1.0)});
+  }
   const culling::Bvh bvh(boxes, 1);
   std::vector<int> seen(boxes.size(), 0);
   for (const culling::BvhNode& n : bvh.nodes()) {
