@@ -279,7 +279,7 @@ TEST(ForestCliUsage, HelpPagesFitOneHundredColumnsAndSayEachRangeOnce) {
       EXPECT_EQ(line.find(" in ["), std::string::npos) << line;
     }
   }
-  EXPECT_THAT(test::runForest("--help").out, HasSubstr("(culling, speed-error, passes)"));
+  EXPECT_THAT(test::runForest("--help").out, HasSubstr("(culling, speed-error, passes, scale)"));
 }
 
 TEST(ForestCliUsage, RuntimeInputErrorsKeepTheFormat) {

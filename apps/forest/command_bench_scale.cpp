@@ -225,11 +225,11 @@ Run addScaleBenchCommand(CLI::App& bench) {
   command->add_option("--paths", options->paths, "Camera paths, comma-separated (default: data/paths/landscape-walk.toml and -flight.toml)")
       ->delimiter(',')
       ->check(CLI::ExistingFile);
-  command->add_option("--trees", options->trees, "Tree counts, comma-separated (each 1 to the scene's count)")
+  command->add_option("--trees", options->trees, "Tree counts, comma-separated (1 to 10^6 each, at most the scene's count)")
       ->delimiter(',')
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
-  command->add_option("--fps", options->fps, "Frames per second of path time (0.1 to 60)")->check(CLI::Range(0.1, 60.0))->capture_default_str();
+  command->add_option("--fps", options->fps, "Frames per second of path time (0.1 to 1000)")->check(CLI::Range(0.1, 1000.0))->capture_default_str();
   options->size.add(*command);
   command->add_flag("--truth,!--no-truth", options->truth, "Each path's last view against the ray-traced truth (the default)");
   command->add_option("--out", options->out, "Output folder (created when missing)")->check(outputFolder())->capture_default_str();
