@@ -1,0 +1,82 @@
+// The landscape (data/scenes/landscape.toml) at scale: its 4 km terrain with 60 000 of its trees, at
+// its stand density on a 1 km square around its walk ([vegetation] area). Along the walk's end — the
+// ridge, the open view over kilometres — and from 100 m over the stands: CHC++'s geometry pass
+// (depth and object IDs) equals the same frame's geometry by frustum culling, and the casters found
+// down the BVH, with the large receivers kept apart, give the shadow term of all casters pixel for
+// pixel, for the receiver boxes and the receiver pixels.
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "forest/core/camera_path.hpp"
+#include "forest/core/scene.hpp"
+#include "forest/render/frame.hpp"
+#include "gl_test_support.hpp"
+#include "test_paths.hpp"
+
+namespace forest::test {
+namespace {
+
+constexpr int kWidth = 320, kHeight = 180;
+
+class LandscapeGl : public GlTest {};
+
+// The landscape's trees on a `side` square around its walk, as many as its density puts there.
+Scene landscapeAroundItsWalk(double side) {
+  Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/landscape.toml");
+  const double share = side * side / (scene.terrain->size * scene.terrain->size);
+  scene.vegetation->count = static_cast<int>(std::lround(scene.vegetation->count * share));
+  scene.vegetation->area = glm::dvec4(-230.0 - side / 2, -70.0 - side / 2, -230.0 + side / 2, -70.0 + side / 2);
+  return scene;
+}
+
+TEST_F(LandscapeGl, CulledGeometryAndSelectedCastersAreExactOnTheRidgeAndAboveTheStands) {
+  if (backendUnderTest() != "egl") GTEST_SKIP() << "the engine's own logic: checked on the egl backend";
+  const Scene scene = landscapeAroundItsWalk(1000.0);
+  render::Frame frame(scene, kWidth, kHeight);
+  ASSERT_EQ(frame.forest()->trees().size(), 62500u);
+  const CameraPath walk = CameraPath::load(std::string(FOREST_REPO_DATA) + "/paths/landscape-walk.toml");
+  std::vector<Camera> views;
+  for (double t = walk.endTime() - 2.0; t <= walk.endTime() + 1e-9; t += 1.0) {  // the last 2 s: the ridge
+    Camera c = frame.cameraAt(walk.at(t), walk.aboveGround());
+    c.aspect = static_cast<double>(kWidth) / kHeight;
+    views.push_back(c);
+  }
+  for (int k = 0; k < 2; ++k) {  // 100 m over the stands, looking 15° down
+    CameraPose pose = walk.at(5.0 + 15.0 * k);
+    pose.position.y = 100.0;
+    pose.pitch_deg = -15.0;
+    Camera c = frame.cameraAt(pose, true);
+    c.aspect = static_cast<double>(kWidth) / kHeight;
+    views.push_back(c);
+  }
+  render::FrameSettings settings;
+  settings.shadowMapSize = 1024;
+  settings.culling = culling::CullingStrategy::ChcPlusPlus;
+  int pixelsOfTrees = 0;
+  for (size_t v = 0; v < views.size(); ++v) {
+    const double time = 0.5 * static_cast<double>(v);
+    frame.render(views[v], time, settings);
+    const std::vector<std::uint32_t> ids = frame.readObjectIds();
+    const std::vector<float> depth = frame.readDepth();
+    frame.renderReferenceGeometry(views[v], time);
+    const std::vector<std::uint32_t> referenceIds = frame.readObjectIds();
+    const std::vector<float> referenceDepth = frame.readDepth();
+    int differ = 0;
+    for (size_t i = 0; i < ids.size(); ++i) {
+      differ += ids[i] != referenceIds[i] || depth[i] != referenceDepth[i] ? 1 : 0;
+      pixelsOfTrees += ids[i] >= frame.objects().treeIdBase() && ids[i] < frame.objects().propIdBase() ? 1 : 0;
+    }
+    EXPECT_EQ(differ, 0) << "view " << v << ": chc++'s geometry pass against frustum culling's";
+    for (const render::CasterSelection selection : {render::CasterSelection::Receivers, render::CasterSelection::ReceiverPixels}) {
+      const CasterComparison c = compareSelectedWithAllCasters(frame, views[v], time, settings, selection);
+      EXPECT_EQ(c.differ, 0) << "view " << v << ", selection " << static_cast<int>(selection);
+      EXPECT_LT(c.selectedCasters, c.allCasters) << "view " << v;
+    }
+  }
+  EXPECT_GT(pixelsOfTrees, kWidth * kHeight / 10);  // the views do look at the forest
+  std::printf("[landscape] %zu views, %d tree pixels\n", views.size(), pixelsOfTrees);
+}
+
+}  // namespace
+}  // namespace forest::test
