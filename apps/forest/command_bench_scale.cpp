@@ -120,17 +120,17 @@ ScaleRun runOne(const ScaleOptions& options, const Scene& scene, const CameraPat
 
 std::string tableOf(const std::vector<ScaleRun>& runs) {
   std::string md =
-      "| path | trees | start-up s | heap MiB | bytes/tree | interval p50 / p95 ms | eye / shadow triangles (p50) | queries p50 | culler CPU ms p50 | "
+      "| path | trees | start-up s | heap MiB | bytes/tree | interval p50 / p95 ms | eye / shadow triangles (p50) | queries / draw calls p50 | culler CPU ms p50 | "
       "casters selected / needed | shadow triangles selected / needed | misclassified beyond 200 m |\n"
       "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const ScaleRun& r : runs) {
     const auto p50 = [&](const char* key) { return r.summary[key]["p50"].get<double>(); };
     const bool truth = !r.truth.empty();
     const auto ratio = [](long long a, long long b) { return b > 0 ? fmt::format("{:.2f}×", static_cast<double>(a) / static_cast<double>(b)) : std::string("-"); };
-    md += fmt::format("| {} | {} | {:.1f} | {:.0f} | {:.0f} | {:.0f} / {:.0f} | {:.0f} k / {:.0f} k | {:.0f} | {:.1f} | {} | {} | {} |\n", r.path, r.trees,
+    md += fmt::format("| {} | {} | {:.1f} | {:.0f} | {:.0f} | {:.0f} / {:.0f} | {:.0f} k / {:.0f} k | {:.0f} / {:.0f} | {:.1f} | {} | {} | {} |\n", r.path, r.trees,
                       r.startup["total_ms"].get<double>() / 1e3, r.startup["heap_mib"].get<double>(), r.startup["bytes_per_tree"].get<double>(),
                       p50("interval_ms"), r.summary["interval_ms"]["p95"].get<double>(), p50("triangles_geometry") / 1e3,
-                      p50("triangles_shadow") / 1e3, p50("queries"), p50("culling_cpu_ms"),
+                      p50("triangles_shadow") / 1e3, p50("queries"), p50("draw_calls"), p50("culling_cpu_ms"),
                       truth ? fmt::format("{} / {} ({})", r.truth["casters_selected"].get<int>(), r.truth["casters_needed"].get<int>(),
                                           ratio(r.truth["casters_selected"].get<int>(), r.truth["casters_needed"].get<int>()))
                             : "-",

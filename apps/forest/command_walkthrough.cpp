@@ -58,6 +58,7 @@ nlohmann::ordered_json frameRecord(int index, double time, bool warmup, const Ca
   r["triangles"] = {{"geometry", s.geometryTriangles}, {"shadow", s.shadowTriangles}};
   r["queries"] = s.culling.queriesIssued;
   r["culling_cpu_ms"] = s.culling.cpuMilliseconds;
+  r["draw_calls"] = s.culling.drawCalls;
   r["culled_by_frustum"] = s.culledByFrustum;
   r["z_f"] = s.farDepth;
   r["far"] = camera.far;
@@ -112,6 +113,7 @@ nlohmann::ordered_json summariseFrames(const nlohmann::ordered_json& records, in
   summary["casters"] = column([](const auto& r) { return r["casters"].template get<double>(); });
   summary["queries"] = column([](const auto& r) { return r["queries"].template get<double>(); });
   summary["culling_cpu_ms"] = column([](const auto& r) { return r["culling_cpu_ms"].template get<double>(); });
+  summary["draw_calls"] = column([](const auto& r) { return r["draw_calls"].template get<double>(); });
   summary["frames_measured"] = measured;
   int byFrustum = 0;
   for (const auto& r : records)
