@@ -494,11 +494,8 @@ void reportPath(const CullingBenchPlan& plan, const BenchOptions& options, const
 
 int runBenchCulling(const BenchOptions& options) {
   const CullingBenchPlan plan = planCullingBench(options);
-  gl::ContextOptions contextOptions;
-  contextOptions.backend = gl::kBackendNames.parse(options.gl.backend);
-  auto context = gl::createContext(contextOptions);
+  auto context = options.gl.open();
   const std::string device = gl::describe(context->info());
-  log::info("{}", device);
   const fs::path outFolder(options.out);
   fs::create_directories(outFolder);
   render::FrameSettings modes;

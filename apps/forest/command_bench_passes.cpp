@@ -198,11 +198,8 @@ int runBenchPasses(const PassesOptions& options) {
   for (const std::string& size : options.sizes) sizes.push_back(parseSize(size));
   const std::filesystem::path out = options.out;
   std::filesystem::create_directories(out);
-  gl::ContextOptions contextOptions;
-  contextOptions.backend = gl::kBackendNames.parse(options.gl.backend);
-  auto context = gl::createContext(contextOptions);
+  auto context = options.gl.open();
   const std::string device = gl::describe(context->info());
-  log::info("{}", device);
   const int total = static_cast<int>(sizes.size()) * options.views * options.rounds;
   int done = 0;
   const auto start = Clock::now();

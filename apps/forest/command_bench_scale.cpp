@@ -177,13 +177,8 @@ int runBenchScale(const ScaleOptions& options) {
                                    full.vegetation->count));
   const std::filesystem::path out = options.out;
   std::filesystem::create_directories(out);
-  gl::ContextOptions contextOptions;
-  contextOptions.backend = gl::kBackendNames.parse(options.gl.backend);
-  contextOptions.width = options.size.width;
-  contextOptions.height = options.size.height;
-  auto context = gl::createContext(contextOptions);
+  auto context = options.gl.open(options.size.width, options.size.height);
   const std::string device = gl::describe(context->info());
-  log::info("{}", device);
   std::vector<ScaleRun> runs;
   ordered_json json = {{"device", device}, {"scene", scenePath}, {"fps", options.fps}, {"resolution", {options.size.width, options.size.height}},
                        {"settings", options.frame.json(context->info(), full)}, {"runs", ordered_json::array()}};

@@ -186,12 +186,7 @@ int runRender(const RenderOptions& options) {
   settings.backside = !options.frontFaces;
   settings.fogDensity = options.fog;
 
-  gl::ContextOptions contextOptions;
-  contextOptions.backend = gl::kBackendNames.parse(options.gl.backend);
-  contextOptions.width = scene.render.width;
-  contextOptions.height = scene.render.height;
-  auto context = gl::createContext(contextOptions);
-  log::info("{}", gl::describe(context->info()));
+  auto context = options.gl.open(scene.render.width, scene.render.height);
   options.frame.resolveModes(settings, context->info());
 
   render::Frame frame(scene, scene.render.width, scene.render.height);

@@ -124,12 +124,7 @@ int runSpeedError(const SpeedErrorOptions& options) {
   const std::vector<MapLayout> layouts = mapLayouts(sizes, options.cascades);
   const int width = options.quick ? 640 : options.size.width, height = options.quick ? 360 : options.size.height;
 
-  gl::ContextOptions contextOptions;
-  contextOptions.backend = gl::kBackendNames.parse(options.gl.backend);
-  contextOptions.width = width;
-  contextOptions.height = height;
-  auto context = gl::createContext(contextOptions);
-  log::info("{}", gl::describe(context->info()));
+  auto context = options.gl.open(width, height);
   const render::CasterSelection casters = options.casters.resolve(context->info());
   render::Frame frame(scene, width, height);
   const std::vector<Scenario> scenarios = makeScenarios(scene, frame, options.quick);

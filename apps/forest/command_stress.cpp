@@ -303,12 +303,7 @@ int runStress(const StressOptions& given) {
   // (keepFreedHeapMemory), so RSS is the high-water mark and grows only with a leak or a growing
   // working set. (Sanitizer builds have their own allocator.)
 
-  gl::ContextOptions contextOptions;
-  contextOptions.backend = gl::kBackendNames.parse(options.gl.backend);
-  contextOptions.width = options.size.width;
-  contextOptions.height = options.size.height;
-  auto context = gl::createContext(contextOptions);
-  log::info("{}", gl::describe(context->info()));
+  auto context = options.gl.open(options.size.width, options.size.height);
 
   const int total = static_cast<int>(options.trees.size() * options.lod0.size()) * options.length.frames;
   int done = 0;

@@ -174,12 +174,53 @@ void printSummary(const nlohmann::ordered_json& summary) {
                            summary["frames_culled_by_frustum"].get<int>(), summary["frames_measured"].get<int>());
 }
 
-int runWalkthrough(const WalkthroughOptions& options) {
-  // Everything that can be wrong with the input is checked before any output exists.
+// A frame of the run, as its outputs name it.
+struct WalkFrame {
+  int index;
+  bool last;
+  double time, frameMs;
+};
+
+// The run's own outputs of a frame — its PNG, its contact-sheet thumbnail, its video frame — and
+// the between-frames hook: the CPU seconds they took, which the frame's interval leaves out.
+double writeFrameOutputs(const WalkthroughOptions& options, render::Frame& frame, const WalkFrame& f, const fs::path& out,
+                         ContactSheet& sheet, std::optional<VideoWriter>& video) {
+  const bool writeFrame = f.index % options.every == 0 || f.last;
+  const bool videoFrame = video && video->ok();
+  double outputSeconds = 0.0;
+  if (writeFrame || sheet.wants(f.index) || videoFrame) {
+    // Waits for the frame: that wait stays in the interval, except for a frame read for the video only.
+    const auto readStart = Clock::now();
+    const Image8 image = frame.readColor();
+    const auto outputStart = writeFrame || sheet.wants(f.index) ? Clock::now() : readStart;
+    if (writeFrame) writeImage(out / "frames" / fmt::format("frame{:05d}.png", f.index), image);
+    if (sheet.wants(f.index)) sheet.add(f.index, f.time, f.frameMs, image);
+    if (videoFrame) video->add(image);
+    outputSeconds = std::chrono::duration<double>(Clock::now() - outputStart).count();
+  }
+  if (options.betweenFrames && f.index % kBetweenFramesEvery == kBetweenFramesEvery - 1) {
+    glFinish();  // the frame's work stays in its interval, the hook's does not
+    const auto hookStart = Clock::now();
+    options.betweenFrames();
+    outputSeconds += std::chrono::duration<double>(Clock::now() - hookStart).count();
+  }
+  return outputSeconds;
+}
+
+// What a walkthrough renders, each part checked before any output exists.
+struct WalkInput {
+  std::string scenePath, pathPath;
+  Scene scene;
+  CameraPath path;
+  render::FrameSettings settings;
+  int total, warmup;
+};
+
+WalkInput checkedWalkInput(const WalkthroughOptions& options) {
   const std::string scenePath = sceneFileOr(options.scene);
   const std::string pathPath = walkPathOr(options.path);
   Scene scene = loadScene(scenePath);
-  const CameraPath path = CameraPath::load(pathPath);
+  CameraPath path = CameraPath::load(pathPath);
   if (path.aboveGround() && !scene.terrain) throw InputError(pathPath + ": heights = \"above_ground\" needs a scene with [terrain]");
   render::FrameSettings settings = options.frame.settings();  // names checked before anything opens
   settings.keepShadowTerm = false;  // the run shows and times frames; nothing reads the term back
@@ -189,17 +230,18 @@ int runWalkthrough(const WalkthroughOptions& options) {
   const int warmup = options.length.warmupFor(total);
   if (warmup >= total)
     throw InputError(fmt::format("--warmup {}: expected fewer than the {} frames the run renders", warmup, total));
+  return {scenePath, pathPath, std::move(scene), std::move(path), settings, total, warmup};
+}
+
+int runWalkthrough(const WalkthroughOptions& options) {
+  WalkInput input = checkedWalkInput(options);
+  auto& [scenePath, pathPath, scene, path, settings, total, warmup] = input;
   const int width = options.size.width, height = options.size.height;
   scene.render.width = width;
   scene.render.height = height;
 
-  gl::ContextOptions contextOptions;
-  contextOptions.backend = gl::kBackendNames.parse(options.gl.backend);
-  contextOptions.width = width;
-  contextOptions.height = height;
-  auto context = gl::createContext(contextOptions);
+  auto context = options.gl.open(width, height);
   const std::string device = gl::describe(context->info());
-  log::info("{}", device);
   options.frame.resolveModes(settings, context->info());
   render::Frame frame(scene, width, height);
 
@@ -232,25 +274,7 @@ int runWalkthrough(const WalkthroughOptions& options) {
     closeInterval(frameStart);
     const render::FrameStats s = frame.render(camera, time, settings);
     const double frameMs = 1e3 * std::chrono::duration<double>(Clock::now() - frameStart).count();
-    const bool writeFrame = f % options.every == 0 || f == total - 1;
-    const bool videoFrame = video && video->ok();
-    double outputSeconds = 0.0;
-    if (writeFrame || sheet.wants(f) || videoFrame) {
-      // Waits for the frame: that wait stays in the interval, except for a frame read for the video only.
-      const auto readStart = Clock::now();
-      const Image8 image = frame.readColor();
-      const auto outputStart = writeFrame || sheet.wants(f) ? Clock::now() : readStart;
-      if (writeFrame) writeImage(out / "frames" / fmt::format("frame{:05d}.png", f), image);
-      if (sheet.wants(f)) sheet.add(f, time, frameMs, image);
-      if (videoFrame) video->add(image);
-      outputSeconds = std::chrono::duration<double>(Clock::now() - outputStart).count();
-    }
-    if (options.betweenFrames && f % kBetweenFramesEvery == kBetweenFramesEvery - 1) {
-      glFinish();  // the frame's work stays in its interval, the hook's does not
-      const auto hookStart = Clock::now();
-      options.betweenFrames();
-      outputSeconds += std::chrono::duration<double>(Clock::now() - hookStart).count();
-    }
+    const double outputSeconds = writeFrameOutputs(options, frame, {f, f == total - 1, time, frameMs}, out, sheet, video);
     records.push_back(frameRecord(f, time, f < warmup, camera, pose.yaw_deg, frameMs, s));
     recordPassTimes(frame.takePassTimes(), records);  // timer queries: earlier frames' pass times
     ++done;
@@ -271,20 +295,19 @@ int runWalkthrough(const WalkthroughOptions& options) {
     throw Error(fmt::format("{} GL errors during the walkthrough (first: {})", gl::debugErrorCount(), gl::debugErrorMessages().front()));
 
   const nlohmann::ordered_json summary = summariseFrames(records, done - std::min(done, warmup));
-  nlohmann::ordered_json report;
-  report["scene"] = scenePath;
-  report["path"] = pathPath;
-  report["device"] = device;
-  report["resolution"] = {width, height};
-  report["settings"] = options.frame.json(context->info(), scene);
+  nlohmann::ordered_json report = {{"scene", scenePath},
+                                   {"path", pathPath},
+                                   {"device", device},
+                                   {"resolution", {width, height}},
+                                   {"settings", options.frame.json(context->info(), scene)},
+                                   {"warmup_frames", warmup},
+                                   {"frames_requested", total},
+                                   {"frames_done", done},
+                                   {"interrupted", gInterrupted.load()},
+                                   {"startup", startupRecord(frame)},
+                                   {"summary", summary},
+                                   {"frames", std::move(records)}};
   report["settings"]["fps"] = options.fps;
-  report["warmup_frames"] = warmup;
-  report["frames_requested"] = total;
-  report["frames_done"] = done;
-  report["interrupted"] = gInterrupted.load();
-  report["startup"] = startupRecord(frame);
-  report["summary"] = summary;
-  report["frames"] = records;
   writeFileAtomic(out / "report.json", report.dump(1) + "\n");
   if (!sheet.empty()) writeImage(out / "contact-sheet.png", sheet.compose());
 

@@ -33,6 +33,9 @@ CLI::Validator outputFile();
 struct GlOptions {
   std::string backend = "auto";
   void add(CLI::App& command);
+  // A context of this backend (width × height for the backends that make a surface of that size;
+  // 0: their default), its device logged.
+  std::unique_ptr<gl::Context> open(int width = 0, int height = 0) const;
 };
 
 // --width, --height (16 to 8192). defaultNote non-empty: the defaults come from elsewhere (the

@@ -9,6 +9,7 @@
 
 #include "commands.hpp"
 #include "forest/core/files.hpp"
+#include "forest/core/log.hpp"
 
 namespace forest::app {
 
@@ -52,6 +53,16 @@ void GlOptions::add(CLI::App& command) {
                      "osmesa, window (GLFW; needs a display)")
       ->check(CLI::IsMember({"auto", "egl", "osmesa", "window"}))
       ->capture_default_str();
+}
+
+std::unique_ptr<gl::Context> GlOptions::open(int width, int height) const {
+  gl::ContextOptions options;
+  options.backend = gl::kBackendNames.parse(backend);
+  if (width > 0) options.width = width;
+  if (height > 0) options.height = height;
+  auto context = gl::createContext(options);
+  log::info("{}", gl::describe(context->info()));
+  return context;
 }
 
 void ImageSizeOptions::add(CLI::App& command, const std::string& defaultNote) {
