@@ -3,7 +3,8 @@
 // along 30 views of the default forest, suns from 10° to 80°, one map or three slices, every method
 // and PCF radius, the shadow term equals the term with all casters pixel for pixel — with the
 // casters drawn only into the texels the pixels' lookups read — and the mask keeps fewer casters
-// than the receiver boxes.
+// than the receiver boxes. The same for the mask built and tested on the GPU
+// (CasterSelection::ReceiverMaskGpu), PCF 0 to 4.
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -57,6 +58,42 @@ TEST_F(ReceiverPixelsGl, CastersOfTheSunFacingPixelsGiveTheTermOfAllCasters) {
   }
   std::printf("[receiver pixels] %d views: %lld casters from the pixels, %lld from the receiver boxes\n", views, maskCasters,
               boxCasters);
+  EXPECT_EQ(views, 30 / kSweepStride);
+  EXPECT_GT(fewer, 25 / kSweepStride);
+}
+
+TEST_F(ReceiverPixelsGl, TreesKeptOnTheGpuGiveTheTermOfAllCasters) {
+  if (backendUnderTest() != "egl") GTEST_SKIP() << "the engine's own logic: checked on the egl backend";
+  Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
+  render::Frame frame(scene, kWidth, kHeight);
+  Camera camera = frame.startCamera();
+  camera.aspect = static_cast<double>(kWidth) / kHeight;
+  const terrain::Terrain& t = *frame.terrain();
+  const shadows::ShadowMethod methods[] = {shadows::ShadowMethod::Lispsm, shadows::ShadowMethod::Tsm,
+                                           shadows::ShadowMethod::Uniform, shadows::ShadowMethod::UniformStable};
+  int views = 0, fewer = 0;
+  long long gpuCasters = 0, boxCasters = 0;
+  for (int v = 0; v < 30; ++v) {
+    stepForestView(camera, t, v);
+    if (v % kSweepStride != 0) continue;
+    const double e = glm::radians(10.0 + 70.0 * (v % 5) / 4.0), a = glm::radians(40.0 + 53.0 * v);
+    scene.sun.direction = -dvec3(std::cos(e) * std::cos(a), std::sin(e), std::cos(e) * std::sin(a));
+    render::FrameSettings settings;
+    settings.method = methods[v % 4];
+    settings.shadowMapSize = 1024;
+    settings.pcfRadius = (v / 2) % 5;  // 0 … 4, each with both layouts
+    settings.cascades = v % 2 == 0 ? 1 : 3;
+    const CasterComparison c = compareSelectedWithAllCasters(frame, camera, 0.5 * v, settings, render::CasterSelection::ReceiverMaskGpu);
+    EXPECT_EQ(c.differ, 0) << "view " << v << ": " << c.differ << " pixels";
+    const CasterComparison boxes = compareSelectedWithAllCasters(frame, camera, 0.5 * v, settings);
+    EXPECT_LE(c.selectedCasters, boxes.selectedCasters) << "view " << v;  // the GPU only removes
+    fewer += c.selectedCasters < boxes.selectedCasters ? 1 : 0;
+    gpuCasters += c.selectedCasters;
+    boxCasters += boxes.selectedCasters;
+    ++views;
+  }
+  std::printf("[receiver mask on the GPU] %d views: %lld casters kept on the GPU, %lld from the receiver boxes\n", views,
+              gpuCasters, boxCasters);
   EXPECT_EQ(views, 30 / kSweepStride);
   EXPECT_GT(fewer, 25 / kSweepStride);
 }

@@ -190,8 +190,10 @@ inline CasterComparison compareSelectedWithAllCasters(render::Frame& frame, cons
   const render::FrameStats selected = frame.render(camera, time, settings);
   c.selectedCasters = selected.casterObjects;
   c.selectedTerrainTriangles = selected.shadowTerrainTriangles;
-  for (int slice = 0; slice < frame.cascadeCount(); ++slice)
-    c.selected.insert(c.selected.end(), frame.casters(slice).begin(), frame.casters(slice).end());
+  for (int slice = 0; slice < frame.cascadeCount(); ++slice) {
+    const std::vector<std::uint32_t> casters = frame.casters(slice);  // a copy: read back on the GPU path
+    c.selected.insert(c.selected.end(), casters.begin(), casters.end());
+  }
   const std::vector<float> withSelected = frame.readShadowTerm();
   settings.casters = render::CasterSelection::All;
   frame.resetHistory();

@@ -137,11 +137,12 @@ void FrameOptions::add(CLI::App& command, bool withCulling) {
 void CasterOptions::add(CLI::App& command) {
   command.add_option("--casters", casters,
                      "Shadow casters: of the visible receivers' boxes (receivers), of the visible sun-facing\n"
-                     "pixels (receiver-pixels: the G-buffer read back, a CPU wait on a GPU), of the frustum's\n"
+                     "pixels (receiver-pixels: the G-buffer read back, a CPU wait on a GPU), of those pixels\n"
+                     "with the trees tested on the GPU (receiver-mask-gpu: nothing read back), of the frustum's\n"
                      "focus body (frustum-body), all, or auto (receiver-pixels on a software renderer such as\n"
                      "llvmpipe, whose rasteriser threads wait anyway while the CPU sets up the shadows; receivers\n"
                      "on a GPU)")
-      ->check(CLI::IsMember({"auto", "receivers", "receiver-pixels", "frustum-body", "all"}))
+      ->check(CLI::IsMember({"auto", "receivers", "receiver-pixels", "receiver-mask-gpu", "frustum-body", "all"}))
       ->capture_default_str();
 }
 

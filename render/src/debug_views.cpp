@@ -150,8 +150,9 @@ Image8 topDownDiagram(const Frame& frame, const dvec3& sunDirection, int size) {
   for (int i = 0; i < slices; ++i) fillConvexPolygon(image, mapped(bodies[static_cast<size_t>(i)]), bodyColour(i), 0.18f);
   size_t casters = 0;
   for (int i = 0; i < slices; ++i) {
-    for (std::uint32_t o : frame.casters(i)) drawPolygon(image, boxOutline(boxes[o]), kCaster);
-    casters += frame.casters(i).size();
+    const std::vector<std::uint32_t> drawn = frame.casters(i);
+    for (std::uint32_t o : drawn) drawPolygon(image, boxOutline(boxes[o]), kCaster);
+    casters += drawn.size();
   }
   for (int i = 0; i < slices; ++i) {
     drawPolygon(image, mapped(bodies[static_cast<size_t>(i)]), bodyColour(i));

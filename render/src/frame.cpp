@@ -220,7 +220,16 @@ const ShadowSlice& Frame::slice(int index) const {
   return passes_->plan.slices[static_cast<size_t>(index)];
 }
 const shadows::ShadowSetup& Frame::shadowSetup(int index) const { return slice(index).setup; }
-const std::vector<std::uint32_t>& Frame::casters(int index) const { return slice(index).casters; }
+std::vector<std::uint32_t> Frame::casters(int index) const {
+  const std::vector<std::uint32_t>& candidates = slice(index).casters;
+  const std::optional<std::vector<std::uint32_t>> trees = passes_->shadow.treesKeptOnGpu(index);
+  if (!trees) return candidates;
+  std::vector<std::uint32_t> drawn = *trees;  // and the casters the GPU did not test: tiles, props
+  for (std::uint32_t o : candidates)
+    if (objects_->objects()[o].kind != SceneObjects::Kind::Tree) drawn.push_back(o);
+  std::sort(drawn.begin(), drawn.end());
+  return drawn;
+}
 const Camera& Frame::shadowCamera(int index) const { return slice(index).camera; }
 
 // The frame as the design's stages (DESIGN §1), each a call on a named unit with its inputs and
@@ -237,7 +246,8 @@ FrameStats Frame::render(const Camera& camera, double time, const FrameSettings&
   // 3. Shadow pass: the casters into a layer per slice, front faces culled.
   {
     auto timed = timer_->scope(passName(FramePass::Shadow));
-    stats.shadowTriangles = p.shadow.run(p.plan, in.eye, in.eyeLod(), settings, in.l, stats);
+    const bool gpuMask = settings.casters == CasterSelection::ReceiverMaskGpu && !in.sunBelowHorizon;
+    stats.shadowTriangles = p.shadow.run(p.plan, in.eye, in.eyeLod(), settings, in.l, gpuMask ? &p.geometry.gbuffer().surface : nullptr, stats);
   }
   // 4. The frame block the full-screen passes read; the shadow term and the blur.
   const gl::Texture* blurredTerm = shadowTerm(in);

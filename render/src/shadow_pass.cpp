@@ -38,6 +38,12 @@ bool lightMirrorsWinding(const shadows::ShadowSetup& setup, const dvec3& l) {
 
 }  // namespace
 
+int ShadowPass::countOtherThanTrees(std::span<const std::uint32_t> casters) const {
+  return static_cast<int>(std::count_if(casters.begin(), casters.end(), [&](std::uint32_t o) {
+    return objects_.objects()[o].kind != SceneObjects::Kind::Tree;
+  }));
+}
+
 glm::dmat4 eyeRelativeToShadowClip(const shadows::ShadowSetup& setup, const dvec3& eye) {
   return zeroToOneDepth() * setup.worldToShadowClip * glm::translate(glm::dmat4(1.0), eye);
 }
@@ -88,9 +94,27 @@ void ShadowPass::ensureMap(int size, int layers) {
   layers_ = layers;
 }
 
+void ShadowPass::useGpuFilter(bool use) {
+  if (use && !gpuFilter_) gpuFilter_ = std::make_unique<GpuCasterFilter>(*forestSource_);
+  if (use) ensureLightDepthRenderers();
+  for (TreeRenderer* r : {trees_.get(), treesLightDepth_.get()})
+    if (r) r->setCasterFilter(use ? gpuFilter_.get() : nullptr);
+  if (use) gpuFilter_->beginFrame();
+  filteredOnGpu_ = use;
+}
+
+std::optional<std::vector<std::uint32_t>> ShadowPass::treesKeptOnGpu(int slice) const {
+  if (!filteredOnGpu_) return std::nullopt;
+  std::vector<std::uint32_t> trees = gpuFilter_->selectedIds(slice);
+  for (std::uint32_t& id : trees) id = static_cast<std::uint32_t>(objects_.objectOfId(id));
+  std::sort(trees.begin(), trees.end());
+  return trees;
+}
+
 long long ShadowPass::run(const ShadowPlan& plan, const DrawView& eye, const terrain::TerrainLod* lod,
-                          const FrameSettings& settings, const dvec3& l, FrameStats& stats) {
+                          const FrameSettings& settings, const dvec3& l, const gl::Texture* receiverSurface, FrameStats& stats) {
   ensureMap(settings.shadowMapSize, plan.cascades);
+  useGpuFilter(receiverSurface != nullptr && forestSource_ != nullptr);
   long long triangles = 0;
   const bool profiling = settings.timing == gl::TimingMode::Profiling;
   for (int i = 0; i < plan.cascades; ++i) {
@@ -109,11 +133,22 @@ long long ShadowPass::run(const ShadowPlan& plan, const DrawView& eye, const ter
       glEnable(GL_SCISSOR_TEST);
       glScissor(read.x0, read.y0, std::max(read.x1 - read.x0, 0), std::max(read.y1 - read.y0, 0));
     }
-    const long long drawn = plan.shadowed && !slice.setup.empty && !read.empty()
-                                ? drawSlice(slice, eye, lod, settings, l, stats.shadowTerrainTriangles)
-                                : 0;
+    const bool draws = plan.shadowed && !slice.setup.empty && !read.empty();
+    if (draws && filteredOnGpu_)
+      gpuFilter_->buildMask(i, *receiverSurface, slice.camera, slice.camera.near, slice.camera.far, slice.setup, eye.origin, size_,
+                            plan.lookupReachTexels);
+    long long drawn = draws ? drawSlice(slice, eye, lod, settings, l, stats.shadowTerrainTriangles) : 0;
+    // The trees the GPU kept and drew (the draws count none): read back where the pipeline is
+    // serialised anyway (Profiling timing); with timer queries the frame does not wait for them
+    // and the slice's triangles leave them out.
     if (scissored) glDisable(GL_SCISSOR_TEST);
     CascadeStats& out = stats.cascade[static_cast<size_t>(i)];
+    if (draws && filteredOnGpu_ && profiling) {
+      drawn += gpuFilter_->selectedTriangles(i);
+      const int kept = static_cast<int>(gpuFilter_->selectedCount(i)) + countOtherThanTrees(slice.casters);
+      stats.casterObjects += kept - out.casters;
+      out.casters = kept;
+    }
     out.texelsDrawn = read.texels();
     out.triangles = drawn;
     triangles += drawn;

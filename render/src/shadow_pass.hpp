@@ -3,11 +3,13 @@
 // (backside rendering), into a float depth map — one layer of an array texture per slice of the
 // plan (cascades) — drawn at the eye's LOD; tsm writes the linear light depth (TSM §4).
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "forest/gl/objects.hpp"
 #include "forest/render/frame.hpp"
 #include "forest/render/scene_objects.hpp"
+#include "gpu_caster_filter.hpp"
 #include "shadow_setup_pass.hpp"
 
 namespace forest::render {
@@ -22,9 +24,13 @@ class ShadowPass {
 
   // Clears each slice's layer (to the far depth) and draws its casters when the plan is shadowed.
   // Returns the triangles drawn; each slice's triangles (and, with Profiling timing, its time) go
-  // into stats.cascade.
+  // into stats.cascade. `receiverSurface`: the G-buffer surface, for CasterSelection::ReceiverMaskGpu
+  // (each slice's trees are tested on the GPU against its receivers; null otherwise).
   long long run(const ShadowPlan& plan, const DrawView& eye, const terrain::TerrainLod* lod, const FrameSettings& settings,
-                const glm::dvec3& l, FrameStats& stats);
+                const glm::dvec3& l, const gl::Texture* receiverSurface, FrameStats& stats);
+  // The trees the GPU kept for a slice in the last frame (object indices, increasing; read back:
+  // waits for the pass), or nullopt when the last frame did not test them on the GPU.
+  std::optional<std::vector<std::uint32_t>> treesKeptOnGpu(int slice) const;
   void propsMoved(const std::vector<PropBox>& props);
 
   const gl::Texture& map() const { return map_; }  // a 2D array texture, one layer per slice
@@ -40,6 +46,9 @@ class ShadowPass {
   long long drawTerrain(const TerrainRenderer& renderer, const ShadowSlice& slice, const DrawView& light,
                         const terrain::TerrainLod& lod);
   void ensureLightDepthRenderers();  // the TSM renderers, built on first use
+  // The GPU's caster filter on the tree renderers for this frame (null: none), built on first use.
+  void useGpuFilter(bool use);
+  int countOtherThanTrees(std::span<const std::uint32_t> casters) const;  // the tiles and props among them
 
   const SceneObjects& objects_;
   const terrain::Terrain* terrainSource_;
@@ -51,6 +60,8 @@ class ShadowPass {
   // Trees and props; the terrain is drawn apart, by tile or by block (ShadowSlice::terrainByBlock).
   std::unique_ptr<SceneDrawer> drawer_, lightDepthDrawer_;  // kept: their lists are reused
   std::vector<int> tiles_;  // scratch: the caster tiles of a slice drawn whole
+  std::unique_ptr<GpuCasterFilter> gpuFilter_;
+  bool filteredOnGpu_ = false;  // the last run tested its trees on the GPU
   gl::Texture map_;
   std::vector<gl::Framebuffer> framebuffers_;  // one per layer
   int size_ = 0, layers_ = 0;

@@ -232,6 +232,7 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
                           const Aabb& sceneBounds, const ReceiverPixels* receiverPixels, ShadowPlan& plan,
                           FrameStats& stats) {
   startPlan(visible, objects, cascades, plan, stats);
+  plan.lookupReachTexels = lookupReachTexels(settings);
   plan.shadowed = !sunBelowHorizon && !receivers_.empty() && sceneBounds.valid();
   if (!plan.shadowed) return;
 
@@ -349,6 +350,7 @@ void ShadowSetupPass::selectCasters(ShadowSlice& slice, const SliceContext& cont
   const std::size_t objectCount = context.objects.boxes().size();
   switch (settings.casters) {
     case CasterSelection::Receivers:
+    case CasterSelection::ReceiverMaskGpu:  // the trees among them tested on the GPU (ShadowPass)
       selectCastersOfReceivers(slice, context, nullptr);
       break;
     case CasterSelection::ReceiverPixels:

@@ -46,6 +46,9 @@ struct ShadowPlan {
   bool shadowed = false;  // sun up, something visible: the map is drawn
   int cascades = 1;
   double blend = 0.0;     // the blend band's share of a split's distance
+  // How far from its point, in texels along each map axis, a pixel's lookup may read (the filter's
+  // reach, its margin, an injected shift): what a caster's footprint is grown by.
+  double lookupReachTexels = 0.0;
   std::array<ShadowSlice, shadows::kMaxCascades> slices;
   // The slice a pixel at eye depth z reads (the shader's choice, shadow_lookup.frag).
   int sliceOf(double eyeDepth) const;

@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "forest/core/frustum.hpp"
+#include "gpu_caster_filter.hpp"
 
 namespace forest::render {
 namespace {
@@ -78,6 +79,10 @@ TreeRenderer::Stats TreeRenderer::draw(const Camera& camera, std::span<const std
 }
 
 TreeRenderer::Stats TreeRenderer::draw(const DrawView& view, std::span<const std::uint32_t> trees) const {
+  if (filter_) {
+    const Groups groups = writeInstances(view, trees, {});
+    return groups.empty ? Stats{} : drawFiltered(view, groups);
+  }
   return drawInstances(view, trees, {}, program_);
 }
 
@@ -87,22 +92,23 @@ TreeRenderer::Stats TreeRenderer::drawQueries(const DrawView& view, std::span<co
   return drawInstances(view, trees, slots, *queryProgram_, hulls);
 }
 
-TreeRenderer::Stats TreeRenderer::drawInstances(const DrawView& view, std::span<const std::uint32_t> trees,
-                                                std::span<const std::uint32_t> ids, const gl::Program& program, bool hulls) const {
-  Stats stats;
+TreeRenderer::Groups TreeRenderer::writeInstances(const DrawView& view, std::span<const std::uint32_t> trees,
+                                                  std::span<const std::uint32_t> ids) const {
+  Groups groups;
   const double time = view.time;
   // Instances grouped by (species, LOD), base positions relative to the eye in double, written
   // straight into the ring: count the groups, then place each tree in its group's part.
-  std::array<int, kSpeciesCount * kTreeLods> counts{}, cursor{};
+  std::array<int, kGroups> cursor{};
   groupOf_.clear();
   for (std::uint32_t t : trees) {
     const int group = static_cast<int>(forest_.trees()[t].species) * kTreeLods + forest_.lodFor(t, view.lodEye);
     groupOf_.push_back(static_cast<std::uint8_t>(group));
-    ++counts[static_cast<size_t>(group)];
+    ++groups.counts[static_cast<size_t>(group)];
   }
-  if (groupOf_.empty()) return stats;
-  for (size_t g = 1; g < counts.size(); ++g) cursor[g] = cursor[g - 1] + counts[g - 1];
-  const std::array<int, kSpeciesCount * kTreeLods> first = cursor;
+  if (groupOf_.empty()) return groups;
+  groups.empty = false;
+  for (size_t g = 1; g < cursor.size(); ++g) cursor[g] = cursor[g - 1] + groups.counts[g - 1];
+  groups.first = cursor;
   const GLuint ringBefore = instances_->id();
   const gl::StreamRing::Allocation part = instances_->allocate(groupOf_.size() * sizeof(InstanceGpu));
   if (instances_->id() != ringBefore) glVertexArrayVertexBuffer(vertexArray_.id(), 1, instances_->id(), 0, sizeof(InstanceGpu));
@@ -122,7 +128,49 @@ TreeRenderer::Stats TreeRenderer::drawInstances(const DrawView& view, std::span<
     g.objectId = ids.empty() ? objectIdBase_ + t : ids[i];
     g.padding[0] = g.padding[1] = g.padding[2] = 0;
   }
-  const GLuint baseInstance = static_cast<GLuint>(part.offset / sizeof(InstanceGpu));
+  groups.baseInstance = static_cast<GLuint>(part.offset / sizeof(InstanceGpu));
+  return groups;
+}
+
+TreeRenderer::Stats TreeRenderer::drawFiltered(const DrawView& view, const Groups& groups) const {
+  Stats stats;
+  std::array<GpuCasterFilter::Group, kGroups> list{};
+  size_t listed = 0;
+  for (int s = 0; s < kSpeciesCount; ++s)
+    for (int lod = 0; lod < kTreeLods; ++lod) {
+      const size_t g = static_cast<size_t>(s * kTreeLods + lod);
+      if (groups.counts[g] == 0) continue;
+      const Range& r = ranges_[s][lod];
+      list[listed++] = {static_cast<std::uint32_t>(groups.first[g]), static_cast<std::uint32_t>(groups.counts[g]), s,
+                        static_cast<std::uint32_t>(r.indexCount), static_cast<std::uint32_t>(r.firstIndex), r.baseVertex};
+      stats.trees += groups.counts[g];
+      stats.treesPerLod[lod] += groups.counts[g];  // given; the triangles drawn are the GPU's to count
+    }
+  const std::size_t commands = filter_->select(instances_->id(), groups.baseInstance, std::span(list.data(), listed));
+  viewUniforms_.bind(viewBlock(view));
+  program_.use();
+  glBindVertexArray(vertexArray_.id());
+  glVertexArrayVertexBuffer(vertexArray_.id(), 1, filter_->output(), 0, sizeof(InstanceGpu));
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, filter_->commands());
+  for (size_t g = 0; g < listed; ++g) {
+    glDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
+                           reinterpret_cast<const void*>(static_cast<std::uintptr_t>(commands + g * GpuCasterFilter::commandBytes())));
+    ++stats.draws;
+  }
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+  glVertexArrayVertexBuffer(vertexArray_.id(), 1, instances_->id(), 0, sizeof(InstanceGpu));
+  glBindVertexArray(0);
+  return stats;
+}
+
+TreeRenderer::Stats TreeRenderer::drawInstances(const DrawView& view, std::span<const std::uint32_t> trees,
+                                                std::span<const std::uint32_t> ids, const gl::Program& program, bool hulls) const {
+  Stats stats;
+  const Groups groups = writeInstances(view, trees, ids);
+  if (groups.empty) return stats;
+  const std::array<int, kGroups>& counts = groups.counts;
+  const std::array<int, kGroups>& first = groups.first;
+  const GLuint baseInstance = groups.baseInstance;
 
   viewUniforms_.bind(viewBlock(view));
   program.use();

@@ -183,7 +183,10 @@ CasterOracle casterOracle(const render::Frame& frame, const render::FrameStats& 
     needed.insert(frame.objects().objectOfId(id));
   }
   std::set<std::uint32_t> selected;  // in any slice's layer
-  for (int slice = 0; slice < frame.cascadeCount(); ++slice) selected.insert(frame.casters(slice).begin(), frame.casters(slice).end());
+  for (int slice = 0; slice < frame.cascadeCount(); ++slice) {
+    const std::vector<std::uint32_t> casters = frame.casters(slice);  // drawn into its layer
+    selected.insert(casters.begin(), casters.end());
+  }
   c.selected = static_cast<int>(selected.size());
   c.selectedTriangles = stats.shadowTriangles;
   for (std::int64_t object : needed) {

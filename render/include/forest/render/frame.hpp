@@ -49,10 +49,16 @@ enum class CasterSelection {
   // et al. 2011 §4). The pixels are read back from the G-buffer: the CPU waits for the geometry
   // pass (a sync point a GPU frame otherwise avoids, DESIGN §9).
   ReceiverPixels,
+  // As Receivers, then each tree kept only when one of its height slabs, in the map and grown by
+  // the filter's reach, covers a sun-facing pixel farther from the light — tested on the GPU
+  // against a receiver mask built there from the G-buffer (render/src/gpu_caster_filter.hpp):
+  // nothing is read back, the shadow pass draws what the GPU kept by indirect draws.
+  ReceiverMaskGpu,
 };
-inline constexpr EnumNames<CasterSelection, 4> kCasterSelectionNames{
+inline constexpr EnumNames<CasterSelection, 5> kCasterSelectionNames{
     "caster selection", {{{CasterSelection::Receivers, "receivers"}, {CasterSelection::ReceiverPixels, "receiver-pixels"},
-                          {CasterSelection::FrustumBody, "frustum-body"}, {CasterSelection::All, "all"}}}};
+                          {CasterSelection::ReceiverMaskGpu, "receiver-mask-gpu"}, {CasterSelection::FrustumBody, "frustum-body"},
+                          {CasterSelection::All, "all"}}}};
 
 // What bounds the focus body B: the visible receivers (their box, and the visible set's z_f as
 // the far distance; thesis §9.2.5, DESIGN §4) or the whole view frustum within the scene (V ∩ S,
@@ -266,10 +272,12 @@ class Frame {
   int cascadeOf(double eyeDepth) const;
   // The last frame's shadow setup of a slice (tests compare against it).
   const shadows::ShadowSetup& shadowSetup(int slice = 0) const;
-  // The last frame's visible set, a slice's selected casters (object indices) and the camera it was
-  // built from (near and far: the slice's ends; one map: far = the visible set's z_f) — for debug views.
+  // The last frame's visible set, a slice's casters (object indices, increasing: those its layer
+  // drew — with CasterSelection::ReceiverMaskGpu the trees the GPU kept, read back, so this waits
+  // for the shadow pass) and the camera it was built from (near and far: the slice's ends; one map:
+  // far = the visible set's z_f) — for debug views and the truth.
   const std::vector<std::uint32_t>& visibleObjects() const;
-  const std::vector<std::uint32_t>& casters(int slice = 0) const;
+  std::vector<std::uint32_t> casters(int slice = 0) const;
   const Camera& shadowCamera(int slice = 0) const;
   // The scene's start camera for this image (camera.above_ground applied).
   Camera startCamera() const;

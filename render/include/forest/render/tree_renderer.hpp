@@ -20,6 +20,8 @@
 
 namespace forest::render {
 
+class GpuCasterFilter;  // render/src/gpu_caster_filter.hpp
+
 class TreeRenderer {
  public:
   // Lit: Lambert + ambient with per-tree tint. ObjectId: objectIdBase + tree index to a GL_R32UI
@@ -47,6 +49,11 @@ class TreeRenderer {
   // culler's block and buffer.
   Stats drawQueries(const DrawView& view, std::span<const std::uint32_t> trees, std::span<const std::uint32_t> slots,
                     bool hulls = true) const;
+  // With a filter, draw() hands each draw's instances to it (the shadow pass's casters selected on
+  // the GPU, CasterSelection::ReceiverMaskGpu) and draws what it keeps by indirect draws; null:
+  // every tree given is drawn. Stats then count the trees given, not those kept, and no triangles
+  // (GpuCasterFilter::selectedTriangles reads what was drawn back).
+  void setCasterFilter(GpuCasterFilter* filter) { filter_ = filter; }
   // Trees whose boxes meet the camera's frustum.
   std::vector<std::uint32_t> treesInFrustum(const Camera& camera) const;
 
@@ -66,6 +73,18 @@ class TreeRenderer {
   struct Range {
     int baseVertex = 0, firstIndex = 0, indexCount = 0;
   };
+  // The instances of `trees` written into the ring, grouped by (species, LOD): each group's count
+  // and first instance (relative to baseInstance). Each instance's ID is ids[i], or
+  // objectIdBase + tree without ids.
+  static constexpr int kGroups = vegetation::kSpeciesCount * vegetation::kTreeLods;
+  struct Groups {
+    std::array<int, kGroups> counts{}, first{};
+    GLuint baseInstance = 0;
+    bool empty = true;
+  };
+  Groups writeInstances(const DrawView& view, std::span<const std::uint32_t> trees, std::span<const std::uint32_t> ids) const;
+  // The groups' triangles drawn with the filter (filter_): indirect draws of what it kept.
+  Stats drawFiltered(const DrawView& view, const Groups& groups) const;
   // Draws the trees with `program`; each instance's ID is ids[i], or objectIdBase + tree without ids.
   // `hulls`: a species with a query hull is drawn with it at every LOD.
   Stats drawInstances(const DrawView& view, std::span<const std::uint32_t> trees, std::span<const std::uint32_t> ids,
@@ -85,6 +104,7 @@ class TreeRenderer {
   mutable std::vector<std::uint8_t> groupOf_;
   std::array<std::array<Range, vegetation::kTreeLods>, vegetation::kSpeciesCount> ranges_{};
   std::array<Range, vegetation::kSpeciesCount> hullRanges_{};  // indexCount 0: no query hull
+  GpuCasterFilter* filter_ = nullptr;
 };
 
 }  // namespace forest::render

@@ -72,6 +72,10 @@ class Forest {
   // any yaw), grown by the sway at the slab's top, each cut to treeBounds. The culler queries with
   // them (a crown's box no longer shows where only its corners would).
   std::array<Aabb, kQuerySlabs> treeQueryBoxes(std::uint32_t tree) const;
+  // The species' height slabs in object space over all LODs: per slab the height range [x, y]
+  // (empty: x > y) and z, the largest distance from the y axis of a point of the mesh in it (the
+  // cylinder of that radius over the slab holds every triangle's part in it).
+  const std::array<glm::dvec3, kQuerySlabs>& speciesSlabs(Species species) const { return slabs_[static_cast<size_t>(species)]; }
   // LOD by distance bands from the eye to the tree's base, divided by its size class's scale; a
   // young tree never takes LOD0 (force_lod0 → 0 for all): a pure function of the camera, so
   // culling never changes what is drawn.
