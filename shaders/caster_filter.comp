@@ -32,6 +32,9 @@ layout(std430, binding = 6) readonly buffer Params {
   uint groupCount, instanceBase, instanceCount, commandBase;
 };
 layout(binding = 5) uniform usampler2D uMask;  // mip levels: the pyramid
+layout(binding = 8) uniform usampler2D uReads;  // per texel the farthest receiver whose lookup may read it
+layout(binding = 6) uniform sampler2D uOccluders;  // the map's largest depths, 2 × 2 texels per texel of level 0
+layout(std430, binding = 7) readonly buffer Contributors { uint contributedIn[]; };  // per tree: the frame it last counted
 
 uniform mat4 uToClip;
 uniform vec4 uLightDepthRow;
@@ -40,32 +43,100 @@ uniform int uMapSize, uLevels;
 uniform float uReach;           // texels a lookup may read from its point, per axis
 uniform float uDepthTolerance;  // float32 placement of receivers and casters
 uniform uint uSelectionCapacity;  // object IDs the selection holds
+// 0: every instance; 1: those that counted in the last frame's map (drawn first, the occluders);
+// 2: the others, kept only where they may show over what phase 1 drew (uOccluders).
+uniform int uPhase;
+uniform int uOccluderLevels;
+uniform uint uTreeIdBase, uTreeCount, uLastFrame;
 
-// Whether the box [lo, hi] (relative to the view origin) may shadow a receiver of the mask.
-bool mayShadow(vec3 lo, vec3 hi) {
-  vec2 tMin = vec2(1e30), tMax = vec2(-1e30);
-  float nearest = 1e30;
+// A box (relative to the view origin) in the map: the texels its corners span and its nearest
+// map depth; `behind`: a corner lies behind the light's projection (or is not finite).
+struct Footprint {
+  vec2 tMin, tMax;
+  float nearest;
+  bool behind;
+};
+Footprint footprintOf(vec3 lo, vec3 hi) {
+  Footprint f = Footprint(vec2(1e30), vec2(-1e30), 1e30, false);
   for (int c = 0; c < 8; ++c) {
     vec3 p = vec3((c & 1) != 0 ? hi.x : lo.x, (c & 2) != 0 ? hi.y : lo.y, (c & 4) != 0 ? hi.z : lo.z);
     vec4 h = uToClip * vec4(p, 1.0);
-    if (!(h.w > 0.0)) return true;  // reaches behind the light's projection
+    if (!(h.w > 0.0)) f.behind = true;
     vec2 t = (h.xy / h.w * 0.5 + 0.5) * float(uMapSize);
-    tMin = min(tMin, t);
-    tMax = max(tMax, t);
-    nearest = min(nearest, uLinearDepth != 0 ? 0.5 * dot(uLightDepthRow, vec4(p, 1.0)) + 0.5 : h.z / h.w);
+    f.tMin = min(f.tMin, t);
+    f.tMax = max(f.tMax, t);
+    f.nearest = min(f.nearest, uLinearDepth != 0 ? 0.5 * dot(uLightDepthRow, vec4(p, 1.0)) + 0.5 : h.z / h.w);
   }
-  if (any(isnan(tMin)) || any(isnan(tMax)) || isnan(nearest)) return true;
-  // The texels whose receivers a lookup could reach the box from; outside the map, its border.
-  float top = float(uMapSize - 1);
-  ivec2 a = ivec2(clamp(floor(tMin - uReach), 0.0, top)), b = ivec2(clamp(floor(tMax + uReach), 0.0, top));
+  f.behind = f.behind || any(isnan(f.tMin)) || any(isnan(f.tMax)) || isnan(f.nearest);
+  return f;
+}
+
+// The level of a pyramid whose texels each cover 2^(level + shift) map texels at which the texels
+// [a, b] span at most four per axis.
+int levelFor(ivec2 a, ivec2 b, int shift, int levels) {
   int level = 0;
-  while (level + 1 < uLevels && ((b.x >> level) - (a.x >> level) > 3 || (b.y >> level) - (a.y >> level) > 3)) ++level;
+  while (level + 1 < levels && ((b.x >> (level + shift)) - (a.x >> (level + shift)) > 3 ||
+                                (b.y >> (level + shift)) - (a.y >> (level + shift)) > 3))
+    ++level;
+  return level;
+}
+
+// Whether the box may shadow a receiver of the mask: a texel a lookup could reach the box from
+// (its footprint grown by the reach; outside the map, its border) holds a receiver at or beyond
+// the box's nearest point.
+bool mayShadow(Footprint f) {
+  if (f.behind) return true;
+  float top = float(uMapSize - 1);
+  ivec2 a = ivec2(clamp(floor(f.tMin - uReach), 0.0, top)), b = ivec2(clamp(floor(f.tMax + uReach), 0.0, top));
+  int level = levelFor(a, b, 0, uLevels);
   a >>= level;
   b >>= level;
   for (int y = a.y; y <= b.y; ++y)
     for (int x = a.x; x <= b.x; ++x) {
       uint farthest = texelFetch(uMask, ivec2(x, y), level).r;
-      if (farthest != 0u && nearest <= uintBitsToFloat(farthest) + uDepthTolerance) return true;
+      if (farthest != 0u && f.nearest <= uintBitsToFloat(farthest) + uDepthTolerance) return true;
+    }
+  return false;
+}
+
+// Whether the box may come nearer the light than what the map already holds at a texel whose
+// centre it may cover (a fragment is made only there; kCentreMargin of a texel for float32 and the
+// rasteriser's sub-texel snapping): else its fragments all fail the depth test, and drawing it
+// changes no texel. The occluders' pyramid: level 0 the map's depths.
+const float kCentreMargin = 1.0 / 16.0;
+bool mayShowOverDrawn(Footprint f) {
+  if (f.behind) return true;
+  vec2 first = ceil(f.tMin - 0.5 - kCentreMargin), last = floor(f.tMax - 0.5 + kCentreMargin);
+  if (any(greaterThan(first, last))) return false;  // covers no texel centre: draws nothing
+  float top = float(uMapSize - 1);
+  ivec2 a = ivec2(clamp(first, 0.0, top)), b = ivec2(clamp(last, 0.0, top));
+  int level = levelFor(a, b, 0, uOccluderLevels);
+  a >>= level;
+  b >>= level;
+  for (int y = a.y; y <= b.y; ++y)
+    for (int x = a.x; x <= b.x; ++x)
+      if (f.nearest - uDepthTolerance < texelFetch(uOccluders, ivec2(x, y), level).r) return true;
+  return false;
+}
+
+// A footprint small enough is tested texel by texel: it may matter only where it covers a texel
+// centre that a receiver farther than its nearest point reads and — phase 2 — that the map does
+// not already hold nearer. Larger ones: the two tests above, each over the whole footprint.
+const int kExactTexels = 8;
+bool mayMatter(Footprint f) {
+  if (f.behind) return true;
+  vec2 first = ceil(f.tMin - 0.5 - kCentreMargin), last = floor(f.tMax - 0.5 + kCentreMargin);
+  float top = float(uMapSize - 1);
+  first = max(first, vec2(0.0));
+  last = min(last, vec2(top));
+  if (any(greaterThan(first, last))) return false;  // no texel centre of the map: draws nothing
+  ivec2 a = ivec2(first), b = ivec2(last);
+  if (b.x - a.x >= kExactTexels || b.y - a.y >= kExactTexels) return mayShadow(f) && (uPhase != 2 || mayShowOverDrawn(f));
+  for (int y = a.y; y <= b.y; ++y)
+    for (int x = a.x; x <= b.x; ++x) {
+      uint farthest = texelFetch(uReads, ivec2(x, y), 0).r;
+      if (farthest == 0u || f.nearest > uintBitsToFloat(farthest) + uDepthTolerance) continue;
+      if (uPhase != 2 || f.nearest - uDepthTolerance < texelFetch(uOccluders, ivec2(x, y), 0).r) return true;
     }
   return false;
 }
@@ -76,6 +147,11 @@ void main() {
   int g = 0;
   while (g + 1 < int(groupCount) && i >= groups[g + 1].x) ++g;
   Instance instance = instances[instanceBase + i];
+  if (uPhase != 0) {
+    uint tree = instance.objectId - uTreeIdBase;
+    bool counted = tree < uTreeCount && uLastFrame != 0u && contributedIn[tree] == uLastFrame;
+    if (counted != (uPhase == 1)) return;
+  }
   bool keep = everywhere != 0u;
   float scale = instance.baseScale.w;
   vec2 shear = instance.rotationShear.zw;
@@ -87,7 +163,7 @@ void main() {
     vec2 offsetLow = min(shear * h0, shear * h1), offsetHigh = max(shear * h0, shear * h1);
     vec3 lo = instance.baseScale.xyz + vec3(offsetLow.x - r, h0, offsetLow.y - r);
     vec3 hi = instance.baseScale.xyz + vec3(offsetHigh.x + r, h1, offsetHigh.y + r);
-    keep = mayShadow(lo, hi);
+    keep = mayMatter(footprintOf(lo, hi));
   }
   if (!keep) return;
   uint command = commandBase + groups[g].w;

@@ -4,7 +4,8 @@
 // and PCF radius, the shadow term equals the term with all casters pixel for pixel — with the
 // casters drawn only into the texels the pixels' lookups read — and the mask keeps fewer casters
 // than the receiver boxes. The same for the mask built and tested on the GPU
-// (CasterSelection::ReceiverMaskGpu), PCF 0 to 4.
+// (CasterSelection::ReceiverMaskGpu), PCF 0 to 4, with the trees hidden from the light by those
+// that counted in a frame before at the view culled.
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -83,6 +84,12 @@ TEST_F(ReceiverPixelsGl, TreesKeptOnTheGpuGiveTheTermOfAllCasters) {
     settings.shadowMapSize = 1024;
     settings.pcfRadius = (v / 2) % 5;  // 0 … 4, each with both layouts
     settings.cascades = v % 2 == 0 ? 1 : 3;
+    // A frame at the view first, as in a walk: its trees that counted are drawn first in the next,
+    // the occluders the others are tested against (GpuCasterFilter).
+    render::FrameSettings before = settings;
+    before.casters = render::CasterSelection::ReceiverMaskGpu;
+    before.culling = culling::CullingStrategy::Frustum;
+    frame.render(camera, 0.5 * v, before);
     const CasterComparison c = compareSelectedWithAllCasters(frame, camera, 0.5 * v, settings, render::CasterSelection::ReceiverMaskGpu);
     EXPECT_EQ(c.differ, 0) << "view " << v << ": " << c.differ << " pixels";
     const CasterComparison boxes = compareSelectedWithAllCasters(frame, camera, 0.5 * v, settings);

@@ -39,6 +39,7 @@ struct RenderOptions {
   std::optional<double> fog;
   std::vector<double> camera;  // x y z yaw pitch
   std::vector<double> sun;     // x y z
+  int framesBefore = 0;        // frames rendered at the same view before the one measured
   std::string debug;           // folder for the debug images (empty: none)
   // forest truth: evaluate the frame against the ray-traced truth, writing into truthFolder.
   std::string truthFolder;
@@ -196,6 +197,7 @@ int runRender(const RenderOptions& options) {
     camera.yaw = glm::radians(options.camera[3]);
     camera.pitch = glm::radians(options.camera[4]);
   }
+  for (int k = 0; k < options.framesBefore; ++k) frame.render(camera, options.time, settings);
   render::FrameStats stats = frame.render(camera, options.time, settings);
   for (const gl::FrameTiming& t : frame.drainPassTimes()) stats.setPassTimes(t);  // timer queries: wait for this frame's
   const Image8 image = frame.readColor();
@@ -265,6 +267,12 @@ void addFrameInputs(CLI::App* command, RenderOptions* options) {
       ->expected(5);
   command->add_option("--sun", options->sun, "Sun direction x y z, the way light travels (default: the scene's)")
       ->expected(3);
+  command->add_option("--frames-before", options->framesBefore,
+                      "Frames rendered at the same view before the one measured, so that it starts from what a\n"
+                      "frame hands the next in a walk (LiSPSM's smoothed n, the culler's visibility, the trees\n"
+                      "that counted in the GPU caster filter's map) (0 to 100)")
+      ->check(CLI::Range(0, 100))
+      ->capture_default_str();
   options->frame.add(*command);
   command->add_option("--bias", options->bias, "Slope-scale depth bias in the shadow pass (0 to 100; 0: none)")
       ->check(CLI::Range(0.0, 100.0))

@@ -31,16 +31,30 @@ struct GpuCasterFilter::Params {  // std430, caster_filter.comp
   std::uint32_t groupCount, instanceBase, instanceCount, commandBase;
 };
 
-GpuCasterFilter::GpuCasterFilter(const vegetation::Forest& forest)
+GpuCasterFilter::GpuCasterFilter(const vegetation::Forest& forest, std::uint32_t treeIdBase)
     : forest_(forest),
+      treeIdBase_(treeIdBase),
       build_(gl::loadProgram({"receiver_mask.comp"})),
       reduce_(gl::loadProgram({"receiver_mask_reduce.comp"})),
+      reach_program_(gl::loadProgram({"receiver_reach.comp"})),
       filter_(gl::loadProgram({"caster_filter.comp"})),
+      occludersFromMap_(gl::loadProgram({"occluder_depths.comp"}, "#define FROM_MAP 1\n")),
+      occludersReduce_(gl::loadProgram({"occluder_depths.comp"})),
+      markCounted_(gl::loadProgram({"caster_contribution.comp"})),
+      counted_(std::max<std::size_t>(1, forest.trees().size()) * sizeof(std::uint32_t), nullptr, GL_DYNAMIC_STORAGE_BIT),
       flags_(2 * sizeof(std::uint32_t), nullptr, GL_DYNAMIC_STORAGE_BIT),
       params_(sizeof(Params), nullptr, GL_DYNAMIC_STORAGE_BIT),
       commands_(static_cast<std::size_t>(kMaxDraws) * kMaxGroups * sizeof(Command), nullptr, GL_DYNAMIC_STORAGE_BIT) {}
 
-void GpuCasterFilter::beginFrame() {
+void GpuCasterFilter::beginFrame(bool occlusion) {
+  if (frame_ == 0) {
+    const GLuint zero = 0;
+    glClearNamedBufferData(counted_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
+  }
+  lastFrame_ = marked_ ? frame_ : 0;
+  ++frame_;
+  marked_ = false;
+  occlusion_ = occlusion;
   outputUsed_ = 0;
   draws_ = 0;
   for (std::vector<int>& d : sliceDraws_) d.clear();
@@ -50,6 +64,16 @@ void GpuCasterFilter::ensureMask(int mapSize) {
   if (mapSize == mapSize_) return;
   levels_ = levelsFor(mapSize);
   mask_ = gl::Texture(GL_R32UI, mapSize, mapSize, levels_);
+  reads_ = gl::Texture(GL_R32UI, mapSize, mapSize);
+  readsAlongX_ = gl::Texture(GL_R32UI, mapSize, mapSize);
+  for (GLuint id : {reads_.id(), readsAlongX_.id()}) {
+    glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  }
+  occluderLevels_ = levels_;
+  occluders_ = gl::Texture(GL_R32F, mapSize, mapSize, occluderLevels_);
+  glTextureParameteri(occluders_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
+  glTextureParameteri(occluders_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   // An integer texture is complete only with nearest filtering (texelFetch reads it, by level).
   glTextureParameteri(mask_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
   glTextureParameteri(mask_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
@@ -57,10 +81,14 @@ void GpuCasterFilter::ensureMask(int mapSize) {
 }
 
 void GpuCasterFilter::buildMask(int slice, const gl::Texture& surface, const Camera& camera, double zMin, double zMax,
-                                const shadows::ShadowSetup& setup, const glm::dvec3& eye, int mapSize, double reachTexels) {
+                                const shadows::ShadowSetup& setup, const glm::dvec3& eye, const gl::Texture& map, const gl::Texture* ids,
+                                double reachTexels) {
   if (slice < 0 || slice >= kMaxSlices) throw Error(fmt::format("GpuCasterFilter: slice {} outside 0…{}", slice, kMaxSlices - 1));
+  const int mapSize = map.width();
   ensureMask(mapSize);
   slice_ = slice;
+  map_ = &map;
+  ids_ = ids;
   toClip_ = glm::mat4(eyeRelativeToShadowClip(setup, eye));
   linearDepth_ = setup.linearDepth;
   const glm::dvec4& row = setup.worldToLightDepth;  // (p − eye, 1) → z_L, as ShadowPass::drawSlice
@@ -93,6 +121,20 @@ void GpuCasterFilter::buildMask(int slice, const gl::Texture& surface, const Cam
     const int size = std::max(1, mapSize >> level);
     glDispatchCompute(static_cast<GLuint>((size + 7) / 8), static_cast<GLuint>((size + 7) / 8), 1);
   }
+  // What the lookups read: the mask's level 0 spread by the reach, along x then y.
+  reach_program_.use();
+  reach_program_.set("uRadius", static_cast<int>(std::ceil(reachTexels)));
+  const GLuint groups = static_cast<GLuint>((mapSize + 7) / 8);
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  reach_program_.set("uAxis", glm::ivec2(1, 0));
+  glBindImageTexture(0, mask_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
+  glBindImageTexture(1, readsAlongX_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
+  glDispatchCompute(groups, groups, 1);
+  glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+  reach_program_.set("uAxis", glm::ivec2(0, 1));
+  glBindImageTexture(0, readsAlongX_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
+  glBindImageTexture(1, reads_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32UI);
+  glDispatchCompute(groups, groups, 1);
   glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
   glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
   glBindImageTexture(1, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32UI);
@@ -108,7 +150,7 @@ void GpuCasterFilter::ensureOutput(std::size_t instances) {
   if (output_.size() < instances * stride) output_ = gl::Buffer(instances * stride, nullptr, 0);
 }
 
-std::size_t GpuCasterFilter::select(GLuint instances, std::uint32_t baseInstance, std::span<const Group> groups) {
+std::size_t GpuCasterFilter::select(GLuint instances, std::uint32_t baseInstance, std::span<const Group> groups, Phase phase) {
   if (groups.size() > static_cast<std::size_t>(kMaxGroups)) throw Error("GpuCasterFilter: more than 16 groups in a draw");
   if (draws_ >= kMaxDraws) throw Error(fmt::format("GpuCasterFilter: more than {} tree draws in a frame", kMaxDraws));
   std::uint32_t total = 0;
@@ -146,15 +188,18 @@ std::size_t GpuCasterFilter::select(GLuint instances, std::uint32_t baseInstance
     glClearNamedBufferSubData(selection.id(), GL_R32UI, 0, sizeof zero, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
   }
 
+  setCommonUniforms(filter_);
   filter_.set("uToClip", toClip_);
   filter_.set("uLightDepthRow", lightDepthRow_);
   filter_.set("uLinearDepth", linearDepth_ ? 1 : 0);
-  filter_.set("uMapSize", mapSize_);
-  filter_.set("uLevels", levels_);
-  filter_.set("uReach", reach_);
-  filter_.set("uDepthTolerance", kDepthTolerance);
   filter_.set("uSelectionCapacity", static_cast<std::uint32_t>(capacity));
+  filter_.set("uPhase", static_cast<int>(phase));
+  filter_.set("uOccluderLevels", occluderLevels_);
+  filter_.set("uLastFrame", lastFrame_);
   filter_.use();
+  glBindTextureUnit(6, occluders_.id());
+  glBindTextureUnit(8, reads_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, counted_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, instances);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, output_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, commands_.id());
@@ -165,7 +210,73 @@ std::size_t GpuCasterFilter::select(GLuint instances, std::uint32_t baseInstance
   glDispatchCompute((total + 63) / 64, 1, 1);
   glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
   glBindTextureUnit(kMaskUnit, 0);
+  glBindTextureUnit(6, 0);
+  glBindTextureUnit(8, 0);
   return commandBase;
+}
+
+void GpuCasterFilter::setCommonUniforms(const gl::Program& program) const {
+  program.set("uMapSize", mapSize_);
+  program.set("uLevels", levels_);
+  program.set("uReach", reach_);
+  program.set("uDepthTolerance", kDepthTolerance);
+  program.set("uTreeIdBase", treeIdBase_);
+  program.set("uTreeCount", static_cast<std::uint32_t>(forest_.trees().size()));
+}
+
+namespace {
+// The map's layers read as depths (texelFetch) while `reading` lives: its comparison off, then on again.
+struct MapDepthsReadable {
+  explicit MapDepthsReadable(const gl::Texture& map) : id(map.id()) {
+    glTextureParameteri(id, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+    glBindTextureUnit(7, id);
+  }
+  ~MapDepthsReadable() {
+    glBindTextureUnit(7, 0);
+    glTextureParameteri(id, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+  }
+  MapDepthsReadable(const MapDepthsReadable&) = delete;
+  MapDepthsReadable& operator=(const MapDepthsReadable&) = delete;
+  GLuint id;
+};
+}  // namespace
+
+void GpuCasterFilter::buildOccluders() {
+  if (!occlusion()) throw Error("GpuCasterFilter::buildOccluders: no occlusion this frame");
+  const MapDepthsReadable readable(*map_);
+  occludersFromMap_.set("uLayer", slice_);
+  occludersFromMap_.use();
+  int size = occluders_.width();
+  glBindImageTexture(1, occluders_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+  glDispatchCompute(static_cast<GLuint>((size + 7) / 8), static_cast<GLuint>((size + 7) / 8), 1);
+  occludersReduce_.use();
+  for (int level = 1; level < occluderLevels_; ++level) {
+    glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    glBindImageTexture(0, occluders_.id(), level - 1, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+    glBindImageTexture(1, occluders_.id(), level, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    size = std::max(1, occluders_.width() >> level);
+    glDispatchCompute(static_cast<GLuint>((size + 7) / 8), static_cast<GLuint>((size + 7) / 8), 1);
+  }
+  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT);
+  glBindImageTexture(0, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+  glBindImageTexture(1, 0, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+}
+
+void GpuCasterFilter::markCounted() {
+  if (!occlusion()) return;
+  const MapDepthsReadable readable(*map_);
+  setCommonUniforms(markCounted_);
+  markCounted_.set("uLayer", slice_);
+  markCounted_.set("uFrame", frame_);
+  markCounted_.use();
+  glBindTextureUnit(kMaskUnit, mask_.id());
+  glBindTextureUnit(8, ids_->id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, counted_.id());
+  glDispatchCompute(static_cast<GLuint>((mapSize_ + 7) / 8), static_cast<GLuint>((mapSize_ + 7) / 8), 1);
+  glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+  glBindTextureUnit(kMaskUnit, 0);
+  glBindTextureUnit(8, 0);
+  marked_ = true;
 }
 
 std::uint32_t GpuCasterFilter::selectedCount(int slice) const {

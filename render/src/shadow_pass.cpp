@@ -95,12 +95,33 @@ void ShadowPass::ensureMap(int size, int layers) {
 }
 
 void ShadowPass::useGpuFilter(bool use) {
-  if (use && !gpuFilter_) gpuFilter_ = std::make_unique<GpuCasterFilter>(*forestSource_);
-  if (use) ensureLightDepthRenderers();
+  if (use && !gpuFilter_) gpuFilter_ = std::make_unique<GpuCasterFilter>(*forestSource_, objects_.treeIdBase());
+  if (use) {
+    ensureLightDepthRenderers();
+    ensureIdLayers();
+  }
   for (TreeRenderer* r : {trees_.get(), treesLightDepth_.get()})
     if (r) r->setCasterFilter(use ? gpuFilter_.get() : nullptr);
-  if (use) gpuFilter_->beginFrame();
+  if (use) gpuFilter_->beginFrame(true);
   filteredOnGpu_ = use;
+}
+
+// The object-ID layers beside the map's for the GPU's caster filter (which trees counted), and a
+// framebuffer per layer with both; the map's own framebuffers keep depth alone.
+void ShadowPass::ensureIdLayers() {
+  if (idsBesideMap_ == map_.id()) return;
+  idsBesideMap_ = map_.id();
+  ids_ = gl::Texture(GL_R32UI, size_, size_, 1, layers_);
+  glTextureParameteri(ids_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(ids_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  idFramebuffers_.clear();
+  for (int layer = 0; layer < layers_; ++layer) {
+    gl::Framebuffer& framebuffer = idFramebuffers_.emplace_back();
+    framebuffer.attachLayer(GL_DEPTH_ATTACHMENT, map_, layer);
+    framebuffer.attachLayer(GL_COLOR_ATTACHMENT0, ids_, layer);
+    glNamedFramebufferDrawBuffer(framebuffer.id(), GL_COLOR_ATTACHMENT0);
+    framebuffer.checkComplete("shadow map layer with object IDs");
+  }
 }
 
 std::optional<std::vector<std::uint32_t>> ShadowPass::treesKeptOnGpu(int slice) const {
@@ -119,9 +140,12 @@ long long ShadowPass::run(const ShadowPlan& plan, const DrawView& eye, const ter
   const bool profiling = settings.timing == gl::TimingMode::Profiling;
   for (int i = 0; i < plan.cascades; ++i) {
     const auto start = std::chrono::steady_clock::now();
-    glBindFramebuffer(GL_FRAMEBUFFER, framebuffers_[static_cast<size_t>(i)].id());
-    glViewport(0, 0, size_, size_);
     const ShadowSlice& slice = plan.slices[static_cast<size_t>(i)];
+    // With the GPU's filter, the object-ID layer too (which trees counted), unless the method writes
+    // the linear light depth (its programs write no ID).
+    const bool withIds = filteredOnGpu_ && !slice.setup.linearDepth;
+    glBindFramebuffer(GL_FRAMEBUFFER, (withIds ? idFramebuffers_ : framebuffers_)[static_cast<size_t>(i)].id());
+    glViewport(0, 0, size_, size_);
     // The casters drawn only into the texels a lookup can read, when known and the whole map is
     // not asked for. The clear stays whole: under a scissor llvmpipe clears by drawing a quad,
     // slower than its fast clear of the whole layer. A layer no lookup reads is left as it was.
@@ -129,15 +153,18 @@ long long ShadowPass::run(const ShadowPlan& plan, const DrawView& eye, const ter
     const shadows::TexelRect read = scissored ? *slice.texelsRead : shadows::TexelRect{0, 0, size_, size_};
     const float nearLight = 1.0f;
     if (!read.empty()) glClearBufferfv(GL_DEPTH, 0, &nearLight);
+    const GLuint noObject[4] = {0, 0, 0, 0};
+    if (withIds) glClearBufferuiv(GL_COLOR, 0, noObject);
     if (scissored) {
       glEnable(GL_SCISSOR_TEST);
       glScissor(read.x0, read.y0, std::max(read.x1 - read.x0, 0), std::max(read.y1 - read.y0, 0));
     }
     const bool draws = plan.shadowed && !slice.setup.empty && !read.empty();
     if (draws && filteredOnGpu_)
-      gpuFilter_->buildMask(i, *receiverSurface, slice.camera, slice.camera.near, slice.camera.far, slice.setup, eye.origin, size_,
-                            plan.lookupReachTexels);
+      gpuFilter_->buildMask(i, *receiverSurface, slice.camera, slice.camera.near, slice.camera.far, slice.setup, eye.origin, map_,
+                            withIds ? &ids_ : nullptr, plan.lookupReachTexels);
     long long drawn = draws ? drawSlice(slice, eye, lod, settings, l, stats.shadowTerrainTriangles) : 0;
+    if (draws && filteredOnGpu_) gpuFilter_->markCounted();
     // The trees the GPU kept and drew (the draws count none): read back where the pipeline is
     // serialised anyway (Profiling timing); with timer queries the frame does not wait for them
     // and the slice's triangles leave them out.
@@ -182,13 +209,14 @@ long long ShadowPass::drawSlice(const ShadowSlice& slice, const DrawView& eye, c
     light.lightDepthRelative = glm::dvec4(dvec3(row), row.w + glm::dot(dvec3(row), eye.origin));
     light.depthSlopeBias = settings.slopeScaleBias;
     glDisable(GL_POLYGON_OFFSET_FILL);
+    if (terrainLightDepth_ && lod) terrain = drawTerrain(*terrainLightDepth_, slice, light, *lod);
     lightDepthDrawer_->setView(light, lod);
     triangles = lightDepthDrawer_->draw(slice.casters);
-    if (terrainLightDepth_ && lod) terrain = drawTerrain(*terrainLightDepth_, slice, light, *lod);
   } else {
+    // The terrain first: with the GPU's caster filter it hides trees from the light (GpuCasterFilter).
+    if (terrain_ && lod) terrain = drawTerrain(*terrain_, slice, light, *lod);
     drawer_->setView(light, lod);
     triangles = drawer_->draw(slice.casters);
-    if (terrain_ && lod) terrain = drawTerrain(*terrain_, slice, light, *lod);
   }
   terrainTriangles += terrain;
   glDisable(GL_POLYGON_OFFSET_FILL);

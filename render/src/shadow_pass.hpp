@@ -48,6 +48,7 @@ class ShadowPass {
   void ensureLightDepthRenderers();  // the TSM renderers, built on first use
   // The GPU's caster filter on the tree renderers for this frame (null: none), built on first use.
   void useGpuFilter(bool use);
+  void ensureIdLayers();
   int countOtherThanTrees(std::span<const std::uint32_t> casters) const;  // the tiles and props among them
 
   const SceneObjects& objects_;
@@ -64,6 +65,9 @@ class ShadowPass {
   bool filteredOnGpu_ = false;  // the last run tested its trees on the GPU
   gl::Texture map_;
   std::vector<gl::Framebuffer> framebuffers_;  // one per layer
+  gl::Texture ids_;                               // object IDs beside the map, for the GPU's caster filter
+  std::vector<gl::Framebuffer> idFramebuffers_;   // a layer of the map and of ids_ each
+  GLuint idsBesideMap_ = 0;                       // the map they were made for
   int size_ = 0, layers_ = 0;
 };
 

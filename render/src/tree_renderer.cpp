@@ -146,20 +146,30 @@ TreeRenderer::Stats TreeRenderer::drawFiltered(const DrawView& view, const Group
       stats.trees += groups.counts[g];
       stats.treesPerLod[lod] += groups.counts[g];  // given; the triangles drawn are the GPU's to count
     }
-  const std::size_t commands = filter_->select(instances_->id(), groups.baseInstance, std::span(list.data(), listed));
+  const std::span<const GpuCasterFilter::Group> given(list.data(), listed);
   viewUniforms_.bind(viewBlock(view));
-  program_.use();
-  glBindVertexArray(vertexArray_.id());
-  glVertexArrayVertexBuffer(vertexArray_.id(), 1, filter_->output(), 0, sizeof(InstanceGpu));
-  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, filter_->commands());
-  for (size_t g = 0; g < listed; ++g) {
-    glDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
-                           reinterpret_cast<const void*>(static_cast<std::uintptr_t>(commands + g * GpuCasterFilter::commandBytes())));
-    ++stats.draws;
+  auto drawKept = [&](std::size_t commands) {  // one indirect draw per group, of what the filter kept
+    program_.use();
+    glBindVertexArray(vertexArray_.id());
+    glVertexArrayVertexBuffer(vertexArray_.id(), 1, filter_->output(), 0, sizeof(InstanceGpu));
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, filter_->commands());
+    for (size_t g = 0; g < listed; ++g) {
+      glDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
+                             reinterpret_cast<const void*>(static_cast<std::uintptr_t>(commands + g * GpuCasterFilter::commandBytes())));
+      ++stats.draws;
+    }
+    glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
+    glVertexArrayVertexBuffer(vertexArray_.id(), 1, instances_->id(), 0, sizeof(InstanceGpu));
+    glBindVertexArray(0);
+  };
+  if (!filter_->occlusion()) {
+    drawKept(filter_->select(instances_->id(), groups.baseInstance, given));
+    return stats;
   }
-  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
-  glVertexArrayVertexBuffer(vertexArray_.id(), 1, instances_->id(), 0, sizeof(InstanceGpu));
-  glBindVertexArray(0);
+  // The trees that counted in the last frame first; the others against what they and the terrain drew.
+  drawKept(filter_->select(instances_->id(), groups.baseInstance, given, GpuCasterFilter::Phase::Counted));
+  filter_->buildOccluders();
+  drawKept(filter_->select(instances_->id(), groups.baseInstance, given, GpuCasterFilter::Phase::Others));
   return stats;
 }
 
