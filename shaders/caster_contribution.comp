@@ -23,8 +23,9 @@ void main() {
   ivec2 a = clamp(t - reach, ivec2(0), ivec2(uMapSize - 1)), b = clamp(t + reach, ivec2(0), ivec2(uMapSize - 1));
   int level = 0;
   while (level + 1 < uLevels && ((b.x >> level) - (a.x >> level) > 3 || (b.y >> level) - (a.y >> level) > 3)) ++level;
-  a >>= level;
-  b >>= level;
+  ivec2 top = ivec2(max(uMapSize >> level, 1) - 1);  // texel t lies in min(t >> level, top) (receiver_mask_reduce.comp)
+  a = min(a >> level, top);
+  b = min(b >> level, top);
   for (int y = a.y; y <= b.y; ++y)
     for (int x = a.x; x <= b.x; ++x) {
       uint farthest = texelFetch(uMask, ivec2(x, y), level).r;

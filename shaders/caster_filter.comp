@@ -89,8 +89,11 @@ bool mayShadow(Footprint f) {
   float top = float(uMapSize - 1);
   ivec2 a = ivec2(clamp(floor(f.tMin - uReach), 0.0, top)), b = ivec2(clamp(floor(f.tMax + uReach), 0.0, top));
   int level = levelFor(a, b, 0, uLevels);
-  a >>= level;
-  b >>= level;
+  // Texel t lies in min(t >> level, levelTop) (receiver_mask_reduce.comp); the level's size as
+  // glTextureStorage2D gives it (textureSize at a level above 0 read wrong on llvmpipe here).
+  ivec2 levelTop = ivec2(max(uMapSize >> level, 1) - 1);
+  a = min(a >> level, levelTop);
+  b = min(b >> level, levelTop);
   for (int y = a.y; y <= b.y; ++y)
     for (int x = a.x; x <= b.x; ++x) {
       uint farthest = texelFetch(uMask, ivec2(x, y), level).r;
@@ -111,8 +114,9 @@ bool mayShowOverDrawn(Footprint f) {
   float top = float(uMapSize - 1);
   ivec2 a = ivec2(clamp(first, 0.0, top)), b = ivec2(clamp(last, 0.0, top));
   int level = levelFor(a, b, 0, uOccluderLevels);
-  a >>= level;
-  b >>= level;
+  ivec2 levelLast = ivec2(max(uMapSize >> level, 1) - 1);  // as in mayShadow
+  a = min(a >> level, levelLast);
+  b = min(b >> level, levelLast);
   for (int y = a.y; y <= b.y; ++y)
     for (int x = a.x; x <= b.x; ++x)
       if (f.nearest - uDepthTolerance < texelFetch(uOccluders, ivec2(x, y), level).r) return true;

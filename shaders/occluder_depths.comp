@@ -1,7 +1,8 @@
 #version 450 core
 // The occluders' pyramid of a shadow map layer (render/src/gpu_caster_filter.hpp): level 0 the
 // map's layer itself (FROM_MAP), each level above the largest depth of the 2 × 2 texels below it
-// (clamped at an odd edge). A box whose nearest depth is at or
+// (the last column and row of 3 where the level below has an odd size, as
+// receiver_mask_reduce.comp). A box whose nearest depth is at or
 // beyond the largest depth over its footprint can lower no texel of the map.
 layout(local_size_x = 8, local_size_y = 8) in;
 #ifdef FROM_MAP
@@ -32,7 +33,9 @@ void main() {
   imageStore(uCoarser, p, vec4(finer(p, last)));
   return;
 #endif
-  ivec2 q = 2 * p;
-  float m = max(max(finer(q, last), finer(q + ivec2(1, 0), last)), max(finer(q + ivec2(0, 1), last), finer(q + ivec2(1, 1), last)));
+  ivec2 q = 2 * p, end = min(q + 1 + ivec2(equal(p, coarse - 1)), last);
+  float m = 0.0;
+  for (int y = q.y; y <= end.y; ++y)
+    for (int x = q.x; x <= end.x; ++x) m = max(m, finer(ivec2(x, y), last));
   imageStore(uCoarser, p, vec4(m));
 }

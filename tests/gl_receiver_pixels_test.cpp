@@ -81,7 +81,8 @@ TEST_F(ReceiverPixelsGl, TreesKeptOnTheGpuGiveTheTermOfAllCasters) {
     scene.sun.direction = -dvec3(std::cos(e) * std::cos(a), std::sin(e), std::cos(e) * std::sin(a));
     render::FrameSettings settings;
     settings.method = methods[v % 4];
-    settings.shadowMapSize = 1024;
+    // 1000: pyramids whose levels have odd sizes (125 → 62: the last texel folds into the one before).
+    settings.shadowMapSize = v % 3 == 2 ? 1000 : 1024;
     settings.pcfRadius = (v / 2) % 5;  // 0 … 4, each with both layouts
     settings.cascades = v % 2 == 0 ? 1 : 3;
     // A frame at the view first, as in a walk: its trees that counted are drawn first in the next,

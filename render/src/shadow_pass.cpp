@@ -84,6 +84,7 @@ void ShadowPass::ensureMap(int size, int layers) {
   glTextureParameteri(map_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   glTextureParameteri(map_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   framebuffers_.clear();
+  idsBesideMap_ = 0;  // the ID layers' framebuffers held the old map (its name may come back)
   for (int layer = 0; layer < layers; ++layer) {
     gl::Framebuffer& framebuffer = framebuffers_.emplace_back();
     framebuffer.attachLayer(GL_DEPTH_ATTACHMENT, map_, layer);
@@ -109,7 +110,7 @@ void ShadowPass::useGpuFilter(bool use) {
 // The object-ID layers beside the map's for the GPU's caster filter (which trees counted), and a
 // framebuffer per layer with both; the map's own framebuffers keep depth alone.
 void ShadowPass::ensureIdLayers() {
-  if (idsBesideMap_ == map_.id()) return;
+  if (idsBesideMap_ == map_.id()) return;  // made for this map (ensureMap resets it)
   idsBesideMap_ = map_.id();
   ids_ = gl::Texture(GL_R32UI, size_, size_, 1, layers_);
   glTextureParameteri(ids_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
