@@ -3,7 +3,7 @@
 // ridge, the open view over kilometres — and from 100 m over the stands: CHC++'s geometry pass
 // (depth and object IDs) equals the same frame's geometry by frustum culling, and the casters found
 // down the BVH, with the large receivers kept apart, give the shadow term of all casters pixel for
-// pixel, for the receiver boxes and the receiver pixels.
+// pixel, for the receiver boxes, the receiver pixels and the mask on the GPU (after a frame of it).
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -68,7 +68,13 @@ TEST_F(LandscapeGl, CulledGeometryAndSelectedCastersAreExactOnTheRidgeAndAboveTh
       pixelsOfTrees += ids[i] >= frame.objects().treeIdBase() && ids[i] < frame.objects().propIdBase() ? 1 : 0;
     }
     EXPECT_EQ(differ, 0) << "view " << v << ": chc++'s geometry pass against frustum culling's";
-    for (const render::CasterSelection selection : {render::CasterSelection::Receivers, render::CasterSelection::ReceiverPixels}) {
+    // A frame on the GPU's caster filter first, so that the one compared culls the trees hidden from
+    // the sun behind those that counted in it (GpuCasterFilter).
+    render::FrameSettings before = settings;
+    before.casters = render::CasterSelection::ReceiverMaskGpu;
+    frame.render(views[v], time, before);
+    for (const render::CasterSelection selection : {render::CasterSelection::Receivers, render::CasterSelection::ReceiverPixels,
+                                                    render::CasterSelection::ReceiverMaskGpu}) {
       const CasterComparison c = compareSelectedWithAllCasters(frame, views[v], time, settings, selection);
       EXPECT_EQ(c.differ, 0) << "view " << v << ", selection " << static_cast<int>(selection);
       EXPECT_LT(c.selectedCasters, c.allCasters) << "view " << v;
