@@ -37,6 +37,7 @@ layout(binding = 6) uniform sampler2D uOccluders;  // the map's largest depths, 
 layout(std430, binding = 7) readonly buffer Contributors { uint contributedIn[]; };  // per tree: the frame it last counted
 
 uniform mat4 uToClip;
+uniform mat4 uFromClip;  // its inverse: the map's clip coordinates → p − view origin
 uniform vec4 uLightDepthRow;
 uniform int uLinearDepth;
 uniform int uMapSize, uLevels;
@@ -123,11 +124,36 @@ bool mayShowOverDrawn(Footprint f) {
   return false;
 }
 
-// A footprint small enough is tested texel by texel: it may matter only where it covers a texel
-// centre that a receiver farther than its nearest point reads and — phase 2 — that the map does
-// not already hold nearer. Larger ones: the two tests above, each over the whole footprint.
+// The depth at which the light's line through map texel x meets the box [lo, hi] (relative to the
+// view origin) first — the least depth of any point of the box on that line (the map depth along a
+// line is monotonic where w > 0) — or 2 where the line misses the box. The line: the points whose
+// map x, y are the texel centre's, from the inverse of the map's matrix (uFromClip).
+float entryDepth(vec3 lo, vec3 hi, ivec2 x) {
+  vec2 ndc = (vec2(x) + 0.5) / float(uMapSize) * 2.0 - 1.0;
+  vec4 h0 = uFromClip * vec4(ndc, 0.0, 1.0), h1 = uFromClip * vec4(ndc, 1.0, 1.0);
+  vec3 a = h0.xyz / h0.w, d = h1.xyz / h1.w - a;
+  // A component of 0 as a tiny one of its sign: the slab test divides by it.
+  d = mix(mix(vec3(-1e-20), vec3(1e-20), greaterThanEqual(d, vec3(0.0))), d, greaterThan(abs(d), vec3(1e-20)));
+  vec3 t0 = (lo - a) / d, t1 = (hi - a) / d;
+  vec3 tNear = min(t0, t1), tFar = max(t0, t1);
+  float sNear = max(max(tNear.x, tNear.y), tNear.z), sFar = min(min(tFar.x, tFar.y), tFar.z);
+  if (!(sNear <= sFar)) return 2.0;
+  float depth = 2.0;
+  for (int k = 0; k < 2; ++k) {
+    vec3 p = a + (k == 0 ? sNear : sFar) * d;
+    vec4 h = uToClip * vec4(p, 1.0);
+    depth = min(depth, uLinearDepth != 0 ? 0.5 * dot(uLightDepthRow, vec4(p, 1.0)) + 0.5 : h.z / h.w);
+  }
+  return depth;
+}
+
+// A footprint small enough is tested texel by texel: it may matter only where the light's line
+// through a texel centre meets it (grown by kCentreMargin of a texel for float32 and the
+// rasteriser's snapping) at a depth a receiver reading that texel lies beyond and — phase 2 — the
+// map does not already hold nearer. Larger ones: the two tests above, each over the whole footprint.
 const int kExactTexels = 8;
-bool mayMatter(Footprint f) {
+bool mayMatter(vec3 lo, vec3 hi) {
+  Footprint f = footprintOf(lo, hi);
   if (f.behind) return true;
   vec2 first = ceil(f.tMin - 0.5 - kCentreMargin), last = floor(f.tMax - 0.5 + kCentreMargin);
   float top = float(uMapSize - 1);
@@ -136,11 +162,19 @@ bool mayMatter(Footprint f) {
   if (any(greaterThan(first, last))) return false;  // no texel centre of the map: draws nothing
   ivec2 a = ivec2(first), b = ivec2(last);
   if (b.x - a.x >= kExactTexels || b.y - a.y >= kExactTexels) return mayShadow(f) && (uPhase != 2 || mayShowOverDrawn(f));
+  // The margin in the world: kCentreMargin texels at the largest world size per texel the box spans
+  // (its extent over the texels its corners span, at least one), and a centimetre.
+  vec2 texels = max(f.tMax - f.tMin, vec2(1.0));
+  float grow = kCentreMargin * length(hi - lo) / min(texels.x, texels.y) + 0.01;
+  vec3 loGrown = lo - grow, hiGrown = hi + grow;
   for (int y = a.y; y <= b.y; ++y)
     for (int x = a.x; x <= b.x; ++x) {
       uint farthest = texelFetch(uReads, ivec2(x, y), 0).r;
-      if (farthest == 0u || f.nearest > uintBitsToFloat(farthest) + uDepthTolerance) continue;
-      if (uPhase != 2 || f.nearest - uDepthTolerance < texelFetch(uOccluders, ivec2(x, y), 0).r) return true;
+      if (farthest == 0u) continue;
+      // tsm's matrix places x, y but not the depth it stores: there, the box's nearest point.
+      float entry = (uLinearDepth != 0 ? f.nearest : entryDepth(loGrown, hiGrown, ivec2(x, y))) - uDepthTolerance;
+      if (entry > uintBitsToFloat(farthest)) continue;  // misses (2), or behind every receiver reading the texel
+      if (uPhase != 2 || entry < texelFetch(uOccluders, ivec2(x, y), 0).r) return true;
     }
   return false;
 }
@@ -167,7 +201,7 @@ void main() {
     vec2 offsetLow = min(shear * h0, shear * h1), offsetHigh = max(shear * h0, shear * h1);
     vec3 lo = instance.baseScale.xyz + vec3(offsetLow.x - r, h0, offsetLow.y - r);
     vec3 hi = instance.baseScale.xyz + vec3(offsetHigh.x + r, h1, offsetHigh.y + r);
-    keep = mayMatter(footprintOf(lo, hi));
+    keep = mayMatter(lo, hi);
   }
   if (!keep) return;
   uint command = commandBase + groups[g].w;

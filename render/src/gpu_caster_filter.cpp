@@ -89,7 +89,9 @@ void GpuCasterFilter::buildMask(int slice, const gl::Texture& surface, const Cam
   slice_ = slice;
   map_ = &map;
   ids_ = ids;
-  toClip_ = glm::mat4(eyeRelativeToShadowClip(setup, eye));
+  const glm::dmat4 toClip = eyeRelativeToShadowClip(setup, eye);
+  toClip_ = glm::mat4(toClip);
+  fromClip_ = glm::mat4(glm::inverse(toClip));  // in double: the light's lines through texel centres
   linearDepth_ = setup.linearDepth;
   const glm::dvec4& row = setup.worldToLightDepth;  // (p − eye, 1) → z_L, as ShadowPass::drawSlice
   lightDepthRow_ = glm::vec4(glm::dvec4(glm::dvec3(row), row.w + glm::dot(glm::dvec3(row), eye)));
@@ -190,6 +192,7 @@ std::size_t GpuCasterFilter::select(GLuint instances, std::uint32_t baseInstance
 
   setCommonUniforms(filter_);
   filter_.set("uToClip", toClip_);
+  filter_.set("uFromClip", fromClip_);
   filter_.set("uLightDepthRow", lightDepthRow_);
   filter_.set("uLinearDepth", linearDepth_ ? 1 : 0);
   filter_.set("uSelectionCapacity", static_cast<std::uint32_t>(capacity));

@@ -107,7 +107,7 @@ class GpuCasterFilter {
   std::array<gl::Buffer, kMaxSlices> selection_;  // per slice: the count, then the kept object IDs
   // The current slice and its mask's map (set by buildMask).
   int slice_ = 0;
-  glm::mat4 toClip_{1.0f};
+  glm::mat4 toClip_{1.0f}, fromClip_{1.0f};  // (p − eye) → the map's clip coordinates, and back
   glm::vec4 lightDepthRow_{0.0f};
   bool linearDepth_ = false;
   float reach_ = 0.0f;
