@@ -159,7 +159,7 @@ void writeTruth(const render::Frame& frame, const render::FrameStats& stats, con
       "  by distance: {}\n"
       "  soft shadow: {}\n"
       "  aliasing: {:.2f} / {:.2f} / {:.2f} px per texel (max / p95 / mean)\n"
-      "  casters: {} selected ({} triangles), {} needed by the oracle ({} triangles), {} missing\n"
+      "  casters: {} selected ({} triangles), {} needed by the oracle ({} triangles), {} missing{}\n"
       "  wrote {} and {}\n",
       seconds, e.litFacing, 100 * e.misclassification, 100 * e.misclassificationNearEdge, 100 * e.misclassificationElsewhere,
       100 * e.falseShadow, 100 * e.falseLight, bandsLine(e.bands),
@@ -167,7 +167,10 @@ void writeTruth(const render::Frame& frame, const render::FrameStats& stats, con
            : std::string("not measured (--soft-rays 0)"),
       e.aliasingPixels.max,
       e.aliasingPixels.p95, e.aliasingPixels.mean, e.casters.selected, e.casters.selectedTriangles, e.casters.needed,
-      e.casters.neededTriangles, e.casters.missing, shownPath(folder / "truth.json"), shownPath(folder / "error.png"));
+      e.casters.neededTriangles, e.casters.missing,
+      // The GPU's filter leaves out crowns behind others from the sun: the oracle names the one nearer the pixel.
+      options.frame.casters.casters == "receiver-mask-gpu" && e.casters.missing > 0 ? " (hidden from the sun behind crowns it kept)" : "",
+      shownPath(folder / "truth.json"), shownPath(folder / "error.png"));
 }
 
 int runRender(const RenderOptions& options) {
