@@ -24,22 +24,33 @@ constexpr int kWidth = 320, kHeight = 240;
 
 class ReceiverPixelsGl : public GlTest {};
 
+// The default forest, a frame of it (which reads scene.sun at every frame) and its start camera.
+struct ForestSweep {
+  Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
+  render::Frame frame{scene, kWidth, kHeight};
+  Camera camera = frame.startCamera();
+  ForestSweep() { camera.aspect = static_cast<double>(kWidth) / kHeight; }
+  // Moves to view v of the sweep (stepForestView) with the sun at elevation 10° to 80° in five
+  // steps and azimuth `azimuthDeg` + v · `stepDeg`.
+  void view(int v, double azimuthDeg, double stepDeg) {
+    stepForestView(camera, *frame.terrain(), v);
+    const double e = glm::radians(10.0 + 70.0 * (v % 5) / 4.0), a = glm::radians(azimuthDeg + stepDeg * v);
+    scene.sun.direction = -dvec3(std::cos(e) * std::cos(a), std::sin(e), std::cos(e) * std::sin(a));
+  }
+};
+
 TEST_F(ReceiverPixelsGl, CastersOfTheSunFacingPixelsGiveTheTermOfAllCasters) {
   if (backendUnderTest() != "egl") GTEST_SKIP() << "the engine's own logic: checked on the egl backend";
-  Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
-  render::Frame frame(scene, kWidth, kHeight);  // reads scene.sun at every frame
-  Camera camera = frame.startCamera();
-  camera.aspect = static_cast<double>(kWidth) / kHeight;
-  const terrain::Terrain& t = *frame.terrain();
+  ForestSweep sweep;
+  render::Frame& frame = sweep.frame;
+  const Camera& camera = sweep.camera;
   const shadows::ShadowMethod methods[] = {shadows::ShadowMethod::Uniform, shadows::ShadowMethod::UniformStable,
                                            shadows::ShadowMethod::Lispsm, shadows::ShadowMethod::Tsm};
   int views = 0, fewer = 0;
   long long maskCasters = 0, boxCasters = 0;
   for (int v = 0; v < 30; ++v) {
-    stepForestView(camera, t, v);
+    sweep.view(v, 25.0, 47.0);
     if (v % kSweepStride != 0) continue;
-    const double e = glm::radians(10.0 + 70.0 * (v % 5) / 4.0), a = glm::radians(25.0 + 47.0 * v);
-    scene.sun.direction = -dvec3(std::cos(e) * std::cos(a), std::sin(e), std::cos(e) * std::sin(a));
     render::FrameSettings settings;
     settings.method = methods[v % 4];
     settings.shadowMapSize = 1024;
@@ -65,20 +76,16 @@ TEST_F(ReceiverPixelsGl, CastersOfTheSunFacingPixelsGiveTheTermOfAllCasters) {
 
 TEST_F(ReceiverPixelsGl, TreesKeptOnTheGpuGiveTheTermOfAllCasters) {
   if (backendUnderTest() != "egl") GTEST_SKIP() << "the engine's own logic: checked on the egl backend";
-  Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
-  render::Frame frame(scene, kWidth, kHeight);
-  Camera camera = frame.startCamera();
-  camera.aspect = static_cast<double>(kWidth) / kHeight;
-  const terrain::Terrain& t = *frame.terrain();
+  ForestSweep sweep;
+  render::Frame& frame = sweep.frame;
+  const Camera& camera = sweep.camera;
   const shadows::ShadowMethod methods[] = {shadows::ShadowMethod::Lispsm, shadows::ShadowMethod::Tsm,
                                            shadows::ShadowMethod::Uniform, shadows::ShadowMethod::UniformStable};
   int views = 0, fewer = 0;
   long long gpuCasters = 0, boxCasters = 0;
   for (int v = 0; v < 30; ++v) {
-    stepForestView(camera, t, v);
+    sweep.view(v, 40.0, 53.0);
     if (v % kSweepStride != 0) continue;
-    const double e = glm::radians(10.0 + 70.0 * (v % 5) / 4.0), a = glm::radians(40.0 + 53.0 * v);
-    scene.sun.direction = -dvec3(std::cos(e) * std::cos(a), std::sin(e), std::cos(e) * std::sin(a));
     render::FrameSettings settings;
     settings.method = methods[v % 4];
     // 1000: pyramids whose levels have odd sizes (125 → 62: the last texel folds into the one before).
