@@ -47,7 +47,6 @@ uniform uint uSelectionCapacity;  // object IDs the selection holds
 // 0: every instance; 1: those that counted in the last frame's map (drawn first, the occluders);
 // 2: the others, kept only where they may show over what phase 1 drew (uOccluders).
 uniform int uPhase;
-uniform int uOccluderLevels;
 uniform uint uTreeIdBase, uTreeCount, uLastFrame;
 
 // A box (relative to the view origin) in the map: the texels its corners span and its nearest
@@ -114,7 +113,7 @@ bool mayShowOverDrawn(Footprint f) {
   if (any(greaterThan(first, last))) return false;  // covers no texel centre: draws nothing
   float top = float(uMapSize - 1);
   ivec2 a = ivec2(clamp(first, 0.0, top)), b = ivec2(clamp(last, 0.0, top));
-  int level = levelFor(a, b, 0, uOccluderLevels);
+  int level = levelFor(a, b, 0, uLevels);  // the occluders' pyramid has the mask's levels
   ivec2 levelLast = ivec2(max(uMapSize >> level, 1) - 1);  // as in mayShadow
   a = min(a >> level, levelLast);
   b = min(b >> level, levelLast);

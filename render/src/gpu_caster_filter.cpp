@@ -4,7 +4,6 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 
 #include "forest/core/error.hpp"
@@ -13,7 +12,11 @@
 namespace forest::render {
 namespace {
 
-constexpr GLuint kMaskUnit = 5;  // receiver_mask.comp's uSurface, caster_filter.comp's uMask
+// Texture units, as the shaders bind them.
+constexpr GLuint kMaskUnit = 5;       // receiver_mask.comp's uSurface, the others' uMask
+constexpr GLuint kOccludersUnit = 6;  // caster_filter.comp's uOccluders
+constexpr GLuint kMapUnit = 7;        // occluder_depths.comp's and caster_contribution.comp's uMap
+constexpr GLuint kReadsUnit = 8;      // caster_filter.comp's uReads, caster_contribution.comp's uIds
 // The map depth that the GPU's float32 placement of a receiver or a caster corner may miss by
 // (as shadows::ReceiverMask's kDepthTolerance).
 constexpr float kDepthTolerance = 1e-5f;
@@ -44,7 +47,14 @@ GpuCasterFilter::GpuCasterFilter(const vegetation::Forest& forest, std::uint32_t
       counted_(std::max<std::size_t>(1, forest.trees().size()) * sizeof(std::uint32_t), nullptr, GL_DYNAMIC_STORAGE_BIT),
       flags_(2 * sizeof(std::uint32_t), nullptr, GL_DYNAMIC_STORAGE_BIT),
       params_(sizeof(Params), nullptr, GL_DYNAMIC_STORAGE_BIT),
-      commands_(static_cast<std::size_t>(kMaxDraws) * kMaxGroups * sizeof(Command), nullptr, GL_DYNAMIC_STORAGE_BIT) {}
+      commands_(static_cast<std::size_t>(kMaxDraws) * kMaxGroups * sizeof(Command), nullptr, GL_DYNAMIC_STORAGE_BIT) {
+  for (int s = 0; s < vegetation::kSpeciesCount; ++s)
+    for (int k = 0; k < kSlabs; ++k) {
+      const glm::dvec3& slab = forest.speciesSlabs(static_cast<vegetation::Species>(s))[static_cast<size_t>(k)];
+      // An empty slab (no triangle reaches into it) as (1, 0): no infinity reaches the GPU.
+      slabs_[static_cast<size_t>(s * kSlabs + k)] = slab.x <= slab.y ? glm::vec4(glm::vec3(slab), 0.0f) : glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
+    }
+}
 
 void GpuCasterFilter::beginFrame(bool occlusion) {
   if (frame_ == 0) {
@@ -70,8 +80,7 @@ void GpuCasterFilter::ensureMask(int mapSize) {
     glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   }
-  occluderLevels_ = levels_;
-  occluders_ = gl::Texture(GL_R32F, mapSize, mapSize, occluderLevels_);
+  occluders_ = gl::Texture(GL_R32F, mapSize, mapSize, levels_);
   glTextureParameteri(occluders_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
   glTextureParameteri(occluders_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   // An integer texture is complete only with nearest filtering (texelFetch reads it, by level).
@@ -93,16 +102,20 @@ void GpuCasterFilter::buildMask(int slice, const gl::Texture& surface, const Cam
   toClip_ = glm::mat4(toClip);
   fromClip_ = glm::mat4(glm::inverse(toClip));  // in double: the light's lines through texel centres
   linearDepth_ = setup.linearDepth;
-  const glm::dvec4& row = setup.worldToLightDepth;  // (p − eye, 1) → z_L, as ShadowPass::drawSlice
-  lightDepthRow_ = glm::vec4(glm::dvec4(glm::dvec3(row), row.w + glm::dot(glm::dvec3(row), eye)));
+  // (p − origin, 1) → z_L for a view origin, as ShadowPass::drawSlice forms it.
+  const glm::dvec4& row = setup.worldToLightDepth;
+  auto lightDepthRowFrom = [&](const glm::dvec3& origin) {
+    return glm::vec4(glm::dvec4(glm::dvec3(row), row.w + glm::dot(glm::dvec3(row), origin)));
+  };
+  lightDepthRow_ = lightDepthRowFrom(eye);
   reach_ = static_cast<float>(reachTexels);
   const GLuint zero = 0;
   glClearTexImage(mask_.id(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
   glClearNamedBufferData(flags_.id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, &zero);
   // The pixel rays as ReceiverPixels::read forms them, from the camera at `eye`.
   const double tanY = std::tan(0.5 * camera.fovy), tanX = tanY * camera.aspect;
-  build_.set("uToClip", toClip_ * glm::mat4(glm::translate(glm::dmat4(1.0), camera.position - eye)));
-  build_.set("uLightDepthRow", glm::vec4(glm::dvec4(glm::dvec3(lightDepthRow_), lightDepthRow_.w + glm::dot(glm::dvec3(lightDepthRow_), camera.position - eye))));
+  build_.set("uToClip", glm::mat4(toClip * glm::translate(glm::dmat4(1.0), camera.position - eye)));
+  build_.set("uLightDepthRow", lightDepthRowFrom(camera.position));
   build_.set("uLinearDepth", linearDepth_ ? 1 : 0);
   build_.set("uForward", glm::vec3(camera.forward()));
   build_.set("uRight", glm::vec3(camera.right()));
@@ -149,7 +162,6 @@ void GpuCasterFilter::ensureOutput(std::size_t instances) {
   // A new buffer: draws already issued keep the old one alive until they finish (GL defers deletion).
   output_ = gl::Buffer(std::max<std::size_t>(2 * output_.size(), (outputUsed_ + instances) * stride), nullptr, 0);
   outputUsed_ = 0;
-  if (output_.size() < instances * stride) output_ = gl::Buffer(instances * stride, nullptr, 0);
 }
 
 std::size_t GpuCasterFilter::select(GLuint instances, std::uint32_t baseInstance, std::span<const Group> groups, Phase phase) {
@@ -159,12 +171,7 @@ std::size_t GpuCasterFilter::select(GLuint instances, std::uint32_t baseInstance
   for (const Group& g : groups) total = std::max(total, g.first + g.count);
   ensureOutput(total);
   Params params{};
-  for (int s = 0; s < vegetation::kSpeciesCount; ++s)
-    for (int k = 0; k < kSlabs; ++k) {
-      const glm::dvec3& slab = forest_.speciesSlabs(static_cast<vegetation::Species>(s))[static_cast<size_t>(k)];
-      // An empty slab (no triangle reaches into it) as (1, 0): no infinity reaches the GPU.
-      params.slabs[s * kSlabs + k] = slab.x <= slab.y ? glm::vec4(glm::vec3(slab), 0.0f) : glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
-    }
+  std::copy(slabs_.begin(), slabs_.end(), params.slabs);
   std::array<Command, kMaxGroups> commands{};
   for (std::size_t g = 0; g < groups.size(); ++g) {
     params.groups[g] = glm::uvec4(groups[g].first, groups[g].count, static_cast<std::uint32_t>(groups[g].species), static_cast<std::uint32_t>(g));
@@ -197,11 +204,10 @@ std::size_t GpuCasterFilter::select(GLuint instances, std::uint32_t baseInstance
   filter_.set("uLinearDepth", linearDepth_ ? 1 : 0);
   filter_.set("uSelectionCapacity", static_cast<std::uint32_t>(capacity));
   filter_.set("uPhase", static_cast<int>(phase));
-  filter_.set("uOccluderLevels", occluderLevels_);
   filter_.set("uLastFrame", lastFrame_);
   filter_.use();
-  glBindTextureUnit(6, occluders_.id());
-  glBindTextureUnit(8, reads_.id());
+  glBindTextureUnit(kOccludersUnit, occluders_.id());
+  glBindTextureUnit(kReadsUnit, reads_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, counted_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, instances);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, output_.id());
@@ -213,8 +219,8 @@ std::size_t GpuCasterFilter::select(GLuint instances, std::uint32_t baseInstance
   glDispatchCompute((total + 63) / 64, 1, 1);
   glMemoryBarrier(GL_COMMAND_BARRIER_BIT | GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
   glBindTextureUnit(kMaskUnit, 0);
-  glBindTextureUnit(6, 0);
-  glBindTextureUnit(8, 0);
+  glBindTextureUnit(kOccludersUnit, 0);
+  glBindTextureUnit(kReadsUnit, 0);
   return commandBase;
 }
 
@@ -232,10 +238,10 @@ namespace {
 struct MapDepthsReadable {
   explicit MapDepthsReadable(const gl::Texture& map) : id(map.id()) {
     glTextureParameteri(id, GL_TEXTURE_COMPARE_MODE, GL_NONE);
-    glBindTextureUnit(7, id);
+    glBindTextureUnit(kMapUnit, id);
   }
   ~MapDepthsReadable() {
-    glBindTextureUnit(7, 0);
+    glBindTextureUnit(kMapUnit, 0);
     glTextureParameteri(id, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
   }
   MapDepthsReadable(const MapDepthsReadable&) = delete;
@@ -253,7 +259,7 @@ void GpuCasterFilter::buildOccluders() {
   glBindImageTexture(1, occluders_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
   glDispatchCompute(static_cast<GLuint>((size + 7) / 8), static_cast<GLuint>((size + 7) / 8), 1);
   occludersReduce_.use();
-  for (int level = 1; level < occluderLevels_; ++level) {
+  for (int level = 1; level < levels_; ++level) {
     glMemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
     glBindImageTexture(0, occluders_.id(), level - 1, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
     glBindImageTexture(1, occluders_.id(), level, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
@@ -273,12 +279,12 @@ void GpuCasterFilter::markCounted() {
   markCounted_.set("uFrame", frame_);
   markCounted_.use();
   glBindTextureUnit(kMaskUnit, mask_.id());
-  glBindTextureUnit(8, ids_->id());
+  glBindTextureUnit(kReadsUnit, ids_->id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, counted_.id());
   glDispatchCompute(static_cast<GLuint>((mapSize_ + 7) / 8), static_cast<GLuint>((mapSize_ + 7) / 8), 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
   glBindTextureUnit(kMaskUnit, 0);
-  glBindTextureUnit(8, 0);
+  glBindTextureUnit(kReadsUnit, 0);
   marked_ = true;
 }
 
@@ -302,7 +308,7 @@ std::vector<std::uint32_t> GpuCasterFilter::selectedIds(int slice) const {
 long long GpuCasterFilter::selectedTriangles(int slice) const {
   long long triangles = 0;
   if (slice < 0 || slice >= kMaxSlices) return 0;
-  std::vector<Command> commands(static_cast<std::size_t>(kMaxGroups));
+  std::array<Command, kMaxGroups> commands{};
   for (int draw : sliceDraws_[static_cast<size_t>(slice)]) {
     glGetNamedBufferSubData(commands_.id(), static_cast<GLintptr>(draw) * kMaxGroups * sizeof(Command),
                             static_cast<GLsizeiptr>(commands.size() * sizeof(Command)), commands.data());

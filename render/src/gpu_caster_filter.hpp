@@ -93,11 +93,12 @@ class GpuCasterFilter {
 
   const vegetation::Forest& forest_;
   std::uint32_t treeIdBase_;
+  std::array<glm::vec4, 4 * vegetation::kQuerySlabs> slabs_{};  // Params::slabs, per species and slab
   gl::Program build_, reduce_, reach_program_, filter_, occludersFromMap_, occludersReduce_, markCounted_;
   gl::Texture mask_;       // R32UI, a pyramid of levels
   gl::Texture reads_, readsAlongX_;  // R32UI: per texel the farthest receiver whose lookup may read it
   gl::Texture occluders_;  // R32F, level 0 the map's depths, a pyramid of maxima
-  int mapSize_ = 0, levels_ = 0, occluderLevels_ = 0;
+  int mapSize_ = 0, levels_ = 0;  // the occluders' pyramid has the mask's levels
   gl::Buffer counted_;     // per tree: the frame it last counted in (contributedIn)
   std::uint32_t frame_ = 0, lastFrame_ = 0;  // this frame's number; the last one that marked (0: none)
   bool occlusion_ = false, marked_ = false;

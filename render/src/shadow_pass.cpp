@@ -166,11 +166,11 @@ long long ShadowPass::run(const ShadowPlan& plan, const DrawView& eye, const ter
                             withIds ? &ids_ : nullptr, plan.lookupReachTexels);
     long long drawn = draws ? drawSlice(slice, eye, lod, settings, l, stats.shadowTerrainTriangles) : 0;
     if (draws && filteredOnGpu_) gpuFilter_->markCounted();
+    if (scissored) glDisable(GL_SCISSOR_TEST);
+    CascadeStats& out = stats.cascade[static_cast<size_t>(i)];
     // The trees the GPU kept and drew (the draws count none): read back where the pipeline is
     // serialised anyway (Profiling timing); with timer queries the frame does not wait for them
     // and the slice's triangles leave them out.
-    if (scissored) glDisable(GL_SCISSOR_TEST);
-    CascadeStats& out = stats.cascade[static_cast<size_t>(i)];
     if (draws && filteredOnGpu_ && profiling) {
       drawn += gpuFilter_->selectedTriangles(i);
       const int kept = static_cast<int>(gpuFilter_->selectedCount(i)) + countOtherThanTrees(slice.casters);
