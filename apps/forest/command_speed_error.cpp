@@ -112,6 +112,35 @@ std::vector<std::string> focusBoundsFor(const MapLayout& layout) {
   return layout.cascades == 1 ? kSpeedErrorFocus : std::vector<std::string>{"receivers"};
 }
 
+// One setting at one view: a frame to settle CHC, the smoothed n and the splits, then the measured
+// one (the blur as asked) and the same frame again with no blur at all (no horizontal pass, no
+// vertical half in the lighting), timed on its own and starting from the measured frame's history,
+// as that one did from the settling frame's. Each is scored on the term it lit with: blurred, and
+// the blur off's looked up. Returns (blur on, blur off), their labels left to the caller.
+std::pair<Row, Row> measureRun(render::Frame& frame, const Scene& scene, const Camera& camera, const render::FrameSettings& settings,
+                               const truth::TruthOptions& truthOptions) {
+  frame.resetHistory();
+  frame.render(camera, 0.0, settings);
+  const render::FrameStats stats = renderWithPassTimes(frame, camera, 0.0, settings);
+  Row on;
+  on.error = truth::evaluateFrame(frame, stats, scene, camera, 0.0, truthOptions);
+  on.blur = true;
+  on.frameMs = stats.passMs.total();
+  on.shadowMs = stats.passMs[FramePass::Shadow];
+  on.shadowTriangles = stats.shadowTriangles;
+  on.softError = on.error.softMeanAbsoluteError;
+  render::FrameSettings noBlur = settings;
+  noBlur.blurRadius = 0.0;
+  const render::FrameStats offStats = renderWithPassTimes(frame, camera, 0.0, noBlur);
+  Row off = on;
+  off.error = truth::evaluateFrame(frame, offStats, scene, camera, 0.0, truthOptions);
+  off.blur = false;
+  off.frameMs = offStats.passMs.total();
+  off.shadowMs = offStats.passMs[FramePass::Shadow];
+  off.softError = off.error.softMeanAbsoluteError;  // (the blur off: the term it lit with is unblurred)
+  return {std::move(on), std::move(off)};
+}
+
 int runSpeedError(const SpeedErrorOptions& options) {
   const std::string scenePath = sceneFileOr(options.scene);
   Scene scene = loadScene(scenePath);
@@ -155,38 +184,14 @@ int runSpeedError(const SpeedErrorOptions& options) {
           settings.casters = casters;
           settings.blurRadius = 3.0;
           settings.shadowTermScale = options.termResolution == "half" ? 2 : 1;
-          // One frame to settle CHC, the smoothed n and the splits, then the measured one.
-          frame.resetHistory();
-          frame.render(camera, 0.0, settings);
-          const render::FrameStats stats = renderWithPassTimes(frame, camera, 0.0, settings);
-          Row r;
-          r.scenario = s.name;
-          r.method = method;
-          r.focus = focus;
-          r.layout = layout;
-          r.error = truth::evaluateFrame(frame, stats, scene, camera, 0.0, truthOptions);
-          r.shadowMs = stats.passMs[FramePass::Shadow];
-          r.shadowTriangles = stats.shadowTriangles;
-          const double frameMs = stats.passMs.total();
-          // Blur on (as rendered) and off: the same frame rendered again with no blur at all (no
-          // horizontal pass, no vertical half in the lighting), timed on its own; the history it
-          // starts from is the measured frame's, as that one's was the settling frame's.
-          // Each scored on the term it lit with: blurred, and the blur off's looked up.
-          render::FrameSettings noBlur = settings;
-          noBlur.blurRadius = 0.0;
-          const render::FrameStats offStats = renderWithPassTimes(frame, camera, 0.0, noBlur);
-          Row on = r, off = r;
-          off.error = truth::evaluateFrame(frame, offStats, scene, camera, 0.0, truthOptions);
-          on.blur = true;
-          on.frameMs = frameMs;
-          on.softError = r.error.softMeanAbsoluteError;
-          off.blur = false;
-          off.frameMs = offStats.passMs.total();
-          off.shadowMs = offStats.passMs[FramePass::Shadow];
-          off.softError = off.error.softMeanAbsoluteError;  // (the blur off: the term it lit with is unblurred)
+          auto [on, off] = measureRun(frame, scene, camera, settings, truthOptions);
+          on.scenario = off.scenario = s.name;
+          on.method = off.method = method;
+          on.focus = off.focus = focus;
+          on.layout = off.layout = layout;
           const std::string series = layout.cascades == 1 ? method : fmt::format("{}-x{}", method, layout.cascades);
-          if (worst[series].second.empty() || r.error.misclassification > worst[series].first)
-            worst[series] = {r.error.misclassification, r.error.errorImage};
+          if (worst[series].second.empty() || on.error.misclassification > worst[series].first)
+            worst[series] = {on.error.misclassification, on.error.errorImage};
           on.error.errorImage = Image8();
           off.error.errorImage = Image8();
           rows.push_back(std::move(on));

@@ -114,6 +114,20 @@ struct RunResult {
   long long mismatched = 0;
 };
 
+// Exactness: the pixels (object ID or depth) where the frame just rendered differs from frustum
+// culling's geometry pass on the same moved scene — its own culler and no shadow setup, so the next
+// timed frame keeps its CHC history and n.
+long long pixelsUnlikeFrustumCulling(render::Frame& frame, const Camera& camera, double time) {
+  const std::vector<std::uint32_t> ids = frame.readObjectIds();
+  const std::vector<float> depth = frame.readDepth();
+  frame.renderReferenceGeometry(camera, time);
+  const std::vector<std::uint32_t> idsF = frame.readObjectIds();
+  const std::vector<float> depthF = frame.readDepth();
+  long long mismatched = 0;
+  for (size_t p = 0; p < ids.size(); ++p) mismatched += ids[p] != idsF[p] || depth[p] != depthF[p] ? 1 : 0;
+  return mismatched;
+}
+
 RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& options, const gl::ContextInfo& context, int& done, int total,
                  Clock::time_point start) {
   Scene scene = scaledScene(base, trees, lod0);
@@ -172,14 +186,7 @@ RunResult runOne(const Scene& base, int trees, int lod0, const StressOptions& op
     geometryByFrame[static_cast<size_t>(i)] = s.passMs[FramePass::Geometry];
     takeGeometryTimes(frame.takePassTimes());
     if (options.checkEvery > 0 && i % options.checkEvery == options.checkEvery - 1) {
-      // Exactness: the culled geometry pass against frustum culling's on the same moved scene.
-      const std::vector<std::uint32_t> ids = frame.readObjectIds();
-      const std::vector<float> depth = frame.readDepth();
-      // Its own culler and no shadow setup: the next timed frame keeps its CHC history and n.
-      frame.renderReferenceGeometry(path[static_cast<size_t>(i)], time);
-      const std::vector<std::uint32_t> idsF = frame.readObjectIds();
-      const std::vector<float> depthF = frame.readDepth();
-      for (size_t p = 0; p < ids.size(); ++p) mismatched += ids[p] != idsF[p] || depth[p] != depthF[p] ? 1 : 0;
+      mismatched += pixelsUnlikeFrustumCulling(frame, path[static_cast<size_t>(i)], time);
       ++checks;
     }
     if (i >= options.length.warmup) {
