@@ -77,7 +77,8 @@ nlohmann::ordered_json cascadesJson(const render::FrameStats& s) {
     const render::CascadeStats& c = s.cascade[static_cast<size_t>(i)];
     slices.push_back({{"from_m", c.fromM}, {"to_m", c.toM}, {"n", c.n}, {"gamma_deg", c.gammaDeg},
                       {"casters", c.casters}, {"triangles", c.triangles}, {"texels_drawn", c.texelsDrawn},
-                      {"shadow_ms", c.shadowMs}});
+                      {"shadow_ms", c.shadowMs}, {"kept", c.keeping.kept}, {"kept_frames", c.keeping.keptFrames},
+                      {"refit", c.keeping.refit}});
   }
   return slices;
 }

@@ -131,6 +131,13 @@ void FrameOptions::add(CLI::App& command, bool withCulling) {
                      "lighting pass); the blur off, the term is looked up at every pixel")
       ->check(CLI::IsMember({"full", "half"}))
       ->capture_default_str();
+  command.add_option("--keep-slices", keepSlices,
+                     "Kept shadow maps: each slice keeps its matrices while the view's focus body fits in\n"
+                     "them and their texels stay within 1.25x a fresh fit's, so shadow edges hold still as\n"
+                     "the camera moves (on); a refit covers 1 m and 2 deg of camera motion, the warp snapped.\n"
+                     "off: every slice refits to the view every frame")
+      ->check(CLI::IsMember({"off", "on"}))
+      ->capture_default_str();
   modes.add(command);
 }
 
@@ -181,6 +188,7 @@ render::FrameSettings FrameOptions::settings(const gl::ContextInfo& context) con
   s.blurRadius = blur;
   s.blurReferenceDepth = blurDepth;
   s.shadowTermScale = termResolution == "half" ? 2 : 1;
+  s.keepSlices = keepSlices == "on";
   if (cascadesOption && cascadesOption->count() > 0) s.cascades = cascades;
   if (splitLambdaOption && splitLambdaOption->count() > 0) s.splitLambda = splitLambda;
   if (cascadeBlendOption && cascadeBlendOption->count() > 0) s.cascadeBlend = cascadeBlend;

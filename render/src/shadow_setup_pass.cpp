@@ -232,6 +232,7 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
                           const Aabb& sceneBounds, const ReceiverPixels* receiverPixels, ShadowPlan& plan,
                           FrameStats& stats) {
   startPlan(visible, objects, cascades, plan, stats);
+  if (!settings.keepSlices) kept_.reset();
   plan.lookupReachTexels = lookupReachTexels(settings);
   plan.shadowed = !sunBelowHorizon && !receivers_.empty() && sceneBounds.valid();
   if (!plan.shadowed) return;
@@ -257,15 +258,18 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
       stats.shadow.fallback = outsideNote_;
       return;
     }
+    CascadeStats& out = stats.cascade[s];
+    out.keeping = shadows::SliceKeeping{};
     if (onReceivers && sliceReceivers_.empty()) {
       slice.setup = shadows::ShadowSetup{};  // nothing visible at these depths: the layer stays clear
       slice.setup.diagnostics.fallback = "no receivers in the slice";
+    } else if (settings.keepSlices) {
+      slice.setup = kept_.setup(input, settings.method, i, settings.keepLimits, out.keeping);
     } else {
       slice.setup = shadows::computeShadowSetup(input, settings.method);
     }
     history_.remember(settings.method, i, slice.setup);
     if (!slice.setup.empty) selectCasters(slice, context);
-    CascadeStats& out = stats.cascade[s];
     out.fromM = slice.from;
     out.toM = slice.to;
     out.n = slice.setup.diagnostics.n;

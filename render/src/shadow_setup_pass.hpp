@@ -16,6 +16,7 @@
 #include "forest/render/scene_objects.hpp"
 #include "forest/shadows/cascades.hpp"
 #include "forest/shadows/casters.hpp"
+#include "forest/shadows/kept_slices.hpp"
 #include "forest/shadows/method_history.hpp"
 #include "forest/shadows/receiver_mask.hpp"
 #include "forest/shadows/shadow_setup.hpp"
@@ -68,9 +69,10 @@ class ShadowSetupPass {
            const ShadowSettings& cascades, std::optional<double> nearestDepth, const glm::dvec3& l, bool sunBelowHorizon,
            const SceneObjects& objects, const culling::Bvh& bvh, const terrain::TerrainLod* lod, const Aabb& sceneBounds,
            const ReceiverPixels* receiverPixels, ShadowPlan& plan, FrameStats& stats);
-  // Forgets the smoothed n and splits and the stable maps' radii (a camera cut).
+  // Forgets the smoothed n and splits, the stable maps' radii and the kept maps (a camera cut).
   void reset() {
     history_.reset();
+    kept_.reset();
     previousSplits_ = {};
   }
 
@@ -109,6 +111,7 @@ class ShadowSetupPass {
   void fillReceiverMask(const ShadowSlice& slice, const FrameSettings& settings, const ReceiverPixels& receiverPixels);
 
   shadows::MethodHistory history_;  // what the shadow method carries from frame to frame, per slice
+  shadows::KeptSlices kept_;        // the slices' kept maps (FrameSettings::keepSlices)
   std::string outsideNote_;  // why a view got no shadows (outside float32's domain): the stats' fallback views it
   shadows::SplitDepths previousSplits_;  // cascades 0: none
   // Kept from frame to frame, so a steady-state frame allocates nothing (DESIGN §9).

@@ -68,7 +68,8 @@ void setupLispsm(const FocusedView& view, ShadowSetup& setup) {
   diag.nOptimal = flatAcrossLight || !(nOpt > 0.0) ? diag.nCap : std::min(nOpt, diag.nCap);
   double n = diag.nOptimal;
   const double previousN = in.carried;  // over time (kNearDistanceSmoothing)
-  if (previousN > 0.0 && std::isfinite(previousN)) n = std::min(previousN + kNearDistanceSmoothing * (diag.nOptimal - previousN), diag.nCap);
+  if (in.snapWarp) n = std::min(std::exp2(std::round(std::log2(n) / kWarpNStep) * kWarpNStep), diag.nCap);
+  else if (previousN > 0.0 && std::isfinite(previousN)) n = std::min(previousN + kNearDistanceSmoothing * (diag.nOptimal - previousN), diag.nCap);
   diag.n = n;
   // Fade: the warp strength 1/n falls linearly to 0 as n reaches the cap.
   const double u = !flatAcrossLight && n > 0.0 ? std::max(0.0, 1.0 / n - 1.0 / diag.nCap) : 0.0;
@@ -76,7 +77,10 @@ void setupLispsm(const FocusedView& view, ShadowSetup& setup) {
   if (flatAcrossLight) diag.fallback = "B flat across the light: uniform";
   else if (u == 0.0) diag.fallback = "n at cap: uniform";
 
-  const dmat4 toMap = computeWarp(u, eLs, bLs.max.z) * lightFrame;
+  // The warp starts at the light-space near end of what the map holds: B, and the points a kept
+  // slice's refit adds (ShadowInput::alsoCover), so that every one of them has w ≥ 1.
+  const double warpStart = in.alsoCover.empty() ? bLs.max.z : boundsIn(lightFrame, fitted.fitVertices).max.z;
+  const dmat4 toMap = computeWarp(u, eLs, warpStart) * lightFrame;
   setup.worldToShadowClip = fitToUnitCube(boundsIn(toMap, fitted.fitVertices), clipBorder(in)) * toMap;
 }
 

@@ -11,13 +11,13 @@ namespace {
 
 // One row per method, in the enum's order.
 constexpr std::array<ShadowMethodUnit, 5> kMethods{{
-    {ShadowMethod::Uniform, setupUniform, carryNothing, "uniform cannot keep B inside its map in float32", true},
+    {ShadowMethod::Uniform, setupUniform, carryNothing, "uniform cannot keep B inside its map in float32", true, false},
     {ShadowMethod::UniformStable, setupUniformStable, carryStableRadius,
-     "uniform-stable cannot keep B inside its map in float32: uniform", true},
-    {ShadowMethod::Lispsm, setupLispsm, carryLispsmN, "lispsm cannot keep B inside its map in float32: uniform", true},
-    {ShadowMethod::Tsm, setupTsm, carryNothing, "tsm cannot keep B inside its map in float32: uniform", true},
+     "uniform-stable cannot keep B inside its map in float32: uniform", true, true},
+    {ShadowMethod::Lispsm, setupLispsm, carryLispsmN, "lispsm cannot keep B inside its map in float32: uniform", true, false},
+    {ShadowMethod::Tsm, setupTsm, carryNothing, "tsm cannot keep B inside its map in float32: uniform", true, false},
     {ShadowMethod::TsmIterative, setupTsmIterative, carryNothing, "tsm-iterative cannot keep B inside its map in float32: uniform",
-     false},
+     false, false},
 }};
 
 }  // namespace
@@ -44,6 +44,7 @@ FittedView fitView(const FocusedView& view) {
   if (view.in.receivers) fitted.visible.clip(*view.in.receivers);
   fitted.fitVertices.assign(view.bodyVertices.begin(), view.bodyVertices.end());
   for (const glm::dvec3& v : fitted.visible.vertices()) fitted.fitVertices.push_back(v);
+  fitted.fitVertices.insert(fitted.fitVertices.end(), view.in.alsoCover.begin(), view.in.alsoCover.end());
   fitted.lightFrame = computeLightFrame(-view.l, view.bodyVector, camera, camera.position);
   return fitted;
 }

@@ -26,7 +26,7 @@ struct FocusedView {
 };
 
 // What the methods fitted to the view share (uniform, lispsm, tsm): V ∩ S (∩ receivers), the
-// points the map must hold (B's vertices and V ∩ S's: B and V ∩ S are clipped with tolerances
+// points the map must hold (B's vertices and V ∩ S's, and ShadowInput::alsoCover: B and V ∩ S are clipped with tolerances
 // relative to each body's size, and a B 10⁵ times taller than wide can lose 1e-3 of its width to
 // them, so the fit takes both), and the light frame L rooted at the eye (§9.2.3; L_r is the
 // identity for a directional light: the body vector already points "up" the map).
@@ -50,6 +50,7 @@ struct ShadowMethodUnit {
   MethodCarry carry;
   std::string_view float32FallbackNote;  // the diagnostics' note when float32 forces the uniform map
   bool compared;                          // in comparisons of methods (comparedShadowMethods)
+  bool holdsStillByItself;                // its map does not swim as the camera moves: never kept (kept_slices.hpp)
 };
 const ShadowMethodUnit& methodUnit(ShadowMethod method);
 

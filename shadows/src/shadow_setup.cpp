@@ -12,6 +12,7 @@
 #include <string>
 
 #include "forest/core/error.hpp"
+#include "forest/shadows/casters.hpp"
 #include "forest/shadows/focus_body.hpp"
 #include "light_space.hpp"
 #include "shadow_methods.hpp"
@@ -41,8 +42,7 @@ std::optional<ShadowSetup> finish(ShadowSetup setup, const dvec3& eye) {
     // The same for the linear depth row (tsm): shrink it about 0 until B's depth is inside
     // [−1, 1] as the GPU evaluates it in float32 (γ₄ bound, as in mapCoordinateBound).
     for (int attempt = 0;; ++attempt) {
-      const glm::dvec4& r = setup.worldToLightDepth;
-      setup.eyeRelativeToLightDepthF = glm::vec4(dvec3(r), r.w + glm::dot(dvec3(r), eye));
+      rebaseToEye(setup, eye);
       const glm::dvec4 rowF(setup.eyeRelativeToLightDepthF);
       double worst = 0.0;
       for (const dvec3& v : vertices) {
@@ -56,7 +56,7 @@ std::optional<ShadowSetup> finish(ShadowSetup setup, const dvec3& eye) {
     }
   }
   for (int attempt = 0;; ++attempt) {
-    setup.eyeRelativeToShadowClipF = glm::mat4(setup.worldToShadowClip * glm::translate(dmat4(1.0), eye));
+    rebaseToEye(setup, eye);
     dvec3 worst(0.0);
     for (const dvec3& v : vertices) worst = glm::max(worst, mapCoordinateBound(setup.eyeRelativeToShadowClipF, v - eye));
     if (worst.x <= 1.0 && worst.y <= 1.0 && worst.z <= 1.0) break;
@@ -74,6 +74,12 @@ std::optional<ShadowSetup> finish(ShadowSetup setup, const dvec3& eye) {
 }
 
 }  // namespace
+
+void rebaseToEye(ShadowSetup& setup, const dvec3& eye) {
+  setup.eyeRelativeToShadowClipF = glm::mat4(setup.worldToShadowClip * glm::translate(dmat4(1.0), eye));
+  const glm::dvec4& r = setup.worldToLightDepth;
+  setup.eyeRelativeToLightDepthF = glm::vec4(dvec3(r), r.w + glm::dot(dvec3(r), eye));
+}
 
 dvec3 mapCoordinateBound(const glm::mat4& eyeRelativeToShadowClip, const dvec3& eyeRelativePosition) {
   // Rounding of a float dot product of 4 terms, in any order or with FMA: |error| ≤ γ₄ Σ|aᵢbᵢ|,
@@ -122,6 +128,17 @@ void validateShadowInput(const ShadowInput& in) {
 
 namespace {
 
+// ShadowInput::snapWarp: the body vector's azimuth about the light rounded to kWarpRotationStepDeg
+// (its part along the light kept). One nearly parallel to the light has no azimuth to round.
+dvec3 snappedAboutLight(const dvec3& bodyVector, const dvec3& l) {
+  const auto [u, v] = axesAcrossLight(l);
+  const double a = glm::dot(bodyVector, u), b = glm::dot(bodyVector, v), across = std::hypot(a, b);
+  if (!(across > 1e-6)) return bodyVector;
+  const double step = glm::radians(kWarpRotationStepDeg);
+  const double azimuth = std::round(std::atan2(b, a) / step) * step;
+  return across * (std::cos(azimuth) * u + std::sin(azimuth) * v) + glm::dot(bodyVector, l) * l;
+}
+
 // One method's setup (shadow_methods.hpp) between the steps every method shares: B, the body
 // vector and γ before; the float32 check after. Nothing when float32 cannot keep B inside its map.
 std::optional<ShadowSetup> computeMethodSetup(const ShadowInput& in, ShadowMethod method) {
@@ -135,7 +152,9 @@ std::optional<ShadowSetup> computeMethodSetup(const ShadowInput& in, ShadowMetho
   }
   setup.empty = false;
   const auto bodyVertices = setup.body.vertices();
-  const FocusedView view{in, l, bodyVertices, computeBodyVector(bodyVertices, camera)};
+  dvec3 bodyVector = computeBodyVector(bodyVertices, camera);
+  if (in.snapWarp) bodyVector = snappedAboutLight(bodyVector, l);
+  const FocusedView view{in, l, bodyVertices, bodyVector};
   setup.diagnostics.gammaDeg = angleDeg(view.bodyVector, l);
   methodUnit(method).setup(view, setup);
   return finish(setup, camera.position);

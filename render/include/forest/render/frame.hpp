@@ -35,6 +35,7 @@
 #include "forest/gl/timing.hpp"
 #include "forest/render/scene_objects.hpp"
 #include "forest/shadows/cascades.hpp"
+#include "forest/shadows/kept_slices.hpp"
 #include "forest/shadows/shadow_setup.hpp"
 
 namespace forest::render {
@@ -119,6 +120,11 @@ struct FrameSettings {
   // (CasterSelection::ReceiverPixels), it draws them only into the texels this frame's lookups can
   // read (ShadowSlice::texelsRead, ~60% of the map along the thesis walk); the rest stays cleared.
   bool wholeShadowMap = true;
+  // Kept slices (shadows/kept_slices.hpp): each slice keeps its map's matrices while this frame's
+  // focus body fits in them and its texels stay within the limits; refits cover a margin with the
+  // warp snapped. Off: every slice refits to the view every frame.
+  bool keepSlices = false;
+  shadows::KeepLimits keepLimits;
 };
 
 // Deterministic queries on a software renderer, async on a hardware one (the default of --queries).
@@ -145,6 +151,7 @@ struct CascadeStats {
   long long triangles = 0;
   long long texelsDrawn = 0;      // texels of its layer the shadow pass drew its casters into (ShadowSlice::texelsRead)
   double shadowMs = 0.0;          // its share of the shadow pass (Profiling timing; 0 with GpuQueries)
+  shadows::SliceKeeping keeping;  // kept slices: whether its map was kept, for how many frames, why not
 };
 
 struct FrameStats {

@@ -14,6 +14,7 @@
 #include <glm/glm.hpp>
 
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -59,7 +60,21 @@ struct ShadowInput {
   // tsm: the focus region is the first focusShare of the visible depth range (TSM §6.2 and §6.4:
   // δ = focusShare · f, scaled to the part of the frustum inside S). A choice, not from the paper.
   double tsmFocusShare = 0.3;
+  // A kept slice's refit (kept_slices.hpp): the warp's parameters on lattices, so that the refits
+  // of a slowly moving camera land on the same map as often as possible — the light frame's
+  // rotation about the light in steps of kWarpRotationStepDeg, lispsm's n on steps of 2^(1/4)
+  // (eq. 8.13's value rounded, not smoothed: `carried` is ignored).
+  bool snapWarp = false;
+  // Points the map must hold besides B (a kept slice's refit: the focus body of the camera a few
+  // frames ahead). They widen the fit, not B, n or the body vector. Not owned.
+  std::span<const glm::dvec3> alsoCover;
 };
+
+// snapWarp's lattices: the body vector's azimuth about the light (§9.2.6; it turns the light frame
+// L, §9.2.3) in steps of this many degrees (half a step off the optimum at most), lispsm's n in
+// steps of 2^kWarpNStep (at most 9% off eq. 8.13's value).
+constexpr double kWarpRotationStepDeg = 2.0;
+constexpr double kWarpNStep = 0.25;
 
 // TSM §6.2: the 80% line. The focus point goes to y = ξ of the map's [−1, 1] (80% of its height
 // from the top line at +1).
@@ -112,6 +127,10 @@ struct ShadowSetup {
   bool empty = true;                  // nothing visible to shadow
   ShadowDiagnostics diagnostics;
 };
+
+// Recomputes the float32 eye-relative matrices (and tsm's depth row) of `setup` for a camera at
+// `eye`: a kept map's double matrices stay, the GPU's follow the camera (DESIGN §4).
+void rebaseToEye(ShadowSetup& setup, const glm::dvec3& eye);
 
 // Where a world point lands: x, y in the map's [−1, 1]², z its depth in [−1, 1] (clip z / w, or
 // the linear light depth for tsm). Double precision.
