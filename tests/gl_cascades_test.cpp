@@ -67,6 +67,61 @@ TEST_F(CascadesGl, SelectedCastersOfEachSliceGiveTheTermOfAllCasters) {
   EXPECT_GT(fewer, 80 / kSweepStride);  // the selection does leave casters out
 }
 
+// Kept slices (--keep-slices on): a view rendered after a walk up to it (6 frames, 0.3 m and 0.3° a
+// frame), so that its map is one kept or refitted along the walk; its term with the selected casters
+// equals its term with all casters, rendered next at the same view with the same map — a kept map
+// changes which texels a caster covers, never whether it counts. One map: each slice selects its
+// casters alone, and with several the splits would move between the two renders (they are smoothed
+// over frames). Not vacuous: most views keep their map.
+TEST_F(CascadesGl, KeptSlicesKeepTheSelectedCastersExact) {
+  if (backendUnderTest() != "egl") GTEST_SKIP() << "checked on the egl backend";
+  const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
+  render::Frame frame(scene, kWidth, kHeight);
+  Camera camera = frame.startCamera();
+  camera.aspect = static_cast<double>(kWidth) / kHeight;
+  const terrain::Terrain& t = *frame.terrain();
+  const shadows::ShadowMethod methods[] = {shadows::ShadowMethod::Uniform, shadows::ShadowMethod::Lispsm, shadows::ShadowMethod::Tsm};
+  int slices = 0, kept = 0;
+  for (int v = 0; v < 30; ++v) {
+    stepForestView(camera, t, v);
+    if (v % kSweepStride != 0) continue;
+    render::FrameSettings settings;
+    settings.method = methods[v % 3];
+    settings.shadowMapSize = 512;
+    settings.cascades = 1;
+    settings.pcfRadius = v % 4 == 0 ? 2 : 0;
+    settings.keepSlices = true;
+    settings.culling = culling::CullingStrategy::Frustum;
+    settings.casters = v % 2 == 0 ? render::CasterSelection::ReceiverPixels : render::CasterSelection::Receivers;
+    settings.wholeShadowMap = false;  // receiver pixels: only the texels the lookups read, in the kept map
+    frame.resetHistory();
+    for (int step = 6; step > 0; --step) {
+      Camera before = camera;
+      before.position -= 0.3 * step * camera.forward();
+      before.yaw -= glm::radians(0.3 * step);
+      frame.render(before, 0.5 * v, settings);
+    }
+    const render::FrameStats selected = frame.render(camera, 0.5 * v, settings);
+    std::vector<glm::dmat4> matrices;
+    for (int slice = 0; slice < frame.cascadeCount(); ++slice) {
+      matrices.push_back(frame.shadowSetup(slice).worldToShadowClip);
+      ++slices;
+      kept += selected.cascade[static_cast<size_t>(slice)].keeping.kept ? 1 : 0;
+    }
+    const std::vector<float> withSelected = frame.readShadowTerm();
+    settings.casters = render::CasterSelection::All;
+    const render::FrameStats all = frame.render(camera, 0.5 * v, settings);
+    for (int slice = 0; slice < frame.cascadeCount(); ++slice)
+      ASSERT_EQ(frame.shadowSetup(slice).worldToShadowClip, matrices[static_cast<size_t>(slice)]) << "view " << v << " slice " << slice;
+    EXPECT_LT(selected.casterObjects, all.casterObjects) << "view " << v;
+    const std::vector<float> withAll = frame.readShadowTerm();
+    int differ = 0;
+    for (size_t i = 0; i < withAll.size(); ++i) differ += withSelected[i] != withAll[i] ? 1 : 0;
+    EXPECT_EQ(differ, 0) << "view " << v << ", " << shadows::kShadowMethodNames.name(settings.method);
+  }
+  EXPECT_GT(2 * kept, slices) << kept << " of " << slices << " views kept their map";
+}
+
 // A beam over a plane along the view, widening with distance (contiguous boxes, each 15% longer
 // than the one before), so its shadow and the lit plane beside it lie at every depth: on both sides
 // of every split (hard, and with a blend band) the term agrees with the CPU's ray past the boxes on

@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -19,6 +20,7 @@
 #include "forest/core/log.hpp"
 #include "forest/gl/context.hpp"
 #include "forest/gl/debug.hpp"
+#include "forest/shadows/kept_slices.hpp"
 #include "forest/terrain/terrain.hpp"
 #include "forest/vegetation/forest.hpp"
 #include "speed_error.hpp"
@@ -141,6 +143,49 @@ std::pair<Row, Row> measureRun(render::Frame& frame, const Scene& scene, const C
   return {std::move(on), std::move(off)};
 }
 
+constexpr int kFlickerFrames = 16;
+
+// Flicker along a short walk from the first scenario's camera (its sun already set): 16 frames,
+// walking 0.4 m and turning 0.3° per frame, per layout, method and focus, and again with kept
+// slices for the methods that do not hold still by themselves; then the walk's last view once more,
+// scored against the truth.
+std::vector<FlickerRow> measureFlickerWalks(render::Frame& frame, const Scene& scene, const Scenario& first,
+                                            const std::vector<MapLayout>& layouts, const std::vector<Row>& rows,
+                                            const std::function<render::FrameSettings(const MapLayout&, const std::string&, const std::string&)>& settingsOf,
+                                            const truth::TruthOptions& truthOptions, const std::function<void()>& tick) {
+  std::vector<Camera> path;
+  for (int i = 0; i < kFlickerFrames; ++i) {
+    Camera c = first.camera;
+    c.aspect = static_cast<double>(frame.width()) / frame.height();
+    c.yaw += glm::radians(0.3 * i);
+    c.position += 0.4 * i * c.forward();
+    path.push_back(c);
+  }
+  std::vector<FlickerRow> flicker;
+  for (const MapLayout& layout : layouts)
+    for (const std::string& method : kSpeedErrorMethods)
+      for (const std::string& focus : focusBoundsFor(layout))
+        for (bool keep : {false, true}) {
+          if (keep && shadows::holdsStillByItself(shadows::kShadowMethodNames.parse(method))) continue;
+          render::FrameSettings settings = settingsOf(layout, method, focus);
+          settings.keepSlices = keep;
+          frame.resetHistory();
+          FlickerRow f{method, focus, layout, keep, truth::measureFlicker(frame, scene, path, 0.0, settings), 0.0, {}, 0};
+          for (const Row& r : rows)
+            if (r.scenario == first.name && r.method == method && r.focus == focus && r.layout.label() == layout.label() && r.blur)
+              f.frameMs = r.frameMs;
+          const render::FrameStats stats = frame.render(path.back(), 0.0, settings);
+          truth::TruthOptions options = truthOptions;
+          options.softRays = 0;
+          f.lastView = truth::evaluateFrame(frame, stats, scene, path.back(), 0.0, options);
+          f.lastView.errorImage = Image8();
+          f.lastViewShadowTriangles = stats.shadowTriangles;
+          flicker.push_back(std::move(f));
+          tick();
+        }
+  return flicker;
+}
+
 int runSpeedError(const SpeedErrorOptions& options) {
   const std::string scenePath = sceneFileOr(options.scene);
   Scene scene = loadScene(scenePath);
@@ -162,7 +207,11 @@ int runSpeedError(const SpeedErrorOptions& options) {
   truthOptions.softRays = options.softRays;
   int runsPerScenario = 0;
   for (const MapLayout& layout : layouts) runsPerScenario += static_cast<int>(kSpeedErrorMethods.size() * focusBoundsFor(layout).size());
-  const int total = runsPerScenario * static_cast<int>(scenarios.size() + 1);  // + the flicker walks
+  int flickerRuns = 0;  // with and without kept slices
+  for (const MapLayout& layout : layouts)
+    for (const std::string& method : kSpeedErrorMethods)
+      flickerRuns += static_cast<int>(focusBoundsFor(layout).size()) * (shadows::holdsStillByItself(shadows::kShadowMethodNames.parse(method)) ? 1 : 2);
+  const int total = runsPerScenario * static_cast<int>(scenarios.size()) + flickerRuns;
   int done = 0;
   const auto start = Clock::now();
   auto tick = [&] {
@@ -200,31 +249,14 @@ int runSpeedError(const SpeedErrorOptions& options) {
         }
   }
 
-  // Flicker: the first scenario's sun, the camera walking 0.4 m and turning 0.3° per frame.
   scene.sun.direction = scenarios.front().sun;
-  std::vector<Camera> path;
-  for (int i = 0; i < 8; ++i) {
-    Camera c = scenarios.front().camera;
-    c.aspect = static_cast<double>(width) / height;
-    c.yaw += glm::radians(0.3 * i);
-    c.position += 0.4 * i * c.forward();
-    path.push_back(c);
-  }
-  std::vector<FlickerRow> flicker;
-  for (const MapLayout& layout : layouts)
-    for (const std::string& method : kSpeedErrorMethods)
-      for (const std::string& focus : focusBoundsFor(layout)) {
-        render::FrameSettings settings = settingsFor(method, focus, layout);
-        options.modes.resolve(settings, context->info());
-        settings.casters = casters;
-        frame.resetHistory();
-        FlickerRow f{method, focus, layout, truth::measureFlicker(frame, scene, path, 0.0, settings), 0.0};
-        for (const Row& r : rows)
-          if (r.scenario == scenarios.front().name && r.method == method && r.focus == focus && r.layout.label() == layout.label() && r.blur)
-            f.frameMs = r.frameMs;
-        flicker.push_back(std::move(f));
-        tick();
-      }
+  const std::vector<FlickerRow> flicker = measureFlickerWalks(frame, scene, scenarios.front(), layouts, rows, [&](const MapLayout& layout,
+      const std::string& method, const std::string& focus) {
+    render::FrameSettings settings = settingsFor(method, focus, layout);
+    options.modes.resolve(settings, context->info());
+    settings.casters = casters;
+    return settings;
+  }, truthOptions, tick);
   if (gl::debugErrorCount() > 0)
     throw Error(fmt::format("{} GL errors during the sweep (first: {})", gl::debugErrorCount(), gl::debugErrorMessages().front()));
 

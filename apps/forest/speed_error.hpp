@@ -69,8 +69,13 @@ struct Row {
 struct FlickerRow {
   std::string method, focus;
   MapLayout layout;
+  bool keep = false;     // kept slices (FrameSettings::keepSlices)
   truth::FlickerResult result;
   double frameMs = 0.0;  // the first scenario's frame with this method and layout
+  // The walk's last view, rendered once more after the walk and scored against the truth: what a
+  // kept map's margin costs in misclassified pixels (and by distance band).
+  truth::FrameError lastView;
+  long long lastViewShadowTriangles = 0;
 };
 
 // "uniform" or "uniform ×4": a series of the plots and tables.

@@ -176,10 +176,23 @@ std::pair<ordered_json, std::string> reportJsonAndCsv(const ReportInputs& in, co
                                  {"share", f.result.share()},
                                  {"probes", f.result.probes},
                                  {"comparisons", f.result.comparisons},
-                                 {"changes", f.result.changes}});
+                                 {"changes", f.result.changes},
+                                 {"keep_slices", f.keep},
+                                 {"kept_share", f.result.slices ? static_cast<double>(f.result.slicesKept) / f.result.slices : 0.0},
+                                 {"last_view", {{"misclassification", f.lastView.misclassification},
+                                                {"bands", bandsJson(f.lastView.bands)},
+                                                {"shadow_triangles", f.lastViewShadowTriangles}}}});
   report["equal_error_map_size"] = equalError;
 
   return {report, csv.str()};
+}
+
+// The flicker walk of a series at a total size, B from the receivers, with or without kept slices.
+const FlickerRow* findFlicker(const std::vector<FlickerRow>& flicker, const std::string& method, int cascades, int totalSide, bool keep) {
+  for (const FlickerRow& f : flicker)
+    if (f.method == method && f.focus == "receivers" && f.layout.cascades == cascades && f.layout.totalSide == totalSide && f.keep == keep)
+      return &f;
+  return nullptr;
 }
 
 // table.md: misclassification and frame time per layout, by distance band, and flicker.
@@ -230,22 +243,29 @@ std::string markdownTables(const ReportInputs& in, const ordered_json& equalErro
     }
 
   md << "\nFlicker (share of probe states that change between consecutive frames, " << in.scenarios.front().name
-     << ", walking 0.4 m and turning 0.3 deg per frame), B from the receivers, per total texels:\n\n| method |";
+     << ", walking 0.4 m and turning 0.3 deg per frame), B from the receivers, per total texels; with kept slices\n"
+        "(--keep-slices on) the share of slices that kept their map, and the misclassification (%) of the walk's\n"
+        "last view off / on:\n\n| method |";
   for (int total : in.totals) md << fmt::format(" {}² |", total);
   md << "\n|---|";
   for (size_t i = 0; i < in.totals.size(); ++i) md << "---|";
   md << "\n";
-  for (const auto& [method, k] : in.series) {
-    md << "| " << seriesName(method, k) << " |";
-    for (int total : in.totals) {
-      std::string cell = " – |";
-      for (const FlickerRow& f : in.flicker)
-        if (f.method == method && f.focus == "receivers" && f.layout.cascades == k && f.layout.totalSide == total)
-          cell = fmt::format(" {:.4f} |", f.result.share());
-      md << cell;
+  for (const auto& [method, k] : in.series)
+    for (bool keep : {false, true}) {
+      std::string line = "| " + seriesName(method, k) + (keep ? " kept" : "") + " |";
+      bool measured = false;
+      for (int total : in.totals) {
+        const FlickerRow* f = findFlicker(in.flicker, method, k, total, keep);
+        const FlickerRow* off = findFlicker(in.flicker, method, k, total, false);
+        measured = measured || f != nullptr;
+        line += !f ? " – |"
+               : !keep ? fmt::format(" {:.4f} |", f->result.share())
+                       : fmt::format(" {:.4f} ({:.0f}% kept; {:.2f} / {:.2f}) |", f->result.share(),
+                                     100.0 * f->result.slicesKept / std::max(f->result.slices, 1), 100 * off->lastView.misclassification,
+                                     100 * f->lastView.misclassification);
+      }
+      if (measured) md << line << "\n";
     }
-    md << "\n";
-  }
 
   return md.str();
 }
@@ -267,11 +287,14 @@ void writePlots(const std::filesystem::path& out, const ReportInputs& in) {
   panel.yLabel = "frame ms";
   std::vector<glm::dvec2> all;
   for (const auto& [method, k] : in.series) {
-    PlotSeries s{seriesName(method, k), seriesColour(method, k), {}, false};
-    for (const FlickerRow& f : in.flicker)
-      if (f.method == method && f.layout.cascades == k) s.points.emplace_back(f.result.share(), f.frameMs);
-    all.insert(all.end(), s.points.begin(), s.points.end());
-    panel.series.push_back(std::move(s));
+    for (bool keep : {false, true}) {
+      PlotSeries s{seriesName(method, k) + (keep ? " kept" : ""), seriesColour(method, k) * (keep ? 0.6f : 1.0f), {}, false};
+      for (const FlickerRow& f : in.flicker)
+        if (f.method == method && f.layout.cascades == k && f.keep == keep) s.points.emplace_back(f.result.share(), f.frameMs);
+      if (s.points.empty()) continue;
+      all.insert(all.end(), s.points.begin(), s.points.end());
+      panel.series.push_back(std::move(s));
+    }
   }
   panel.series.push_back({"Pareto front", glm::vec3(0.0f), paretoFront(all), true});
   writeImage(out / "frame-ms-vs-flicker.png", plotPanels({panel}, 1));

@@ -68,6 +68,8 @@ std::pmr::vector<dvec3> visibleVertices(const ShadowInput& in) {
 
 }  // namespace
 
+bool holdsStillByItself(ShadowMethod method) { return methodUnit(method).holdsStillByItself; }
+
 Camera extrapolatedCamera(const Camera& camera, const Camera& last, double frames) {
   Camera ahead = camera;
   ahead.position += frames * (camera.position - last.position);
@@ -147,7 +149,7 @@ ShadowSetup KeptSlices::setup(const ShadowInput& input, ShadowMethod method, int
   std::optional<Camera>& last = lastCamera_.at(static_cast<size_t>(slice));
   const std::optional<Camera> lastFrame = std::exchange(last, input.camera);
   keeping = SliceKeeping{};
-  if (fresh.empty || methodUnit(method).holdsStillByItself) {
+  if (fresh.empty || holdsStillByItself(method)) {
     keeping.refit = fresh.empty ? "empty" : "stable";  // nothing to keep a map for, or a method stable by construction
     kept.valid = false;
     return computeShadowSetup(input, method);

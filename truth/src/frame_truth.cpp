@@ -271,7 +271,13 @@ FlickerResult measureFlicker(render::Frame& frame, const Scene& scene, std::span
   // −1: not in the map; 0 shadowed; 1 lit.
   std::vector<int> previous(probes.size(), -1);
   for (size_t c = 0; c < cameras.size(); ++c) {
-    if (c > 0) frame.render(cameras[c], time, settings);
+    if (c > 0) {
+      const render::FrameStats stats = frame.render(cameras[c], time, settings);
+      for (int slice = 0; slice < stats.cascades; ++slice) {
+        ++result.slices;
+        result.slicesKept += stats.cascade[static_cast<size_t>(slice)].keeping.kept ? 1 : 0;
+      }
+    }
     const int size = frame.shadowMapSize();
     std::vector<std::vector<float>> maps;  // per slice
     for (int slice = 0; slice < frame.cascadeCount(); ++slice) maps.push_back(frame.readShadowMap(slice));

@@ -48,6 +48,9 @@ struct SliceKeeping {
                                // (a method that holds still by itself: never kept); "" when kept
 };
 
+// Whether `method`'s map holds still by its own construction (uniform-stable): it is never kept.
+bool holdsStillByItself(ShadowMethod method);
+
 // `camera` moved on by `frames` times its motion since `last` (position, yaw and pitch).
 Camera extrapolatedCamera(const Camera& camera, const Camera& last, double frames);
 

@@ -81,6 +81,8 @@ struct FlickerResult {
   int probes = 0;        // world points on visible lit-facing receivers of the first frame
   int comparisons = 0;   // probe states compared between consecutive frames (probe in both maps)
   int changes = 0;       // of those, how many changed
+  int slices = 0;        // slices drawn over the walk's frames after the first
+  int slicesKept = 0;    // of those, how many kept their map (FrameSettings::keepSlices)
   double share() const { return comparisons ? static_cast<double>(changes) / comparisons : 0.0; }
 };
 
