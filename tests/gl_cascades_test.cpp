@@ -38,16 +38,14 @@ double nearestDepthOf(const render::Frame& frame, const Camera& camera) {
 // methods, with and without a blend band.
 TEST_F(CascadesGl, SelectedCastersOfEachSliceGiveTheTermOfAllCasters) {
   if (backendUnderTest() != "egl") GTEST_SKIP() << "checked on the egl backend";
-  const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
-  render::Frame frame(scene, kWidth, kHeight);
-  Camera camera = frame.startCamera();
-  camera.aspect = static_cast<double>(kWidth) / kHeight;
-  const terrain::Terrain& t = *frame.terrain();
+  DefaultForestWalk walk(kWidth, kHeight);
+  render::Frame& frame = walk.frame;
+  const Camera& camera = walk.camera;
   const shadows::ShadowMethod methods[] = {shadows::ShadowMethod::Uniform, shadows::ShadowMethod::UniformStable,
                                            shadows::ShadowMethod::Lispsm, shadows::ShadowMethod::Tsm};
   int views = 0, fewer = 0;
   for (int v = 0; v < 30; ++v) {
-    stepForestView(camera, t, v);
+    walk.step(v);
     if (v % kSweepStride != 0) continue;
     for (int k = 2; k <= shadows::kMaxCascades; ++k) {
       render::FrameSettings settings;
@@ -75,15 +73,13 @@ TEST_F(CascadesGl, SelectedCastersOfEachSliceGiveTheTermOfAllCasters) {
 // over frames). Not vacuous: most views keep their map.
 TEST_F(CascadesGl, KeptSlicesKeepTheSelectedCastersExact) {
   if (backendUnderTest() != "egl") GTEST_SKIP() << "checked on the egl backend";
-  const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
-  render::Frame frame(scene, kWidth, kHeight);
-  Camera camera = frame.startCamera();
-  camera.aspect = static_cast<double>(kWidth) / kHeight;
-  const terrain::Terrain& t = *frame.terrain();
+  DefaultForestWalk walk(kWidth, kHeight);
+  render::Frame& frame = walk.frame;
+  const Camera& camera = walk.camera;
   const shadows::ShadowMethod methods[] = {shadows::ShadowMethod::Uniform, shadows::ShadowMethod::Lispsm, shadows::ShadowMethod::Tsm};
   int slices = 0, kept = 0;
   for (int v = 0; v < 30; ++v) {
-    stepForestView(camera, t, v);
+    walk.step(v);
     if (v % kSweepStride != 0) continue;
     render::FrameSettings settings;
     settings.method = methods[v % 3];

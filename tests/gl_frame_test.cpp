@@ -159,14 +159,12 @@ TEST_F(FrameGl, BacksideRenderingHasNoAcneAndFrontFacesDo) {
 TEST_F(FrameGl, CasterSelectionChangesNoShadowForAnyFilterAlongThirtyViews) {
   // 300 frames of the engine's own logic: run once, on EGL (the backends differ in their context only).
   if (backendUnderTest() != "egl") GTEST_SKIP() << "checked on the egl backend";
-  const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
-  render::Frame frame(scene, kWidth, kHeight);
-  Camera camera = frame.startCamera();
-  camera.aspect = static_cast<double>(kWidth) / kHeight;
-  const terrain::Terrain& t = *frame.terrain();
+  DefaultForestWalk walk(kWidth, kHeight);
+  render::Frame& frame = walk.frame;
+  const Camera& camera = walk.camera;
   int views = 0, fewer = 0;
   for (int v = 0; v < 30; ++v) {
-    stepForestView(camera, t, v);
+    walk.step(v);
     if (v % kSweepStride != 0) continue;
     for (int pcf = 0; pcf <= 4; ++pcf) {
       render::FrameSettings settings;

@@ -16,7 +16,9 @@
 #include "forest/gl/debug.hpp"
 #include "forest/gl/gl.hpp"
 #include "forest/gl/objects.hpp"
+#include "forest/core/scene.hpp"
 #include "forest/render/frame.hpp"
+#include "test_paths.hpp"
 
 namespace forest::test {
 
@@ -213,6 +215,19 @@ inline void stepForestView(Camera& camera, const terrain::Terrain& terrain, int 
   camera.position.y = terrain.heightAt(camera.position.x, camera.position.z) + (v % 10 == 9 ? 40.0 : 1.7);
   camera.yaw += glm::radians(7.0);
 }
+
+// The default forest (data/scenes/forest.toml) in a frame of width × height, and the camera of a
+// walk over it from its start (step(v): stepForestView).
+struct DefaultForestWalk {
+  Scene scene;
+  render::Frame frame;
+  Camera camera;
+  DefaultForestWalk(int width, int height)
+      : scene(loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml")), frame(scene, width, height), camera(frame.startCamera()) {
+    camera.aspect = static_cast<double>(width) / height;
+  }
+  void step(int v) { stepForestView(camera, *frame.terrain(), v); }
+};
 
 struct IdDepthTarget {
   gl::Texture ids, depth;

@@ -229,7 +229,8 @@ nlohmann::ordered_json FrameOptions::json(const gl::ContextInfo& context, const 
                               {"pcf_radius", pcf},
                               {"blur_px", blur},
                               {"blur_depth_m", blurDepth},
-                              {"term_resolution", termResolution}};
+                              {"term_resolution", termResolution},
+                              {"keep_slices", keepSlices}};
   j.update(modes.json(context));
   return j;
 }
