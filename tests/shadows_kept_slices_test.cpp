@@ -88,6 +88,7 @@ TEST(ExtrapolatedCamera, ContinuesTheLastMotionAcrossTheYawWrap) {
   EXPECT_NEAR(ahead.pitch, 0.05 - 4 * 0.05, 1e-12);
 }
 
+// A first frame is the fresh fit, as without keeping; a still camera keeps it.
 TEST(KeptSlices, AStillCameraKeepsItsMapAndAStableMethodIsNeverKept) {
   for (ShadowMethod method : kKeptMethods) {
     KeptSlices kept;
@@ -96,6 +97,7 @@ TEST(KeptSlices, AStillCameraKeepsItsMapAndAStableMethodIsNeverKept) {
     const ShadowSetup first = kept.setup(in, method, 0, KeepLimits{}, keeping);
     EXPECT_FALSE(keeping.kept);
     EXPECT_EQ(keeping.refit, "first");
+    EXPECT_EQ(first.worldToShadowClip, computeShadowSetup(in, method).worldToShadowClip);
     for (int frame = 1; frame < 4; ++frame) {
       const ShadowSetup again = kept.setup(in, method, 0, KeepLimits{}, keeping);
       EXPECT_TRUE(keeping.kept) << kShadowMethodNames.name(method);
@@ -168,9 +170,12 @@ TEST(KeptSlices, TheSunMovingBeyondTheLimitOrACameraCutRefits) {
   for (ShadowMethod method : kKeptMethods) {
     KeptSlices kept;
     SliceKeeping keeping;
-    ShadowInput in = walkInput(dvec3(0.0, 10.0, 0.0), 30.0);
+    // A first frame (the fresh fit), a step (a refit with its margin), then the sun turned about
+    // the vertical by half the limit: kept; by twice the limit: refitted.
+    kept.setup(walkInput(dvec3(0.0, 10.0, 0.0), 30.0), method, 0, limits, keeping);
+    ShadowInput in = walkInput(dvec3(0.1, 10.0, 0.0), 30.0);
     kept.setup(in, method, 0, limits, keeping);
-    // Turned by half the limit about the vertical: kept; by twice the limit: refitted.
+    ASSERT_FALSE(keeping.kept);
     auto turned = [&](double deg) {
       const double a = glm::radians(deg);
       const dvec3 s = walkInput(dvec3(0.0), 0.0).sunDirection;

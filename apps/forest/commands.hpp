@@ -94,7 +94,7 @@ struct FrameOptions {
   double blur = 3.0;         // eye-space blur radius, pixels (0: off)
   double blurDepth = 10.0;   // metres up to which the full radius applies
   std::string termResolution = "full";  // of the blurred shadow term: full or half (FrameSettings::shadowTermScale)
-  std::string keepSlices = "off";       // kept shadow maps: off or on (FrameSettings::keepSlices)
+  std::string keepSlices = "on";        // kept shadow maps: off or on (FrameSettings::keepSlices)
   CasterOptions casters;
   // Z-partitioning; each left unset (the scene's [shadows]) unless its flag is given.
   int cascades = 1;

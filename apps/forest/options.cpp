@@ -134,8 +134,8 @@ void FrameOptions::add(CLI::App& command, bool withCulling) {
   command.add_option("--keep-slices", keepSlices,
                      "Kept shadow maps: each slice keeps its matrices while the view's focus body fits in\n"
                      "them and their texels stay within 1.25x a fresh fit's, so shadow edges hold still as\n"
-                     "the camera moves (on); a refit covers 1 m and 2 deg of camera motion, the warp snapped.\n"
-                     "off: every slice refits to the view every frame")
+                     "the camera moves (on); a refit also covers the camera's motion continued 8 frames, the\n"
+                     "warp snapped. off: every slice refits to the view every frame (a frame alone: the same)")
       ->check(CLI::IsMember({"off", "on"}))
       ->capture_default_str();
   modes.add(command);

@@ -156,6 +156,12 @@ ShadowSetup KeptSlices::setup(const ShadowInput& input, ShadowMethod method, int
   }
   keeping.refit = whyRefit(kept, input, method, fresh, limits);
   ShadowSetup setup;
+  if (!lastFrame) {
+    // A first frame (or after a cut): nothing to extrapolate, and a frame alone gains nothing from
+    // a margin — the fresh fit, as without keeping, kept for the next frame to test.
+    kept = Kept{true, fresh, method, input.sunDirection, input.mapSize, input.borderTexels, 0};
+    return fresh;
+  }
   if (keeping.refit.empty()) {
     setup = kept.setup;
     rebaseToEye(setup, input.camera.position);

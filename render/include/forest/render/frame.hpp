@@ -122,7 +122,8 @@ struct FrameSettings {
   bool wholeShadowMap = true;
   // Kept slices (shadows/kept_slices.hpp): each slice keeps its map's matrices while this frame's
   // focus body fits in them and its texels stay within the limits; refits cover a margin with the
-  // warp snapped. Off: every slice refits to the view every frame.
+  // warp snapped. Off: every slice refits to the view every frame. Off here (a frame on its own,
+  // the tests); the command line's --keep-slices is on unless asked otherwise.
   bool keepSlices = false;
   shadows::KeepLimits keepLimits;
 };

@@ -13,6 +13,7 @@
 //   - the kept map's texels are at most texelGrowth times the fresh fit's (side) at every vertex
 //     of the visible part of the slice (V ∩ S ∩ R from the nearest visible depth): the error a kept
 //     map may add is bounded.
+// A slice's first frame (or the first after a cut) takes the fresh fit, as without keeping.
 // Otherwise the slice refits, its map also holding the focus body of the camera `horizonFrames`
 // ahead (its motion of the last frame continued: position and yaw/pitch), with the warp snapped
 // (ShadowInput::snapWarp): the frames between fit inside it (a translate of a convex body stays in
