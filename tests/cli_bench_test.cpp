@@ -61,7 +61,20 @@ TEST(ForestCli, SpeedErrorQuickWritesTheDocumentedReportAndPlots) {
     EXPECT_EQ(row["casters_needed_triangles"].get<long long>() > 0, row["casters_needed"].get<int>() > 0);  // a caster has triangles
   }
   EXPECT_EQ(cascaded, 16);
-  EXPECT_EQ(j["flicker"].size(), 12u);
+  // Flicker walks: 4 methods × 2 bounds at 1024² and 4 methods at 4 × 512², and again with kept
+  // slices for the 3 methods that do not hold still by themselves (uniform-stable does).
+  EXPECT_EQ(j["flicker"].size(), 12u + 9u);
+  int keptWalks = 0;
+  for (const auto& f : j["flicker"]) {
+    const bool keep = f["keep_slices"].get<bool>();
+    keptWalks += keep ? 1 : 0;
+    EXPECT_FALSE(keep && f["method"] == "uniform-stable");
+    const double share = f["kept_share"].get<double>();
+    EXPECT_TRUE(keep ? share > 0.0 && share <= 1.0 : share == 0.0) << f["method"] << " " << share;
+    EXPECT_GE(f["last_view"]["misclassification"].get<double>(), 0.0);
+    EXPECT_EQ(f["last_view"]["bands"].size(), 3u);
+  }
+  EXPECT_EQ(keptWalks, 9);
   for (const char* plot : {"frame-ms-vs-misclassification.png", "shadow-ms-vs-misclassification.png", "frame-ms-vs-soft-error.png",
                            "frame-ms-vs-aliasing.png", "frame-ms-vs-flicker.png"}) {
     const Image8 image = readImage8(folder / plot);
