@@ -146,34 +146,61 @@ std::array<double, 4> columnMedians(const std::vector<std::array<double, 4>>& ro
   return out;
 }
 
-int runStability(const StabilityOptions& options) {
-  if (options.cases.empty() && options.random == 0)
-    throw InputError("stability: give --cases FILE and/or --random N");
-  std::vector<ShadowMethod> methods;
-  for (const std::string& name : options.methods) methods.push_back(shadows::kShadowMethodNames.parse(name));
-  const std::vector<shadows::StabilityCase> fileCases =
-      options.cases.empty() ? std::vector<shadows::StabilityCase>{} : shadows::loadStabilityCases(options.cases);
+// The suite's run: every case (from the file, then the random stream) for every method, each
+// setup checked (shadows::checkSetupInvariants) and tallied, a record per setup to `out`.
+class StabilitySuite {
+ public:
+  StabilitySuite(const StabilityOptions& options, std::vector<ShadowMethod> methods) : options_(options), methods_(std::move(methods)) {}
 
-  Tally tally;
-  auto noteFailure = [&](std::string failure) {
-    ++tally.failed;
-    if (tally.firstFailures.size() < 10) tally.firstFailures.push_back(std::move(failure));
-  };
-  // One setup: a case's whole view, or one of its slices (slice ≥ 0).
-  auto evaluateOne = [&](const shadows::StabilityCase& c, const shadows::ShadowInput& input, int slice, ShadowMethod method,
-                         std::ostream* out) {
+  void runAll(const std::vector<shadows::StabilityCase>& fileCases, std::ostream* out) {
+    for (const shadows::StabilityCase& c : fileCases) evaluate(c, out);
+    const std::uint64_t step = std::max<std::uint64_t>(1, options_.random / 10);
+    for (std::uint64_t i = 0; i < options_.random; ++i) {
+      evaluate(shadows::randomStabilityCase(options_.seed, i), out);
+      if (options_.random >= 10000 && (i + 1) % step == 0)
+        std::cerr << fmt::format("stability: {}/{} random configurations, {} failed\n", i + 1, options_.random, tally_.failed);
+    }
+  }
+
+  const Tally& tally() const { return tally_; }
+
+ private:
+  void noteFailure(std::string failure) {
+    ++tally_.failed;
+    if (tally_.firstFailures.size() < 10) tally_.firstFailures.push_back(std::move(failure));
+  }
+
+  // With --cascades K, each slice of the case's view (shadows::cascadeInputs) is a setup of its own.
+  void evaluate(const shadows::StabilityCase& c, std::ostream* out) {
+    std::vector<shadows::ShadowInput> inputs{c.input};
+    if (options_.cascades > 1) {
+      try {
+        inputs = shadows::cascadeInputs(c.input, options_.cascades, options_.splitLambda, options_.cascadeBlend);
+      } catch (const InputError& e) {  // a view the splits refuse (none inside the domain): refused like its setups
+        tally_.records += methods_.size();
+        tally_.refused += methods_.size();
+        if (out) *out << ordered_json{{"case", c.name}, {"refused", e.what()}, {"input", caseJson(c)}}.dump() << '\n';
+        return;
+      }
+    }
+    for (size_t slice = 0; slice < inputs.size(); ++slice)
+      for (ShadowMethod method : methods_) evaluateOne(c, inputs[slice], options_.cascades > 1 ? static_cast<int>(slice) : -1, method, out);
+  }
+
+  // One setup: a case's whole view, or one of its slices (slice ≥ 0). One case never stops the
+  // suite: an input outside the domain is counted as refused, any other exception as a failure,
+  // and either is written as a record.
+  void evaluateOne(const shadows::StabilityCase& c, const shadows::ShadowInput& input, int slice, ShadowMethod method, std::ostream* out) {
     const std::string_view name = shadows::kShadowMethodNames.name(method);
     const std::string where = slice >= 0 ? fmt::format("{} (slice {})", c.name, slice) : c.name;
-    ++tally.records;
-    // One case never stops the suite: an input outside the domain is counted as refused, any
-    // other exception as a failure, and either is written as a record.
+    ++tally_.records;
     std::optional<shadows::ShadowSetup> setup;
     try {
       const auto start = std::chrono::steady_clock::now();
       setup = shadows::computeShadowSetup(input, method);
-      tally.setupSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      tally_.setupSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     } catch (const InputError& e) {
-      ++tally.refused;
+      ++tally_.refused;
       if (out) *out << ordered_json{{"case", where}, {"method", name}, {"refused", e.what()}, {"input", caseJson(c)}}.dump() << '\n';
       return;
     } catch (const std::exception& e) {
@@ -183,10 +210,10 @@ int runStability(const StabilityOptions& options) {
       return;
     }
     const shadows::StabilityReport report = shadows::checkSetupInvariants(input, method, *setup);
-    tally.empty += setup->empty ? 1 : 0;
-    tally.warped += setup->diagnostics.warp > 0.0 ? 1 : 0;
-    tally.largestCoordinate = std::max(tally.largestCoordinate, report.maxMapCoordinate);
-    tally.largestShrink = std::max(tally.largestShrink, setup->diagnostics.floatShrink);
+    tally_.empty += setup->empty ? 1 : 0;
+    tally_.warped += setup->diagnostics.warp > 0.0 ? 1 : 0;
+    tally_.largestCoordinate = std::max(tally_.largestCoordinate, report.maxMapCoordinate);
+    tally_.largestShrink = std::max(tally_.largestShrink, setup->diagnostics.floatShrink);
     if (!report.passed()) {
       for (const shadows::InvariantCheck& check : report.checks)
         if (!check.passed) {
@@ -195,56 +222,26 @@ int runStability(const StabilityOptions& options) {
         }
     }
     std::optional<shadows::AliasingReport> aliasing;
-    if (options.aliasing && !setup->empty) {
+    if (options_.aliasing && !setup->empty) {
       shadows::AliasingOptions aliasingOptions;
-      aliasingOptions.width = options.screen[0];
-      aliasingOptions.height = options.screen[1];
+      aliasingOptions.width = options_.screen[0];
+      aliasingOptions.height = options_.screen[1];
       aliasing = shadows::analyseAliasing(input, *setup, aliasingOptions);
       if (aliasing->perspective.samples > 0)
-        tally.aliasing[std::string(name)].push_back(
+        tally_.aliasing[std::string(name)].push_back(
             {aliasing->perspective.max, aliasing->floor > 0.0 ? aliasing->perspective.max / aliasing->floor : 0.0,
              aliasing->surfacePixels.p95, aliasing->storageFactor});
     }
     if (out) *out << recordJson(c, method, slice, input, *setup, report, aliasing ? &*aliasing : nullptr).dump() << '\n';
-  };
-  // With --cascades K, each slice of the case's view (shadows::cascadeInputs) is a setup of its own.
-  auto evaluate = [&](const shadows::StabilityCase& c, std::ostream* out) {
-    std::vector<shadows::ShadowInput> inputs{c.input};
-    if (options.cascades > 1) {
-      try {
-        inputs = shadows::cascadeInputs(c.input, options.cascades, options.splitLambda, options.cascadeBlend);
-      } catch (const InputError& e) {  // a view the splits refuse (none inside the domain): refused like its setups
-        tally.records += methods.size();
-        tally.refused += methods.size();
-        if (out) *out << ordered_json{{"case", c.name}, {"refused", e.what()}, {"input", caseJson(c)}}.dump() << '\n';
-        return;
-      }
-    }
-    for (size_t slice = 0; slice < inputs.size(); ++slice)
-      for (ShadowMethod method : methods) evaluateOne(c, inputs[slice], options.cascades > 1 ? static_cast<int>(slice) : -1, method, out);
-  };
-
-  auto runAll = [&](std::ostream* out) {
-    for (const shadows::StabilityCase& c : fileCases) evaluate(c, out);
-    const std::uint64_t step = std::max<std::uint64_t>(1, options.random / 10);
-    for (std::uint64_t i = 0; i < options.random; ++i) {
-      evaluate(shadows::randomStabilityCase(options.seed, i), out);
-      if (options.random >= 10000 && (i + 1) % step == 0)
-        std::cerr << fmt::format("stability: {}/{} random configurations, {} failed\n", i + 1, options.random, tally.failed);
-    }
-  };
-  if (options.out.empty()) {
-    runAll(nullptr);
-  } else {
-    writeAtomicallyWith(options.out, [&](const std::filesystem::path& temporary) {
-      std::ofstream out(temporary);
-      if (!out) throw Error(systemErrorMessage("cannot write " + temporary.string()));
-      runAll(&out);
-      out.close();
-      if (!out) throw Error(systemErrorMessage("cannot write " + temporary.string()));
-    });
   }
 
+  const StabilityOptions& options_;
+  const std::vector<ShadowMethod> methods_;
+  Tally tally_;
+};
+
+// The suite's summary: JSON with --json, else a few lines (and the aliasing medians with --aliasing).
+void printSummary(const StabilityOptions& options, const Tally& tally, std::size_t fileCases) {
   const double microseconds = tally.records ? 1e6 * tally.setupSeconds / static_cast<double>(tally.records) : 0.0;
   if (options.json) {
     ordered_json summary;
@@ -266,28 +263,51 @@ int runStability(const StabilityOptions& options) {
                                              {"storage_factor", columns[3]}};
     }
     std::cout << summary.dump(2) << '\n';
-  } else {
-    std::cout << fmt::format(
-        "{} setups ({} case(s) from file, {} random, seed {}, methods {}{}): {} failed, {} refused (outside the shadow domain)\n"
-        "  largest |map coordinate| of B on the float32 path {:.9f}, largest float32 shrink {:.2e}\n"
-        "  {} empty focus bodies, {} warped (lispsm), {:.1f} µs per setup\n",
-        tally.records, fileCases.size(), options.random, options.seed, fmt::join(options.methods, ","),
-        options.cascades > 1 ? fmt::format(", {} slices each, λ {}", options.cascades, options.splitLambda) : std::string(), tally.failed,
-        tally.refused, tally.largestCoordinate, tally.largestShrink, tally.empty, tally.warped, microseconds);
-    if (!tally.aliasing.empty()) {
-      std::cout << fmt::format("  aliasing, medians over cases ({}x{} screen):\n  {:<15} {:>6} {:>16} {:>12} {:>18} {:>14}\n",
-                               options.screen[0], options.screen[1], "method", "cases", "persp. max (rel)", "max / floor",
-                               "surface p95 px/tx", "storage factor");
-      for (const auto& [method, rows] : tally.aliasing) {
-        const std::array<double, 4> columns = columnMedians(rows);
-        std::cout << fmt::format("  {:<15} {:>6} {:>16.3g} {:>12.3g} {:>18.3g} {:>14.3g}\n", method, rows.size(),
-                                 columns[0], columns[1], columns[2], columns[3]);
-      }
-    }
-    if (!options.out.empty()) std::cout << fmt::format("  records: {}\n", options.out);
+    return;
   }
-  for (const std::string& failure : tally.firstFailures) std::cerr << "stability: FAILED " << failure << '\n';
-  return tally.failed == 0 ? 0 : 1;
+  std::cout << fmt::format(
+      "{} setups ({} case(s) from file, {} random, seed {}, methods {}{}): {} failed, {} refused (outside the shadow domain)\n"
+      "  largest |map coordinate| of B on the float32 path {:.9f}, largest float32 shrink {:.2e}\n"
+      "  {} empty focus bodies, {} warped (lispsm), {:.1f} µs per setup\n",
+      tally.records, fileCases, options.random, options.seed, fmt::join(options.methods, ","),
+      options.cascades > 1 ? fmt::format(", {} slices each, λ {}", options.cascades, options.splitLambda) : std::string(), tally.failed,
+      tally.refused, tally.largestCoordinate, tally.largestShrink, tally.empty, tally.warped, microseconds);
+  if (!tally.aliasing.empty()) {
+    std::cout << fmt::format("  aliasing, medians over cases ({}x{} screen):\n  {:<15} {:>6} {:>16} {:>12} {:>18} {:>14}\n",
+                             options.screen[0], options.screen[1], "method", "cases", "persp. max (rel)", "max / floor",
+                             "surface p95 px/tx", "storage factor");
+    for (const auto& [method, rows] : tally.aliasing) {
+      const std::array<double, 4> columns = columnMedians(rows);
+      std::cout << fmt::format("  {:<15} {:>6} {:>16.3g} {:>12.3g} {:>18.3g} {:>14.3g}\n", method, rows.size(), columns[0],
+                               columns[1], columns[2], columns[3]);
+    }
+  }
+  if (!options.out.empty()) std::cout << fmt::format("  records: {}\n", options.out);
+}
+
+int runStability(const StabilityOptions& options) {
+  if (options.cases.empty() && options.random == 0)
+    throw InputError("stability: give --cases FILE and/or --random N");
+  std::vector<ShadowMethod> methods;
+  for (const std::string& name : options.methods) methods.push_back(shadows::kShadowMethodNames.parse(name));
+  const std::vector<shadows::StabilityCase> fileCases =
+      options.cases.empty() ? std::vector<shadows::StabilityCase>{} : shadows::loadStabilityCases(options.cases);
+
+  StabilitySuite suite(options, std::move(methods));
+  if (options.out.empty()) {
+    suite.runAll(fileCases, nullptr);
+  } else {
+    writeAtomicallyWith(options.out, [&](const std::filesystem::path& temporary) {
+      std::ofstream out(temporary);
+      if (!out) throw Error(systemErrorMessage("cannot write " + temporary.string()));
+      suite.runAll(fileCases, &out);
+      out.close();
+      if (!out) throw Error(systemErrorMessage("cannot write " + temporary.string()));
+    });
+  }
+  printSummary(options, suite.tally(), fileCases.size());
+  for (const std::string& failure : suite.tally().firstFailures) std::cerr << "stability: FAILED " << failure << '\n';
+  return suite.tally().failed == 0 ? 0 : 1;
 }
 
 }  // namespace
