@@ -276,6 +276,91 @@ nlohmann::ordered_json windowRecord(nlohmann::ordered_json r, const Controls& co
   return r;
 }
 
+
+// The walk's start, as the headless walkthrough's (the default walk's only where the scene has the
+// terrain it follows; else none: the scene's camera).
+std::optional<CameraPath> walkStart(const std::string& path, const Scene& scene) {
+  std::optional<CameraPath> start;
+  if (!path.empty() || scene.terrain) start = CameraPath::load(walkPathOr(path));
+  if (start && start->aboveGround() && !scene.terrain) throw InputError(path + ": heights = \"above_ground\" needs a scene with [terrain]");
+  return start;
+}
+
+// Where the window's camera starts: the walk's first key (heights over the ground where it says
+// so), else the frame's start camera.
+CameraPose startPose(const Camera& camera, const std::optional<CameraPath>& start, const render::Frame& frame) {
+  if (!start) return {camera.position, glm::degrees(camera.yaw), glm::degrees(camera.pitch)};
+  CameraPose pose = start->at(start->startTime());
+  if (start->aboveGround()) pose.position.y += frame.terrain()->heightAt(pose.position.x, pose.position.z);
+  return pose;
+}
+
+// The frame's settings as the keys left them; the term and the map are shown, never read back.
+render::FrameSettings frameSettingsOf(const Controls& controls, const gl::ContextInfo& info) {
+  render::FrameSettings settings = controls.frame.settings(info);
+  settings.freezeCulling = controls.frozen;
+  settings.keepShadowTerm = false;
+  settings.wholeShadowMap = false;
+  settings.cascades = controls.cascades;
+  return settings;
+}
+
+// The window, its GL context and (interactive) its input callbacks, which fill `input`.
+std::unique_ptr<gl::Context> openWindow(int width, int height, WindowInput& input, bool interactive) {
+  gl::ContextOptions contextOptions;
+  contextOptions.backend = gl::Backend::Window;
+  contextOptions.width = width;
+  contextOptions.height = height;
+  contextOptions.title = "forest walkthrough";
+  auto context = gl::createContext(contextOptions);
+  log::info("{}", gl::describe(context->info()));
+  GLFWwindow* handle = context->window();
+  for (const auto& [name, key] : keyBindings()) input.names[key] = name;
+  glfwSetWindowUserPointer(handle, &input);
+  if (interactive) {
+    glfwSetKeyCallback(handle, onKey);
+    glfwSetMouseButtonCallback(handle, onMouseButton);
+    glfwSetCursorPosCallback(handle, onCursor);
+  }
+  glfwSwapInterval(0);
+  return context;
+}
+
+// What the report says of a window run besides its frames.
+struct WindowRunInfo {
+  std::string scenePath, script;  // script: "" when interactive
+  std::string device;
+  nlohmann::ordered_json settings;
+  int warmup = 0, done = 0;
+};
+
+// report.json, window.png (the last frame shown; none when the window was closed), the camera path
+// flown (--record), and the summary on stdout.
+void writeWindowOutputs(const WalkthroughOptions& options, const WindowOptions& window, const WindowRunInfo& info,
+                        const nlohmann::ordered_json& records, const Image8& shown, const std::vector<PathKey>& flown) {
+  const fs::path out(options.out);
+  const nlohmann::ordered_json summary = summariseFrames(records, info.done - std::min(info.done, info.warmup));
+  nlohmann::ordered_json report;
+  report["scene"] = info.scenePath;
+  report["input"] = info.script.empty() ? "interactive" : info.script;
+  report["device"] = info.device;
+  report["resolution"] = {options.size.width, options.size.height};
+  report["fps"] = options.fps;
+  report["settings"] = info.settings;
+  report["warmup_frames"] = info.warmup;
+  report["frames_done"] = info.done;
+  report["summary"] = summary;
+  report["frames"] = records;
+  writeFileAtomic(out / "report.json", report.dump(1) + "\n");
+  if (shown.width > 0) writeImage(out / "window.png", shown);
+  if (!window.record.empty() && !flown.empty()) writeFileAtomic(window.record, CameraPath(flown, window.record).toToml());
+  std::cout << fmt::format("window: {} frames of {} ({})\n", info.done, info.scenePath,
+                           info.script.empty() ? "interactive" : "scripted by " + info.script);
+  printSummary(summary);
+  std::cout << fmt::format("  wrote {}/report.json, {}/window.png{}\n", shownPath(out), shownPath(out),
+                           window.record.empty() ? "" : ", the camera path " + window.record);
+}
+
 }  // namespace
 
 int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
@@ -286,12 +371,7 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
   // Warm-up frames: --warmup when given; else the default, capped at half of a --frames run.
   const int warmup = options.length.warmupFor(options.length.frames > 0 ? options.length.frames : 1 << 30);
   Scene scene = loadScene(scenePath);
-  // The walk's start, as the headless walkthrough's (the default walk's only where the scene has the
-  // terrain it follows; else the scene's camera).
-  std::optional<CameraPath> start;
-  if (!options.path.empty() || scene.terrain) start = CameraPath::load(walkPathOr(options.path));
-  if (start && start->aboveGround() && !scene.terrain)
-    throw InputError(options.path + ": heights = \"above_ground\" needs a scene with [terrain]");
+  const std::optional<CameraPath> start = walkStart(options.path, scene);
   std::optional<InputScript> script;
   if (!window.script.empty()) script = InputScript::load(window.script, keyNames());
   Controls controls;
@@ -301,34 +381,15 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
   scene.render.width = options.size.width;
   scene.render.height = options.size.height;
 
-  gl::ContextOptions contextOptions;
-  contextOptions.backend = gl::Backend::Window;
-  contextOptions.width = options.size.width;
-  contextOptions.height = options.size.height;
-  contextOptions.title = "forest walkthrough";
-  auto context = gl::createContext(contextOptions);
-  const std::string device = gl::describe(context->info());
-  log::info("{}", device);
-  GLFWwindow* handle = context->window();
   WindowInput input;
-  for (const auto& [name, key] : keyBindings()) input.names[key] = name;
-  glfwSetWindowUserPointer(handle, &input);
-  if (!script) {
-    glfwSetKeyCallback(handle, onKey);
-    glfwSetMouseButtonCallback(handle, onMouseButton);
-    glfwSetCursorPosCallback(handle, onCursor);
-  }
-  glfwSwapInterval(0);
+  auto context = openWindow(options.size.width, options.size.height, input, !script);
+  GLFWwindow* handle = context->window();
   render::Frame frame(scene, options.size.width, options.size.height);
   render::ImageOverlay overlay;
   const Image8 helpPanel = textPanel(kHelp, std::min(options.size.width, 380), 13);
 
   Camera camera = frame.startCamera();
-  controls.pose = {camera.position, glm::degrees(camera.yaw), glm::degrees(camera.pitch)};
-  if (start) {
-    controls.pose = start->at(start->startTime());
-    if (start->aboveGround()) controls.pose.position.y += frame.terrain()->heightAt(controls.pose.position.x, controls.pose.position.z);
-  }
+  controls.pose = startPose(camera, start, frame);
 
   const fs::path out(options.out);
   clearEarlierWalk(out);  // the folder holds this run only
@@ -369,11 +430,7 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
     tapped.clear();
 
     // Render with this frame's settings and sun.
-    render::FrameSettings settings = controls.frame.settings(context->info());
-    settings.freezeCulling = controls.frozen;
-    settings.keepShadowTerm = false;  // shown, not read back
-    settings.wholeShadowMap = false;  // nothing reads the map back
-    settings.cascades = controls.cascades;
+    const render::FrameSettings settings = frameSettingsOf(controls, context->info());
     scene.sun.direction = controls.sun.travel();
     camera.position = controls.pose.position;
     camera.yaw = glm::radians(controls.pose.yaw_deg);
@@ -402,26 +459,9 @@ int runWindow(const WalkthroughOptions& options, const WindowOptions& window) {
     throw Error(fmt::format("{} GL errors in the window (first: {})", gl::debugErrorCount(), gl::debugErrorMessages().front()));
 
   recordPassTimes(frame.drainPassTimes(), records);
-  const nlohmann::ordered_json summary = summariseFrames(records, done - std::min(done, warmup));
-  nlohmann::ordered_json report;
-  report["scene"] = scenePath;
-  report["input"] = script ? window.script : "interactive";
-  report["device"] = device;
-  report["resolution"] = {options.size.width, options.size.height};
-  report["fps"] = options.fps;
-  report["settings"] = options.frame.json(context->info(), scene);
-  report["warmup_frames"] = warmup;
-  report["frames_done"] = done;
-  report["summary"] = summary;
-  report["frames"] = records;
-  writeFileAtomic(out / "report.json", report.dump(1) + "\n");
-  if (shown.width > 0) writeImage(out / "window.png", shown);  // not when the window was closed
-  if (!window.record.empty() && !flown.empty()) writeFileAtomic(window.record, CameraPath(flown, window.record).toToml());
-
-  std::cout << fmt::format("window: {} frames of {} ({})\n", done, scenePath, script ? "scripted by " + window.script : "interactive");
-  printSummary(summary);
-  std::cout << fmt::format("  wrote {}/report.json, {}/window.png{}\n", shownPath(out), shownPath(out),
-                           window.record.empty() ? "" : ", the camera path " + window.record);
+  const WindowRunInfo info{scenePath, script ? window.script : std::string(), gl::describe(context->info()),
+                           options.frame.json(context->info(), scene), warmup, done};
+  writeWindowOutputs(options, window, info, records, shown, flown);
   return 0;
 }
 
