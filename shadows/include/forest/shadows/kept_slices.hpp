@@ -15,13 +15,12 @@
 //     map may add is bounded.
 // A slice's first frame (or the first after a cut) takes the fresh fit, as without keeping.
 // Otherwise the slice refits, its map also holding the focus body of the camera `horizonFrames`
-// ahead (its motion of the last frame continued: position and yaw/pitch), with the warp snapped
-// (ShadowInput::snapWarp): the frames between fit inside it (a translate of a convex body stays in
-// the hull of its ends) and a slack, and successive refits of a slow camera tend to land on the same lattice
-// values. The margin costs texels: a refit whose texels exceed texelGrowth takes half the horizon,
-// down to one frame, then the fresh fit.
+// ahead (its motion of the last frame continued: position and yaw/pitch) and a slack, with the warp
+// snapped (ShadowInput::snapWarp): the frames between fit inside it (a translate of a convex body
+// stays in the hull of its ends), and successive refits of a slow camera tend to land on the same
+// lattice values. The margin costs texels: a refit whose texels exceed texelGrowth takes half the
+// horizon, down to one frame, then the fresh fit.
 #include <array>
-#include <memory_resource>
 #include <optional>
 #include <span>
 #include <string_view>
@@ -87,7 +86,7 @@ class KeptSlices {
   std::array<Kept, kMaxCascades> kept_{};
   // Each slice's camera of the last frame: the motion a refit extrapolates.
   std::array<std::optional<Camera>, kMaxCascades> lastCamera_{};
-  std::vector<glm::dvec3> alsoCover_;  // B's vertices of the camera ahead (ShadowInput::alsoCover)
+  std::vector<glm::dvec3> alsoCover_;  // what a refit's map also holds: B ahead, the depth slack (ShadowInput::alsoCover)
 };
 
 }  // namespace forest::shadows
