@@ -93,18 +93,21 @@ double texelSideRatio(const ShadowSetup& a, const ShadowSetup& b, std::span<cons
 }
 
 std::string_view KeptSlices::whyRefit(const Kept& kept, const ShadowInput& in, ShadowMethod method, const ShadowSetup& fresh,
-                                      const KeepLimits& limits) const {
+                                      std::span<const dvec3> visible, const KeepLimits& limits) const {
   if (!kept.valid) return "first";
   if (kept.method != method || kept.mapSize != in.mapSize || kept.borderTexels != in.borderTexels) return "method";
   if (angleDeg(kept.sun, in.sunDirection) > limits.sunDeg) return "sun";
   if (!holdsBody(kept.setup, fresh, in)) return "outside";
-  if (texelSideRatio(kept.setup, fresh, visibleVertices(in), in.sunDirection) > limits.texelGrowth) return "texels";
+  if (texelSideRatio(kept.setup, fresh, visible, in.sunDirection) > limits.texelGrowth) return "texels";
   return "";
 }
 
 std::optional<ShadowSetup> KeptSlices::refit(const ShadowInput& input, ShadowMethod method, const ShadowSetup& fresh,
-                                              const KeepLimits& limits, const std::optional<Camera>& last) {
-  const auto visible = visibleVertices(input);
+                                              std::span<const dvec3> visible, const KeepLimits& limits, const Camera& last) {
+  ShadowInput snapped = input;
+  snapped.snapWarp = true;
+  snapped.carried = 0.0;
+  snapped.borderTexels = input.borderTexels + static_cast<int>(std::ceil(limits.slackShare * input.mapSize));
   // Depth costs no texels: B's vertices moved along the light and against it by the slack's share
   // of B's extent along the light.
   const dvec3 l = glm::normalize(input.sunDirection);
@@ -115,21 +118,17 @@ std::optional<ShadowSetup> KeptSlices::refit(const ShadowInput& input, ShadowMet
     farthest = std::max(farthest, glm::dot(v, l));
   }
   const double depthSlack = limits.slackShare * (farthest - nearest);
+  alsoCover_.clear();
+  for (const dvec3& v : bodyVertices) {
+    alsoCover_.push_back(v + depthSlack * l);
+    alsoCover_.push_back(v - depthSlack * l);
+  }
+  const std::size_t slackPoints = alsoCover_.size();
   for (int frames = std::max(limits.horizonFrames, 1);; frames /= 2) {
-    ShadowInput snapped = input;
-    snapped.snapWarp = true;
-    snapped.carried = 0.0;
-    snapped.borderTexels = input.borderTexels + static_cast<int>(std::ceil(limits.slackShare * input.mapSize));
-    alsoCover_.clear();
-    for (const dvec3& v : bodyVertices) {
-      alsoCover_.push_back(v + depthSlack * l);
-      alsoCover_.push_back(v - depthSlack * l);
-    }
-    if (last) {
-      const Camera ahead = extrapolatedCamera(input.camera, *last, frames);
-      const ConvexBody body = computeFocusBody(ahead, input.sunDirection, input.scene, input.receivers);
-      for (const dvec3& v : body.vertices()) alsoCover_.push_back(v);
-    }
+    alsoCover_.resize(slackPoints);  // and B of the camera `frames` ahead
+    const Camera ahead = extrapolatedCamera(input.camera, last, frames);
+    const ConvexBody body = computeFocusBody(ahead, input.sunDirection, input.scene, input.receivers);
+    for (const dvec3& v : body.vertices()) alsoCover_.push_back(v);
     snapped.alsoCover = alsoCover_;
     ShadowSetup setup = computeShadowSetup(snapped, method);
     rebaseToEye(setup, input.camera.position);
@@ -142,32 +141,38 @@ std::optional<ShadowSetup> KeptSlices::refit(const ShadowInput& input, ShadowMet
 }
 
 ShadowSetup KeptSlices::setup(const ShadowInput& input, ShadowMethod method, int slice, const KeepLimits& limits, SliceKeeping& keeping) {
-  ShadowInput unsmoothed = input;
-  unsmoothed.carried = 0.0;  // the fresh fit to compare with: eq. 8.13's n of this frame
-  ShadowSetup fresh = computeShadowSetup(unsmoothed, method);
   Kept& kept = kept_.at(static_cast<size_t>(slice));
-  std::optional<Camera>& last = lastCamera_.at(static_cast<size_t>(slice));
-  const std::optional<Camera> lastFrame = std::exchange(last, input.camera);
+  const std::optional<Camera> lastFrame = std::exchange(lastCamera_.at(static_cast<size_t>(slice)), input.camera);
   keeping = SliceKeeping{};
-  if (fresh.empty || holdsStillByItself(method)) {
-    keeping.refit = fresh.empty ? "empty" : "stable";  // nothing to keep a map for, or a method stable by construction
+  if (holdsStillByItself(method)) {  // a method stable by construction: as without keeping
+    keeping.refit = "stable";
     kept.valid = false;
     return computeShadowSetup(input, method);
   }
-  keeping.refit = whyRefit(kept, input, method, fresh, limits);
-  ShadowSetup setup;
+  ShadowInput unsmoothed = input;
+  unsmoothed.carried = 0.0;  // the fresh fit to compare with: eq. 8.13's n of this frame
+  ShadowSetup fresh = computeShadowSetup(unsmoothed, method);
+  if (fresh.empty) {  // nothing to keep a map for
+    keeping.refit = "empty";
+    kept.valid = false;
+    return computeShadowSetup(input, method);
+  }
   if (!lastFrame) {
     // A first frame (or after a cut): nothing to extrapolate, and a frame alone gains nothing from
     // a margin — the fresh fit, as without keeping, kept for the next frame to test.
+    keeping.refit = "first";
     kept = Kept{true, fresh, method, input.sunDirection, input.mapSize, input.borderTexels, 0};
     return fresh;
   }
+  const auto visible = visibleVertices(input);
+  keeping.refit = whyRefit(kept, input, method, fresh, visible, limits);
+  ShadowSetup setup;
   if (keeping.refit.empty()) {
     setup = kept.setup;
     rebaseToEye(setup, input.camera.position);
     keeping.kept = true;
     keeping.keptFrames = ++kept.frames;
-  } else if (std::optional<ShadowSetup> refitted = refit(input, method, fresh, limits, lastFrame)) {
+  } else if (std::optional<ShadowSetup> refitted = refit(input, method, fresh, visible, limits, *lastFrame)) {
     kept = Kept{true, *refitted, method, input.sunDirection, input.mapSize, input.borderTexels, 0};
     setup = std::move(*refitted);
   } else {

@@ -70,8 +70,8 @@ class KeptSlices {
  private:
   // The refit: the map also holding B of the camera extrapolated over the horizon, halved until its
   // texels are within the limit. Nothing when even one frame's are not.
-  std::optional<ShadowSetup> refit(const ShadowInput& input, ShadowMethod method, const ShadowSetup& fresh, const KeepLimits& limits,
-                                   const std::optional<Camera>& last);
+  std::optional<ShadowSetup> refit(const ShadowInput& input, ShadowMethod method, const ShadowSetup& fresh,
+                                   std::span<const glm::dvec3> visible, const KeepLimits& limits, const Camera& last);
 
   struct Kept {
     bool valid = false;
@@ -81,8 +81,9 @@ class KeptSlices {
     int mapSize = 0, borderTexels = 0;
     int frames = 0;
   };
+  // `visible`: the vertices of the slice's visible part, where texels are compared.
   std::string_view whyRefit(const Kept& kept, const ShadowInput& input, ShadowMethod method, const ShadowSetup& fresh,
-                            const KeepLimits& limits) const;
+                            std::span<const glm::dvec3> visible, const KeepLimits& limits) const;
   std::array<Kept, kMaxCascades> kept_{};
   // Each slice's camera of the last frame: the motion a refit extrapolates.
   std::array<std::optional<Camera>, kMaxCascades> lastCamera_{};
