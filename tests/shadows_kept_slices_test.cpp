@@ -198,5 +198,31 @@ TEST(KeptSlices, TheSunMovingBeyondTheLimitOrACameraCutRefits) {
   }
 }
 
+// The finest texel across the light, against closed forms: an orthographic map 100 m wide has
+// 100 / size m texels everywhere; the projective map x' = x / 50w, y' = z / 50w with w = 1 + z/100
+// (light straight down) has, on the axis x = 0, the Jacobian diag(1 / 50w, 1 / 50w²), whose
+// largest singular value 1 / 50w gives texels of (2 / size) · 50w — not the mean side √(1/det).
+TEST(FinestTexelSide, MatchesClosedFormsOfOrthographicAndProjectiveMaps) {
+  const dvec3 down(0.0, -1.0, 0.0);
+  const int size = 1000;
+  ShadowSetup ortho;
+  ortho.worldToShadowClip = glm::dmat4(0.0);
+  ortho.worldToShadowClip[0][0] = 1.0 / 50.0;   // x → x'
+  ortho.worldToShadowClip[2][1] = 1.0 / 50.0;   // z → y'
+  ortho.worldToShadowClip[1][2] = -1.0 / 100.0;  // y → depth
+  ortho.worldToShadowClip[3][3] = 1.0;
+  const std::vector<dvec3> points{dvec3(-20.0, 0.0, 5.0), dvec3(30.0, 10.0, -40.0)};
+  EXPECT_NEAR(finestTexelSide(ortho, size, points, down), 100.0 / size, 1e-12);
+
+  ShadowSetup warped = ortho;
+  warped.worldToShadowClip[2][3] = 1.0 / 100.0;  // w = 1 + z / 100
+  const std::vector<dvec3> atW2{dvec3(0.0, 0.0, 100.0)}, both{dvec3(0.0, 0.0, 100.0), dvec3(0.0, 0.0, 0.0)};
+  EXPECT_NEAR(finestTexelSide(warped, size, atW2, down), 2.0 / size * 50.0 * 2.0, 1e-12);
+  EXPECT_NEAR(finestTexelSide(warped, size, both, down), 2.0 / size * 50.0, 1e-12);
+  // A point the map cannot place (w ≤ 0) has no texel.
+  const std::vector<dvec3> behind{dvec3(0.0, 0.0, -200.0)};
+  EXPECT_TRUE(std::isinf(finestTexelSide(warped, size, behind, down)));
+}
+
 }  // namespace
 }  // namespace forest::shadows

@@ -277,6 +277,39 @@ TEST(TreeWind, EveryVertexOfASwayingTreeStaysInItsBox) {
   EXPECT_GT(largestShift, 0.1);  // the trees do sway
 }
 
+// How far a tree's vertices can sway in dt (what cached shadow slices wait on): no vertex moves
+// between t and t + dt by more than its height above the base times windShearChangeBound — checked
+// on the real transforms of sampled trees, vertices and times, for frame steps and long waits.
+TEST(TreeWind, NoVertexSwaysFartherThanTheBoundInATimeStep) {
+  const Forest& f = sharedForest();
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> time(0.0, 1000.0);
+  std::uniform_int_distribution<std::uint32_t> pick(0, static_cast<std::uint32_t>(f.trees().size() - 1));
+  double tallest = 0.0;
+  for (std::uint32_t t = 0; t < f.trees().size(); ++t) tallest = std::max(tallest, f.treeBounds(t).max.y - f.trees()[t].position.y);
+  EXPECT_NEAR(f.tallestTree(), tallest, 1e-9);  // the box's top: the tallest tree's top above its base
+  double closest = 0.0;  // the largest share of the bound a sampled move used
+  for (double dt : {1.0 / 60.0, 1.0 / 30.0, 0.25, 5.0}) {
+    const double bound = windShearChangeBound(f.settings(), dt);
+    // never more than the sway's range, 2 · strength · |direction|
+    EXPECT_LE(bound, 2.0 * f.settings().wind_strength * glm::length(f.settings().wind_direction) + 1e-15);
+    for (int k = 0; k < 300; ++k) {
+      const std::uint32_t tree = pick(rng);
+      const double t = time(rng);
+      const glm::dmat4 a = f.treeTransform(tree, t), b = f.treeTransform(tree, t + dt);
+      const TreeMesh& mesh = f.model(f.trees()[tree].species).lods[0];
+      for (size_t i = 0; i < mesh.positions.size(); i += 7) {
+        const glm::dvec4 p(dvec3(mesh.positions[i]), 1.0);
+        const double height = dvec3(a * p).y - f.trees()[tree].position.y;
+        const double moved = glm::distance(dvec3(a * p), dvec3(b * p));
+        ASSERT_LE(moved, bound * std::abs(height) + 1e-9) << "tree " << tree << " t " << t << " dt " << dt;
+        if (height > 1.0) closest = std::max(closest, moved / (bound * height));
+      }
+    }
+  }
+  EXPECT_GT(closest, 0.5);  // and the bound is not far above what trees do
+}
+
 // The query slabs (what occlusion queries draw for a tree) hold every point of every triangle of
 // every LOD at any time: the vertices, edge midpoints and centroids, swayed, each inside one of
 // the tree's slab boxes. And they are tighter than the tree's box: their total volume is smaller.

@@ -138,6 +138,13 @@ void FrameOptions::add(CLI::App& command, bool withCulling) {
                      "warp snapped. off: every slice refits to the view every frame (a frame alone: the same)")
       ->check(CLI::IsMember({"off", "on"}))
       ->capture_default_str();
+  command.add_option("--cache-slices", cacheSlices,
+                     "Cached shadow map layers: a slice whose map was kept and whose casters are as they were\n"
+                     "drawn (the same LODs and terrain morphs, none moved, the wind's sway since under a\n"
+                     "texel) is not redrawn; casters it lacks are drawn into it (on). off: every layer is\n"
+                     "cleared and drawn every frame")
+      ->check(CLI::IsMember({"off", "on"}))
+      ->capture_default_str();
   modes.add(command);
 }
 
@@ -189,6 +196,7 @@ render::FrameSettings FrameOptions::settings(const gl::ContextInfo& context) con
   s.blurReferenceDepth = blurDepth;
   s.shadowTermScale = termResolution == "half" ? 2 : 1;
   s.keepSlices = keepSlices == "on";
+  s.cacheSlices = cacheSlices == "on";
   if (cascadesOption && cascadesOption->count() > 0) s.cascades = cascades;
   if (splitLambdaOption && splitLambdaOption->count() > 0) s.splitLambda = splitLambda;
   if (cascadeBlendOption && cascadeBlendOption->count() > 0) s.cascadeBlend = cascadeBlend;
@@ -230,7 +238,8 @@ nlohmann::ordered_json FrameOptions::json(const gl::ContextInfo& context, const 
                               {"blur_px", blur},
                               {"blur_depth_m", blurDepth},
                               {"term_resolution", termResolution},
-                              {"keep_slices", keepSlices}};
+                              {"keep_slices", keepSlices},
+                              {"cache_slices", cacheSlices}};
   j.update(modes.json(context));
   return j;
 }

@@ -154,6 +154,7 @@ void Frame::moveTrees(std::span<const vegetation::Forest::Move> moves) {
   if (!forest_) throw InputError("moveTrees: the scene has no trees");
   forest_->moveTrees(moves);  // the tree renderers read the forest at every draw
   objects_->updateTrees(*forest_, moves);
+  passes_->shadow.treesMoved();
   objectsMoved();
 }
 

@@ -50,7 +50,7 @@ glm::dmat4 eyeRelativeToShadowClip(const shadows::ShadowSetup& setup, const dvec
 
 ShadowPass::ShadowPass(const SceneObjects& objects, const terrain::Terrain* terrain, const vegetation::Forest* forest,
                        const std::vector<PropBox>& props)
-    : objects_(objects), terrainSource_(terrain), forestSource_(forest), propsSource_(props) {
+    : objects_(objects), terrainSource_(terrain), forestSource_(forest), propsSource_(props), cache_(objects, terrain, forest) {
   if (terrain) terrain_ = std::make_unique<TerrainRenderer>(*terrain, TerrainRenderer::Output::ObjectId, objects.terrainIdBase());
   if (forest) trees_ = std::make_unique<TreeRenderer>(*forest, SurfaceOutput::ObjectId, objects.treeIdBase());
   props_ = std::make_unique<PropRenderer>(props, SurfaceOutput::ObjectId, objects.propIdBase());
@@ -59,6 +59,7 @@ ShadowPass::ShadowPass(const SceneObjects& objects, const terrain::Terrain* terr
 }
 
 void ShadowPass::propsMoved(const std::vector<PropBox>& props) {
+  cache_.forget();
   for (PropRenderer* r : {props_.get(), propsLightDepth_.get()})
     if (r) r->update(props);
 }
@@ -137,47 +138,34 @@ long long ShadowPass::run(const ShadowPlan& plan, const DrawView& eye, const ter
                           const FrameSettings& settings, const dvec3& l, const gl::Texture* receiverSurface, FrameStats& stats) {
   ensureMap(settings.shadowMapSize, plan.cascades);
   useGpuFilter(receiverSurface != nullptr && forestSource_ != nullptr);
+  // Cached slices need the casters known on the CPU (not the GPU's filter).
+  const bool caching = settings.cacheSlices && !filteredOnGpu_;
+  if (!caching) cache_.forget();
   long long triangles = 0;
   const bool profiling = settings.timing == gl::TimingMode::Profiling;
   for (int i = 0; i < plan.cascades; ++i) {
     const auto start = std::chrono::steady_clock::now();
     const ShadowSlice& slice = plan.slices[static_cast<size_t>(i)];
-    // With the GPU's filter, the object-ID layer too (which trees counted), unless the method writes
-    // the linear light depth (its programs write no ID).
-    const bool withIds = filteredOnGpu_ && !slice.setup.linearDepth;
-    glBindFramebuffer(GL_FRAMEBUFFER, (withIds ? idFramebuffers_ : framebuffers_)[static_cast<size_t>(i)].id());
-    glViewport(0, 0, size_, size_);
+    CascadeStats& out = stats.cascade[static_cast<size_t>(i)];
     // The casters drawn only into the texels a lookup can read, when known and the whole map is
-    // not asked for. The clear stays whole: under a scissor llvmpipe clears by drawing a quad,
-    // slower than its fast clear of the whole layer. A layer no lookup reads is left as it was.
+    // not asked for. A layer no lookup reads is left as it was.
     const bool scissored = !settings.wholeShadowMap && slice.texelsRead.has_value();
     const shadows::TexelRect read = scissored ? *slice.texelsRead : shadows::TexelRect{0, 0, size_, size_};
-    const float nearLight = 1.0f;
-    if (!read.empty()) glClearBufferfv(GL_DEPTH, 0, &nearLight);
-    const GLuint noObject[4] = {0, 0, 0, 0};
-    if (withIds) glClearBufferuiv(GL_COLOR, 0, noObject);
-    if (scissored) {
-      glEnable(GL_SCISSOR_TEST);
-      glScissor(read.x0, read.y0, std::max(read.x1 - read.x0, 0), std::max(read.y1 - read.y0, 0));
-    }
     const bool draws = plan.shadowed && !slice.setup.empty && !read.empty();
-    if (draws && filteredOnGpu_)
-      gpuFilter_->buildMask(i, *receiverSurface, slice.camera, slice.camera.near, slice.camera.far, slice.setup, eye.origin, map_,
-                            withIds ? &ids_ : nullptr, plan.lookupReachTexels);
-    long long drawn = draws ? drawSlice(slice, eye, lod, settings, l, stats.shadowTerrainTriangles) : 0;
-    if (draws && filteredOnGpu_) gpuFilter_->markCounted();
-    if (scissored) glDisable(GL_SCISSOR_TEST);
-    CascadeStats& out = stats.cascade[static_cast<size_t>(i)];
-    // The trees the GPU kept and drew (the draws count none): read back where the pipeline is
-    // serialised anyway (Profiling timing); with timer queries the frame does not wait for them
-    // and the slice's triangles leave them out.
-    if (draws && filteredOnGpu_ && profiling) {
-      drawn += gpuFilter_->selectedTriangles(i);
-      const int kept = static_cast<int>(gpuFilter_->selectedCount(i)) + countOtherThanTrees(slice.casters);
-      stats.casterObjects += kept - out.casters;
-      out.casters = kept;
+    const LayerTarget target{map_.id(), size_, layers_, settings.slopeScaleBias, settings.backside};
+    LayerDraw layer{SliceUpdate::Redraw, caching ? "empty" : "off", slice.casters, slice.terrainBlocks, read};
+    if (caching && draws) layer = cache_.plan(i, target, slice, read, eye, lod, l);
+    out.redraw = layer.why;
+    out.update = layer.update;
+    long long drawn = 0;
+    if (layer.update != SliceUpdate::Reuse) {
+      drawn = drawLayer(i, plan, slice, layer, scissored, eye, lod, settings, l, receiverSurface, stats);
+      if (caching && draws)
+        cache_.drawn(i, target, layer, slice, eye, lod);
+      else
+        cache_.forget(i);
     }
-    out.texelsDrawn = read.texels();
+    out.texelsDrawn = layer.update == SliceUpdate::Reuse ? 0 : layer.rect.texels();
     out.triangles = drawn;
     triangles += drawn;
     if (profiling) {  // serialised like the pass timer's own brackets (gl::TimingMode::Profiling)
@@ -188,7 +176,47 @@ long long ShadowPass::run(const ShadowPlan& plan, const DrawView& eye, const ter
   return triangles;
 }
 
-long long ShadowPass::drawSlice(const ShadowSlice& slice, const DrawView& eye, const terrain::TerrainLod* lod,
+long long ShadowPass::drawLayer(int i, const ShadowPlan& plan, const ShadowSlice& slice, const LayerDraw& layer, bool scissored,
+                                const DrawView& eye, const terrain::TerrainLod* lod, const FrameSettings& settings, const dvec3& l,
+                                const gl::Texture* receiverSurface, FrameStats& stats) {
+  // With the GPU's filter, the object-ID layer too (which trees counted), unless the method writes
+  // the linear light depth (its programs write no ID).
+  const bool withIds = filteredOnGpu_ && !slice.setup.linearDepth;
+  glBindFramebuffer(GL_FRAMEBUFFER, (withIds ? idFramebuffers_ : framebuffers_)[static_cast<size_t>(i)].id());
+  glViewport(0, 0, size_, size_);
+  // The clear stays whole: under a scissor llvmpipe clears by drawing a quad, slower than its fast
+  // clear of the whole layer.
+  const shadows::TexelRect& read = layer.rect;
+  const float nearLight = 1.0f;
+  const bool clears = layer.update == SliceUpdate::Redraw;  // an addition draws into what the layer holds
+  if (clears && !read.empty()) glClearBufferfv(GL_DEPTH, 0, &nearLight);
+  const GLuint noObject[4] = {0, 0, 0, 0};
+  if (clears && withIds) glClearBufferuiv(GL_COLOR, 0, noObject);
+  if (scissored) {
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(read.x0, read.y0, std::max(read.x1 - read.x0, 0), std::max(read.y1 - read.y0, 0));
+  }
+  const bool draws = plan.shadowed && !slice.setup.empty && !read.empty();
+  if (draws && filteredOnGpu_)
+    gpuFilter_->buildMask(i, *receiverSurface, slice.camera, slice.camera.near, slice.camera.far, slice.setup, eye.origin, map_,
+                          withIds ? &ids_ : nullptr, plan.lookupReachTexels);
+  long long drawn = draws ? drawSlice(slice, layer, eye, lod, settings, l, stats.shadowTerrainTriangles) : 0;
+  if (draws && filteredOnGpu_) gpuFilter_->markCounted();
+  if (scissored) glDisable(GL_SCISSOR_TEST);
+  // The trees the GPU kept and drew (the draws count none): read back where the pipeline is
+  // serialised anyway (Profiling timing); with timer queries the frame does not wait for them
+  // and the slice's triangles leave them out.
+  CascadeStats& out = stats.cascade[static_cast<size_t>(i)];
+  if (draws && filteredOnGpu_ && settings.timing == gl::TimingMode::Profiling) {
+    drawn += gpuFilter_->selectedTriangles(i);
+    const int kept = static_cast<int>(gpuFilter_->selectedCount(i)) + countOtherThanTrees(slice.casters);
+    stats.casterObjects += kept - out.casters;
+    out.casters = kept;
+  }
+  return drawn;
+}
+
+long long ShadowPass::drawSlice(const ShadowSlice& slice, const LayerDraw& layer, const DrawView& eye, const terrain::TerrainLod* lod,
                                 const FrameSettings& settings, const dvec3& l, long long& terrainTriangles) {
   const shadows::ShadowSetup& setup = slice.setup;
   glDepthFunc(GL_LESS);
@@ -210,14 +238,14 @@ long long ShadowPass::drawSlice(const ShadowSlice& slice, const DrawView& eye, c
     light.lightDepthRelative = glm::dvec4(dvec3(row), row.w + glm::dot(dvec3(row), eye.origin));
     light.depthSlopeBias = settings.slopeScaleBias;
     glDisable(GL_POLYGON_OFFSET_FILL);
-    if (terrainLightDepth_ && lod) terrain = drawTerrain(*terrainLightDepth_, slice, light, *lod);
+    if (terrainLightDepth_ && lod) terrain = drawTerrain(*terrainLightDepth_, slice, layer, light, *lod);
     lightDepthDrawer_->setView(light, lod);
-    triangles = lightDepthDrawer_->draw(slice.casters);
+    triangles = lightDepthDrawer_->draw(layer.casters);
   } else {
     // The terrain first: with the GPU's caster filter it hides trees from the light (GpuCasterFilter).
-    if (terrain_ && lod) terrain = drawTerrain(*terrain_, slice, light, *lod);
+    if (terrain_ && lod) terrain = drawTerrain(*terrain_, slice, layer, light, *lod);
     drawer_->setView(light, lod);
-    triangles = drawer_->draw(slice.casters);
+    triangles = drawer_->draw(layer.casters);
   }
   terrainTriangles += terrain;
   glDisable(GL_POLYGON_OFFSET_FILL);
@@ -227,11 +255,11 @@ long long ShadowPass::drawSlice(const ShadowSlice& slice, const DrawView& eye, c
   return triangles + terrain;
 }
 
-long long ShadowPass::drawTerrain(const TerrainRenderer& renderer, const ShadowSlice& slice, const DrawView& light,
-                                  const terrain::TerrainLod& lod) {
-  if (slice.terrainByBlock) return renderer.drawBlocks(light, lod, slice.terrainBlocks).triangles;
+long long ShadowPass::drawTerrain(const TerrainRenderer& renderer, const ShadowSlice& slice, const LayerDraw& layer,
+                                  const DrawView& light, const terrain::TerrainLod& lod) {
+  if (slice.terrainByBlock) return renderer.drawBlocks(light, lod, layer.blocks).triangles;
   tiles_.clear();
-  for (std::uint32_t o : slice.casters) {
+  for (std::uint32_t o : layer.casters) {
     const SceneObjects::Object& object = objects_.objects()[o];
     if (object.kind == SceneObjects::Kind::Tile) tiles_.push_back(static_cast<int>(object.index));
   }

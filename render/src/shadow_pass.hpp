@@ -11,6 +11,7 @@
 #include "forest/render/scene_objects.hpp"
 #include "gpu_caster_filter.hpp"
 #include "shadow_setup_pass.hpp"
+#include "slice_cache.hpp"
 
 namespace forest::render {
 
@@ -32,6 +33,8 @@ class ShadowPass {
   // waits for the pass), or nullopt when the last frame did not test them on the GPU.
   std::optional<std::vector<std::uint32_t>> treesKeptOnGpu(int slice) const;
   void propsMoved(const std::vector<PropBox>& props);
+  // Trees moved (Frame::moveTrees): no cached layer holds them where they are.
+  void treesMoved() { cache_.forget(); }
 
   const gl::Texture& map() const { return map_; }  // a 2D array texture, one layer per slice
   int size() const { return size_; }
@@ -39,12 +42,17 @@ class ShadowPass {
 
  private:
   void ensureMap(int size, int layers);
+  // Clears layer i (a Redraw) and draws `layer`'s casters into it (into its rectangle when scissored): the
+  // triangles drawn (with the GPU's filter and Profiling timing, the trees it kept included).
+  long long drawLayer(int i, const ShadowPlan& plan, const ShadowSlice& slice, const LayerDraw& layer, bool scissored,
+                      const DrawView& eye, const terrain::TerrainLod* lod, const FrameSettings& settings, const glm::dvec3& l,
+                      const gl::Texture* receiverSurface, FrameStats& stats);
   // Returns the triangles drawn; adds the terrain's to `terrainTriangles`.
-  long long drawSlice(const ShadowSlice& slice, const DrawView& eye, const terrain::TerrainLod* lod,
+  long long drawSlice(const ShadowSlice& slice, const LayerDraw& layer, const DrawView& eye, const terrain::TerrainLod* lod,
                       const FrameSettings& settings, const glm::dvec3& l, long long& terrainTriangles);
   // The slice's terrain casters: its blocks, or its tiles whole.
-  long long drawTerrain(const TerrainRenderer& renderer, const ShadowSlice& slice, const DrawView& light,
-                        const terrain::TerrainLod& lod);
+  long long drawTerrain(const TerrainRenderer& renderer, const ShadowSlice& slice, const LayerDraw& layer,
+                        const DrawView& light, const terrain::TerrainLod& lod);
   void ensureLightDepthRenderers();  // the TSM renderers, built on first use
   // The GPU's caster filter on the tree renderers for this frame (null: none), built on first use.
   void useGpuFilter(bool use);
@@ -69,6 +77,7 @@ class ShadowPass {
   std::vector<gl::Framebuffer> idFramebuffers_;   // a layer of the map and of ids_ each
   GLuint idsBesideMap_ = 0;                       // the map they were made for
   int size_ = 0, layers_ = 0;
+  SliceCache cache_;  // what each layer holds (FrameSettings::cacheSlices)
 };
 
 }  // namespace forest::render

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <utility>
 
 #include "forest/shadows/casters.hpp"
@@ -18,17 +19,31 @@ using glm::dvec2;
 using glm::dvec3;
 using glm::dvec4;
 
-// |det| of the Jacobian of (u, v) across the light → the map's (x, y) at p: map area per world
-// area. 0 where the map cannot place p (w ≤ 0) or the Jacobian is not finite.
-double mapAreaPerWorldArea(const ShadowSetup& setup, const dvec3& p, const dvec3& u, const dvec3& v) {
+// The Jacobian of (u, v) across the light → the map's (x, y) at p, or nothing where the map
+// cannot place p (w ≤ 0) or the Jacobian is not finite.
+std::optional<glm::dmat2> mapJacobian(const ShadowSetup& setup, const dvec3& p, const dvec3& u, const dvec3& v) {
   const dvec4 h = setup.worldToShadowClip * dvec4(p, 1.0);
-  if (!(h.w > 0.0)) return 0.0;
+  if (!(h.w > 0.0)) return std::nullopt;
   auto column = [&](const dvec3& d) {
     const dvec4 e = setup.worldToShadowClip * dvec4(d, 0.0);
     return (dvec2(e) * h.w - dvec2(h) * e.w) / (h.w * h.w);
   };
-  const double determinant = std::abs(glm::determinant(glm::dmat2(column(u), column(v))));
-  return std::isfinite(determinant) ? determinant : 0.0;
+  const glm::dmat2 j(column(u), column(v));
+  if (!std::isfinite(j[0][0] + j[0][1] + j[1][0] + j[1][1])) return std::nullopt;
+  return j;
+}
+
+// |det| of that Jacobian: map area per world area (0 where it does not exist).
+double mapAreaPerWorldArea(const ShadowSetup& setup, const dvec3& p, const dvec3& u, const dvec3& v) {
+  const std::optional<glm::dmat2> j = mapJacobian(setup, p, u, v);
+  return j ? std::abs(glm::determinant(*j)) : 0.0;
+}
+
+// The largest singular value of a 2 × 2 matrix: √ of the largest eigenvalue of JᵀJ (closed form).
+double largestSingularValue(const glm::dmat2& j) {
+  const glm::dmat2 g = glm::transpose(j) * j;
+  const double mean = 0.5 * (g[0][0] + g[1][1]), half = 0.5 * (g[0][0] - g[1][1]);
+  return std::sqrt(mean + std::sqrt(half * half + g[1][0] * g[1][0]));
 }
 
 // A fit places B's outermost vertices on its border exactly (in double): a millionth of the map's
@@ -90,6 +105,15 @@ double texelSideRatio(const ShadowSetup& a, const ShadowSetup& b, std::span<cons
     worst = std::max(worst, std::sqrt(areaB / areaA));  // texel side ∝ 1 / √(map area per world area)
   }
   return worst;
+}
+
+double finestTexelSide(const ShadowSetup& setup, int mapSize, std::span<const dvec3> points, const dvec3& l) {
+  const auto [u, v] = axesAcrossLight(glm::normalize(l));
+  const double texel = 2.0 / mapSize;
+  double finest = std::numeric_limits<double>::infinity();
+  for (const dvec3& p : points)
+    if (const std::optional<glm::dmat2> j = mapJacobian(setup, p, u, v)) finest = std::min(finest, texel / largestSingularValue(*j));
+  return finest;
 }
 
 std::string_view KeptSlices::whyRefit(const Kept& kept, const ShadowInput& in, ShadowMethod method, const ShadowSetup& fresh,

@@ -31,6 +31,13 @@ glm::dvec2 windShear(const VegetationSettings& s, double swayPhase, double time)
   return s.wind_strength * sway * s.wind_direction;
 }
 
+double windShearChangeBound(const VegetationSettings& s, double dt) {
+  // |d/dt (sin(ωt + φ) + 0.3 sin(2.7ωt + 1.7φ))| ≤ ω (1 + 0.3 · 2.7); the sway spans [−1, 1].
+  const double omega = 2.0 * std::numbers::pi / s.wind_period;
+  const double sway = std::min(2.0, omega * std::abs(dt) * (1.0 + 0.3 * 2.7) / 1.3);
+  return std::abs(s.wind_strength) * glm::length(s.wind_direction) * sway;
+}
+
 namespace {
 
 // Height slabs of a species over all its LODs: kQuerySlabs equal slabs of its height; each slab's
@@ -125,6 +132,15 @@ glm::dmat4 Forest::treeTransform(std::uint32_t index, double time) const {
   m = m * s;
   m = glm::rotate(m, t.yaw, dvec3(0.0, 1.0, 0.0));
   return glm::scale(m, dvec3(t.scale));
+}
+
+double Forest::tallestTree() const {
+  double tallest = 0.0;
+  for (const TreeInstance& t : trees_) {
+    const Aabb& object = speciesBounds_[static_cast<size_t>(t.species)];
+    tallest = std::max(tallest, t.scale * std::max(std::abs(object.max.y), std::abs(object.min.y)));
+  }
+  return tallest;
 }
 
 Aabb Forest::treeBounds(std::uint32_t index) const {

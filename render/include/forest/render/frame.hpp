@@ -20,6 +20,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "forest/core/camera_path.hpp"
@@ -126,6 +127,10 @@ struct FrameSettings {
   // the tests); the command line's --keep-slices is on unless asked otherwise.
   bool keepSlices = false;
   shadows::KeepLimits keepLimits;
+  // Cached slices (render/src/slice_cache.hpp): a layer that still holds what its slice needs —
+  // the same matrices (a kept slice), the casters drawn then, none moved by a texel — is not
+  // redrawn. Layers are then drawn whole (no scissor), and the GPU's caster filter disables it.
+  bool cacheSlices = false;
 };
 
 // Deterministic queries on a software renderer, async on a hardware one (the default of --queries).
@@ -145,6 +150,10 @@ ShadowSettings resolveCascades(const FrameSettings& settings, const Scene& scene
 
 // One slice of a z-partitioned frame: the eye depths it serves, its shadow setup's n and γ, what
 // its layer drew.
+enum class SliceUpdate { Reuse, Add, Redraw };  // what the shadow pass did with a layer (cached slices)
+inline constexpr EnumNames<SliceUpdate, 3> kSliceUpdateNames{
+    "slice update", {{{SliceUpdate::Reuse, "reuse"}, {SliceUpdate::Add, "add"}, {SliceUpdate::Redraw, "redraw"}}}};
+
 struct CascadeStats {
   double fromM = 0.0, toM = 0.0;  // eye depths: pixels in [from, to) read this slice's layer
   double n = 0.0, gammaDeg = 0.0; // the setup's (0 for uniform methods' n)
@@ -153,6 +162,10 @@ struct CascadeStats {
   long long texelsDrawn = 0;      // texels of its layer the shadow pass drew its casters into (ShadowSlice::texelsRead)
   double shadowMs = 0.0;          // its share of the shadow pass (Profiling timing; 0 with GpuQueries)
   shadows::SliceKeeping keeping;  // kept slices: whether its map was kept, for how many frames, why not
+  // Cached slices: whether its layer was reused as it was, had the casters it lacked added, or was
+  // cleared and redrawn, and why ("" when reused; "off", "empty", or SliceCache::plan's reason).
+  SliceUpdate update = SliceUpdate::Redraw;
+  std::string_view redraw = "off";
 };
 
 struct FrameStats {

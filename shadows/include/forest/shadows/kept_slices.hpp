@@ -59,6 +59,11 @@ Camera extrapolatedCamera(const Camera& camera, const Camera& last, double frame
 // cannot place a point that `b` can.
 double texelSideRatio(const ShadowSetup& a, const ShadowSetup& b, std::span<const glm::dvec3> points, const glm::dvec3& l);
 
+// The shortest move across the light `l` that carries a point by one texel of a `mapSize`² map, the
+// least over `points` (metres): one texel (2 / mapSize of the map's [−1, 1]) over the largest
+// singular value of the map's Jacobian across the light there. +∞ when no point can be placed.
+double finestTexelSide(const ShadowSetup& setup, int mapSize, std::span<const glm::dvec3> points, const glm::dvec3& l);
+
 class KeptSlices {
  public:
   // This frame's setup of `slice` (checked input as computeShadowSetup's): the kept map when it

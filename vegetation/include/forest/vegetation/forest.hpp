@@ -43,6 +43,10 @@ constexpr int kMaxClusterSize = 64;
 // |s| ≤ strength. The same formula runs in trees.vert; being affine, it keeps instancing exact
 // for ray tracing too.
 glm::dvec2 windShear(const VegetationSettings& settings, double swayPhase, double time);
+// How far the shear can change in `dt` seconds, for any tree and any start time:
+// |s(t + dt) − s(t)| ≤ strength · |direction| · min(2, ω |dt| (1 + 0.3 · 2.7) / 1.3) — the sway's
+// range, and its largest slope times dt. A point h above its tree's base moves at most h times this.
+double windShearChangeBound(const VegetationSettings& settings, double dt);
 
 class Forest {
  public:
@@ -65,6 +69,9 @@ class Forest {
 
   // Object → world at `time`: translate · windShear · rotateY(yaw) · scale.
   glm::dmat4 treeTransform(std::uint32_t tree, double time) const;
+  // The height of the tallest tree's top above its base (metres; 0 without trees): the longest
+  // lever the wind's shear has.
+  double tallestTree() const;
   // World box of a tree over all times (sway inflated by the largest shear) and all LODs.
   Aabb treeBounds(std::uint32_t tree) const;
   // Tighter: kQuerySlabs boxes whose union holds the tree at all times and LODs — one per height
