@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <vector>
 
 #include <fmt/format.h>
@@ -116,6 +117,57 @@ TEST_F(CascadesGl, KeptSlicesKeepTheSelectedCastersExact) {
     EXPECT_EQ(differ, 0) << "view " << v << ", " << shadows::kShadowMethodNames.name(settings.method);
   }
   EXPECT_GT(2 * kept, slices) << kept << " of " << slices << " views kept their map";
+}
+
+// Cached slices (--cache-slices on): along a walk (4 frames of 0.3 m and 0.5°, then 4 turning 0.5°
+// in place; the trees still: no wind) a layer is reused, has the casters it lacks added or is
+// redrawn with what it held, and the view's term from those
+// layers equals its term with all casters drawn afresh into the same map, rendered next at the same
+// view — a layer holds the least depth of what was drawn into it, so what it held before and what
+// was added equal one draw of them all. One map, as in the test above. Not vacuous: layers are
+// reused and added to.
+TEST_F(CascadesGl, CachedSlicesEqualTheirRedraw) {
+  if (backendUnderTest() != "egl") GTEST_SKIP() << "checked on the egl backend";
+  DefaultForestWalk walk(kWidth, kHeight, 0.0);
+  render::Frame& frame = walk.frame;
+  const Camera& camera = walk.camera;
+  const shadows::ShadowMethod methods[] = {shadows::ShadowMethod::Uniform, shadows::ShadowMethod::Lispsm, shadows::ShadowMethod::Tsm};
+  std::map<render::SliceUpdate, int> updates;
+  for (int v = 0; v < 30; ++v) {
+    walk.step(v);
+    if (v % kSweepStride != 0) continue;
+    render::FrameSettings settings;
+    settings.method = methods[v % 3];
+    settings.shadowMapSize = 2048;
+    settings.cascades = 1;
+    settings.keepSlices = true;
+    settings.cacheSlices = true;
+    settings.culling = culling::CullingStrategy::Frustum;
+    settings.casters = v % 2 == 0 ? render::CasterSelection::ReceiverPixels : render::CasterSelection::Receivers;
+    settings.wholeShadowMap = false;  // receiver pixels: a rectangle of the layer
+    frame.resetHistory();
+    render::FrameStats cached;
+    for (int step = 8; step >= 0; --step) {
+      Camera before = camera;  // walking, then turning in place (the LODs stay, the casters change)
+      before.position -= 0.3 * std::max(step - 4, 0) * camera.forward();
+      before.yaw -= glm::radians(0.5 * step);
+      cached = frame.render(before, 0.5 * v, settings);
+      if (step < 8) ++updates[cached.cascade[0].update];
+    }
+    const glm::dmat4 matrix = frame.shadowSetup(0).worldToShadowClip;
+    const std::vector<float> fromCache = frame.readShadowTerm();
+    settings.cacheSlices = false;
+    settings.casters = render::CasterSelection::All;
+    frame.render(camera, 0.5 * v, settings);
+    ASSERT_EQ(frame.shadowSetup(0).worldToShadowClip, matrix) << "view " << v;
+    const std::vector<float> redrawn = frame.readShadowTerm();
+    int differ = 0;
+    for (size_t i = 0; i < redrawn.size(); ++i) differ += fromCache[i] != redrawn[i] ? 1 : 0;
+    EXPECT_EQ(differ, 0) << "view " << v << ", " << shadows::kShadowMethodNames.name(settings.method) << ", last frame's layer "
+                         << render::kSliceUpdateNames.name(cached.cascade[0].update) << " (" << cached.cascade[0].redraw << ")";
+  }
+  EXPECT_GT(updates[render::SliceUpdate::Reuse], 0);
+  EXPECT_GT(updates[render::SliceUpdate::Add], 0);
 }
 
 // A beam over a plane along the view, widening with distance (contiguous boxes, each 15% longer

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -222,9 +223,16 @@ struct DefaultForestWalk {
   Scene scene;
   render::Frame frame;
   Camera camera;
-  DefaultForestWalk(int width, int height)
-      : scene(loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml")), frame(scene, width, height), camera(frame.startCamera()) {
+  // `windStrength`: the scene's unless given (0: trees that stand still).
+  DefaultForestWalk(int width, int height, std::optional<double> windStrength = std::nullopt)
+      : scene(withWind(loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml"), windStrength)),
+        frame(scene, width, height),
+        camera(frame.startCamera()) {
     camera.aspect = static_cast<double>(width) / height;
+  }
+  static Scene withWind(Scene scene, std::optional<double> windStrength) {
+    if (windStrength) scene.vegetation->wind_strength = *windStrength;
+    return scene;
   }
   void step(int v) { stepForestView(camera, *frame.terrain(), v); }
 };

@@ -56,9 +56,9 @@ void SliceCache::blocksOf(const ShadowSlice& slice, std::span<const std::uint32_
                           std::vector<DrawnBlock>& out) const {
   out.clear();
   if (!terrain_ || !lod) return;
-  auto morphOf = [&](const terrain::TileBlock& b) { return terrain_->blockMorph(b.tile, b.level, b.block, *lod); };
+  auto drawnNow = [&](const terrain::TileBlock& b) { return DrawnBlock{b, terrain_->blockMorph(b.tile, b.level, b.block, *lod), lod->eye}; };
   if (slice.terrainByBlock) {
-    for (const terrain::TileBlock& b : slice.terrainBlocks) out.push_back({b, morphOf(b)});
+    for (const terrain::TileBlock& b : slice.terrainBlocks) out.push_back(drawnNow(b));
   } else {  // tiles drawn whole: every block of each at its level
     for (std::uint32_t o : casters) {
       const SceneObjects::Object& object = objects_.objects()[o];
@@ -66,8 +66,7 @@ void SliceCache::blocksOf(const ShadowSlice& slice, std::span<const std::uint32_
       const int tile = static_cast<int>(object.index), level = terrain_->tileLevel(tile, *lod);
       const int blocks = static_cast<int>(terrain_->blockBoxes(tile, level).size());
       for (int b = 0; b < blocks; ++b) {
-        const terrain::TileBlock block{tile, level, b, {}};
-        out.push_back({block, morphOf(block)});
+        out.push_back(drawnNow(terrain::TileBlock{tile, level, b, {}}));
       }
     }
   }
@@ -102,7 +101,8 @@ std::string_view SliceCache::whyHeldChanged(const Layer& layer, const ShadowSlic
       if (it->block.level != now.block.level) return "terrain";
       if (blockKey(it->block) != blockKey(now.block)) continue;
       held = true;
-      if (now.morph == terrain::BlockMorph::Morphing || it->morph != now.morph) return "terrain";
+      if (it->morph != now.morph) return "terrain";
+      if (now.morph == terrain::BlockMorph::Morphing && it->eye != now.eye) return "terrain";
     }
     if (!held && !slice.terrainByBlock && first != layer.blocks.end() && first->block.tile == now.block.tile) return "terrain";
   }
@@ -120,14 +120,9 @@ LayerDraw SliceCache::redraw(std::string_view why, const Layer* held, const shad
   blocksToDraw_.clear();
   for (const DrawnBlock& b : blocks_) blocksToDraw_.push_back(b.block);
   shadows::TexelRect rect = grown(read, size);
-  if (held) {  // its matrices stayed: what it held is drawn again
+  if (held) {  // its matrices stayed: the casters it held are drawn again (at this frame's LODs)
     toDraw_.clear();
     std::set_union(casters_.begin(), casters_.end(), held->casters.begin(), held->casters.end(), std::back_inserter(toDraw_));
-    blocksToDraw_.clear();
-    auto before = [](const DrawnBlock& a, const DrawnBlock& b) { return blockKey(a.block) < blockKey(b.block); };
-    scratch_.clear();
-    std::set_union(blocks_.begin(), blocks_.end(), held->blocks.begin(), held->blocks.end(), std::back_inserter(scratch_), before);
-    for (const DrawnBlock& b : scratch_) blocksToDraw_.push_back(b.block);
     rect = unite(rect, held->rect);
   }
   return {SliceUpdate::Redraw, why, toDraw_, blocksToDraw_, rect};
@@ -141,6 +136,7 @@ LayerDraw SliceCache::plan(int index, const LayerTarget& target, const ShadowSli
   if (layer.moves != moves_) return redraw("moved", nullptr, read, target.size);
   if (!sameTarget(layer.target, target)) return redraw("map", nullptr, read, target.size);
   if (!holdsMatrices(layer, target, slice)) return redraw("matrices", nullptr, read, target.size);
+  if (lod && (lod->morphStart != layer.lod.morphStart || lod->morphEnd != layer.lod.morphEnd)) return redraw("terrain", &layer, read, target.size);
   if (const std::string_view why = whyHeldChanged(layer, slice, eye, l); !why.empty()) return redraw(why, &layer, read, target.size);
   if (!contains(layer.rect, read)) return redraw("texels", &layer, read, target.size);
   // What it lacks, drawn into it.
@@ -181,6 +177,7 @@ void SliceCache::drawn(int index, const LayerTarget& target, const LayerDraw& d,
     layer.linearDepth = slice.setup.linearDepth;
     layer.terrainByBlock = slice.terrainByBlock;
     layer.time = eye.time;
+    if (lod) layer.lod = *lod;
     layer.moves = moves_;
     layer.casters.assign(d.casters.begin(), d.casters.end());
     for (std::uint32_t o : layer.casters) layer.treeLods.push_back(lodOf(o));

@@ -10,8 +10,10 @@
 //   - its map, matrices (double, bit for bit), depth kind and draw state (bias, backside) are the
 //     same, and the texels f's lookups read lie inside the rectangle drawn;
 //   - every caster selected at f that it holds is as it was drawn: a tree at the same LOD, a
-//     terrain block at the same level and cells, neither then nor now in a morph ramp (CDLOD
-//     morphing moves vertices with the eye); no object moved since (Frame::moveTrees, props);
+//     terrain block at the same level and cells, unmorphed or fully morphed both then and now, or
+//     in a morph ramp drawn for the same eye position (CDLOD morphing moves vertices with the
+//     eye's distance; a camera turning in place moves none); no object moved since
+//     (Frame::moveTrees, props);
 //   - the wind moved no point of a tree by as much as a texel since d: (f − d) seconds · the shear's
 //     change bound · the tallest tree ≤ the layer's finest texel side across the light over f's
 //     focus body (vegetation::windShearChangeBound, shadows::finestTexelSide). With the wind
@@ -76,6 +78,7 @@ class SliceCache {
   struct DrawnBlock {
     terrain::TileBlock block;
     terrain::BlockMorph morph = terrain::BlockMorph::Morphing;
+    glm::dvec3 eye{0.0};  // the LOD's eye it was drawn for: a morph follows the eye's distance
   };
   struct Layer {
     bool valid = false;
@@ -88,6 +91,7 @@ class SliceCache {
     std::vector<std::uint8_t> treeLods;   // per caster: the LOD a tree was drawn at
     std::vector<DrawnBlock> blocks;       // increasing (tile, level, block, cells)
     bool terrainByBlock = false;
+    terrain::TerrainLod lod;              // the terrain LOD's ramps (and eye) at the last clear
     double time = 0.0;                    // of the last clear: every caster was drawn since
     unsigned moves = 0;                   // moves_ when cleared
   };
