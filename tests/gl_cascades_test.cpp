@@ -121,7 +121,7 @@ TEST_F(CascadesGl, KeptSlicesKeepTheSelectedCastersExact) {
 
 // Cached slices (--cache-slices on): along a walk (4 frames of 0.3 m and 0.5°, then 4 turning 0.5°
 // in place; the trees still: no wind) a layer is reused, has the casters it lacks added or is
-// redrawn with what it held, and the view's term from those
+// redrawn, and the view's term from those
 // layers equals its term with all casters drawn afresh into the same map, rendered next at the same
 // view — a layer holds the least depth of what was drawn into it, so what it held before and what
 // was added equal one draw of them all. One map, as in the test above. Not vacuous: layers are

@@ -148,7 +148,33 @@ constexpr int kFlickerFrames = 16;
 // Flicker along a short walk from the first scenario's camera (its sun already set): 16 frames,
 // walking 0.4 m and turning 0.3° per frame, per layout, method and focus, and again with kept
 // slices for the methods that do not hold still by themselves; then the walk's last view once more,
-// scored against the truth.
+// scored against the truth; with kept slices, the swaying walk redrawn and cached (CachedWalk).
+// The walk at 30 frames a second with `settings` (kept slices), redrawn every frame or cached.
+CachedWalk measureCachedWalk(render::Frame& frame, const Scene& scene, std::span<const Camera> path, render::FrameSettings settings,
+                             truth::TruthOptions options) {
+  CachedWalk walk;
+  walk.measured = true;
+  options.softRays = 0;
+  const double lastTime = static_cast<double>(path.size() - 1) / 30.0;
+  for (bool cache : {false, true}) {
+    settings.cacheSlices = cache;
+    frame.resetHistory();
+    render::FrameStats stats;
+    for (size_t i = 0; i < path.size(); ++i) {
+      stats = frame.render(path[i], static_cast<double>(i) / 30.0, settings);
+      (cache ? walk.cachedTriangles : walk.redrawnTriangles) += stats.shadowTriangles;
+      for (int slice = 0; cache && slice < stats.cascades; ++slice) {
+        const render::SliceUpdate update = stats.cascade[static_cast<size_t>(slice)].update;
+        ++(update == render::SliceUpdate::Reuse ? walk.reused : update == render::SliceUpdate::Add ? walk.added : walk.redrawn);
+      }
+    }
+    truth::FrameError error = truth::evaluateFrame(frame, stats, scene, path.back(), lastTime, options);
+    error.errorImage = Image8();
+    (cache ? walk.cachedLastView : walk.redrawnLastView) = std::move(error);
+  }
+  return walk;
+}
+
 std::vector<FlickerRow> measureFlickerWalks(render::Frame& frame, const Scene& scene, const Scenario& first,
                                             const std::vector<MapLayout>& layouts, const std::vector<Row>& rows,
                                             const std::function<render::FrameSettings(const MapLayout&, const std::string&, const std::string&)>& settingsOf,
@@ -170,7 +196,7 @@ std::vector<FlickerRow> measureFlickerWalks(render::Frame& frame, const Scene& s
           render::FrameSettings settings = settingsOf(layout, method, focus);
           settings.keepSlices = keep;
           frame.resetHistory();
-          FlickerRow f{method, focus, layout, keep, truth::measureFlicker(frame, scene, path, 0.0, settings), 0.0, {}, 0};
+          FlickerRow f{method, focus, layout, keep, truth::measureFlicker(frame, scene, path, 0.0, settings), 0.0, {}, 0, {}};
           for (const Row& r : rows)
             if (r.scenario == first.name && r.method == method && r.focus == focus && r.layout.label() == layout.label() && r.blur)
               f.frameMs = r.frameMs;
@@ -180,6 +206,7 @@ std::vector<FlickerRow> measureFlickerWalks(render::Frame& frame, const Scene& s
           f.lastView = truth::evaluateFrame(frame, stats, scene, path.back(), 0.0, options);
           f.lastView.errorImage = Image8();
           f.lastViewShadowTriangles = stats.shadowTriangles;
+          if (keep) f.cached = measureCachedWalk(frame, scene, path, settings, truthOptions);
           flicker.push_back(std::move(f));
           tick();
         }

@@ -66,6 +66,17 @@ struct Row {
   double softError = 0.0;  // of the term lighting used (blurred or not)
 };
 
+// The flicker walk again with the trees swaying (30 frames a second), its kept slices redrawn every
+// frame and then cached (--cache-slices on): the last view of each scored against the truth at the
+// same time — what a cached layer's sway of up to a texel costs — the shadow triangles drawn over
+// the walk, and what the cached layers did.
+struct CachedWalk {
+  bool measured = false;
+  truth::FrameError redrawnLastView, cachedLastView;
+  long long redrawnTriangles = 0, cachedTriangles = 0;  // shadow triangles over the walk
+  int reused = 0, added = 0, redrawn = 0;               // layers over the walk (cached)
+};
+
 struct FlickerRow {
   std::string method, focus;
   MapLayout layout;
@@ -76,6 +87,7 @@ struct FlickerRow {
   // kept map's margin costs in misclassified pixels (and by distance band).
   truth::FrameError lastView;
   long long lastViewShadowTriangles = 0;
+  CachedWalk cached;  // rows with kept slices
 };
 
 // "uniform" or "uniform ×4": a series of the plots and tables.

@@ -168,7 +168,15 @@ std::pair<ordered_json, std::string> reportJsonAndCsv(const ReportInputs& in, co
                        e.casters.selected, e.casters.needed, e.casters.missing, e.casters.neededTriangles);
   }
   report["flicker"] = ordered_json::array();
-  for (const FlickerRow& f : in.flicker)
+  for (const FlickerRow& f : in.flicker) {
+    const CachedWalk& c = f.cached;
+    const ordered_json cached = !c.measured ? ordered_json(nullptr)
+                                            : ordered_json{{"layers", {{"reused", c.reused}, {"added", c.added}, {"redrawn", c.redrawn}}},
+                                                           {"shadow_triangles", {{"redrawn", c.redrawnTriangles}, {"cached", c.cachedTriangles}}},
+                                                           {"last_view_misclassification", {{"redrawn", c.redrawnLastView.misclassification},
+                                                                                            {"cached", c.cachedLastView.misclassification}}},
+                                                           {"last_view_bands", {{"redrawn", bandsJson(c.redrawnLastView.bands)},
+                                                                                {"cached", bandsJson(c.cachedLastView.bands)}}}};
     report["flicker"].push_back({{"method", f.method},
                                  {"focus", f.focus},
                                  {"cascades", f.layout.cascades},
@@ -181,7 +189,9 @@ std::pair<ordered_json, std::string> reportJsonAndCsv(const ReportInputs& in, co
                                  {"kept_share", f.result.slices ? static_cast<double>(f.result.slicesKept) / f.result.slices : 0.0},
                                  {"last_view", {{"misclassification", f.lastView.misclassification},
                                                 {"bands", bandsJson(f.lastView.bands)},
-                                                {"shadow_triangles", f.lastViewShadowTriangles}}}});
+                                                {"shadow_triangles", f.lastViewShadowTriangles}}},
+                                 {"cached_walk", cached}});
+  }
   report["equal_error_map_size"] = equalError;
 
   return {report, csv.str()};
@@ -267,6 +277,30 @@ std::string markdownTables(const ReportInputs& in, const ordered_json& equalErro
       if (measured) md << line << "\n";
     }
 
+  md << "\nCached slices (--cache-slices on) on the same walk with the trees swaying (30 frames a second), kept slices:\n"
+        "layers reused / added to / redrawn over the walk, its shadow triangles cached / redrawn every frame, and the\n"
+        "misclassification (%) of its last view redrawn / cached, per total texels:\n\n| method |";
+  for (int total : in.totals) md << fmt::format(" {}² |", total);
+  md << "\n|---|";
+  for (size_t i = 0; i < in.totals.size(); ++i) md << "---|";
+  md << "\n";
+  for (const auto& [method, k] : in.series) {
+    std::string line = "| " + seriesName(method, k) + " |";
+    bool measured = false;
+    for (int total : in.totals) {
+      const FlickerRow* f = findFlicker(in.flicker, method, k, total, true);
+      if (!f || !f->cached.measured) {
+        line += " – |";
+        continue;
+      }
+      measured = true;
+      const CachedWalk& c = f->cached;
+      line += fmt::format(" {} / {} / {}; {:.2f}x; {:.2f} / {:.2f} |", c.reused, c.added, c.redrawn,
+                          static_cast<double>(c.cachedTriangles) / static_cast<double>(std::max(c.redrawnTriangles, 1LL)), 100 * c.redrawnLastView.misclassification,
+                          100 * c.cachedLastView.misclassification);
+    }
+    if (measured) md << line << "\n";
+  }
   return md.str();
 }
 

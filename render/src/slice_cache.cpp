@@ -20,12 +20,6 @@ bool contains(const shadows::TexelRect& outer, const shadows::TexelRect& inner) 
   return inner.empty() || (outer.x0 <= inner.x0 && outer.y0 <= inner.y0 && inner.x1 <= outer.x1 && inner.y1 <= outer.y1);
 }
 
-shadows::TexelRect unite(const shadows::TexelRect& a, const shadows::TexelRect& b) {
-  if (a.empty()) return b;
-  if (b.empty()) return a;
-  return {std::min(a.x0, b.x0), std::min(a.y0, b.y0), std::max(a.x1, b.x1), std::max(a.y1, b.y1)};
-}
-
 // `read` grown by kRectMarginShare of the map per side, inside the layer.
 shadows::TexelRect grown(const shadows::TexelRect& read, int size) {
   if (read.empty()) return read;
@@ -115,30 +109,24 @@ std::string_view SliceCache::whyHeldChanged(const Layer& layer, const ShadowSlic
   return "";
 }
 
-LayerDraw SliceCache::redraw(std::string_view why, const Layer* held, const shadows::TexelRect& read, int size) {
+LayerDraw SliceCache::redraw(std::string_view why, const shadows::TexelRect& read, int size) {
   toDraw_ = casters_;
   blocksToDraw_.clear();
   for (const DrawnBlock& b : blocks_) blocksToDraw_.push_back(b.block);
-  shadows::TexelRect rect = grown(read, size);
-  if (held) {  // its matrices stayed: the casters it held are drawn again (at this frame's LODs)
-    toDraw_.clear();
-    std::set_union(casters_.begin(), casters_.end(), held->casters.begin(), held->casters.end(), std::back_inserter(toDraw_));
-    rect = unite(rect, held->rect);
-  }
-  return {SliceUpdate::Redraw, why, toDraw_, blocksToDraw_, rect};
+  return {SliceUpdate::Redraw, why, toDraw_, blocksToDraw_, grown(read, size)};
 }
 
 LayerDraw SliceCache::plan(int index, const LayerTarget& target, const ShadowSlice& slice, const shadows::TexelRect& read,
                            const DrawView& eye, const terrain::TerrainLod* lod, const glm::dvec3& l) {
   const Layer& layer = layers_.at(static_cast<size_t>(index));
   current(slice, lod);
-  if (!layer.valid) return redraw("first", nullptr, read, target.size);
-  if (layer.moves != moves_) return redraw("moved", nullptr, read, target.size);
-  if (!sameTarget(layer.target, target)) return redraw("map", nullptr, read, target.size);
-  if (!holdsMatrices(layer, target, slice)) return redraw("matrices", nullptr, read, target.size);
-  if (lod && (lod->morphStart != layer.lod.morphStart || lod->morphEnd != layer.lod.morphEnd)) return redraw("terrain", &layer, read, target.size);
-  if (const std::string_view why = whyHeldChanged(layer, slice, eye, l); !why.empty()) return redraw(why, &layer, read, target.size);
-  if (!contains(layer.rect, read)) return redraw("texels", &layer, read, target.size);
+  if (!layer.valid) return redraw("first", read, target.size);
+  if (layer.moves != moves_) return redraw("moved", read, target.size);
+  if (!sameTarget(layer.target, target)) return redraw("map", read, target.size);
+  if (!holdsMatrices(layer, target, slice)) return redraw("matrices", read, target.size);
+  if (lod && (lod->morphStart != layer.lod.morphStart || lod->morphEnd != layer.lod.morphEnd)) return redraw("terrain", read, target.size);
+  if (const std::string_view why = whyHeldChanged(layer, slice, eye, l); !why.empty()) return redraw(why, read, target.size);
+  if (!contains(layer.rect, read)) return redraw("texels", read, target.size);
   // What it lacks, drawn into it.
   toDraw_.clear();
   std::set_difference(casters_.begin(), casters_.end(), layer.casters.begin(), layer.casters.end(), std::back_inserter(toDraw_));

@@ -19,11 +19,12 @@
 //     focus body (vegetation::windShearChangeBound, shadows::finestTexelSide). With the wind
 //     still, a layer serves until something else changes.
 // Held casters that are not selected at f change nothing anyone reads (they shadow no visible
-// receiver). Otherwise the layer is cleared and redrawn — with what it held too when its matrices
-// stayed (the union, at f's LODs, into the union of its rectangle and f's grown by
-// kRectMarginShare of the map per side), so that receivers coming back into view find their
-// casters drawn. The GPU's caster filter decides on the GPU what it draws: its layers are never
-// cached.
+// receiver). Otherwise the layer is cleared and f's casters drawn, into f's rectangle grown by
+// kRectMarginShare of the map per side (lookups move as the camera does). Redrawing what it held
+// too (so that receivers coming back into view find their casters) was measured and dropped: on
+// the main walk the wind forces most redraws, and the union only added triangles
+// (docs/experiments.md). The GPU's caster filter decides on the GPU what it draws: its layers are
+// never cached.
 #include <array>
 #include <span>
 #include <string_view>
@@ -63,8 +64,8 @@ class SliceCache {
   SliceCache(const SceneObjects& objects, const terrain::Terrain* terrain, const vegetation::Forest* forest);
 
   // What to do with `layer` for `slice` this frame (valid until the next call). `read`: the texels
-  // this frame's lookups read. Why not Reuse: "first", "moved", "map", "matrices" (a Redraw of this
-  // frame's casters); "lod", "terrain", "wind", "texels" (a Redraw of the union); "casters" (Add).
+  // this frame's lookups read. Why not Reuse: "first", "moved", "map", "matrices", "lod", "terrain",
+  // "wind", "texels" (a Redraw); "casters" (Add).
   LayerDraw plan(int layer, const LayerTarget& target, const ShadowSlice& slice, const shadows::TexelRect& read, const DrawView& eye,
                  const terrain::TerrainLod* lod, const glm::dvec3& l);
   // `layer` now holds what `drawn` (plan's, carried out) drew for `eye`.
@@ -105,7 +106,8 @@ class SliceCache {
   // level and morph, its sway within a texel; else what changed.
   // (casters_ and blocks_ hold this frame's.)
   std::string_view whyHeldChanged(const Layer& layer, const ShadowSlice& slice, const DrawView& eye, const glm::dvec3& l) const;
-  LayerDraw redraw(std::string_view why, const Layer* held, const shadows::TexelRect& read, int size);
+  // A clear and this frame's casters, into `read` grown by kRectMarginShare per side.
+  LayerDraw redraw(std::string_view why, const shadows::TexelRect& read, int size);
 
   const SceneObjects& objects_;
   const terrain::Terrain* terrain_;
