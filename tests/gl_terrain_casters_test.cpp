@@ -8,8 +8,10 @@
 #include <set>
 #include <vector>
 
+#include "forest/core/frustum.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/render/frame.hpp"
+#include "forest/shadows/focus_body.hpp"
 #include "forest/terrain/terrain.hpp"
 #include "gl_test_support.hpp"
 #include "test_paths.hpp"
@@ -97,6 +99,55 @@ TEST_F(TerrainCastersGl, BlocksLeftOutChangeNoShadowAndASteepSunDrawsOnlyRampBlo
   std::printf("[terrain casters] sun 5°: %lld of %lld terrain triangles drawn; sun 85°: %lld of %lld\n", terrainAtLowSun,
               terrainAllAtLowSun, terrainAtSteepSun, terrainAllAtSteepSun);
   EXPECT_GT(terrainAtLowSun, 0);  // a low sun: hills cast, and their blocks are drawn
+}
+
+// Receivers by block: a visible terrain tile bounds B by its blocks at the level the eye's LOD
+// draws it that meet the view frustum, not by its box. Along the walk's first views, with a high sun,
+// B (eq. 4.2 with the visible receivers) lies inside ((V ∩ R) + l) ∩ S computed here from the frame's
+// visible set with R = the visible trees' boxes and those blocks (the eye's frustum to its far
+// plane holds the frame's, which ends at z_f); in some views that body is more than 1 m lower (or
+// higher at its foot) than the one the tiles' boxes give — the bound is tighter, not the same (in
+// the others the trees' crowns bound B's top).
+TEST_F(TerrainCastersGl, TerrainReceiversAreTheirBlocksInView) {
+  if (backendUnderTest() != "egl") GTEST_SKIP() << "checked on the egl backend";
+  Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
+  scene.sun.direction = -dvec3(0.2, 0.95, 0.1);
+  render::Frame frame(scene, kWidth, kHeight);
+  const terrain::Terrain& t = *frame.terrain();
+  Camera camera = frame.startCamera();
+  camera.aspect = static_cast<double>(kWidth) / kHeight;
+  Aabb sceneBox;
+  for (const Aabb& b : frame.objects().boxes()) sceneBox.extend(b);
+  int lower = 0, views = 0;
+  for (int v = 0; v < 8; ++v) {
+    stepForestView(camera, t, v);
+    if (v % kSweepStride != 0) continue;
+    render::FrameSettings settings;
+    settings.method = shadows::ShadowMethod::Uniform;
+    settings.culling = culling::CullingStrategy::Frustum;
+    frame.render(camera, 0.0, settings);
+    const terrain::TerrainLod lod = t.lodFor(camera, kHeight);
+    const Frustum view(camera);
+    Aabb byBlocks, byTiles;
+    for (std::uint32_t o : frame.visibleObjects()) {
+      byTiles.extend(frame.objects().boxes()[o]);
+      const render::SceneObjects::Object& object = frame.objects().objects()[o];
+      if (object.kind != render::SceneObjects::Kind::Tile) {
+        byBlocks.extend(frame.objects().boxes()[o]);
+        continue;
+      }
+      for (const Aabb& block : t.blockBoxes(static_cast<int>(object.index), t.tileLevel(static_cast<int>(object.index), lod)))
+        if (view.mayIntersect(block)) byBlocks.extend(block);
+    }
+    const Aabb expected = shadows::computeFocusBody(camera, scene.sun.direction, sceneBox, byBlocks).bounds();
+    const Aabb tiles = shadows::computeFocusBody(camera, scene.sun.direction, sceneBox, byTiles).bounds();
+    const Aabb b = frame.shadowSetup(0).body.bounds();
+    EXPECT_TRUE(expected.contains(b.min, 1e-6) && expected.contains(b.max, 1e-6))
+        << "view " << v << ": B top " << b.max.y << ", bound " << expected.max.y;
+    lower += expected.max.y < tiles.max.y - 1.0 || expected.min.y > tiles.min.y + 1.0 ? 1 : 0;
+    ++views;
+  }
+  EXPECT_GT(lower, 0) << "no view of " << views << " bounded lower by blocks than by tiles";
 }
 
 }  // namespace

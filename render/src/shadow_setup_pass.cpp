@@ -231,7 +231,7 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
                           bool sunBelowHorizon, const SceneObjects& objects, const culling::Bvh& bvh, const terrain::TerrainLod* lod,
                           const Aabb& sceneBounds, const ReceiverPixels* receiverPixels, ShadowPlan& plan,
                           FrameStats& stats) {
-  startPlan(visible, objects, cascades, plan, stats);
+  startPlan(camera, visible, objects, lod, cascades, plan, stats);
   if (!settings.keepSlices) kept_.reset();
   plan.lookupReachTexels = lookupReachTexels(settings);
   plan.shadowed = !sunBelowHorizon && !receivers_.empty() && sceneBounds.valid();
@@ -279,19 +279,34 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
   stats.shadow = plan.slices[0].setup.diagnostics;
 }
 
-// The receivers (the visible objects' boxes) and the slices' lists emptied, with room for every
-// object as receiver and caster (a frame then never grows them).
-void ShadowSetupPass::startPlan(const culling::CullingResult& visible, const SceneObjects& objects, const ShadowSettings& cascades,
-                                ShadowPlan& plan, FrameStats& stats) {
+// The receivers and the slices' lists emptied, with room for every object (and block) as receiver
+// and caster (a frame then never grows them). A receiver is a visible object's box; a visible
+// terrain tile's are its blocks at the level the eye's LOD draws it that meet the view frustum (their
+// union holds everything drawn of the tile in view, Terrain::blockBoxes): a 125 m tile's box rises
+// far above the ground in view, and B bounded by it reached above the eye (issue "Shadows that hold
+// still", item 1: the near band's loss at a high sun).
+void ShadowSetupPass::startPlan(const Camera& camera, const culling::CullingResult& visible, const SceneObjects& objects,
+                                const terrain::TerrainLod* lod, const ShadowSettings& cascades, ShadowPlan& plan, FrameStats& stats) {
   const size_t objectCount = objects.boxes().size();
   const size_t mostBlocks = objects.tileCount() * terrain::Terrain::kMaxBlockBoxes;
-  receivers_.reserve(objectCount);
-  sliceReceivers_.reserve(objectCount);
-  receiverDepths_.reserve(objectCount);
-  footprints_.reserve(objectCount);
-  selector_.reserve(objectCount);
+  receivers_.reserve(objectCount + mostBlocks);
+  sliceReceivers_.reserve(objectCount + mostBlocks);
+  receiverDepths_.reserve(objectCount + mostBlocks);
+  footprints_.reserve(objectCount + mostBlocks);
+  selector_.reserve(objectCount + mostBlocks);
   receivers_.clear();
-  for (std::uint32_t o : visible.visibleObjects) receivers_.push_back(objects.boxes()[o]);
+  const terrain::Terrain* terrain = lod ? objects.terrain() : nullptr;
+  const Frustum view(camera);
+  for (std::uint32_t o : visible.visibleObjects) {
+    const SceneObjects::Object& object = objects.objects()[o];
+    if (!terrain || object.kind != SceneObjects::Kind::Tile) {
+      receivers_.push_back(objects.boxes()[o]);
+      continue;
+    }
+    const int tile = static_cast<int>(object.index);
+    for (const Aabb& block : terrain->blockBoxes(tile, terrain->tileLevel(tile, *lod)))
+      if (view.mayIntersect(block)) receivers_.push_back(block);
+  }
   plan.cascades = cascades.cascades;
   plan.blend = cascades.cascade_blend;
   stats.cascades = cascades.cascades;

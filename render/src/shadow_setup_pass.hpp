@@ -88,8 +88,8 @@ class ShadowSetupPass {
     const ReceiverPixels* receiverPixels;
   };
   // The steps of run(), in order.
-  void startPlan(const culling::CullingResult& visible, const SceneObjects& objects, const ShadowSettings& cascades, ShadowPlan& plan,
-                 FrameStats& stats);
+  void startPlan(const Camera& camera, const culling::CullingResult& visible, const SceneObjects& objects, const terrain::TerrainLod* lod,
+                 const ShadowSettings& cascades, ShadowPlan& plan, FrameStats& stats);
   void measureReceiverDepths(const Camera& camera);
   shadows::ShadowInput sliceInput(const ShadowSlice& slice, int index, std::optional<double> nNear, const SliceContext& context);
   void selectCasters(ShadowSlice& slice, const SliceContext& context);
