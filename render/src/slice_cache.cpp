@@ -39,29 +39,26 @@ void SliceCache::forget() {
 
 void SliceCache::forget(int layer) { layers_.at(static_cast<size_t>(layer)).valid = false; }
 
-bool SliceCache::holdsMatrices(const Layer& layer, const LayerTarget& target, const ShadowSlice& slice) const {
+bool SliceCache::sameMatrices(const Layer& layer, const ShadowSlice& slice) {
   const shadows::ShadowSetup& now = slice.setup;
-  return layer.valid && layer.moves == moves_ && sameTarget(layer.target, target) && layer.worldToShadowClip == now.worldToShadowClip &&
-         layer.linearDepth == now.linearDepth && (!now.linearDepth || layer.worldToLightDepth == now.worldToLightDepth) &&
-         layer.terrainByBlock == slice.terrainByBlock;
+  return layer.worldToShadowClip == now.worldToShadowClip && layer.linearDepth == now.linearDepth &&
+         (!now.linearDepth || layer.worldToLightDepth == now.worldToLightDepth) && layer.terrainByBlock == slice.terrainByBlock;
 }
 
-void SliceCache::blocksOf(const ShadowSlice& slice, std::span<const std::uint32_t> casters, const terrain::TerrainLod* lod,
-                          std::vector<DrawnBlock>& out) const {
+void SliceCache::blocksOf(bool byBlock, std::span<const terrain::TileBlock> blocks, std::span<const std::uint32_t> casters,
+                          const terrain::TerrainLod* lod, std::vector<DrawnBlock>& out) const {
   out.clear();
   if (!terrain_ || !lod) return;
   auto drawnNow = [&](const terrain::TileBlock& b) { return DrawnBlock{b, terrain_->blockMorph(b.tile, b.level, b.block, *lod), lod->eye}; };
-  if (slice.terrainByBlock) {
-    for (const terrain::TileBlock& b : slice.terrainBlocks) out.push_back(drawnNow(b));
+  if (byBlock) {
+    for (const terrain::TileBlock& b : blocks) out.push_back(drawnNow(b));
   } else {  // tiles drawn whole: every block of each at its level
     for (std::uint32_t o : casters) {
       const SceneObjects::Object& object = objects_.objects()[o];
       if (object.kind != SceneObjects::Kind::Tile) continue;
       const int tile = static_cast<int>(object.index), level = terrain_->tileLevel(tile, *lod);
-      const int blocks = static_cast<int>(terrain_->blockBoxes(tile, level).size());
-      for (int b = 0; b < blocks; ++b) {
-        out.push_back(drawnNow(terrain::TileBlock{tile, level, b, {}}));
-      }
+      const int count = static_cast<int>(terrain_->blockBoxes(tile, level).size());
+      for (int b = 0; b < count; ++b) out.push_back(drawnNow(terrain::TileBlock{tile, level, b, {}}));
     }
   }
   std::sort(out.begin(), out.end(), [](const DrawnBlock& a, const DrawnBlock& b) { return blockKey(a.block) < blockKey(b.block); });
@@ -70,7 +67,7 @@ void SliceCache::blocksOf(const ShadowSlice& slice, std::span<const std::uint32_
 void SliceCache::current(const ShadowSlice& slice, const terrain::TerrainLod* lod) {
   casters_.assign(slice.casters.begin(), slice.casters.end());
   std::sort(casters_.begin(), casters_.end());
-  blocksOf(slice, casters_, lod, blocks_);
+  blocksOf(slice.terrainByBlock, slice.terrainBlocks, casters_, lod, blocks_);
 }
 
 std::string_view SliceCache::whyHeldChanged(const Layer& layer, const ShadowSlice& slice, const DrawView& eye, const glm::dvec3& l) const {
@@ -123,7 +120,7 @@ LayerDraw SliceCache::plan(int index, const LayerTarget& target, const ShadowSli
   if (!layer.valid) return redraw("first", read, target.size);
   if (layer.moves != moves_) return redraw("moved", read, target.size);
   if (!sameTarget(layer.target, target)) return redraw("map", read, target.size);
-  if (!holdsMatrices(layer, target, slice)) return redraw("matrices", read, target.size);
+  if (!sameMatrices(layer, slice)) return redraw("matrices", read, target.size);
   if (lod && (lod->morphStart != layer.lod.morphStart || lod->morphEnd != layer.lod.morphEnd)) return redraw("terrain", read, target.size);
   if (const std::string_view why = whyHeldChanged(layer, slice, eye, l); !why.empty()) return redraw(why, read, target.size);
   if (!contains(layer.rect, read)) return redraw("texels", read, target.size);
@@ -149,14 +146,9 @@ void SliceCache::drawn(int index, const LayerTarget& target, const LayerDraw& d,
     const SceneObjects::Object& object = objects_.objects()[o];
     return object.kind == SceneObjects::Kind::Tree && forest_ ? static_cast<std::uint8_t>(forest_->lodFor(object.index, eye.lodEye)) : 0;
   };
-  auto before = [](const DrawnBlock& a, const DrawnBlock& b) { return blockKey(a.block) < blockKey(b.block); };
   // The blocks drawn now with their morph now (a tile drawn whole: all its blocks).
-  ShadowSlice blocksNow;  // only its terrain fields are read
-  blocksNow.terrainByBlock = slice.terrainByBlock;
-  blocksNow.terrainBlocks.assign(d.blocks.begin(), d.blocks.end());
-  blocksOf(blocksNow, d.casters, lod, scratch_);
+  blocksOf(slice.terrainByBlock, d.blocks, d.casters, lod, scratch_);
   if (d.update == SliceUpdate::Redraw) {
-    layer = Layer{};
     layer.valid = true;
     layer.target = target;
     layer.rect = d.rect;
@@ -168,30 +160,30 @@ void SliceCache::drawn(int index, const LayerTarget& target, const LayerDraw& d,
     if (lod) layer.lod = *lod;
     layer.moves = moves_;
     layer.casters.assign(d.casters.begin(), d.casters.end());
+    layer.treeLods.clear();
     for (std::uint32_t o : layer.casters) layer.treeLods.push_back(lodOf(o));
-    layer.blocks = scratch_;
+    std::swap(layer.blocks, scratch_);
     return;
   }
   // An addition: merge what was drawn into what it holds (both increasing, disjoint).
-  std::vector<std::uint32_t> casters;
-  std::vector<std::uint8_t> lods;
-  casters.reserve(layer.casters.size() + d.casters.size());
-  lods.reserve(casters.capacity());
+  mergedCasters_.clear();
+  mergedLods_.clear();
   size_t i = 0, j = 0;
   while (i < layer.casters.size() || j < d.casters.size()) {
     if (j == d.casters.size() || (i < layer.casters.size() && layer.casters[i] < d.casters[j])) {
-      casters.push_back(layer.casters[i]);
-      lods.push_back(layer.treeLods[i++]);
+      mergedCasters_.push_back(layer.casters[i]);
+      mergedLods_.push_back(layer.treeLods[i++]);
     } else {
-      casters.push_back(d.casters[j]);
-      lods.push_back(lodOf(d.casters[j++]));
+      mergedCasters_.push_back(d.casters[j]);
+      mergedLods_.push_back(lodOf(d.casters[j++]));
     }
   }
-  layer.casters = std::move(casters);
-  layer.treeLods = std::move(lods);
-  std::vector<DrawnBlock> blocks;
-  std::merge(layer.blocks.begin(), layer.blocks.end(), scratch_.begin(), scratch_.end(), std::back_inserter(blocks), before);
-  layer.blocks = std::move(blocks);
+  std::swap(layer.casters, mergedCasters_);
+  std::swap(layer.treeLods, mergedLods_);
+  mergedBlocks_.clear();
+  std::merge(layer.blocks.begin(), layer.blocks.end(), scratch_.begin(), scratch_.end(), std::back_inserter(mergedBlocks_),
+             [](const DrawnBlock& a, const DrawnBlock& b) { return blockKey(a.block) < blockKey(b.block); });
+  std::swap(layer.blocks, mergedBlocks_);
 }
 
 }  // namespace forest::render

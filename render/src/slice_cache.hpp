@@ -96,12 +96,13 @@ class SliceCache {
     double time = 0.0;                    // of the last clear: every caster was drawn since
     unsigned moves = 0;                   // moves_ when cleared
   };
-  bool holdsMatrices(const Layer& layer, const LayerTarget& target, const ShadowSlice& slice) const;
+  static bool sameMatrices(const Layer& layer, const ShadowSlice& slice);
   // This frame's casters (increasing, into casters_) and terrain blocks (increasing, into blocks_).
   void current(const ShadowSlice& slice, const terrain::TerrainLod* lod);
-  // Each terrain caster's blocks as drawn (a tile drawn whole: all its blocks at its level).
-  void blocksOf(const ShadowSlice& slice, std::span<const std::uint32_t> casters, const terrain::TerrainLod* lod,
-                std::vector<DrawnBlock>& out) const;
+  // The terrain casters' blocks as drawn now, increasing: `blocks` when drawn by block, else every
+  // block of each tile among `casters` at its level.
+  void blocksOf(bool byBlock, std::span<const terrain::TileBlock> blocks, std::span<const std::uint32_t> casters,
+                const terrain::TerrainLod* lod, std::vector<DrawnBlock>& out) const;
   // "" when every current caster the layer holds is as it was drawn: its LOD, its terrain block's
   // level and morph, its sway within a texel; else what changed.
   // (casters_ and blocks_ hold this frame's.)
@@ -120,6 +121,9 @@ class SliceCache {
   std::vector<std::uint32_t> toDraw_;   // plan's casters
   std::vector<terrain::TileBlock> blocksToDraw_;
   std::vector<DrawnBlock> scratch_;
+  std::vector<std::uint32_t> mergedCasters_;  // an addition's merge
+  std::vector<std::uint8_t> mergedLods_;
+  std::vector<DrawnBlock> mergedBlocks_;
 };
 
 }  // namespace forest::render
