@@ -205,6 +205,15 @@ const FlickerRow* findFlicker(const std::vector<FlickerRow>& flicker, const std:
   return nullptr;
 }
 
+// The head of a table with a column per total size.
+void totalsHeader(std::ostringstream& md, const std::vector<int>& totals) {
+  md << "| method |";
+  for (int total : totals) md << fmt::format(" {}² |", total);
+  md << "\n|---|";
+  for (size_t i = 0; i < totals.size(); ++i) md << "---|";
+  md << "\n";
+}
+
 // table.md: misclassification and frame time per layout, by distance band, and flicker.
 std::string markdownTables(const ReportInputs& in, const ordered_json& equalError) {
   std::ostringstream md;
@@ -255,11 +264,8 @@ std::string markdownTables(const ReportInputs& in, const ordered_json& equalErro
   md << "\nFlicker (share of probe states that change between consecutive frames, " << in.scenarios.front().name
      << ", walking 0.4 m and turning 0.3 deg per frame), B from the receivers, per total texels; with kept slices\n"
         "(--keep-slices on) the share of slices that kept their map, and the misclassification (%) of the walk's\n"
-        "last view off / on:\n\n| method |";
-  for (int total : in.totals) md << fmt::format(" {}² |", total);
-  md << "\n|---|";
-  for (size_t i = 0; i < in.totals.size(); ++i) md << "---|";
-  md << "\n";
+        "last view off / on:\n\n";
+  totalsHeader(md, in.totals);
   for (const auto& [method, k] : in.series)
     for (bool keep : {false, true}) {
       std::string line = "| " + seriesName(method, k) + (keep ? " kept" : "") + " |";
@@ -279,11 +285,8 @@ std::string markdownTables(const ReportInputs& in, const ordered_json& equalErro
 
   md << "\nCached slices (--cache-slices on) on the same walk with the trees swaying (30 frames a second), kept slices:\n"
         "layers reused / added to / redrawn over the walk, its shadow triangles cached / redrawn every frame, and the\n"
-        "misclassification (%) of its last view redrawn / cached, per total texels:\n\n| method |";
-  for (int total : in.totals) md << fmt::format(" {}² |", total);
-  md << "\n|---|";
-  for (size_t i = 0; i < in.totals.size(); ++i) md << "---|";
-  md << "\n";
+        "misclassification (%) of its last view redrawn / cached, per total texels:\n\n";
+  totalsHeader(md, in.totals);
   for (const auto& [method, k] : in.series) {
     std::string line = "| " + seriesName(method, k) + " |";
     bool measured = false;
