@@ -100,6 +100,17 @@ TEST(SliceCache, ReusesAddsAndRedrawsAsWhatItHoldsChanges) {
   EXPECT_EQ(planAndDraw(slice, read, later).first, SliceUpdate::Reuse);
   later.time = moved.time + 1.5 * texel / rate;
   EXPECT_EQ(planAndDraw(slice, read, later), std::pair(SliceUpdate::Redraw, std::string("wind")));
+  // Staggered (slice 2: staleFrames 3): the layer just redrawn for the wind keeps a held change for
+  // three more frames and is redrawn on the fourth — every 2^2 frames at most.
+  DrawView back = later;
+  back.lodEye = eye.lodEye;  // tree 0 back to the LOD it had before
+  for (int frame = 1; frame <= 3; ++frame) {
+    const LayerDraw d = cache.plan(0, target, slice, read, back, nullptr, l, 3);
+    EXPECT_EQ(d.update, SliceUpdate::Reuse) << "frame " << frame;
+    EXPECT_EQ(d.deferred, "lod") << "frame " << frame;
+    cache.drawn(0, target, d, slice, back, nullptr);
+  }
+  EXPECT_EQ(cache.plan(0, target, slice, read, back, nullptr, l, 3).why, "lod");
   // Other matrices, and objects that moved.
   slice.setup.worldToShadowClip[3][0] += 1e-9;
   EXPECT_EQ(planAndDraw(slice, read, later), std::pair(SliceUpdate::Redraw, std::string("matrices")));

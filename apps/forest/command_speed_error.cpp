@@ -149,28 +149,29 @@ constexpr int kFlickerFrames = 16;
 // walking 0.4 m and turning 0.3° per frame, per layout, method and focus, and again with kept
 // slices for the methods that do not hold still by themselves; then the walk's last view once more,
 // scored against the truth; with kept slices, the swaying walk redrawn and cached (CachedWalk).
-// The walk at 30 frames a second with `settings` (kept slices), redrawn every frame or cached.
+// The walk at 30 frames a second with `settings` (kept slices), redrawn every frame, cached and
+// staggered.
 CachedWalk measureCachedWalk(render::Frame& frame, const Scene& scene, std::span<const Camera> path, render::FrameSettings settings,
                              truth::TruthOptions options) {
   CachedWalk walk;
   walk.measured = true;
   options.softRays = 0;
   const double lastTime = static_cast<double>(path.size() - 1) / 30.0;
-  for (bool cache : {false, true}) {
-    settings.cacheSlices = cache;
+  for (WalkPass* pass : {&walk.redrawn, &walk.cached, &walk.staggered}) {
+    settings.cacheSlices = pass != &walk.redrawn;
+    settings.staggerSlices = pass == &walk.staggered;
     frame.resetHistory();
     render::FrameStats stats;
     for (size_t i = 0; i < path.size(); ++i) {
       stats = frame.render(path[i], static_cast<double>(i) / 30.0, settings);
-      (cache ? walk.cachedTriangles : walk.redrawnTriangles) += stats.shadowTriangles;
-      for (int slice = 0; cache && slice < stats.cascades; ++slice) {
+      pass->triangles += stats.shadowTriangles;
+      for (int slice = 0; slice < stats.cascades; ++slice) {
         const render::SliceUpdate update = stats.cascade[static_cast<size_t>(slice)].update;
-        ++(update == render::SliceUpdate::Reuse ? walk.reused : update == render::SliceUpdate::Add ? walk.added : walk.redrawn);
+        ++(update == render::SliceUpdate::Reuse ? pass->reused : update == render::SliceUpdate::Add ? pass->added : pass->redrawn);
       }
     }
-    truth::FrameError error = truth::evaluateFrame(frame, stats, scene, path.back(), lastTime, options);
-    error.errorImage = Image8();
-    (cache ? walk.cachedLastView : walk.redrawnLastView) = std::move(error);
+    pass->lastView = truth::evaluateFrame(frame, stats, scene, path.back(), lastTime, options);
+    pass->lastView.errorImage = Image8();
   }
   return walk;
 }

@@ -78,7 +78,7 @@ nlohmann::ordered_json cascadesJson(const render::FrameStats& s) {
     slices.push_back({{"from_m", c.fromM}, {"to_m", c.toM}, {"n", c.n}, {"gamma_deg", c.gammaDeg},
                       {"casters", c.casters}, {"triangles", c.triangles}, {"texels_drawn", c.texelsDrawn},
                       {"shadow_ms", c.shadowMs}, {"kept", c.keeping.kept}, {"kept_frames", c.keeping.keptFrames},
-                      {"refit", c.keeping.refit}, {"update", render::kSliceUpdateNames.name(c.update)}, {"redraw", c.redraw}});
+                      {"refit", c.keeping.refit}, {"update", render::kSliceUpdateNames.name(c.update)}, {"redraw", c.redraw}, {"deferred", c.deferred}});
   }
   return slices;
 }

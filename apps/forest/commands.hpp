@@ -95,7 +95,7 @@ struct FrameOptions {
   double blurDepth = 10.0;   // metres up to which the full radius applies
   std::string termResolution = "full";  // of the blurred shadow term: full or half (FrameSettings::shadowTermScale)
   std::string keepSlices = "on";        // kept shadow maps: off or on (FrameSettings::keepSlices)
-  std::string cacheSlices = "off";      // cached shadow map layers: off or on (FrameSettings::cacheSlices)
+  std::string cacheSlices = "off";      // cached shadow map layers: off, on or staggered (FrameSettings::cacheSlices, staggerSlices)
   CasterOptions casters;
   // Z-partitioning; each left unset (the scene's [shadows]) unless its flag is given.
   int cascades = 1;

@@ -141,9 +141,10 @@ void FrameOptions::add(CLI::App& command, bool withCulling) {
   command.add_option("--cache-slices", cacheSlices,
                      "Cached shadow map layers: a slice whose map was kept and whose casters are as they were\n"
                      "drawn (the same LODs and terrain morphs, none moved, the wind's sway since under a\n"
-                     "texel) is not redrawn; casters it lacks are drawn into it (on). off: every layer is\n"
+                     "texel) is not redrawn; casters it lacks are drawn into it (on). staggered: slice k\n"
+                     "also keeps held casters that changed for up to 2^k - 1 frames. off: every layer is\n"
                      "cleared and drawn every frame")
-      ->check(CLI::IsMember({"off", "on"}))
+      ->check(CLI::IsMember({"off", "on", "staggered"}))
       ->capture_default_str();
   modes.add(command);
 }
@@ -196,7 +197,8 @@ render::FrameSettings FrameOptions::settings(const gl::ContextInfo& context) con
   s.blurReferenceDepth = blurDepth;
   s.shadowTermScale = termResolution == "half" ? 2 : 1;
   s.keepSlices = keepSlices == "on";
-  s.cacheSlices = cacheSlices == "on";
+  s.cacheSlices = cacheSlices != "off";
+  s.staggerSlices = cacheSlices == "staggered";
   if (cascadesOption && cascadesOption->count() > 0) s.cascades = cascades;
   if (splitLambdaOption && splitLambdaOption->count() > 0) s.splitLambda = splitLambda;
   if (cascadeBlendOption && cascadeBlendOption->count() > 0) s.cascadeBlend = cascadeBlend;

@@ -66,15 +66,19 @@ struct Row {
   double softError = 0.0;  // of the term lighting used (blurred or not)
 };
 
-// The flicker walk again with the trees swaying (30 frames a second), its kept slices redrawn every
-// frame and then cached (--cache-slices on): the last view of each scored against the truth at the
-// same time — what a cached layer's sway of up to a texel costs — the shadow triangles drawn over
-// the walk, and what the cached layers did.
+// The flicker walk again with the trees swaying (30 frames a second) and kept slices: redrawn every
+// frame, cached (--cache-slices on) and staggered (--cache-slices staggered); the last view of each
+// scored against the truth at the same time — what a cached layer's sway of up to a texel, or a
+// staggered layer's stale casters, cost — with the shadow triangles drawn over the walk and what
+// the layers did.
+struct WalkPass {
+  truth::FrameError lastView;
+  long long triangles = 0;          // shadow triangles over the walk
+  int reused = 0, added = 0, redrawn = 0;  // layers over the walk
+};
 struct CachedWalk {
   bool measured = false;
-  truth::FrameError redrawnLastView, cachedLastView;
-  long long redrawnTriangles = 0, cachedTriangles = 0;  // shadow triangles over the walk
-  int reused = 0, added = 0, redrawn = 0;               // layers over the walk (cached)
+  WalkPass redrawn, cached, staggered;
 };
 
 struct FlickerRow {

@@ -170,13 +170,14 @@ std::pair<ordered_json, std::string> reportJsonAndCsv(const ReportInputs& in, co
   report["flicker"] = ordered_json::array();
   for (const FlickerRow& f : in.flicker) {
     const CachedWalk& c = f.cached;
+    auto passJson = [&](const WalkPass& p) {
+      return ordered_json{{"layers", {{"reused", p.reused}, {"added", p.added}, {"redrawn", p.redrawn}}},
+                          {"shadow_triangles", p.triangles},
+                          {"last_view", {{"misclassification", p.lastView.misclassification}, {"bands", bandsJson(p.lastView.bands)}}}};
+    };
     const ordered_json cached = !c.measured ? ordered_json(nullptr)
-                                            : ordered_json{{"layers", {{"reused", c.reused}, {"added", c.added}, {"redrawn", c.redrawn}}},
-                                                           {"shadow_triangles", {{"redrawn", c.redrawnTriangles}, {"cached", c.cachedTriangles}}},
-                                                           {"last_view_misclassification", {{"redrawn", c.redrawnLastView.misclassification},
-                                                                                            {"cached", c.cachedLastView.misclassification}}},
-                                                           {"last_view_bands", {{"redrawn", bandsJson(c.redrawnLastView.bands)},
-                                                                                {"cached", bandsJson(c.cachedLastView.bands)}}}};
+                                            : ordered_json{{"redrawn", passJson(c.redrawn)}, {"cached", passJson(c.cached)},
+                                                           {"staggered", passJson(c.staggered)}};
     report["flicker"].push_back({{"method", f.method},
                                  {"focus", f.focus},
                                  {"cascades", f.layout.cascades},
@@ -283,9 +284,10 @@ std::string markdownTables(const ReportInputs& in, const ordered_json& equalErro
       if (measured) md << line << "\n";
     }
 
-  md << "\nCached slices (--cache-slices on) on the same walk with the trees swaying (30 frames a second), kept slices:\n"
-        "layers reused / added to / redrawn over the walk, its shadow triangles cached / redrawn every frame, and the\n"
-        "misclassification (%) of its last view redrawn / cached, per total texels:\n\n";
+  md << "\nCached slices on the same walk with the trees swaying (30 frames a second), kept slices: the share of\n"
+        "layers reused or added to (not cleared) over the walk and its shadow triangles against redrawing every\n"
+        "frame, cached (--cache-slices on) / staggered (--cache-slices staggered); the misclassification (%) of\n"
+        "the last view redrawn / cached / staggered, per total texels:\n\n";
   totalsHeader(md, in.totals);
   for (const auto& [method, k] : in.series) {
     std::string line = "| " + seriesName(method, k) + " |";
@@ -298,9 +300,11 @@ std::string markdownTables(const ReportInputs& in, const ordered_json& equalErro
       }
       measured = true;
       const CachedWalk& c = f->cached;
-      line += fmt::format(" {} / {} / {}; {:.2f}x; {:.2f} / {:.2f} |", c.reused, c.added, c.redrawn,
-                          static_cast<double>(c.cachedTriangles) / static_cast<double>(std::max(c.redrawnTriangles, 1LL)), 100 * c.redrawnLastView.misclassification,
-                          100 * c.cachedLastView.misclassification);
+      auto kept = [](const WalkPass& p) { return 100.0 * (p.reused + p.added) / std::max(p.reused + p.added + p.redrawn, 1); };
+      auto triangles = [&](const WalkPass& p) { return static_cast<double>(p.triangles) / static_cast<double>(std::max(c.redrawn.triangles, 1LL)); };
+      line += fmt::format(" {:.0f}% / {:.0f}% not cleared, {:.2f}x / {:.2f}x triangles; {:.2f} / {:.2f} / {:.2f} |", kept(c.cached),
+                          kept(c.staggered), triangles(c.cached), triangles(c.staggered), 100 * c.redrawn.lastView.misclassification,
+                          100 * c.cached.lastView.misclassification, 100 * c.staggered.lastView.misclassification);
     }
     if (measured) md << line << "\n";
   }

@@ -153,9 +153,11 @@ long long ShadowPass::run(const ShadowPlan& plan, const DrawView& eye, const ter
     const shadows::TexelRect read = scissored ? *slice.texelsRead : shadows::TexelRect{0, 0, size_, size_};
     const bool draws = plan.shadowed && !slice.setup.empty && !read.empty();
     const LayerTarget target{map_.id(), size_, layers_, settings.slopeScaleBias, settings.backside};
-    LayerDraw layer{SliceUpdate::Redraw, caching ? "empty" : "off", slice.casters, slice.terrainBlocks, read};
-    if (caching && draws) layer = cache_.plan(i, target, slice, read, eye, lod, l);
+    LayerDraw layer{SliceUpdate::Redraw, caching ? "empty" : "off", "", slice.casters, slice.terrainBlocks, read};
+    // Staggered: slice i redraws for its held casters' changes at most every 2^i frames.
+    if (caching && draws) layer = cache_.plan(i, target, slice, read, eye, lod, l, settings.staggerSlices ? (1 << i) - 1 : 0);
     out.redraw = layer.why;
+    out.deferred = layer.deferred;
     out.update = layer.update;
     long long drawn = 0;
     if (layer.update != SliceUpdate::Reuse) {

@@ -110,19 +110,21 @@ LayerDraw SliceCache::redraw(std::string_view why, const shadows::TexelRect& rea
   toDraw_ = casters_;
   blocksToDraw_.clear();
   for (const DrawnBlock& b : blocks_) blocksToDraw_.push_back(b.block);
-  return {SliceUpdate::Redraw, why, toDraw_, blocksToDraw_, grown(read, size)};
+  return {SliceUpdate::Redraw, why, "", toDraw_, blocksToDraw_, grown(read, size)};
 }
 
 LayerDraw SliceCache::plan(int index, const LayerTarget& target, const ShadowSlice& slice, const shadows::TexelRect& read,
-                           const DrawView& eye, const terrain::TerrainLod* lod, const glm::dvec3& l) {
-  const Layer& layer = layers_.at(static_cast<size_t>(index));
+                           const DrawView& eye, const terrain::TerrainLod* lod, const glm::dvec3& l, int staleFrames) {
+  Layer& layer = layers_.at(static_cast<size_t>(index));
+  ++layer.age;
   current(slice, lod);
   if (!layer.valid) return redraw("first", read, target.size);
   if (layer.moves != moves_) return redraw("moved", read, target.size);
   if (!sameTarget(layer.target, target)) return redraw("map", read, target.size);
   if (!sameMatrices(layer, slice)) return redraw("matrices", read, target.size);
   if (lod && (lod->morphStart != layer.lod.morphStart || lod->morphEnd != layer.lod.morphEnd)) return redraw("terrain", read, target.size);
-  if (const std::string_view why = whyHeldChanged(layer, slice, eye, l); !why.empty()) return redraw(why, read, target.size);
+  const std::string_view changed = whyHeldChanged(layer, slice, eye, l);
+  if (!changed.empty() && layer.age > staleFrames) return redraw(changed, read, target.size);
   if (!contains(layer.rect, read)) return redraw("texels", read, target.size);
   // What it lacks, drawn into it.
   toDraw_.clear();
@@ -134,8 +136,8 @@ LayerDraw SliceCache::plan(int index, const LayerTarget& target, const ShadowSli
     std::set_difference(blocks_.begin(), blocks_.end(), layer.blocks.begin(), layer.blocks.end(), std::back_inserter(scratch_), before);
     for (const DrawnBlock& b : scratch_) blocksToDraw_.push_back(b.block);
   }
-  if (toDraw_.empty() && blocksToDraw_.empty()) return {SliceUpdate::Reuse, "", {}, {}, layer.rect};
-  return {SliceUpdate::Add, "casters", toDraw_, blocksToDraw_, layer.rect};
+  if (toDraw_.empty() && blocksToDraw_.empty()) return {SliceUpdate::Reuse, "", changed, {}, {}, layer.rect};
+  return {SliceUpdate::Add, "casters", changed, toDraw_, blocksToDraw_, layer.rect};
 }
 
 void SliceCache::drawn(int index, const LayerTarget& target, const LayerDraw& d, const ShadowSlice& slice, const DrawView& eye,
@@ -157,6 +159,7 @@ void SliceCache::drawn(int index, const LayerTarget& target, const LayerDraw& d,
     layer.linearDepth = slice.setup.linearDepth;
     layer.terrainByBlock = slice.terrainByBlock;
     layer.time = eye.time;
+    layer.age = 0;
     if (lod) layer.lod = *lod;
     layer.moves = moves_;
     layer.casters.assign(d.casters.begin(), d.casters.end());

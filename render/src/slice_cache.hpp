@@ -18,6 +18,10 @@
 //     change bound · the tallest tree ≤ the layer's finest texel side across the light over f's
 //     focus body (vegetation::windShearChangeBound, shadows::finestTexelSide). With the wind
 //     still, a layer serves until something else changes.
+// Staggered (issue item 3, "far slices may refresh on a staggered schedule"): a layer may also keep
+// held casters that changed (a LOD, a morph, the wind) for up to `staleFrames` frames after its
+// clear — the caller gives slice k 2^k − 1 — so far slices redraw at most every 2^k frames for
+// them; what that costs is measured against the truth (forest bench speed-error).
 // Held casters that are not selected at f change nothing anyone reads (they shadow no visible
 // receiver). Otherwise the layer is cleared and f's casters drawn, into f's rectangle grown by
 // kRectMarginShare of the map per side (lookups move as the camera does). Redrawing what it held
@@ -54,6 +58,7 @@ struct LayerTarget {
 struct LayerDraw {
   SliceUpdate update = SliceUpdate::Redraw;  // Reuse: nothing drawn; Add: no clear
   std::string_view why;                          // "" for Reuse; else SliceCache::plan's reason
+  std::string_view deferred;                     // a held caster's change let stand (staggered), or ""
   std::span<const std::uint32_t> casters;        // the objects to draw (Add: only those it lacks)
   std::span<const terrain::TileBlock> blocks;    // the terrain blocks to draw (ShadowSlice::terrainByBlock)
   shadows::TexelRect rect;                       // the texels to draw into (a Redraw clears the layer first)
@@ -65,9 +70,10 @@ class SliceCache {
 
   // What to do with `layer` for `slice` this frame (valid until the next call). `read`: the texels
   // this frame's lookups read. Why not Reuse: "first", "moved", "map", "matrices", "lod", "terrain",
-  // "wind", "texels" (a Redraw); "casters" (Add).
+  // "wind", "texels" (a Redraw); "casters" (Add). `staleFrames`: how many frames after its clear a
+  // layer may keep held casters that changed (0: none, exact).
   LayerDraw plan(int layer, const LayerTarget& target, const ShadowSlice& slice, const shadows::TexelRect& read, const DrawView& eye,
-                 const terrain::TerrainLod* lod, const glm::dvec3& l);
+                 const terrain::TerrainLod* lod, const glm::dvec3& l, int staleFrames = 0);
   // `layer` now holds what `drawn` (plan's, carried out) drew for `eye`.
   void drawn(int layer, const LayerTarget& target, const LayerDraw& drawn, const ShadowSlice& slice, const DrawView& eye,
              const terrain::TerrainLod* lod);
@@ -94,6 +100,7 @@ class SliceCache {
     bool terrainByBlock = false;
     terrain::TerrainLod lod;              // the terrain LOD's ramps (and eye) at the last clear
     double time = 0.0;                    // of the last clear: every caster was drawn since
+    int age = 0;                          // frames since the last clear
     unsigned moves = 0;                   // moves_ when cleared
   };
   static bool sameMatrices(const Layer& layer, const ShadowSlice& slice);

@@ -131,6 +131,9 @@ struct FrameSettings {
   // the same matrices (a kept slice), the casters drawn then, none moved by a texel — is not
   // redrawn. Layers are then drawn whole (no scissor), and the GPU's caster filter disables it.
   bool cacheSlices = false;
+  // With cacheSlices, a staggered schedule: slice k keeps held casters that changed (a LOD, a
+  // morph, the wind) for up to 2^k − 1 frames after its layer's clear (slice 0: none).
+  bool staggerSlices = false;
 };
 
 // Deterministic queries on a software renderer, async on a hardware one (the default of --queries).
@@ -166,6 +169,7 @@ struct CascadeStats {
   // cleared and redrawn, and why ("" when reused; "off", "empty", or SliceCache::plan's reason).
   SliceUpdate update = SliceUpdate::Redraw;
   std::string_view redraw = "off";
+  std::string_view deferred;  // staggered: the change to a held caster let stand this frame ("" when none)
 };
 
 struct FrameStats {
