@@ -283,12 +283,13 @@ TEST_F(FrameGl, TopDownDiagramDrawsTheSetupAndTheLightFrustumHoldsB) {
     settings.shadowMapSize = 1024;
     frame.render(camera, 0.0, settings);
     // The light frustum drawn in the diagram holds the focus body — B computed here from the
-    // frame's own inputs (the camera up to z_f, the sun, S, the visible receivers' bounds) — and
-    // is tight: B touches each of its four sides (uniform: within the map's border, 2 texels of 1024).
+    // frame's own inputs (the camera up to z_f, the sun, S, the visible receivers' bounds, a tile's
+    // by its blocks in view) — and is tight: B touches each of its four sides (uniform: within the
+    // map's border, 2 texels of 1024).
     const auto corners = render::lightFrustumCorners(frame.shadowSetup());
-    Aabb sceneBox, receiverBox;
+    Aabb sceneBox;
     for (const Aabb& b : frame.objects().boxes()) sceneBox.extend(b);
-    for (std::uint32_t o : frame.visibleObjects()) receiverBox.extend(frame.objects().boxes()[o]);
+    const Aabb receiverBox = visibleReceiverBounds(frame, camera);
     const ConvexBody body = shadows::computeFocusBody(frame.shadowCamera(), glm::normalize(scene.sun.direction), sceneBox, receiverBox);
     ASSERT_FALSE(body.empty());
     dvec3 centre(0.0);

@@ -8,7 +8,6 @@
 #include <set>
 #include <vector>
 
-#include "forest/core/frustum.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/render/frame.hpp"
 #include "forest/shadows/focus_body.hpp"
@@ -126,19 +125,9 @@ TEST_F(TerrainCastersGl, TerrainReceiversAreTheirBlocksInView) {
     settings.method = shadows::ShadowMethod::Uniform;
     settings.culling = culling::CullingStrategy::Frustum;
     frame.render(camera, 0.0, settings);
-    const terrain::TerrainLod lod = t.lodFor(camera, kHeight);
-    const Frustum view(camera);
-    Aabb byBlocks, byTiles;
-    for (std::uint32_t o : frame.visibleObjects()) {
-      byTiles.extend(frame.objects().boxes()[o]);
-      const render::SceneObjects::Object& object = frame.objects().objects()[o];
-      if (object.kind != render::SceneObjects::Kind::Tile) {
-        byBlocks.extend(frame.objects().boxes()[o]);
-        continue;
-      }
-      for (const Aabb& block : t.blockBoxes(static_cast<int>(object.index), t.tileLevel(static_cast<int>(object.index), lod)))
-        if (view.mayIntersect(block)) byBlocks.extend(block);
-    }
+    const Aabb byBlocks = visibleReceiverBounds(frame, camera);
+    Aabb byTiles;
+    for (std::uint32_t o : frame.visibleObjects()) byTiles.extend(frame.objects().boxes()[o]);
     const Aabb expected = shadows::computeFocusBody(camera, scene.sun.direction, sceneBox, byBlocks).bounds();
     const Aabb tiles = shadows::computeFocusBody(camera, scene.sun.direction, sceneBox, byTiles).bounds();
     const Aabb b = frame.shadowSetup(0).body.bounds();

@@ -13,6 +13,7 @@
 
 #include "forest/core/bounds.hpp"
 #include "forest/core/camera.hpp"
+#include "forest/core/frustum.hpp"
 #include "forest/gl/context.hpp"
 #include "forest/gl/debug.hpp"
 #include "forest/gl/gl.hpp"
@@ -219,6 +220,27 @@ inline void stepForestView(Camera& camera, const terrain::Terrain& terrain, int 
 
 // The default forest (data/scenes/forest.toml) in a frame of width × height, and the camera of a
 // walk over it from its start (step(v): stepForestView).
+// The bounds of the last frame's visible receivers as the shadow setup takes them: each visible
+// tree's or prop's box, and each visible terrain tile's blocks at the level the eye's LOD draws it
+// that meet `camera`'s frustum (Terrain::blockBoxes).
+inline Aabb visibleReceiverBounds(const render::Frame& frame, const Camera& camera) {
+  Aabb bounds;
+  const terrain::Terrain* terrain = frame.terrain();
+  const std::optional<terrain::TerrainLod> lod = terrain ? std::optional(terrain->lodFor(camera, frame.height())) : std::nullopt;
+  const Frustum view(camera);
+  for (std::uint32_t o : frame.visibleObjects()) {
+    const render::SceneObjects::Object& object = frame.objects().objects()[o];
+    if (!terrain || object.kind != render::SceneObjects::Kind::Tile) {
+      bounds.extend(frame.objects().boxes()[o]);
+      continue;
+    }
+    const int tile = static_cast<int>(object.index);
+    for (const Aabb& block : terrain->blockBoxes(tile, terrain->tileLevel(tile, *lod)))
+      if (view.mayIntersect(block)) bounds.extend(block);
+  }
+  return bounds;
+}
+
 struct DefaultForestWalk {
   Scene scene;
   render::Frame frame;
