@@ -145,10 +145,6 @@ std::pair<Row, Row> measureRun(render::Frame& frame, const Scene& scene, const C
 
 constexpr int kFlickerFrames = 16;
 
-// Flicker along a short walk from the first scenario's camera (its sun already set): 16 frames,
-// walking 0.4 m and turning 0.3° per frame, per layout, method and focus, and again with kept
-// slices for the methods that do not hold still by themselves; then the walk's last view once more,
-// scored against the truth; with kept slices, the swaying walk redrawn and cached (CachedWalk).
 // The walk at 30 frames a second with `settings` (kept slices), redrawn every frame, cached and
 // staggered.
 CachedWalk measureCachedWalk(render::Frame& frame, const Scene& scene, std::span<const Camera> path, render::FrameSettings settings,
@@ -176,6 +172,11 @@ CachedWalk measureCachedWalk(render::Frame& frame, const Scene& scene, std::span
   return walk;
 }
 
+// Flicker along a short walk from the first scenario's camera (its sun already set): 16 frames,
+// walking 0.4 m and turning 0.3° per frame, per layout, method and focus, and again with kept
+// slices for the methods that do not hold still by themselves; then the walk's last view once more,
+// scored against the truth; with kept slices, the swaying walk redrawn, cached and staggered
+// (CachedWalk).
 std::vector<FlickerRow> measureFlickerWalks(render::Frame& frame, const Scene& scene, const Scenario& first,
                                             const std::vector<MapLayout>& layouts, const std::vector<Row>& rows,
                                             const std::function<render::FrameSettings(const MapLayout&, const std::string&, const std::string&)>& settingsOf,

@@ -33,7 +33,6 @@ SliceCache::SliceCache(const SceneObjects& objects, const terrain::Terrain* terr
     : objects_(objects), terrain_(terrain), forest_(forest), tallestTree_(forest ? forest->tallestTree() : 0.0) {}
 
 void SliceCache::forget() {
-  ++moves_;
   for (Layer& layer : layers_) layer.valid = false;
 }
 
@@ -119,7 +118,6 @@ LayerDraw SliceCache::plan(int index, const LayerTarget& target, const ShadowSli
   ++layer.age;
   current(slice, lod);
   if (!layer.valid) return redraw("first", read, target.size);
-  if (layer.moves != moves_) return redraw("moved", read, target.size);
   if (!sameTarget(layer.target, target)) return redraw("map", read, target.size);
   if (!sameMatrices(layer, slice)) return redraw("matrices", read, target.size);
   if (lod && (lod->morphStart != layer.lod.morphStart || lod->morphEnd != layer.lod.morphEnd)) return redraw("terrain", read, target.size);
@@ -161,7 +159,6 @@ void SliceCache::drawn(int index, const LayerTarget& target, const LayerDraw& d,
     layer.time = eye.time;
     layer.age = 0;
     if (lod) layer.lod = *lod;
-    layer.moves = moves_;
     layer.casters.assign(d.casters.begin(), d.casters.end());
     layer.treeLods.clear();
     for (std::uint32_t o : layer.casters) layer.treeLods.push_back(lodOf(o));

@@ -69,7 +69,8 @@ class SliceCache {
   SliceCache(const SceneObjects& objects, const terrain::Terrain* terrain, const vegetation::Forest* forest);
 
   // What to do with `layer` for `slice` this frame (valid until the next call). `read`: the texels
-  // this frame's lookups read. Why not Reuse: "first", "moved", "map", "matrices", "lod", "terrain",
+  // this frame's lookups read. Why not Reuse: "first" (nothing held: a first frame, or forgotten),
+  // "map", "matrices", "lod", "terrain",
   // "wind", "texels" (a Redraw); "casters" (Add). `staleFrames`: how many frames after its clear a
   // layer may keep held casters that changed (0: none, exact).
   LayerDraw plan(int layer, const LayerTarget& target, const ShadowSlice& slice, const shadows::TexelRect& read, const DrawView& eye,
@@ -101,7 +102,6 @@ class SliceCache {
     terrain::TerrainLod lod;              // the terrain LOD's ramps (and eye) at the last clear
     double time = 0.0;                    // of the last clear: every caster was drawn since
     int age = 0;                          // frames since the last clear
-    unsigned moves = 0;                   // moves_ when cleared
   };
   static bool sameMatrices(const Layer& layer, const ShadowSlice& slice);
   // This frame's casters (increasing, into casters_) and terrain blocks (increasing, into blocks_).
@@ -121,7 +121,6 @@ class SliceCache {
   const terrain::Terrain* terrain_;
   const vegetation::Forest* forest_;
   double tallestTree_ = 0.0;
-  unsigned moves_ = 0;
   std::array<Layer, shadows::kMaxCascades> layers_{};
   std::vector<std::uint32_t> casters_;  // this frame's, increasing
   std::vector<DrawnBlock> blocks_;      // this frame's terrain blocks, increasing
