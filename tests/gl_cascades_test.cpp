@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "forest/core/error.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/render/frame.hpp"
 #include "forest/shadows/cascades.hpp"
@@ -174,19 +175,31 @@ TEST_F(CascadesGl, CachedSlicesEqualTheirRedraw) {
 // than the one before), so its shadow and the lit plane beside it lie at every depth: on both sides
 // of every split (hard, and with a blend band) the term agrees with the CPU's ray past the boxes on
 // every pixel away from the shadow edges, for each method and K = 2, 3, 4.
-TEST_F(CascadesGl, BoxShadowsAreRightOnBothSidesOfEverySplit) {
-  if (backendUnderTest() != "egl") GTEST_SKIP() << "the engine's own logic: checked on the egl backend";
+struct BeamScene {
   Scene scene;
-  scene.sun.direction = glm::normalize(dvec3(1.0, -1.0, 0.2));  // the shadow falls 6 m beside the beam
-  scene.props.push_back({dvec3(-60, -1, -170), dvec3(60, 0, 5), dvec3(0.6)});  // the plane (top at y = 0)
-  std::vector<Aabb> boxes;
+  std::vector<Aabb> boxes;  // the beam's
+  Camera camera;
+};
+BeamScene beamOverPlane() {
+  BeamScene b;
+  b.scene.sun.direction = glm::normalize(dvec3(1.0, -1.0, 0.2));  // the shadow falls 6 m beside the beam
+  b.scene.props.push_back({dvec3(-60, -1, -170), dvec3(60, 0, 5), dvec3(0.6)});  // the plane (top at y = 0)
   for (double z = 2.0; z < 165.0; z *= 1.15) {
     const double half = 0.035 * z + 0.3;  // the shadow stays ≥ 10 pixels wide
-    scene.props.push_back({dvec3(-half - 8.0, 6.0, -z * 1.15), dvec3(half - 8.0, 6.5, -z), dvec3(0.8)});
-    boxes.push_back({scene.props.back().min, scene.props.back().max});
+    b.scene.props.push_back({dvec3(-half - 8.0, 6.0, -z * 1.15), dvec3(half - 8.0, 6.5, -z), dvec3(0.8)});
+    b.boxes.push_back({b.scene.props.back().min, b.scene.props.back().max});
   }
+  b.camera = test::cameraAt({0, 15, 4}, 0.0, -14.0, 400.0, static_cast<double>(kWidth) / kHeight);
+  return b;
+}
+
+TEST_F(CascadesGl, BoxShadowsAreRightOnBothSidesOfEverySplit) {
+  if (backendUnderTest() != "egl") GTEST_SKIP() << "the engine's own logic: checked on the egl backend";
+  const BeamScene beam = beamOverPlane();
+  const Scene& scene = beam.scene;
+  const std::vector<Aabb>& boxes = beam.boxes;
   render::Frame frame(scene, kWidth, kHeight);
-  const Camera camera = test::cameraAt({0, 15, 4}, 0.0, -14.0, 400.0, static_cast<double>(kWidth) / kHeight);
+  const Camera& camera = beam.camera;
   int combination = 0;
   for (shadows::ShadowMethod method : {shadows::ShadowMethod::Uniform, shadows::ShadowMethod::UniformStable,
                                        shadows::ShadowMethod::Lispsm, shadows::ShadowMethod::Tsm})
@@ -218,6 +231,73 @@ TEST_F(CascadesGl, BoxShadowsAreRightOnBothSidesOfEverySplit) {
               EXPECT_GT(counts[side][state], 5) << what << ", split " << i << " at " << split << " m, side " << side << ", state " << state;
         }
       }
+}
+
+// Unequal layers (FrameSettings::farSliceScale): the last slice's layer is the square of
+// round(scale · 1024) texels at the origin of an array texture as large as the largest layer. On
+// the beam scene the term still agrees with the CPU's ray past the boxes on every pixel away from
+// the shadow edges (the edge band from each slice's own texels), for a far layer half, 1.5 and twice
+// the others' side, K = 2 and 4; each layer reads back at its own size.
+TEST_F(CascadesGl, UnequalLayersShadowLikeTheCpuRay) {
+  if (backendUnderTest() != "egl") GTEST_SKIP() << "the engine's own logic: checked on the egl backend";
+  const BeamScene beam = beamOverPlane();
+  render::Frame frame(beam.scene, kWidth, kHeight);
+  for (shadows::ShadowMethod method : {shadows::ShadowMethod::UniformStable, shadows::ShadowMethod::Lispsm})
+    for (int k : {2, 4})
+      for (double scale : {0.5, 1.5, 2.0}) {
+        render::FrameSettings settings;
+        settings.method = method;
+        settings.shadowMapSize = 1024;
+        settings.cascades = k;
+        settings.farSliceScale = scale;
+        frame.resetHistory();
+        const render::FrameStats stats = frame.render(beam.camera, 0.0, settings);
+        const std::string what = fmt::format("{} K {} far scale {}", shadows::kShadowMethodNames.name(method), k, scale);
+        for (int i = 0; i < k; ++i) {
+          const int side = i + 1 < k ? 1024 : static_cast<int>(std::lround(scale * 1024));
+          EXPECT_EQ(stats.cascade[static_cast<size_t>(i)].mapSize, side) << what << ", slice " << i;
+          EXPECT_EQ(frame.shadowMapSize(i), side) << what << ", slice " << i;
+          EXPECT_EQ(frame.readShadowMap(i).size(), static_cast<size_t>(side) * side) << what << ", slice " << i;
+        }
+        const CpuAgreement a = agreementWithCpuShadow(frame, beam.camera, frame.readShadowTerm(), frame.objects().propIdBase(),
+                                                      beam.boxes, -beam.scene.sun.direction);
+        EXPECT_EQ(a.wrong, 0) << what << ": " << a.wrong << " of " << a.checked << " plane pixels disagree";
+        EXPECT_GT(a.checked, 30000) << what;
+        // The far slice's own pixels were checked, shadowed and lit.
+        int far[2] = {};
+        for (size_t p = 0; p < a.checkedDepths.size(); ++p)
+          if (a.checkedDepths[p] >= stats.cascade[static_cast<size_t>(k - 1)].fromM * 1.1) ++far[a.checkedStates[p]];
+        EXPECT_GT(far[0], 20) << what;
+        EXPECT_GT(far[1], 20) << what;
+      }
+}
+
+// Scales outside [0.5, 2], a far layer beyond 8192 texels, and the GPU's caster filter (its masks
+// are of one size) are refused before anything is drawn.
+TEST_F(CascadesGl, UnequalLayersRefuseWhatTheyCannotDraw) {
+  const BeamScene beam = beamOverPlane();
+  render::Frame frame(beam.scene, kWidth, kHeight);
+  auto refused = [&](int size, double scale, render::CasterSelection casters) {
+    render::FrameSettings settings;
+    settings.shadowMapSize = size;
+    settings.cascades = 2;
+    settings.farSliceScale = scale;
+    settings.casters = casters;
+    try {
+      frame.render(beam.camera, 0.0, settings);
+    } catch (const InputError&) {
+      return true;
+    }
+    return false;
+  };
+  const render::CasterSelection boxes = render::CasterSelection::Receivers, gpu = render::CasterSelection::ReceiverMaskGpu;
+  EXPECT_TRUE(refused(1024, 0.49, boxes));
+  EXPECT_TRUE(refused(1024, 2.01, boxes));
+  EXPECT_TRUE(refused(8192, 1.5, boxes));  // 12288 texels
+  EXPECT_TRUE(refused(1024, 1.5, gpu));
+  EXPECT_FALSE(refused(512, 0.5, boxes));   // 256: the smallest layer
+  EXPECT_FALSE(refused(1024, 2.0, boxes));
+  EXPECT_FALSE(refused(1024, 1.0, gpu));
 }
 
 // A camera level over a plane, the sun straight down (the warp axis is the view): slice i's focus body is the slice

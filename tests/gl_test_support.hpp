@@ -124,7 +124,6 @@ inline CpuAgreement agreementWithCpuShadow(const render::Frame& frame, const Cam
   const int width = frame.width(), height = frame.height();
   const std::vector<std::uint32_t> ids = frame.readObjectIds();
   const std::vector<float> depth = frame.readDepth();
-  const int mapSize = frame.shadowMapSize();
   auto position = [&](int x, int y) { return pixelPosition(camera, x, y, depth[static_cast<size_t>(y) * width + x], width, height); };
   std::vector<int> cpu(term.size(), -1);  // 1: the ray toward the sun hits a box
   for (int y = 0; y < height; ++y)
@@ -150,6 +149,7 @@ inline CpuAgreement agreementWithCpuShadow(const render::Frame& frame, const Cam
         const Camera& reach = frame.shadowCamera(slice);  // the slice's B covers [near, far]
         if (frame.cascadeCount() > 1 && (eyeDepth < reach.near || eyeDepth > reach.far)) continue;
         const glm::dmat4& toShadow = frame.shadowSetup(slice).worldToShadowClip;
+        const int mapSize = frame.shadowMapSize(slice);
         auto texel = [&](const glm::dvec3& q) {
           const glm::dvec4 h = toShadow * glm::dvec4(q, 1.0);
           return glm::dvec2(h) / h.w * (0.5 * mapSize);

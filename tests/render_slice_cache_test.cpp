@@ -51,7 +51,7 @@ TEST(SliceCache, ReusesAddsAndRedrawsAsWhatItHoldsChanges) {
   CacheScene s;
   SliceCache cache(s.objects, nullptr, &s.forest);
   ShadowSlice slice = sliceOver(s.terrain.bounds());
-  const LayerTarget target{1, 1024, 1, 0.0, true};
+  const LayerTarget target{1, 1024, 1024, 1, 0.0, true};
   const shadows::TexelRect read{100, 100, 900, 900};
   const dvec3 l(0.0, -1.0, 0.0);
   // Trees 0 and 1 cast; an eye and the first eye position along +x where tree 0's LOD changes

@@ -69,8 +69,8 @@ std::string blurCaption(const std::vector<float>& term, const std::vector<float>
 // and after the blur (EXR, and pictures captioned with what the blur changed).
 void writeDebugImages(const render::Frame& frame, const Camera& camera, const glm::dvec3& sunDirection,
                       const render::FrameStats& stats, const render::FrameSettings& settings, const std::filesystem::path& folder) {
-  const int size = frame.shadowMapSize();
   for (int slice = 0; slice < frame.cascadeCount(); ++slice) {  // cascades: shadow-map-<slice>.*
+    const int size = frame.shadowMapSize(slice);
     const std::string name = frame.cascadeCount() == 1 ? "shadow-map" : fmt::format("shadow-map-{}", slice);
     const std::vector<float> map = frame.readShadowMap(slice);
     writeImage(folder / (name + ".exr"), channelImage(map, size, size));
@@ -127,7 +127,7 @@ void writeTruth(const render::Frame& frame, const render::FrameStats& stats, con
   nlohmann::ordered_json j;
   j["method"] = options.frame.method;
   j["shadow_size"] = options.frame.shadowSize;
-  j["shadow_texels"] = static_cast<long long>(stats.cascades) * options.frame.shadowSize * options.frame.shadowSize;
+  j["shadow_texels"] = render::shadowTexels(options.frame.settings(), stats.cascades);
   j["cascades"] = {{"count", stats.cascades}, {"splits_m", nlohmann::ordered_json::array()}, {"slices", cascadesJson(stats)}};
   for (int i = 0; i < stats.cascades; ++i) j["cascades"]["splits_m"].push_back(stats.cascade[static_cast<size_t>(i)].fromM);
   j["cascades"]["splits_m"].push_back(stats.cascade[static_cast<size_t>(stats.cascades - 1)].toM);  // z_f
@@ -223,8 +223,8 @@ int runRender(const RenderOptions& options) {
   const ShadowSettings cascades = render::resolveCascades(settings, scene);
   j["settings"] = {{"method", options.frame.method}, {"shadow_size", options.frame.shadowSize},
                    {"cascades", cascades.cascades}, {"split_lambda", cascades.split_lambda},
-                   {"cascade_blend", cascades.cascade_blend},
-                   {"shadow_texels", static_cast<long long>(cascades.cascades) * options.frame.shadowSize * options.frame.shadowSize},
+                   {"cascade_blend", cascades.cascade_blend}, {"far_slice_scale", settings.farSliceScale},
+                   {"shadow_texels", render::shadowTexels(settings, cascades.cascades)},
                    {"culling", options.frame.culling}, {"casters", render::kCasterSelectionNames.name(settings.casters)},
                    {"slope_bias", options.bias},       {"backside", settings.backside},
                    {"pcf_radius", options.frame.pcf},  {"blur_px", options.frame.blur},

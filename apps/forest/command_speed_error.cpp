@@ -27,20 +27,30 @@
 
 namespace forest::app {
 
+int MapLayout::farSize() const { return cascades == 1 ? layerSize : static_cast<int>(std::lround(farScale * layerSize)); }
+
+long long MapLayout::texels() const {
+  return static_cast<long long>(cascades - 1) * layerSize * layerSize + static_cast<long long>(farSize()) * farSize();
+}
+
 std::string MapLayout::label() const {
-  return cascades == 1 ? fmt::format("{}²", layerSize) : fmt::format("{}×{}²", cascades, layerSize);
+  if (cascades == 1) return fmt::format("{}²", layerSize);
+  if (farSize() == layerSize) return fmt::format("{}×{}²", cascades, layerSize);
+  return fmt::format("{}{}²+{}²", cascades > 2 ? fmt::format("{}×", cascades - 1) : "", layerSize, farSize());
 }
 
 std::string seriesName(const std::string& method, int cascades) {
   return cascades == 1 ? method : fmt::format("{} x{}", method, cascades);  // ASCII: the plots' font has no ×
 }
 
-std::vector<MapLayout> mapLayouts(const std::vector<int>& sizes, const std::vector<int>& cascades) {
+std::vector<MapLayout> mapLayouts(const std::vector<int>& sizes, const std::vector<int>& cascades, double farScale) {
   std::vector<MapLayout> layouts;
   for (int k : cascades)
     for (int size : sizes) {
-      const int layer = static_cast<int>(std::lround(size / std::sqrt(static_cast<double>(k))));
-      if (layer >= 512) layouts.push_back({k, layer, size});
+      // (K − 1) · layer² + (r · layer)² = size².
+      const double r = k == 1 ? 1.0 : farScale;
+      const int layer = static_cast<int>(std::lround(size / std::sqrt(k - 1 + r * r)));
+      if (layer >= 512) layouts.push_back({k, layer, size, r});
     }
   return layouts;
 }
@@ -106,6 +116,7 @@ render::FrameSettings settingsFor(const std::string& method, const std::string& 
   settings.focus = render::kFocusBoundNames.parse(focus);
   settings.shadowMapSize = layout.layerSize;
   settings.cascades = layout.cascades;
+  settings.farSliceScale = static_cast<double>(layout.farSize()) / layout.layerSize;  // the rounded side exactly
   return settings;
 }
 
@@ -224,7 +235,7 @@ int runSpeedError(const SpeedErrorOptions& options) {
   const std::filesystem::path out = options.out;
   std::filesystem::create_directories(out);
   const std::vector<int> sizes = options.quick ? std::vector<int>{1024} : options.sizes;
-  const std::vector<MapLayout> layouts = mapLayouts(sizes, options.cascades);
+  const std::vector<MapLayout> layouts = mapLayouts(sizes, options.cascades, options.farSliceScale);
   const int width = options.quick ? 640 : options.size.width, height = options.quick ? 360 : options.size.height;
 
   auto context = options.gl.open(width, height);
@@ -324,6 +335,11 @@ Run addSpeedErrorCommand(CLI::App& bench) {
                       "(size / sqrt K)² per size (4 x 1024² beside 2048²), B on the receivers")
       ->delimiter(',')
       ->check(CLI::Range(1, shadows::kMaxCascades))
+      ->capture_default_str();
+  command->add_option("--far-slice-scale", options->farSliceScale,
+                      "Unequal layers: with K > 1 the last layer's side is this many times the others' at the\n"
+                      "same total texels, (K - 1 + scale²) · layer² = size² (0.5 to 2; 1: equal layers)")
+      ->check(CLI::Range(0.5, 2.0))
       ->capture_default_str();
   command->add_option("--target", options->target, "Misclassification share for the equal-error map sizes (1e-06 to 0.999999)")
       ->check(CLI::Range(1e-6, 0.999999))

@@ -75,7 +75,7 @@ nlohmann::ordered_json cascadesJson(const render::FrameStats& s) {
   nlohmann::ordered_json slices = nlohmann::ordered_json::array();
   for (int i = 0; i < s.cascades; ++i) {
     const render::CascadeStats& c = s.cascade[static_cast<size_t>(i)];
-    slices.push_back({{"from_m", c.fromM}, {"to_m", c.toM}, {"n", c.n}, {"gamma_deg", c.gammaDeg},
+    slices.push_back({{"from_m", c.fromM}, {"to_m", c.toM}, {"map_size", c.mapSize}, {"n", c.n}, {"gamma_deg", c.gammaDeg},
                       {"casters", c.casters}, {"triangles", c.triangles}, {"texels_drawn", c.texelsDrawn},
                       {"shadow_ms", c.shadowMs}, {"kept", c.keeping.kept}, {"kept_frames", c.keeping.keptFrames},
                       {"refit", c.keeping.refit}, {"update", render::kSliceUpdateNames.name(c.update)}, {"redraw", c.redraw}, {"deferred", c.deferred}});

@@ -101,6 +101,7 @@ struct FrameOptions {
   int cascades = 1;
   double splitLambda = 0.8;
   double cascadeBlend = 0.1;
+  double farSliceScale = 1.0;  // the last slice's layer side over the others' (FrameSettings::farSliceScale)
   CLI::Option* cascadesOption = nullptr;
   CLI::Option* splitLambdaOption = nullptr;
   CLI::Option* cascadeBlendOption = nullptr;

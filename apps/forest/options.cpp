@@ -114,6 +114,12 @@ void FrameOptions::add(CLI::App& command, bool withCulling) {
                                           "Band beyond each split where the nearer slice fades into the farther, as a\n"
                                           "share of the split's distance (0 to 0.5; 0: hard; default: the scene's, else 0.1)")
                            ->check(CLI::Range(0.0, 0.5));
+  command.add_option("--far-slice-scale", farSliceScale,
+                     "Unequal layers: with --cascades K > 1 the last slice's layer has this many times\n"
+                     "--shadow-size texels per side (0.5 to 2; 1: equal layers). For equal total texels T²,\n"
+                     "--shadow-size T / sqrt(K - 1 + scale²). Not with --casters receiver-mask-gpu")
+      ->check(CLI::Range(0.5, 2.0))
+      ->capture_default_str();
   command.add_option("--pcf", pcf, "Wider PCF: (2r+1)² hardware 2×2 lookups (0 to 4; 0: one)")->check(CLI::Range(0, 4))->capture_default_str();
   casters.add(command);
   command.add_option("--blur", blur,
@@ -202,6 +208,7 @@ render::FrameSettings FrameOptions::settings(const gl::ContextInfo& context) con
   if (cascadesOption && cascadesOption->count() > 0) s.cascades = cascades;
   if (splitLambdaOption && splitLambdaOption->count() > 0) s.splitLambda = splitLambda;
   if (cascadeBlendOption && cascadeBlendOption->count() > 0) s.cascadeBlend = cascadeBlend;
+  s.farSliceScale = farSliceScale;
   return s;
 }
 
@@ -233,7 +240,8 @@ nlohmann::ordered_json FrameOptions::json(const gl::ContextInfo& context, const 
                               {"cascades", c.cascades},
                               {"split_lambda", c.split_lambda},
                               {"cascade_blend", c.cascade_blend},
-                              {"shadow_texels", static_cast<long long>(c.cascades) * shadowSize * shadowSize},
+                              {"far_slice_scale", farSliceScale},
+                              {"shadow_texels", render::shadowTexels(settings(), c.cascades)},
                               {"culling", culling},
                               {"casters", render::kCasterSelectionNames.name(settings(context).casters)},
                               {"pcf_radius", pcf},

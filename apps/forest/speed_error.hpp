@@ -24,6 +24,9 @@ struct SpeedErrorOptions {
   // Slices per layout. K > 1 is swept at equal total texels: K layers of (size / √K)² for each size
   // (4 × 1024² against 1 × 2048²), focus on the receivers only; layers under 512² are left out.
   std::vector<int> cascades{1, 4};
+  // Unequal layers: with K > 1 the last layer's side is this many times the others' (still at equal
+  // total texels: (K − 1 + scale²) · layer² = size²). 1: equal layers.
+  double farSliceScale = 1.0;
   double target = 0.02;  // misclassification for the equal-error map sizes
   int softRays = 8;      // fewer than truth's 16: the sweep scores 130 frames
   std::string termResolution = FrameOptions{}.termResolution;  // of the blurred term: full or half
@@ -51,10 +54,14 @@ struct MapLayout {
   int cascades = 1;
   int layerSize = 0;
   int totalSide = 0;
-  std::string label() const;  // "2048²" or "4×1024²"
+  double farScale = 1.0;  // K > 1: the last layer's side over layerSize (FrameSettings::farSliceScale)
+  int farSize() const;    // the last layer's side
+  long long texels() const;
+  std::string label() const;  // "2048²", "4×1024²" or "3×894²+1341²"
 };
-// The sweep's layouts: each K of `cascades` at each total size of `sizes`.
-std::vector<MapLayout> mapLayouts(const std::vector<int>& sizes, const std::vector<int>& cascades);
+// The sweep's layouts: each K of `cascades` at each total size of `sizes`, with K > 1 the last
+// layer `farScale` times the others' side at the same total texels.
+std::vector<MapLayout> mapLayouts(const std::vector<int>& sizes, const std::vector<int>& cascades, double farScale = 1.0);
 
 struct Row {
   std::string scenario, method, focus;

@@ -119,6 +119,7 @@ std::pair<ordered_json, std::string> reportJsonAndCsv(const ReportInputs& in, co
   report["quick"] = in.options.quick;
   report["map_sizes"] = in.totals;
   report["cascades"] = in.options.cascades;
+  report["far_slice_scale"] = in.options.farSliceScale;
   report["soft_rays"] = in.options.softRays;
   report["target_misclassification"] = in.options.target;
   report["scenarios"] = ordered_json::array();
@@ -135,12 +136,13 @@ std::pair<ordered_json, std::string> reportJsonAndCsv(const ReportInputs& in, co
   report["rows"] = ordered_json::array();
   for (const Row& r : in.rows) {
     const truth::FrameError& e = r.error;
-    const long long texels = static_cast<long long>(r.layout.cascades) * r.layout.layerSize * r.layout.layerSize;
+    const long long texels = r.layout.texels();
     report["rows"].push_back({{"scenario", r.scenario},
                               {"method", r.method},
                               {"focus", r.focus},
                               {"cascades", r.layout.cascades},
                               {"map_size", r.layout.layerSize},
+                              {"far_map_size", r.layout.farSize()},
                               {"total_texels", texels},
                               {"blur", r.blur},
                               {"frame_ms", r.frameMs},
@@ -182,6 +184,7 @@ std::pair<ordered_json, std::string> reportJsonAndCsv(const ReportInputs& in, co
                                  {"focus", f.focus},
                                  {"cascades", f.layout.cascades},
                                  {"map_size", f.layout.layerSize},
+                                 {"far_map_size", f.layout.farSize()},
                                  {"share", f.result.share()},
                                  {"probes", f.result.probes},
                                  {"comparisons", f.result.comparisons},

@@ -46,9 +46,28 @@ void validate(const FrameSettings& settings) {
     throw InputError(fmt::format("split lambda {}: expected 0 to 1", *settings.splitLambda));
   if (settings.cascadeBlend && !(*settings.cascadeBlend >= 0.0 && *settings.cascadeBlend <= 0.5))
     throw InputError(fmt::format("cascade blend {}: expected 0 to 0.5", *settings.cascadeBlend));
+  if (!(settings.farSliceScale >= 0.5 && settings.farSliceScale <= 2.0))
+    throw InputError(fmt::format("far slice scale {}: expected 0.5 to 2 (1: layers of one size)", settings.farSliceScale));
+  if (const int far = sliceMapSize(settings, 1, 2); far < 256 || far > 8192)
+    throw InputError(fmt::format("far slice scale {} of {} texels: the far layer's {} texels per side are outside 256 to 8192",
+                                 settings.farSliceScale, settings.shadowMapSize, far));
+  if (settings.farSliceScale != 1.0 && settings.casters == CasterSelection::ReceiverMaskGpu)
+    throw InputError(fmt::format("far slice scale {} with casters receiver-mask-gpu: the GPU's caster filter needs layers of one "
+                                 "size (choose receiver-pixels or receivers, or a scale of 1)", settings.farSliceScale));
 }
 
 }  // namespace
+
+int sliceMapSize(const FrameSettings& settings, int slice, int cascades) {
+  if (cascades < 2 || slice < cascades - 1) return settings.shadowMapSize;
+  return static_cast<int>(std::lround(settings.farSliceScale * settings.shadowMapSize));
+}
+
+long long shadowTexels(const FrameSettings& settings, int cascades) {
+  long long texels = 0;
+  for (int i = 0; i < cascades; ++i) texels += static_cast<long long>(sliceMapSize(settings, i, cascades)) * sliceMapSize(settings, i, cascades);
+  return texels;
+}
 
 ShadowSettings resolveCascades(const FrameSettings& settings, const Scene& scene) {
   ShadowSettings s = scene.shadows;
@@ -450,16 +469,16 @@ Frame::ShownInImage Frame::readShownInImage() {
   return {{record.shownObjects().begin(), record.shownObjects().end()}, {record.shownBlocks().begin(), record.shownBlocks().end()}};
 }
 
-int Frame::shadowMapSize() const { return passes_->shadow.size(); }
+int Frame::shadowMapSize(int slice) const { return passes_->shadow.size() == 0 ? 0 : this->slice(slice).mapSize; }
 
 std::vector<float> Frame::readShadowMap(int layer) const {
   if (!wholeShadowMap_)
     throw Error("Frame::readShadowMap: the last frame drew only the texels its lookups read (FrameSettings::wholeShadowMap was false)");
-  const int size = passes_->shadow.size();
-  std::vector<float> v(static_cast<size_t>(size) * size);
-  if (size == 0) return v;
+  if (passes_->shadow.size() == 0) return {};
   if (layer < 0 || layer >= passes_->shadow.layers())
     throw InputError(fmt::format("shadow map layer {}: the map has {}", layer, passes_->shadow.layers()));
+  const int size = shadowMapSize(layer);  // the square at the layer's origin (FrameSettings::farSliceScale)
+  std::vector<float> v(static_cast<size_t>(size) * size);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
   glGetTextureSubImage(passes_->shadow.map().id(), 0, 0, 0, layer, size, size, 1, GL_DEPTH_COMPONENT, GL_FLOAT,
                        static_cast<GLsizei>(v.size() * 4), v.data());

@@ -6,16 +6,36 @@
 #include "shadow_pass.hpp"
 
 namespace forest::render {
+namespace {
+
+// Error injection (FrameSettings::lookupShiftTexels): clip x, y += 2·shift/size · w.
+glm::dmat4 lookupShift(const FrameSettings& settings, int size) {
+  glm::dmat4 shift(1.0);
+  shift[3][0] = 2.0 * settings.lookupShiftTexels.x / size;
+  shift[3][1] = 2.0 * settings.lookupShiftTexels.y / size;
+  return shift;
+}
+
+// A layer of `size` texels per side in an array texture of `side` (FrameSettings::farSliceScale)
+// is the square at its origin: the lookup's texture coordinate 0.5 · ndc + 0.5 scaled by f =
+// size / side, i.e. ndc' = f · ndc + (f − 1), in clip space x' = f · x + (f − 1) · w.
+glm::dmat4 layerSquare(int size, int side) {
+  const double f = side > 0 ? static_cast<double>(size) / side : 1.0;
+  glm::dmat4 m(1.0);
+  m[0][0] = m[1][1] = f;
+  m[3][0] = m[3][1] = f - 1.0;
+  return m;
+}
+
+}  // namespace
 
 FrameBlock frameBlock(const Camera& camera, const ShadowPlan& plan, const FrameSettings& settings, int termScale,
                       const Scene& scene, const glm::dvec3& l, bool sunUp) {
   FrameBlock b;
-  glm::dmat4 shift(1.0);  // clip x, y += 2·shift/size · w
-  shift[3][0] = 2.0 * settings.lookupShiftTexels.x / settings.shadowMapSize;
-  shift[3][1] = 2.0 * settings.lookupShiftTexels.y / settings.shadowMapSize;
   for (int i = 0; i < plan.cascades; ++i) {
     const ShadowSlice& slice = plan.slices[static_cast<size_t>(i)];
-    b.eyeRelativeToShadow[i] = glm::mat4(shift * eyeRelativeToShadowClip(slice.setup, camera.position));
+    b.eyeRelativeToShadow[i] = glm::mat4(layerSquare(slice.mapSize, plan.layerSide()) * lookupShift(settings, slice.mapSize) *
+                                         eyeRelativeToShadowClip(slice.setup, camera.position));
     b.eyeRelativeLightDepth[i] = slice.setup.eyeRelativeToLightDepthF;
     b.cascadeEnds[i] = static_cast<float>(slice.to);
   }

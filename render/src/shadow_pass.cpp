@@ -136,7 +136,7 @@ std::optional<std::vector<std::uint32_t>> ShadowPass::treesKeptOnGpu(int slice) 
 
 long long ShadowPass::run(const ShadowPlan& plan, const DrawView& eye, const terrain::TerrainLod* lod,
                           const FrameSettings& settings, const dvec3& l, const gl::Texture* receiverSurface, FrameStats& stats) {
-  ensureMap(settings.shadowMapSize, plan.cascades);
+  ensureMap(plan.layerSide(), plan.cascades);
   useGpuFilter(receiverSurface != nullptr && forestSource_ != nullptr);
   // Cached slices need the casters known on the CPU (not the GPU's filter).
   const bool caching = settings.cacheSlices && !filteredOnGpu_;
@@ -150,9 +150,9 @@ long long ShadowPass::run(const ShadowPlan& plan, const DrawView& eye, const ter
     // The casters drawn only into the texels a lookup can read, when known and the whole map is
     // not asked for. A layer no lookup reads is left as it was.
     const bool scissored = !settings.wholeShadowMap && slice.texelsRead.has_value();
-    const shadows::TexelRect read = scissored ? *slice.texelsRead : shadows::TexelRect{0, 0, size_, size_};
+    const shadows::TexelRect read = scissored ? *slice.texelsRead : shadows::TexelRect{0, 0, slice.mapSize, slice.mapSize};
     const bool draws = plan.shadowed && !slice.setup.empty && !read.empty();
-    const LayerTarget target{map_.id(), size_, layers_, settings.slopeScaleBias, settings.backside};
+    const LayerTarget target{map_.id(), size_, slice.mapSize, layers_, settings.slopeScaleBias, settings.backside};
     LayerDraw layer{SliceUpdate::Redraw, caching ? "empty" : "off", "", slice.casters, slice.terrainBlocks, read};
     // Staggered: slice i redraws for its held casters' changes at most every 2^i frames.
     if (caching && draws) layer = cache_.plan(i, target, slice, read, eye, lod, l, settings.staggerSlices ? (1 << i) - 1 : 0);
@@ -185,7 +185,7 @@ long long ShadowPass::drawLayer(int i, const ShadowPlan& plan, const ShadowSlice
   // the linear light depth (its programs write no ID).
   const bool withIds = filteredOnGpu_ && !slice.setup.linearDepth;
   glBindFramebuffer(GL_FRAMEBUFFER, (withIds ? idFramebuffers_ : framebuffers_)[static_cast<size_t>(i)].id());
-  glViewport(0, 0, size_, size_);
+  glViewport(0, 0, slice.mapSize, slice.mapSize);  // the square at the layer's origin (FrameSettings::farSliceScale)
   // The clear stays whole: under a scissor llvmpipe clears by drawing a quad, slower than its fast
   // clear of the whole layer.
   const shadows::TexelRect& read = layer.rect;

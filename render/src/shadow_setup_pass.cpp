@@ -81,6 +81,12 @@ int ShadowPlan::sliceOf(double eyeDepth) const {
   return slice;
 }
 
+int ShadowPlan::layerSide() const {
+  int side = 0;
+  for (int i = 0; i < cascades; ++i) side = std::max(side, slices[static_cast<size_t>(i)].mapSize);
+  return side;
+}
+
 // Casters of the visible receivers (DESIGN §4, Bittner et al. 2011): only the part of a receiver
 // inside the slice's view receives shadows from its layer, so each box is clipped to that view
 // first (a 125 m terrain tile at the edge of the view does not pull in the casters of its unseen
@@ -97,12 +103,12 @@ void ShadowSetupPass::selectCastersOfReceivers(ShadowSlice& slice, const SliceCo
   for (const Aabb& receiver : sliceReceivers_) {
     // Most receivers (trees) lie wholly inside V: clipping would return the box itself.
     if (viewPlanes.contains(receiver)) {
-      footprints_.push_back(grownByFilter(receiver, slice.setup, settings.shadowMapSize, reach, l, sceneBounds));
+      footprints_.push_back(grownByFilter(receiver, slice.setup, slice.mapSize, reach, l, sceneBounds));
       continue;
     }
     ConvexBody part = ConvexBody::fromBox(receiver);
     part.clip(view);
-    if (!part.empty()) footprints_.push_back(grownByFilter(part.bounds(), slice.setup, settings.shadowMapSize, reach, l, sceneBounds));
+    if (!part.empty()) footprints_.push_back(grownByFilter(part.bounds(), slice.setup, slice.mapSize, reach, l, sceneBounds));
   }
   selector_.rebuild(l, footprints_);
   selectByHierarchy(context.bvh, context.objects.boxes(), slice.casters);
@@ -180,12 +186,11 @@ void ShadowSetupPass::refineCasters(ShadowSlice& slice, const FrameSettings& set
 }
 
 // The receiver mask of the slice: the pixels whose eye depth its focus body spans, in its map.
-void ShadowSetupPass::fillReceiverMask(const ShadowSlice& slice, const FrameSettings& settings,
-                                       const ReceiverPixels& receiverPixels) {
+void ShadowSetupPass::fillReceiverMask(const ShadowSlice& slice, const ReceiverPixels& receiverPixels) {
   // Cells of 4 texels: finer cells keep fewer casters (LiSPSM 2048², ground view, 75° sun: 4.16×
   // the triangles the truth needs with 8-texel cells, 4.03× with 4, 3.96× with 2), coarser ones
   // are cheaper to clear and scan.
-  const int cells = std::clamp(settings.shadowMapSize / 4, 64, 1024);
+  const int cells = std::clamp(slice.mapSize / 4, 64, 1024);
   // A mask per band of rows (rows dealt in turn: the ground and the sky shared alike), each filled
   // on a thread of its own, then merged.
   const int height = receiverPixels.height();
@@ -194,7 +199,7 @@ void ShadowSetupPass::fillReceiverMask(const ShadowSlice& slice, const FrameSett
   bandRows_.resize(static_cast<size_t>(bands));
   workers_.run([&](int band) {
     shadows::ReceiverMask& mask = band == 0 ? mask_ : bandMasks_[static_cast<size_t>(band)];
-    mask.reset(slice.setup, settings.shadowMapSize, cells);
+    mask.reset(slice.setup, slice.mapSize, cells);
     std::vector<float>& depths = bandRows_[static_cast<size_t>(band)];
     depths.resize(static_cast<size_t>(receiverPixels.width()));
     for (int y = band; y < height; y += bands) {
@@ -232,6 +237,10 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
                           const Aabb& sceneBounds, const ReceiverPixels* receiverPixels, ShadowPlan& plan,
                           FrameStats& stats) {
   startPlan(camera, visible, objects, lod, cascades, plan, stats);
+  for (int i = 0; i < plan.cascades; ++i) {
+    plan.slices[static_cast<size_t>(i)].mapSize = sliceMapSize(settings, i, plan.cascades);
+    stats.cascade[static_cast<size_t>(i)].mapSize = plan.slices[static_cast<size_t>(i)].mapSize;
+  }
   if (!settings.keepSlices) kept_.reset();
   plan.lookupReachTexels = lookupReachTexels(settings);
   plan.shadowed = !sunBelowHorizon && !receivers_.empty() && sceneBounds.valid();
@@ -358,7 +367,7 @@ shadows::ShadowInput ShadowSetupPass::sliceInput(const ShadowSlice& slice, int i
   // The first slice serves everything from the near plane, but nothing visible lies nearer than
   // z_near: its n is eq. 8.13 from there (ShadowInput::nNear); B still starts at the near plane.
   input.nNear = nNear;
-  input.mapSize = settings.shadowMapSize;
+  input.mapSize = slice.mapSize;
   input.borderTexels = mapBorderTexels(settings.pcfRadius);
   return input;
 }
@@ -374,7 +383,7 @@ void ShadowSetupPass::selectCasters(ShadowSlice& slice, const SliceContext& cont
       break;
     case CasterSelection::ReceiverPixels:
       if (!context.receiverPixels) throw Error("shadow setup: receiver-pixels casters without the receiver pixels");
-      fillReceiverMask(slice, settings, *context.receiverPixels);
+      fillReceiverMask(slice, *context.receiverPixels);
       slice.texelsRead = mask_.texelsRead(lookupReachTexels(settings));
       selectCastersOfReceivers(slice, context, &mask_);
       break;

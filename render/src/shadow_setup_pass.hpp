@@ -29,6 +29,7 @@ namespace forest::render {
 struct ShadowSlice {
   double from = 0.0, to = 0.0;          // eye depths it serves: [from, to)
   Camera camera;                        // the eye camera with near, far = the ends of its focus body (shadows::sliceCamera)
+  int mapSize = 0;                      // its layer's texels per side (sliceMapSize): the square at the layer's origin
   shadows::ShadowSetup setup;
   std::vector<std::uint32_t> casters;   // object indices (a terrain tile when any of its blocks is drawn)
   // The terrain casters by block (CasterSelection::Receivers): the blocks of the caster tiles that
@@ -53,6 +54,8 @@ struct ShadowPlan {
   std::array<ShadowSlice, shadows::kMaxCascades> slices;
   // The slice a pixel at eye depth z reads (the shader's choice, shadow_lookup.frag).
   int sliceOf(double eyeDepth) const;
+  // Texels per side of the array texture that holds every slice's layer: the largest mapSize.
+  int layerSide() const;
 };
 
 class ShadowSetupPass {
@@ -108,7 +111,7 @@ class ShadowSetupPass {
   void refineCasters(ShadowSlice& slice, const FrameSettings& settings, const glm::dvec3& l, const SceneObjects& objects,
                      const terrain::TerrainLod* lod, const shadows::ReceiverMask* mask);
   // mask_ over the visible sun-facing pixels whose eye depth the slice's focus body spans.
-  void fillReceiverMask(const ShadowSlice& slice, const FrameSettings& settings, const ReceiverPixels& receiverPixels);
+  void fillReceiverMask(const ShadowSlice& slice, const ReceiverPixels& receiverPixels);
 
   shadows::MethodHistory history_;  // what the shadow method carries from frame to frame, per slice
   shadows::KeptSlices kept_;        // the slices' kept maps (FrameSettings::keepSlices)

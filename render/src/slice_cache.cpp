@@ -13,7 +13,7 @@ namespace {
 auto blockKey(const terrain::TileBlock& b) { return std::tuple(b.tile, b.level, b.block, b.cells.first, b.cells.end); }
 
 bool sameTarget(const LayerTarget& a, const LayerTarget& b) {
-  return a.map == b.map && a.size == b.size && a.layers == b.layers && a.slopeScaleBias == b.slopeScaleBias && a.backside == b.backside;
+  return a.map == b.map && a.side == b.side && a.size == b.size && a.layers == b.layers && a.slopeScaleBias == b.slopeScaleBias && a.backside == b.backside;
 }
 
 bool contains(const shadows::TexelRect& outer, const shadows::TexelRect& inner) {

@@ -49,7 +49,9 @@ inline constexpr double kRectMarginShare = 0.02;
 // The map a layer belongs to and how its casters are drawn into it.
 struct LayerTarget {
   unsigned map = 0;  // the array texture's GL name
-  int size = 0, layers = 0;
+  int side = 0;      // its texels per side (a name may come back for a new texture)
+  int size = 0;      // the layer's: the square at its origin (FrameSettings::farSliceScale)
+  int layers = 0;
   double slopeScaleBias = 0.0;
   bool backside = true;
 };

@@ -120,7 +120,7 @@ struct Tallies {
 void scorePixels(const render::Frame& frame, const std::vector<PixelTruth>& truth, const std::vector<std::uint32_t>& ids,
                  const std::vector<float>& term, const std::vector<float>& blurred, const Camera& camera, const dvec3& l,
                  const TruthOptions& options, FrameError& e, Tallies& n) {
-  const int width = frame.width(), height = frame.height(), mapSize = frame.shadowMapSize();
+  const int width = frame.width(), height = frame.height();
   const dvec3 forward = camera.forward();
   const auto bandOf = [&](const dvec3& p) -> DistanceBand& {
     const double distance = glm::distance(p, camera.position);
@@ -158,9 +158,10 @@ void scorePixels(const render::Frame& frame, const std::vector<PixelTruth>& trut
       n.softError += std::abs(static_cast<double>(blurred[i]) - t.soft);
       n.softErrorUnblurred += std::abs(static_cast<double>(term[i]) - t.soft);
       // The slice whose layer the pixel reads, by its eye depth (in a blend band, the farther one).
-      const shadows::ShadowSetup& setup = frame.shadowSetup(frame.cascadeOf(glm::dot(t.position - camera.position, forward)));
+      const int slice = frame.cascadeOf(glm::dot(t.position - camera.position, forward));
+      const shadows::ShadowSetup& setup = frame.shadowSetup(slice);
       if (!setup.empty) {
-        const auto a = shadows::surfaceAliasing(setup, camera, t.position, t.normal, l, mapSize, width, height);
+        const auto a = shadows::surfaceAliasing(setup, camera, t.position, t.normal, l, frame.shadowMapSize(slice), width, height);
         if (a && std::isfinite(a->footprint)) n.aliasingPixels.push_back(a->footprint);
         const double r = shadows::perspectiveAliasing(setup, camera, t.position);
         if (std::isfinite(r)) n.aliasingRelative.push_back(r);
@@ -278,12 +279,12 @@ FlickerResult measureFlicker(render::Frame& frame, const Scene& scene, std::span
         result.slicesKept += stats.cascade[static_cast<size_t>(slice)].keeping.kept ? 1 : 0;
       }
     }
-    const int size = frame.shadowMapSize();
     std::vector<std::vector<float>> maps;  // per slice
     for (int slice = 0; slice < frame.cascadeCount(); ++slice) maps.push_back(frame.readShadowMap(slice));
     for (size_t p = 0; p < probes.size(); ++p) {
       // The probe's slice in this frame, by its eye depth.
       const int slice = frame.cascadeOf(glm::dot(probes[p] - cameras[c].position, cameras[c].forward()));
+      const int size = frame.shadowMapSize(slice);
       const shadows::ShadowSetup& setup = frame.shadowSetup(slice);
       const std::vector<float>& map = maps[static_cast<size_t>(slice)];
       auto stored = [&](int tx, int ty) {

@@ -103,6 +103,12 @@ struct FrameSettings {
   std::optional<int> cascades;
   std::optional<double> splitLambda;
   std::optional<double> cascadeBlend;
+  // Unequal layers (issue "Shadows that hold still", item 4): with K > 1 slices the last one's
+  // layer has round(farSliceScale · shadowMapSize) texels per side, the others shadowMapSize. The
+  // layers share one array texture as large as the largest; a smaller layer is the square at its
+  // origin (sliceMapSize). [0.5, 2]; 1: equal layers. Not with the GPU's caster filter (its masks
+  // are of the layers' one size).
+  double farSliceScale = 1.0;
   // How the passes are timed (DESIGN §9): Profiling brackets each pass with glFinish and a steady
   // clock (llvmpipe, where timer queries lie; the pipeline is serialised); GpuQueries puts
   // GL_TIMESTAMP queries around each pass and reads them frames later, so nothing in a frame waits
@@ -151,6 +157,12 @@ gl::TimingMode defaultTimingMode(const gl::ContextInfo& info);
 // The cascades a frame uses: the settings' where given, else the scene's [shadows].
 ShadowSettings resolveCascades(const FrameSettings& settings, const Scene& scene);
 
+// Texels per side of slice `slice`'s layer of `cascades`: shadowMapSize, the last of several
+// slices round(farSliceScale · shadowMapSize).
+int sliceMapSize(const FrameSettings& settings, int slice, int cascades);
+// The texels of all `cascades` layers (what "equal total texels" compares).
+long long shadowTexels(const FrameSettings& settings, int cascades);
+
 // One slice of a z-partitioned frame: the eye depths it serves, its shadow setup's n and γ, what
 // its layer drew.
 enum class SliceUpdate { Reuse, Add, Redraw };  // what the shadow pass did with a layer (cached slices)
@@ -160,6 +172,7 @@ inline constexpr EnumNames<SliceUpdate, 3> kSliceUpdateNames{
 struct CascadeStats {
   double fromM = 0.0, toM = 0.0;  // eye depths: pixels in [from, to) read this slice's layer
   double n = 0.0, gammaDeg = 0.0; // the setup's (0 for uniform methods' n)
+  int mapSize = 0;                // its layer's texels per side (sliceMapSize)
   int casters = 0;
   long long triangles = 0;
   long long texelsDrawn = 0;      // texels of its layer the shadow pass drew its casters into (ShadowSlice::texelsRead)
@@ -280,10 +293,10 @@ class Frame {
     std::vector<std::uint16_t> blocks;
   };
   ShownInImage readShownInImage();
-  // The last shadow map (of slice `slice`): depth in [0, 1] (0 nearest the light), size × size,
-  // bottom row first.
+  // The last shadow map (of slice `slice`): depth in [0, 1] (0 nearest the light), size × size
+  // for the slice's shadowMapSize(slice), bottom row first.
   std::vector<float> readShadowMap(int slice = 0) const;
-  int shadowMapSize() const;
+  int shadowMapSize(int slice = 0) const;  // the last frame's layer of the slice, texels per side
 
   int width() const { return width_; }
   int height() const { return height_; }
