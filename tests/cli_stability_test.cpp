@@ -25,8 +25,6 @@ using Result = test::CliResult;
 using test::expectOneLineError;
 using test::runForest;
 
-std::string bad(const std::string& name) { return std::string(FOREST_TEST_DATA) + "/bad/" + name; }
-
 // Checks the records of `forest stability --out` without the engine's geometry code: points
 // sampled in the camera frustum ∩ S (from the case's own fields) must land inside the map with
 // the record's float32 camera-relative matrix.
@@ -109,7 +107,7 @@ TEST(ForestCli, StabilityReportsAliasingPerMethod) {
 }
 
 TEST(ForestCli, StabilityRejectsBadCaseFiles) {
-  const std::string file = bad("stability-near-far.json");
+  const std::string file = test::badInput("stability-near-far.json");
   expectOneLineError(runForest("stability --cases " + file), file + ": case 2 ('far before near'): far",
                      "expected far > near (10), got 5");
   const Result none = runForest("stability");

@@ -34,28 +34,26 @@ using test::expectOneLineError;
 using test::expectSkyBetweenZenithAndHorizon;
 using test::runForest;
 
-std::string bad(const std::string& name) { return std::string(FOREST_TEST_DATA) + "/bad/" + name; }
-
 TEST(ForestCli, UnknownKey) {
-  const std::string file = bad("unknown-key.toml");
+  const std::string file = test::badInput("unknown-key.toml");
   const Result r = runForest("render --scene " + file + " --out /tmp/never.png");
   expectOneLineError(r, file + ":3:1", "unknown key 'camera.fov'");
 }
 
 TEST(ForestCli, WrongType) {
-  const std::string file = bad("wrong-type.toml");
+  const std::string file = test::badInput("wrong-type.toml");
   expectOneLineError(runForest("render --scene " + file + " --out /tmp/never.png"), file + ":2:8",
                      "camera.near = 'close': expected a finite number > 0");
 }
 
 TEST(ForestCli, NegativeSize) {
-  const std::string file = bad("negative-size.toml");
+  const std::string file = test::badInput("negative-size.toml");
   expectOneLineError(runForest("render --scene " + file + " --out /tmp/never.png"), file + ":2:9",
                      "render.width = -640: expected an integer in [1, 16384]");
 }
 
 TEST(ForestCli, NaN) {
-  const std::string file = bad("nan.toml");
+  const std::string file = test::badInput("nan.toml");
   expectOneLineError(runForest("render --scene " + file + " --out /tmp/never.png"), file + ":2:13",
                      "sun.direction = [ 0.0, nan, 0.0 ]");
 }
@@ -101,12 +99,12 @@ TEST(ForestCli, CheckStatsPrintsTheVegetationOfAScene) {
 }
 
 TEST(ForestCli, BadPathFilesAreNamed) {
-  const std::string unordered = bad("path-unordered.toml");
+  const std::string unordered = test::badInput("path-unordered.toml");
   expectOneLineError(runForest("check --path " + unordered), unordered,
                      "key[1].t = 1: expected a time greater than key[0].t = 2");
-  const std::string typo = bad("path-unknown-key.toml");
+  const std::string typo = test::badInput("path-unknown-key.toml");
   expectOneLineError(runForest("check --path " + typo), typo + ":4:1", "unknown key 'key[0].yaw'");
-  const std::string nan = bad("path-nan.toml");
+  const std::string nan = test::badInput("path-nan.toml");
   expectOneLineError(runForest("check --path " + nan), nan + ":3:12", "key[0].position = [ 0.0, nan, 0.0 ]");
   expectOneLineError(runForest("check --path /nonexistent/path.toml"), "/nonexistent/path.toml", "no such file");
 }
@@ -224,7 +222,7 @@ TEST(ForestCli, RenderDrawsTheTerrainScene) {
   // Top row: sky; bottom row: lit terrain, greener than blue.
   expectSkyBetweenZenithAndHorizon(png, 160, 0, {0.55, 0.7, 0.9});
   EXPECT_GT(png.at(160, 179, 1), png.at(160, 179, 2));
-  const std::string file = bad("terrain-octaves.toml");
+  const std::string file = test::badInput("terrain-octaves.toml");
   expectOneLineError(runForest("render --scene " + file + " --out /tmp/never.png"), file + ":3:11",
                      "terrain.octaves = 17: expected an integer in [1, 16]");
 }
@@ -509,7 +507,7 @@ TEST(ForestCli, WalkthroughInterruptedLeavesCompleteFiles) {
 TEST(ForestCli, WalkthroughRejectsBadInputBeforeWritingAnything) {
   const fs::path out = fs::path(FOREST_TEST_OUTPUT) / "cli" / "walk-bad";
   fs::remove_all(out);
-  const std::string unordered = bad("path-unordered.toml");
+  const std::string unordered = test::badInput("path-unordered.toml");
   const Result path = runForest("walkthrough --path " + unordered + " --out " + out.string());
   EXPECT_EQ(path.exitCode, 2);
   EXPECT_THAT(path.err, HasSubstr(unordered));

@@ -47,6 +47,9 @@ inline CliResult runForest(const std::string& arguments, const std::string& envi
 }
 
 // One line "forest: error: FILE…KEY…", exit code 2.
+// A file of tests/data/bad (the inputs each command must refuse with one clear line).
+inline std::string badInput(const std::string& name) { return std::string(FOREST_TEST_DATA) + "/bad/" + name; }
+
 inline void expectOneLineError(const CliResult& r, const std::string& file, const std::string& key) {
   EXPECT_EQ(r.exitCode, 2);
   EXPECT_THAT(r.err, ::testing::StartsWith("forest: error: " + file));

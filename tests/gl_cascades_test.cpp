@@ -193,6 +193,15 @@ BeamScene beamOverPlane() {
   return b;
 }
 
+// `method` in k slices of 1024² (the beam's runs).
+render::FrameSettings slicedSettings(shadows::ShadowMethod method, int k) {
+  render::FrameSettings settings;
+  settings.method = method;
+  settings.shadowMapSize = 1024;
+  settings.cascades = k;
+  return settings;
+}
+
 TEST_F(CascadesGl, BoxShadowsAreRightOnBothSidesOfEverySplit) {
   if (backendUnderTest() != "egl") GTEST_SKIP() << "the engine's own logic: checked on the egl backend";
   const BeamScene beam = beamOverPlane();
@@ -206,10 +215,7 @@ TEST_F(CascadesGl, BoxShadowsAreRightOnBothSidesOfEverySplit) {
     for (int k = 2; k <= shadows::kMaxCascades; ++k)
       for (double blend : {0.0, 0.1}) {
         if (combination++ % kSweepStride != 0) continue;
-        render::FrameSettings settings;
-        settings.method = method;
-        settings.shadowMapSize = 1024;
-        settings.cascades = k;
+        render::FrameSettings settings = slicedSettings(method, k);
         settings.cascadeBlend = blend;
         frame.resetHistory();
         const render::FrameStats stats = frame.render(camera, 0.0, settings);
@@ -245,10 +251,7 @@ TEST_F(CascadesGl, UnequalLayersShadowLikeTheCpuRay) {
   for (shadows::ShadowMethod method : {shadows::ShadowMethod::UniformStable, shadows::ShadowMethod::Lispsm})
     for (int k : {2, 4})
       for (double scale : {0.5, 1.5, 2.0}) {
-        render::FrameSettings settings;
-        settings.method = method;
-        settings.shadowMapSize = 1024;
-        settings.cascades = k;
+        render::FrameSettings settings = slicedSettings(method, k);
         settings.farSliceScale = scale;
         frame.resetHistory();
         const render::FrameStats stats = frame.render(beam.camera, 0.0, settings);
