@@ -4,6 +4,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <string>
 
@@ -12,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_test_support.hpp"
+#include "speed_error.hpp"
 #include "forest/core/files.hpp"
 #include "forest/core/image.hpp"
 #include "test_paths.hpp"
@@ -32,7 +34,7 @@ TEST(ForestCli, SpeedErrorQuickWritesTheDocumentedReportAndPlots) {
   EXPECT_THAT(r.out, HasSubstr("equal-error size"));
   const nlohmann::json j = nlohmann::json::parse(readTextFile(folder / "report.json"));
   for (const char* key : {"version", "scene", "device", "timing", "queries", "casters", "resolution", "quick", "map_sizes", "soft_rays",
-                          "target_misclassification", "scenarios", "rows", "flicker", "equal_error_map_size"})
+                          "target_misclassification", "scenarios", "rows", "flicker", "equal_error_map_size", "far_slice_scale"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_EQ(j["timing"], "profile");           // auto on llvmpipe
   EXPECT_EQ(j["casters"], "receiver-pixels");  // auto on llvmpipe, as in every other command
@@ -48,6 +50,7 @@ TEST(ForestCli, SpeedErrorQuickWritesTheDocumentedReportAndPlots) {
     // Equal total texels: one 1024² map or four 512² layers.
     EXPECT_EQ(row["total_texels"].get<long long>(), 1024LL * 1024);
     EXPECT_EQ(row["map_size"].get<int>(), row["cascades"].get<int>() == 4 ? 512 : 1024);
+    EXPECT_EQ(row["far_map_size"], row["map_size"]);  // equal layers unless --far-slice-scale
     cascaded += row["cascades"].get<int>() == 4 ? 1 : 0;
     ASSERT_EQ(row["bands"].size(), 3u);
     int bandPixels = 0;
@@ -328,6 +331,29 @@ TEST(ForestCli, BenchScaleRunsEachPathWithEachTreeCount) {
   const Result tooMany = runForest(fmt::format("bench scale --scene {}/scenes/forest.toml --trees 6000 --out {}", FOREST_REPO_DATA, (out / "bad").string()));
   EXPECT_EQ(tooMany.exitCode, 2);
   EXPECT_THAT(tooMany.err, HasSubstr("--trees 6000: at most the scene's count, 5000"));
+}
+
+// Layouts at equal total texels (bench speed-error --far-slice-scale): K − 1 layers of side s and
+// one of r · s with (K − 1 + r²) · s² = N², each side rounded; layers under 512² left out.
+TEST(ForestCli, SpeedErrorLayoutsKeepTheTotalTexels) {
+  for (double r : {0.5, 0.75, 1.0, 1.5, 2.0})
+    for (const app::MapLayout& layout : app::mapLayouts({1024, 2048, 4096}, {1, 2, 4}, r)) {
+      const double expectedSide = layout.totalSide / std::sqrt(layout.cascades == 1 ? 1.0 : layout.cascades - 1 + r * r);
+      EXPECT_LE(std::abs(layout.layerSize - expectedSide), 0.5) << layout.label();
+      EXPECT_EQ(layout.farSize(), layout.cascades == 1 ? layout.layerSize : static_cast<int>(std::lround(r * layout.layerSize)));
+      // Sides rounded: s by up to δ = 1/2, the far side round(r · s) by up to δ_f = (1 + r) / 2 from r
+      // times the exact s; a side a off by δ moves a² by at most 2aδ + δ².
+      const int k = layout.cascades;
+      const double far = k == 1 ? expectedSide : r * expectedSide, farDelta = k == 1 ? 0.5 : 0.5 * (1.0 + r);
+      const double bound = (k - 1) * (2.0 * expectedSide * 0.5 + 0.25) + 2.0 * far * farDelta + farDelta * farDelta;
+      EXPECT_LE(std::abs(static_cast<double>(layout.texels()) - static_cast<double>(layout.totalSide) * layout.totalSide), bound)
+          << layout.label();
+      EXPECT_GE(layout.layerSize, 512);
+    }
+  EXPECT_EQ(app::mapLayouts({2048}, {4}, 1.5).front().label(), "3×894²+1341²");
+  EXPECT_EQ(app::mapLayouts({2048}, {4}, 1.0).front().label(), "4×1024²");
+  EXPECT_EQ(app::mapLayouts({2048}, {2}, 0.5).front().label(), "1832²+916²");
+  EXPECT_TRUE(app::mapLayouts({1024}, {4}, 2.0).empty());  // 1024 / √7 = 387 < 512
 }
 
 }  // namespace

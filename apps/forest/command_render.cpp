@@ -250,10 +250,10 @@ int runRender(const RenderOptions& options) {
       options.json.empty() ? std::filesystem::path(options.out).replace_extension(".json").string() : options.json;
   writeFileAtomic(jsonPath, j.dump(2) + "\n");
   std::cout << fmt::format(
-      "wrote {} and {} ({}x{}): {} visible objects, {} triangles; shadow {} {}{}² with {} casters, {} triangles; "
+      "wrote {} and {} ({}x{}): {} visible objects, {} triangles; shadow {} {} with {} casters, {} triangles; "
       "z_f {:.1f} m, n {:.2f}, γ {:.1f}°{}\n",
       shownPath(options.out), shownPath(jsonPath), image.width, image.height, stats.visibleObjects, stats.geometryTriangles, options.frame.method,
-      cascades.cascades > 1 ? fmt::format("{}×", cascades.cascades) : "", options.frame.shadowSize, stats.casterObjects, stats.shadowTriangles, stats.farDepth, stats.shadow.n, stats.shadow.gammaDeg,
+      render::shadowLayoutLabel(settings, cascades.cascades), stats.casterObjects, stats.shadowTriangles, stats.farDepth, stats.shadow.n, stats.shadow.gammaDeg,
       stats.sunBelowHorizon ? " (sun below the horizon: ambient only)" : "");
   return 0;
 }

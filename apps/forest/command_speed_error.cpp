@@ -34,9 +34,10 @@ long long MapLayout::texels() const {
 }
 
 std::string MapLayout::label() const {
-  if (cascades == 1) return fmt::format("{}²", layerSize);
-  if (farSize() == layerSize) return fmt::format("{}×{}²", cascades, layerSize);
-  return fmt::format("{}{}²+{}²", cascades > 2 ? fmt::format("{}×", cascades - 1) : "", layerSize, farSize());
+  render::FrameSettings settings;
+  settings.shadowMapSize = layerSize;
+  settings.farSliceScale = static_cast<double>(farSize()) / layerSize;
+  return render::shadowLayoutLabel(settings, cascades);
 }
 
 std::string seriesName(const std::string& method, int cascades) {

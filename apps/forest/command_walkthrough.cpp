@@ -318,9 +318,9 @@ int runWalkthrough(const WalkthroughOptions& options) {
 
   // Paths as every command shows them (shownPath; the report keeps them absolute).
   const int slices = render::resolveCascades(options.frame.settings(), scene).cascades;
-  std::cout << fmt::format("walkthrough: {} of {} frames of {} along {} at {}x{} ({}, {}{}², {})\n", done, total,
+  std::cout << fmt::format("walkthrough: {} of {} frames of {} along {} at {}x{} ({}, {}, {})\n", done, total,
                            shownPath(scenePath), shownPath(pathPath), width, height, options.frame.method,
-                           slices > 1 ? fmt::format("{}×", slices) : "", options.frame.shadowSize, options.frame.culling);
+                           render::shadowLayoutLabel(options.frame.settings(), slices), options.frame.culling);
   if (warmup > 0) std::cout << fmt::format("  (the first {} frames are warm-up, not in the summary)\n", warmup);
   std::cout << "  " << startupLine(report["startup"]) << "\n";
   printSummary(summary);

@@ -69,6 +69,13 @@ long long shadowTexels(const FrameSettings& settings, int cascades) {
   return texels;
 }
 
+std::string shadowLayoutLabel(const FrameSettings& settings, int cascades) {
+  const int near = sliceMapSize(settings, 0, cascades), far = sliceMapSize(settings, cascades - 1, cascades);
+  if (cascades == 1) return fmt::format("{}²", near);
+  if (far == near) return fmt::format("{}×{}²", cascades, near);
+  return fmt::format("{}{}²+{}²", cascades > 2 ? fmt::format("{}×", cascades - 1) : "", near, far);
+}
+
 ShadowSettings resolveCascades(const FrameSettings& settings, const Scene& scene) {
   ShadowSettings s = scene.shadows;
   s.cascades = settings.cascades.value_or(s.cascades);

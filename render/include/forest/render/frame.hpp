@@ -162,6 +162,8 @@ ShadowSettings resolveCascades(const FrameSettings& settings, const Scene& scene
 int sliceMapSize(const FrameSettings& settings, int slice, int cascades);
 // The texels of all `cascades` layers (what "equal total texels" compares).
 long long shadowTexels(const FrameSettings& settings, int cascades);
+// The layers as a user reads them: "2048²", "4×1024²", "3×894²+1341²".
+std::string shadowLayoutLabel(const FrameSettings& settings, int cascades);
 
 // One slice of a z-partitioned frame: the eye depths it serves, its shadow setup's n and γ, what
 // its layer drew.
