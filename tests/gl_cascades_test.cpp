@@ -248,9 +248,11 @@ TEST_F(CascadesGl, UnequalLayersShadowLikeTheCpuRay) {
   if (backendUnderTest() != "egl") GTEST_SKIP() << "the engine's own logic: checked on the egl backend";
   const BeamScene beam = beamOverPlane();
   render::Frame frame(beam.scene, kWidth, kHeight);
-  for (shadows::ShadowMethod method : {shadows::ShadowMethod::UniformStable, shadows::ShadowMethod::Lispsm})
-    for (int k : {2, 4})
-      for (double scale : {0.5, 1.5, 2.0}) {
+  int combination = 0;  // with a stride (sanitizers): scales, methods and K all still vary
+  for (double scale : {0.5, 1.5, 2.0})
+    for (shadows::ShadowMethod method : {shadows::ShadowMethod::UniformStable, shadows::ShadowMethod::Lispsm})
+      for (int k : {2, 4}) {
+        if (combination++ % kSweepStride != 0) continue;
         render::FrameSettings settings = slicedSettings(method, k);
         settings.farSliceScale = scale;
         frame.resetHistory();
