@@ -18,11 +18,9 @@
 
 namespace forest {
 namespace {
+
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
-
-using Result = test::CliResult;
-using test::expectOneLineError;
 using test::runForest;
 
 // Checks the records of `forest stability --out` without the engine's geometry code: points
@@ -31,7 +29,7 @@ using test::runForest;
 TEST(ForestCli, StabilityRecordsHoldUnderAnIndependentCheck) {
   const fs::path records = fs::path(FOREST_TEST_OUTPUT) / "cli" / "stability.jsonl";
   fs::remove(records);
-  const Result r = runForest("stability --cases " + std::string(FOREST_REPO_DATA) + "/stability/hard-cases.json" +
+  const test::CliResult r = runForest("stability --cases " + std::string(FOREST_REPO_DATA) + "/stability/hard-cases.json" +
                              " --random 300 --seed 5 --out " + records.string());
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_THAT(r.out, HasSubstr("0 failed"));
@@ -92,7 +90,7 @@ TEST(ForestCli, StabilityRecordsHoldUnderAnIndependentCheck) {
 }
 
 TEST(ForestCli, StabilityReportsAliasingPerMethod) {
-  const Result r = runForest("stability --cases " + std::string(FOREST_REPO_DATA) + "/stability/hard-cases.json --aliasing --json");
+  const test::CliResult r = runForest("stability --cases " + std::string(FOREST_REPO_DATA) + "/stability/hard-cases.json --aliasing --json");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(r.out);
   const nlohmann::json& medians = j.at("aliasing_medians");
@@ -108,9 +106,9 @@ TEST(ForestCli, StabilityReportsAliasingPerMethod) {
 
 TEST(ForestCli, StabilityRejectsBadCaseFiles) {
   const std::string file = test::badInput("stability-near-far.json");
-  expectOneLineError(runForest("stability --cases " + file), file + ": case 2 ('far before near'): far",
+  test::expectOneLineError(runForest("stability --cases " + file), file + ": case 2 ('far before near'): far",
                      "expected far > near (10), got 5");
-  const Result none = runForest("stability");
+  const test::CliResult none = runForest("stability");
   EXPECT_EQ(none.exitCode, 2);
   EXPECT_THAT(none.err, HasSubstr("give --cases FILE and/or --random N"));
 }
