@@ -11,6 +11,7 @@ namespace {
 // Error injection (FrameSettings::lookupShiftTexels): clip x, y += 2·shift/size · w.
 glm::dmat4 lookupShift(const FrameSettings& settings, int size) {
   glm::dmat4 shift(1.0);
+  if (size <= 0) return shift;  // no layer yet: nothing to shift (and no division by 0 towards the GPU)
   shift[3][0] = 2.0 * settings.lookupShiftTexels.x / size;
   shift[3][1] = 2.0 * settings.lookupShiftTexels.y / size;
   return shift;
