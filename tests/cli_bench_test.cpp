@@ -292,6 +292,12 @@ TEST(ForestCli, BenchPassesTimesTheVariantsAgainstTheirFloors) {
   }
   EXPECT_EQ(size["variants"]["full"]["mean_difference_255"], 0.0);  // the reference itself
   EXPECT_GT(size["variants"]["blur off"]["differing_share_max"].get<double>(), 0.0);  // no blur: edges differ
+  EXPECT_EQ(size["variants"]["full"]["ssim_mean"], 1.0);
+  EXPECT_LT(size["variants"]["blur off"]["ssim_min"].get<double>(), 1.0);  // SSIM < 1 where images differ
+  for (const char* variant : {"half", "blur off"}) {
+    EXPECT_LE(size["variants"][variant]["ssim_min"].get<double>(), size["variants"][variant]["ssim_mean"].get<double>()) << variant;
+    EXPECT_LE(size["variants"][variant]["ssim_mean"].get<double>(), 1.0) << variant;
+  }
   for (const auto& [name, ms] : size["floors_ms_p50"].items()) EXPECT_GT(ms.get<double>(), 0.0) << name;
   EXPECT_EQ(size["floors_ms_p50"].size(), 5u);
   const auto& ratios = size["ratios"];
