@@ -32,6 +32,8 @@ shadows::TexelRect grown(const shadows::TexelRect& read, int size) {
 SliceCache::SliceCache(const SceneObjects& objects, const terrain::Terrain* terrain, const vegetation::Forest* forest)
     : objects_(objects), terrain_(terrain), forest_(forest), tallestTree_(forest ? forest->tallestTree() : 0.0) {}
 
+bool SliceCache::blockBefore(const DrawnBlock& a, const DrawnBlock& b) { return blockKey(a.block) < blockKey(b.block); }
+
 void SliceCache::forget() {
   for (Layer& layer : layers_) layer.valid = false;
 }
@@ -60,7 +62,7 @@ void SliceCache::blocksOf(bool byBlock, std::span<const terrain::TileBlock> bloc
       for (int b = 0; b < count; ++b) out.push_back(drawnNow(terrain::TileBlock{tile, level, b, {}}));
     }
   }
-  std::sort(out.begin(), out.end(), [](const DrawnBlock& a, const DrawnBlock& b) { return blockKey(a.block) < blockKey(b.block); });
+  std::sort(out.begin(), out.end(), blockBefore);
 }
 
 void SliceCache::current(const ShadowSlice& slice, const terrain::TerrainLod* lod) {
@@ -129,9 +131,8 @@ LayerDraw SliceCache::plan(int index, const LayerTarget& target, const ShadowSli
   std::set_difference(casters_.begin(), casters_.end(), layer.casters.begin(), layer.casters.end(), std::back_inserter(toDraw_));
   blocksToDraw_.clear();
   if (slice.terrainByBlock) {
-    auto before = [](const DrawnBlock& a, const DrawnBlock& b) { return blockKey(a.block) < blockKey(b.block); };
     scratch_.clear();
-    std::set_difference(blocks_.begin(), blocks_.end(), layer.blocks.begin(), layer.blocks.end(), std::back_inserter(scratch_), before);
+    std::set_difference(blocks_.begin(), blocks_.end(), layer.blocks.begin(), layer.blocks.end(), std::back_inserter(scratch_), blockBefore);
     for (const DrawnBlock& b : scratch_) blocksToDraw_.push_back(b.block);
   }
   if (toDraw_.empty() && blocksToDraw_.empty()) return {SliceUpdate::Reuse, "", changed, {}, {}, layer.rect};
@@ -181,8 +182,7 @@ void SliceCache::drawn(int index, const LayerTarget& target, const LayerDraw& d,
   std::swap(layer.casters, mergedCasters_);
   std::swap(layer.treeLods, mergedLods_);
   mergedBlocks_.clear();
-  std::merge(layer.blocks.begin(), layer.blocks.end(), scratch_.begin(), scratch_.end(), std::back_inserter(mergedBlocks_),
-             [](const DrawnBlock& a, const DrawnBlock& b) { return blockKey(a.block) < blockKey(b.block); });
+  std::merge(layer.blocks.begin(), layer.blocks.end(), scratch_.begin(), scratch_.end(), std::back_inserter(mergedBlocks_), blockBefore);
   std::swap(layer.blocks, mergedBlocks_);
 }
 

@@ -90,6 +90,8 @@ class SliceCache {
     terrain::BlockMorph morph = terrain::BlockMorph::Morphing;
     glm::dvec3 eye{0.0};  // the LOD's eye it was drawn for: a morph follows the eye's distance
   };
+  // The order the held and drawn blocks are kept in (sorted, merged, differenced).
+  static bool blockBefore(const DrawnBlock& a, const DrawnBlock& b);
   struct Layer {
     bool valid = false;
     LayerTarget target;
