@@ -4,7 +4,8 @@
 // height slabs — a box round the cylinder of the species' widest point in that slab, under the
 // instance's scale and wind shear, so it holds the triangles the draw places — projected into the
 // map and grown by the lookups' reach, covers a texel whose farthest receiver lies beyond the
-// slab's nearest point. The instances that stay are copied, group by group, into the output the
+// slab's nearest point; where the footprint is small, texel by texel with the slab's crown frustum
+// (crown_slabs.hpp): where the light's line through the texel centre enters it. The instances that stay are copied, group by group, into the output the
 // shadow pass draws with glDrawElementsIndirect; each group's command counts them.
 layout(local_size_x = 64) in;
 
@@ -19,7 +20,7 @@ struct Command {  // glDrawElementsIndirect's
   int baseVertex;
   uint baseInstance;
 };
-const int kMaxGroups = 16, kSlabs = 4, kMaxSpecies = 4;
+const int kMaxGroups = 16, kSlabs = 8, kMaxSpecies = 4;  // kSlabs: vegetation::kCasterSlabs
 
 layout(std430, binding = 0) readonly buffer Input { Instance instances[]; };
 layout(std430, binding = 1) writeonly buffer Output { Instance selected[]; };
@@ -27,7 +28,7 @@ layout(std430, binding = 2) buffer Commands { Command commands[]; };
 layout(std430, binding = 3) buffer Selection { uint selectedCount; uint selectedIds[]; };
 layout(std430, binding = 4) readonly buffer MaskFlags { uint everywhere; uint receivers; };
 layout(std430, binding = 6) readonly buffer Params {
-  vec4 slabs[kMaxSpecies * kSlabs];  // species s, slab k: height range (x, y) in object space (x > y: empty), radius z
+  vec4 slabs[kMaxSpecies * kSlabs];  // species s, slab k: height range (x, y) in object space (x > y: empty), frustum radii (z at x, w at y)
   uvec4 groups[kMaxGroups];          // first instance (relative), count, species, command index
   uint groupCount, instanceBase, instanceCount, commandBase;
 };
@@ -123,27 +124,68 @@ bool mayShowOverDrawn(Footprint f) {
   return false;
 }
 
-// The depth at which the light's line through map texel x meets the box [lo, hi] (relative to the
-// view origin) first — the least depth of any point of the box on that line (the map depth along a
-// line is monotonic where w > 0) — or 2 where the line misses the box. The line: the points whose
-// map x, y are the texel centre's, from the inverse of the map's matrix (uFromClip).
-float entryDepth(vec3 lo, vec3 hi, ivec2 x) {
+// The light's line through map texel x's centre, relative to the view origin: a + s·d, the map
+// depth growing with s (from the inverse of the map's matrix, uFromClip).
+void lightLine(ivec2 x, out vec3 a, out vec3 d) {
   vec2 ndc = (vec2(x) + 0.5) / float(uMapSize) * 2.0 - 1.0;
   vec4 h0 = uFromClip * vec4(ndc, 0.0, 1.0), h1 = uFromClip * vec4(ndc, 1.0, 1.0);
-  vec3 a = h0.xyz / h0.w, d = h1.xyz / h1.w - a;
-  // A component of 0 as a tiny one of its sign: the slab test divides by it.
-  d = mix(mix(vec3(-1e-20), vec3(1e-20), greaterThanEqual(d, vec3(0.0))), d, greaterThan(abs(d), vec3(1e-20)));
-  vec3 t0 = (lo - a) / d, t1 = (hi - a) / d;
-  vec3 tNear = min(t0, t1), tFar = max(t0, t1);
-  float sNear = max(max(tNear.x, tNear.y), tNear.z), sFar = min(min(tFar.x, tFar.y), tFar.z);
-  if (!(sNear <= sFar)) return 2.0;
-  float depth = 2.0;
-  for (int k = 0; k < 2; ++k) {
-    vec3 p = a + (k == 0 ? sNear : sFar) * d;
-    vec4 h = uToClip * vec4(p, 1.0);
-    depth = min(depth, uLinearDepth != 0 ? 0.5 * dot(uLightDepthRow, vec4(p, 1.0)) + 0.5 : h.z / h.w);
+  a = h0.xyz / h0.w;
+  d = h1.xyz / h1.w - a;
+}
+
+float mapDepthAt(vec3 p) {
+  vec4 h = uToClip * vec4(p, 1.0);
+  return uLinearDepth != 0 ? 0.5 * dot(uLightDepthRow, vec4(p, 1.0)) + 0.5 : h.z / h.w;
+}
+
+// The crown slab (crown_slabs.hpp) of an instance as the draw places it: heights [h.x, h.y] over
+// the base, the frustum's radius r.x at h.x and r.y at h.y (scaled), sheared by `shear` — in the
+// unsheared frame (x − shear.x·y, z − shear.y·y) an upright frustum about the axis, wrapped here in
+// the octagonal one whose faces touch its circles (apothem = radius).
+struct Crown {
+  vec3 base;
+  vec2 shear, h, r;
+};
+
+// The depth at which the light's line through map texel x meets the crown slab grown by `grow`
+// first — the least map depth of any point of it on that line (the depth along the line is
+// monotonic where w > 0) — or 2 where the line misses it: the line clipped by the slab's ten
+// planes (Cyrus–Beck) in the unsheared frame, where the line is a + s·d mapped linearly (the same s).
+float entryDepth(Crown c, float grow, ivec2 x) {
+  vec3 a, d;
+  lightLine(x, a, d);
+  vec3 p = a - c.base;
+  vec3 la = vec3(p.x - c.shear.x * p.y, p.y, p.z - c.shear.y * p.y);
+  vec3 ld = vec3(d.x - c.shear.x * d.y, d.y, d.z - c.shear.y * d.y);
+  float sNear = -1e30, sFar = 1e30;
+  // Each plane as n·q ≤ k: the slab's floor and roof, then the eight sides, whose bound is the
+  // radius at the point's height, ρ(y) = r.x + slope (y − h.x), grown.
+  float slope = c.h.y > c.h.x ? (c.r.y - c.r.x) / (c.h.y - c.h.x) : 0.0;
+  for (int i = 0; i < 10; ++i) {
+    vec3 n;
+    float k;
+    if (i == 0) {
+      n = vec3(0.0, -1.0, 0.0);
+      k = -(c.h.x - grow);
+    } else if (i == 1) {
+      n = vec3(0.0, 1.0, 0.0);
+      k = c.h.y + grow;
+    } else {
+      float angle = float(i - 2) * 0.78539816;  // π/4
+      n = vec3(cos(angle), -slope, sin(angle));
+      k = c.r.x - slope * c.h.x + grow * (1.0 + abs(slope));
+    }
+    float along = dot(n, ld), at = k - dot(n, la);  // inside: at − s·along ≥ 0
+    if (abs(along) < 1e-20) {
+      if (at < 0.0) return 2.0;
+      continue;
+    }
+    float s = at / along;
+    if (along > 0.0) sFar = min(sFar, s);
+    else sNear = max(sNear, s);
   }
-  return depth;
+  if (!(sNear <= sFar)) return 2.0;
+  return min(mapDepthAt(a + sNear * d), mapDepthAt(a + sFar * d));
 }
 
 // A footprint small enough is tested texel by texel: it may matter only where the light's line
@@ -151,7 +193,7 @@ float entryDepth(vec3 lo, vec3 hi, ivec2 x) {
 // rasteriser's snapping) at a depth a receiver reading that texel lies beyond and — phase 2 — the
 // map does not already hold nearer. Larger ones: the two tests above, each over the whole footprint.
 const int kExactTexels = 8;
-bool mayMatter(vec3 lo, vec3 hi) {
+bool mayMatter(vec3 lo, vec3 hi, Crown crown) {
   Footprint f = footprintOf(lo, hi);
   if (f.behind) return true;
   vec2 first = ceil(f.tMin - 0.5 - kCentreMargin), last = floor(f.tMax - 0.5 + kCentreMargin);
@@ -165,13 +207,12 @@ bool mayMatter(vec3 lo, vec3 hi) {
   // (its extent over the texels its corners span, at least one), and a centimetre.
   vec2 texels = max(f.tMax - f.tMin, vec2(1.0));
   float grow = kCentreMargin * length(hi - lo) / min(texels.x, texels.y) + 0.01;
-  vec3 loGrown = lo - grow, hiGrown = hi + grow;
   for (int y = a.y; y <= b.y; ++y)
     for (int x = a.x; x <= b.x; ++x) {
       uint farthest = texelFetch(uReads, ivec2(x, y), 0).r;
       if (farthest == 0u) continue;
       // tsm's matrix places x, y but not the depth it stores: there, the box's nearest point.
-      float entry = (uLinearDepth != 0 ? f.nearest : entryDepth(loGrown, hiGrown, ivec2(x, y))) - uDepthTolerance;
+      float entry = (uLinearDepth != 0 ? f.nearest : entryDepth(crown, grow * (1.0 + length(crown.shear)), ivec2(x, y))) - uDepthTolerance;
       if (entry > uintBitsToFloat(farthest)) continue;  // misses (2), or behind every receiver reading the texel
       if (uPhase != 2 || entry < texelFetch(uOccluders, ivec2(x, y), 0).r) return true;
     }
@@ -195,12 +236,12 @@ void main() {
   for (int k = 0; k < kSlabs && !keep; ++k) {
     vec4 slab = slabs[groups[g].z * uint(kSlabs) + uint(k)];
     if (slab.x > slab.y) continue;
-    float h0 = scale * slab.x, h1 = scale * slab.y, r = scale * slab.z;
+    float h0 = scale * slab.x, h1 = scale * slab.y, r = scale * max(slab.z, slab.w);
     // trees.vert: x, z += shear · y after the scale and the yaw (a cylinder keeps its radius under the yaw).
     vec2 offsetLow = min(shear * h0, shear * h1), offsetHigh = max(shear * h0, shear * h1);
     vec3 lo = instance.baseScale.xyz + vec3(offsetLow.x - r, h0, offsetLow.y - r);
     vec3 hi = instance.baseScale.xyz + vec3(offsetHigh.x + r, h1, offsetHigh.y + r);
-    keep = mayMatter(lo, hi);
+    keep = mayMatter(lo, hi, Crown(instance.baseScale.xyz, shear, vec2(h0, h1), scale * slab.zw));
   }
   if (!keep) return;
   uint command = commandBase + groups[g].w;

@@ -20,9 +20,9 @@ constexpr GLuint kReadsUnit = 8;      // caster_filter.comp's uReads, caster_con
 // The map depth that the GPU's float32 placement of a receiver or a caster corner may miss by
 // (as shadows::ReceiverMask's kDepthTolerance).
 constexpr float kDepthTolerance = 1e-5f;
-constexpr int kSlabs = vegetation::kQuerySlabs, kMaxSpecies = 4;
-static_assert(vegetation::kSpeciesCount <= kMaxSpecies && vegetation::kQuerySlabs == 4,
-              "caster_filter.comp's Params holds 4 species of 4 slabs");
+constexpr int kSlabs = vegetation::kCasterSlabs, kMaxSpecies = 4;
+static_assert(vegetation::kSpeciesCount <= kMaxSpecies && vegetation::kCasterSlabs == 8,
+              "caster_filter.comp's Params holds 4 species of 8 slabs");
 
 int levelsFor(int size) { return static_cast<int>(std::floor(std::log2(static_cast<double>(size)))) + 1; }
 
@@ -50,9 +50,10 @@ GpuCasterFilter::GpuCasterFilter(const vegetation::Forest& forest, std::uint32_t
       commands_(static_cast<std::size_t>(kMaxDraws) * kMaxGroups * sizeof(Command), nullptr, GL_DYNAMIC_STORAGE_BIT) {
   for (int s = 0; s < vegetation::kSpeciesCount; ++s)
     for (int k = 0; k < kSlabs; ++k) {
-      const glm::dvec3& slab = forest.speciesSlabs(static_cast<vegetation::Species>(s))[static_cast<size_t>(k)];
-      // An empty slab (no triangle reaches into it) as (1, 0): no infinity reaches the GPU.
-      slabs_[static_cast<size_t>(s * kSlabs + k)] = slab.x <= slab.y ? glm::vec4(glm::vec3(slab), 0.0f) : glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);
+      const vegetation::CrownSlab& slab = forest.casterSlabs(static_cast<vegetation::Species>(s))[static_cast<size_t>(k)];
+      // An empty slab (no triangle reaches into it) as (1, 0): heights the shader skips.
+      slabs_[static_cast<size_t>(s * kSlabs + k)] =
+          slab.empty() ? glm::vec4(1.0f, 0.0f, 0.0f, 0.0f) : glm::vec4(glm::dvec4(slab.bottom, slab.top, slab.radiusBottom, slab.radiusTop));
     }
 }
 

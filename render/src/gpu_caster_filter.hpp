@@ -93,7 +93,7 @@ class GpuCasterFilter {
 
   const vegetation::Forest& forest_;
   std::uint32_t treeIdBase_;
-  std::array<glm::vec4, 4 * vegetation::kQuerySlabs> slabs_{};  // Params::slabs, per species and slab
+  std::array<glm::vec4, 4 * vegetation::kCasterSlabs> slabs_{};  // Params::slabs, per species and slab
   gl::Program build_, reduce_, reach_program_, filter_, occludersFromMap_, occludersReduce_, markCounted_;
   gl::Texture mask_;       // R32UI, a pyramid of levels
   gl::Texture reads_, readsAlongX_;  // R32UI: per texel the farthest receiver whose lookup may read it

@@ -40,36 +40,6 @@ double windShearChangeBound(const VegetationSettings& s, double dt) {
 
 namespace {
 
-// Height slabs of a species over all its LODs: kQuerySlabs equal slabs of its height; each slab's
-// range is cut to the triangles that reach into it, and its radius is the largest distance from
-// the y axis over the vertices of those triangles — a triangle's points are no farther from the
-// axis than its farthest vertex (distance to a line is convex), so the cylinder of that radius
-// over the slab holds the part of every triangle inside the slab.
-std::array<glm::dvec3, kQuerySlabs> querySlabs(const SpeciesModel& model, const Aabb& bounds) {
-  std::array<glm::dvec3, kQuerySlabs> slabs;
-  slabs.fill(glm::dvec3(std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(), 0.0));
-  const double bottom = bounds.min.y, height = bounds.max.y - bounds.min.y;
-  const auto slabOf = [&](double y) {
-    if (!(height > 0.0)) return 0;
-    return std::clamp(static_cast<int>(std::floor((y - bottom) / height * kQuerySlabs)), 0, kQuerySlabs - 1);
-  };
-  for (const TreeMesh& mesh : model.lods) {
-    for (size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
-      const glm::dvec3 a(mesh.positions[mesh.indices[t]]), b(mesh.positions[mesh.indices[t + 1]]), c(mesh.positions[mesh.indices[t + 2]]);
-      const double low = std::min({a.y, b.y, c.y}), high = std::max({a.y, b.y, c.y});
-      const double radius = std::max({std::hypot(a.x, a.z), std::hypot(b.x, b.z), std::hypot(c.x, c.z)});
-      for (int k = slabOf(low); k <= slabOf(high); ++k) {
-        const double slabLow = bottom + height * k / kQuerySlabs, slabHigh = k == kQuerySlabs - 1 ? bounds.max.y : bottom + height * (k + 1) / kQuerySlabs;
-        glm::dvec3& s = slabs[static_cast<size_t>(k)];
-        s.x = std::min(s.x, std::max(low, slabLow));
-        s.y = std::max(s.y, std::min(high, slabHigh));
-        s.z = std::max(s.z, radius);
-      }
-    }
-  }
-  return slabs;
-}
-
 }  // namespace
 
 Forest::Forest(const VegetationSettings& settings, const terrain::Terrain& terrain) : settings_(settings), terrain_(terrain) {
@@ -82,7 +52,8 @@ Forest::Forest(const VegetationSettings& settings, const terrain::Terrain& terra
     // And its query hull, which circumscribes the LODs: a test on the tree's box (the culler's
     // near slab) then holds for what a hull query draws.
     for (const glm::vec3& p : species_[i].queryHull.positions) speciesBounds_[i].extend(dvec3(p));
-    slabs_[i] = querySlabs(species_[i], speciesBounds_[i]);
+    querySlabs_[i] = crownSlabs(species_[i], speciesBounds_[i], kQuerySlabs);
+    casterSlabs_[i] = fittedCrownSlabs(species_[i], speciesBounds_[i], kCasterSlabs, kCasterSlabCells);
   }
   if (settings.grid > 0) placeOnGrid();
   else place();
@@ -161,15 +132,15 @@ std::array<Aabb, kQuerySlabs> Forest::treeQueryBoxes(std::uint32_t index) const 
   const Aabb whole = treeBounds(index);
   std::array<Aabb, kQuerySlabs> boxes;
   for (int k = 0; k < kQuerySlabs; ++k) {
-    const glm::dvec3& slab = slabs_[static_cast<size_t>(t.species)][static_cast<size_t>(k)];
-    if (!(slab.x <= slab.y)) {  // no triangle reaches into this slab: an empty box
+    const CrownSlab& slab = querySlabs_[static_cast<size_t>(t.species)][static_cast<size_t>(k)];
+    if (slab.empty()) {  // no triangle reaches into this slab: an empty box
       boxes[static_cast<size_t>(k)] = Aabb();
       continue;
     }
     // Uniform scale and a yaw keep the distance from the axis; the shear moves a point at height h
     // by at most strength · |h| (as in treeBounds).
-    const double radius = slab.z * t.scale + settings_.wind_strength * t.scale * std::max(std::abs(slab.x), std::abs(slab.y));
-    Aabb box{t.position + glm::dvec3(-radius, slab.x * t.scale, -radius), t.position + glm::dvec3(radius, slab.y * t.scale, radius)};
+    const double radius = slab.radius * t.scale + settings_.wind_strength * t.scale * std::max(std::abs(slab.bottom), std::abs(slab.top));
+    Aabb box{t.position + glm::dvec3(-radius, slab.bottom * t.scale, -radius), t.position + glm::dvec3(radius, slab.top * t.scale, radius)};
     box.min = glm::max(box.min, whole.min);
     box.max = glm::min(box.max, whole.max);
     boxes[static_cast<size_t>(k)] = box;

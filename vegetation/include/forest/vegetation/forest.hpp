@@ -13,6 +13,7 @@
 #include "forest/core/bounds.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/terrain/terrain.hpp"
+#include "forest/vegetation/crown_slabs.hpp"
 #include "forest/vegetation/species.hpp"
 #include "forest/vegetation/stand_field.hpp"
 
@@ -32,8 +33,6 @@ struct TreeCluster {
   std::vector<std::uint32_t> trees;  // indices into Forest::trees()
   Aabb bounds;                       // union of the trees' boxes, sway included
 };
-
-constexpr int kQuerySlabs = 4;  // height slabs of a tree's query boxes (Forest::treeQueryBoxes)
 
 constexpr int kMinClusterSize = 16;
 constexpr int kMaxClusterSize = 64;
@@ -79,10 +78,10 @@ class Forest {
   // any yaw), grown by the sway at the slab's top, each cut to treeBounds. The culler queries with
   // them (a crown's box no longer shows where only its corners would).
   std::array<Aabb, kQuerySlabs> treeQueryBoxes(std::uint32_t tree) const;
-  // The species' height slabs in object space over all LODs: per slab the height range [x, y]
-  // (empty: x > y) and z, the largest distance from the y axis of a point of the mesh in it (the
-  // cylinder of that radius over the slab holds every triangle's part in it).
-  const std::array<glm::dvec3, kQuerySlabs>& speciesSlabs(Species species) const { return slabs_[static_cast<size_t>(species)]; }
+  // The species' height slabs in object space over all LODs (crown_slabs.hpp): kQuerySlabs equal
+  // ones (the query boxes'), and kCasterSlabs fitted to its shape (the GPU caster filter's).
+  const std::vector<CrownSlab>& querySlabs(Species species) const { return querySlabs_[static_cast<size_t>(species)]; }
+  const std::vector<CrownSlab>& casterSlabs(Species species) const { return casterSlabs_[static_cast<size_t>(species)]; }
   // LOD by distance bands from the eye to the tree's base, divided by its size class's scale; a
   // young tree never takes LOD0 (force_lod0 → 0 for all): a pure function of the camera, so
   // culling never changes what is drawn.
@@ -108,9 +107,7 @@ class Forest {
   const terrain::Terrain& terrain_;
   std::array<SpeciesModel, kSpeciesCount> species_;
   std::array<Aabb, kSpeciesCount> speciesBounds_;  // object space, all LODs
-  // Per species and height slab, in object space over all LODs: the slab's height range [x, y]
-  // (empty: x > y) and z, the largest distance from the y axis of a point of the mesh in it.
-  std::array<std::array<glm::dvec3, kQuerySlabs>, kSpeciesCount> slabs_{};
+  std::array<std::vector<CrownSlab>, kSpeciesCount> querySlabs_, casterSlabs_;
   std::vector<TreeInstance> trees_;
   std::vector<TreeCluster> clusters_;
   std::vector<std::uint32_t> clusterOf_;
