@@ -186,11 +186,14 @@ struct CasterComparison {
 };
 inline CasterComparison compareSelectedWithAllCasters(render::Frame& frame, const Camera& camera, double time,
                                                       render::FrameSettings settings,
-                                                      render::CasterSelection selection = render::CasterSelection::Receivers) {
+                                                      render::CasterSelection selection = render::CasterSelection::Receivers,
+                                                      int framesBefore = 0) {
   settings.culling = culling::CullingStrategy::Frustum;
   settings.casters = selection;
   frame.resetHistory();
   CasterComparison c;
+  // Frames before at the same view: what a frame hands the next (the trees that counted in its map).
+  for (int f = 0; f < framesBefore; ++f) frame.render(camera, time, settings);
   const render::FrameStats selected = frame.render(camera, time, settings);
   c.selectedCasters = selected.casterObjects;
   c.selectedTerrainTriangles = selected.shadowTerrainTriangles;

@@ -333,5 +333,67 @@ TEST(ReceiverMask, TheTexelsReadHoldEveryTexelALookupAtAReceiverReads) {
   EXPECT_EQ(whole.texels(), static_cast<long long>(kSize) * kSize);
 }
 
+// Which receivers read a texel (CasterOcclusion's test): a receiver at map texel coordinate u and
+// depth z reads texel t when |t + 0.5 − u| < reach on both axes. Every such texel has a
+// farthestReading at or beyond z — by at most a depth code (1 / 32767.5) when the receiver is the
+// farthest within a texel of it — and is visited by forEachTexelRead; a texel farther than the
+// reach plus two texels (a sub-cell and the rounding) from every receiver has none and is not
+// visited. At 256 cells (one texel per sub-cell) and at 64 (four texels per sub-cell).
+TEST(ReceiverMask, TheFarthestReceiverReadingATexelBoundsEveryLookupThatReadsIt) {
+  constexpr int kSize = 1024;
+  const double reach = 2.5, code = 1.0 / 32767.5;
+  for (int cells : {256, 64}) {
+    ReceiverMask mask;
+    mask.reset(overheadSetup(), kSize, cells);
+    EXPECT_FALSE(mask.farthestReading(500, 500, reach).has_value());  // no receivers
+    std::mt19937 random(13);
+    std::uniform_real_distribution<double> coordinate(-3.0, 3.0), height(-20.0, 20.0);
+    struct Receiver {
+      double u, v, depth;
+    };
+    std::vector<Receiver> receivers;
+    for (int i = 0; i < 300; ++i) {
+      const dvec3 p(coordinate(random), height(random), coordinate(random));
+      mask.add(p);
+      receivers.push_back({(p.x / 50.0 + 1.0) * 0.5 * kSize, (p.z / 50.0 + 1.0) * 0.5 * kSize, -p.y / 100.0});
+    }
+    std::vector<int> visits(static_cast<size_t>(kSize) * kSize, 0);
+    mask.forEachTexelRead(reach, [&](int x, int y) { ++visits[static_cast<size_t>(y) * kSize + x]; });
+    int read = 0, unread = 0;
+    for (int y = 440; y < 584; ++y)
+      for (int x = 440; x < 584; ++x) {
+        double farthest = -std::numeric_limits<double>::infinity(), nearest = std::numeric_limits<double>::infinity();
+        for (const Receiver& r : receivers) {
+          const double dx = std::abs(x + 0.5 - r.u), dy = std::abs(y + 0.5 - r.v);
+          if (dx < reach && dy < reach) farthest = std::max(farthest, r.depth);
+          nearest = std::min(nearest, std::max(dx, dy));
+        }
+        const std::optional<double> bound = mask.farthestReading(x, y, reach);
+        const int visited = visits[static_cast<size_t>(y) * kSize + x];
+        if (std::isfinite(farthest)) {
+          ++read;
+          ASSERT_TRUE(bound.has_value()) << cells << " cells, texel " << x << ", " << y;
+          EXPECT_GE(*bound, farthest) << cells << " cells, texel " << x << ", " << y;
+          EXPECT_GT(visited, 0) << cells << " cells, texel " << x << ", " << y;
+        }
+        if (nearest > reach + 2.0 * kSize / (4.0 * cells) + 1.0) {
+          ++unread;
+          EXPECT_FALSE(bound.has_value()) << cells << " cells, texel " << x << ", " << y;
+          EXPECT_EQ(visited, 0) << cells << " cells, texel " << x << ", " << y;
+        }
+      }
+    EXPECT_GT(read, 1000);
+    EXPECT_GT(unread, 1000);
+    // One receiver alone: its texels read its depth, rounded up by at most a code.
+    mask.reset(overheadSetup(), kSize, cells);
+    mask.add(dvec3(0.3, 7.0, 0.3));
+    const std::optional<double> alone = mask.farthestReading(static_cast<int>((0.3 / 50.0 + 1.0) * 0.5 * kSize), 
+                                                             static_cast<int>((0.3 / 50.0 + 1.0) * 0.5 * kSize), reach);
+    ASSERT_TRUE(alone.has_value());
+    EXPECT_GE(*alone, -0.07);
+    EXPECT_LE(*alone, -0.07 + 2.0 * code);
+  }
+}
+
 }  // namespace
 }  // namespace forest::shadows

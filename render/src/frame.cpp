@@ -249,7 +249,7 @@ const ShadowSlice& Frame::slice(int index) const {
 const shadows::ShadowSetup& Frame::shadowSetup(int index) const { return slice(index).setup; }
 std::vector<std::uint32_t> Frame::casters(int index) const {
   const std::vector<std::uint32_t>& candidates = slice(index).casters;
-  const std::optional<std::vector<std::uint32_t>> trees = passes_->shadow.treesKeptOnGpu(index);
+  const std::optional<std::vector<std::uint32_t>> trees = passes_->shadow.treesTested(index);
   if (!trees) return candidates;
   std::vector<std::uint32_t> drawn = *trees;  // and the casters the GPU did not test: tiles, props
   for (std::uint32_t o : candidates)

@@ -12,6 +12,7 @@ namespace forest::render {
 SceneObjects::SceneObjects(const terrain::Terrain* terrain, const vegetation::Forest* forest,
                            const std::vector<PropBox>& props) {
   terrain_ = terrain;
+  forest_ = forest;
   if (terrain) {
     tiles_ = static_cast<std::uint32_t>(terrain->tileCount());
     for (std::uint32_t t = 0; t < tiles_; ++t) objects_.push_back({Kind::Tile, t});

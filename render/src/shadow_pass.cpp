@@ -126,8 +126,8 @@ void ShadowPass::ensureIdLayers() {
   }
 }
 
-std::optional<std::vector<std::uint32_t>> ShadowPass::treesKeptOnGpu(int slice) const {
-  if (!filteredOnGpu_) return std::nullopt;
+std::optional<std::vector<std::uint32_t>> ShadowPass::treesTested(int slice) const {
+  if (!filteredOnGpu_) return slice >= 0 && slice < shadows::kMaxCascades ? treesOccluded_[static_cast<size_t>(slice)] : std::nullopt;
   std::vector<std::uint32_t> trees = gpuFilter_->selectedIds(slice);
   for (std::uint32_t& id : trees) id = static_cast<std::uint32_t>(objects_.objectOfId(id));
   std::sort(trees.begin(), trees.end());
@@ -143,6 +143,11 @@ long long ShadowPass::run(const ShadowPlan& plan, const DrawView& eye, const ter
   if (!caching) cache_.forget();
   long long triangles = 0;
   const bool profiling = settings.timing == gl::TimingMode::Profiling;
+  // The read-back path culls the trees hidden from the sun (its layers drawn whole: not cached).
+  const bool occluding = !filteredOnGpu_ && !caching && forestSource_ != nullptr;
+  if (occluding && !occlusion_) occlusion_ = std::make_unique<CasterOcclusion>(objects_);
+  if (occluding) occlusion_->beginFrame();
+  for (std::optional<std::vector<std::uint32_t>>& trees : treesOccluded_) trees.reset();
   for (int i = 0; i < plan.cascades; ++i) {
     const auto start = std::chrono::steady_clock::now();
     const ShadowSlice& slice = plan.slices[static_cast<size_t>(i)];
@@ -181,9 +186,12 @@ long long ShadowPass::run(const ShadowPlan& plan, const DrawView& eye, const ter
 long long ShadowPass::drawLayer(int i, const ShadowPlan& plan, const ShadowSlice& slice, const LayerDraw& layer, bool scissored,
                                 const DrawView& eye, const terrain::TerrainLod* lod, const FrameSettings& settings, const dvec3& l,
                                 const gl::Texture* receiverSurface, FrameStats& stats) {
-  // With the GPU's filter, the object-ID layer too (which trees counted), unless the method writes
-  // the linear light depth (its programs write no ID).
-  const bool withIds = filteredOnGpu_ && !slice.setup.linearDepth;
+  // With the GPU's filter or the read-back path's occlusion, the object-ID layer too (which trees
+  // counted), unless the method writes the linear light depth (its programs write no ID).
+  const bool occluded = occlusion_ && !filteredOnGpu_ && slice.receiverMask && layer.update == SliceUpdate::Redraw &&
+                        !settings.cacheSlices && !slice.setup.linearDepth;
+  const bool withIds = (filteredOnGpu_ || occluded) && !slice.setup.linearDepth;
+  if (withIds) ensureIdLayers();
   glBindFramebuffer(GL_FRAMEBUFFER, (withIds ? idFramebuffers_ : framebuffers_)[static_cast<size_t>(i)].id());
   glViewport(0, 0, slice.mapSize, slice.mapSize);  // the square at the layer's origin (FrameSettings::farSliceScale)
   // The clear stays whole: under a scissor llvmpipe clears by drawing a quad, slower than its fast
@@ -202,7 +210,11 @@ long long ShadowPass::drawLayer(int i, const ShadowPlan& plan, const ShadowSlice
   if (draws && filteredOnGpu_)
     gpuFilter_->buildMask(i, *receiverSurface, slice.camera, slice.camera.near, slice.camera.far, slice.setup, eye.origin, map_,
                           withIds ? &ids_ : nullptr, plan.lookupReachTexels);
-  long long drawn = draws ? drawSlice(slice, layer, eye, lod, settings, l, stats.shadowTerrainTriangles) : 0;
+  long long drawn = 0;
+  if (draws && occluded)
+    drawn = drawWithOcclusion(i, slice, layer, plan.lookupReachTexels, eye, lod, settings, l, stats);
+  else if (draws)
+    drawn = drawSlice(slice, layer, eye, lod, settings, l, stats.shadowTerrainTriangles);
   if (draws && filteredOnGpu_) gpuFilter_->markCounted();
   if (scissored) glDisable(GL_SCISSOR_TEST);
   // The trees the GPU kept and drew (the draws count none): read back where the pipeline is
@@ -215,6 +227,38 @@ long long ShadowPass::drawLayer(int i, const ShadowPlan& plan, const ShadowSlice
     stats.casterObjects += kept - out.casters;
     out.casters = kept;
   }
+  return drawn;
+}
+
+long long ShadowPass::drawWithOcclusion(int i, const ShadowSlice& slice, const LayerDraw& layer, double reach, const DrawView& eye,
+                                        const terrain::TerrainLod* lod, const FrameSettings& settings, const dvec3& l, FrameStats& stats) {
+  const shadows::TexelRect& rect = layer.rect;
+  const size_t texels = static_cast<size_t>(rect.texels());
+  const GLsizei width = rect.x1 - rect.x0, height = rect.y1 - rect.y0;
+  occlusion_->split(layer.casters, first_, others_);
+  LayerDraw phase = layer;
+  phase.casters = first_;
+  long long drawn = drawSlice(slice, phase, eye, lod, settings, l, stats.shadowTerrainTriangles);
+  depthsRead_.resize(texels);
+  glGetTextureSubImage(map_.id(), 0, rect.x0, rect.y0, i, width, height, 1, GL_DEPTH_COMPONENT, GL_FLOAT,
+                       static_cast<GLsizei>(texels * sizeof(float)), depthsRead_.data());
+  occlusion_->keepUnhidden(slice.setup, slice.mapSize, *slice.receiverMask, reach, rect, depthsRead_, others_);
+  phase.casters = others_;
+  phase.blocks = {};  // the terrain went with the first draw
+  drawn += drawSlice(slice, phase, eye, lod, settings, l, stats.shadowTerrainTriangles);
+  idsRead_.resize(texels);
+  glGetTextureSubImage(ids_.id(), 0, rect.x0, rect.y0, i, width, height, 1, GL_RED_INTEGER, GL_UNSIGNED_INT,
+                       static_cast<GLsizei>(texels * sizeof(std::uint32_t)), idsRead_.data());
+  occlusion_->markCounted(*slice.receiverMask, reach, rect, idsRead_);
+  // What the layer drew: the trees of both draws, for the statistics and the truth.
+  std::vector<std::uint32_t>& trees = treesOccluded_[static_cast<size_t>(i)].emplace(others_);
+  for (std::uint32_t o : first_)
+    if (objects_.objects()[o].kind == SceneObjects::Kind::Tree) trees.push_back(o);
+  std::sort(trees.begin(), trees.end());
+  CascadeStats& out = stats.cascade[static_cast<size_t>(i)];
+  const int kept = static_cast<int>(first_.size() + others_.size());
+  stats.casterObjects += kept - out.casters;
+  out.casters = kept;
   return drawn;
 }
 

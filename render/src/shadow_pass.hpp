@@ -11,6 +11,7 @@
 #include "forest/render/scene_objects.hpp"
 #include "gpu_caster_filter.hpp"
 #include "shadow_setup_pass.hpp"
+#include "caster_occlusion.hpp"
 #include "slice_cache.hpp"
 
 namespace forest::render {
@@ -29,9 +30,10 @@ class ShadowPass {
   // (each slice's trees are tested on the GPU against its receivers; null otherwise).
   long long run(const ShadowPlan& plan, const DrawView& eye, const terrain::TerrainLod* lod, const FrameSettings& settings,
                 const glm::dvec3& l, const gl::Texture* receiverSurface, FrameStats& stats);
-  // The trees the GPU kept for a slice in the last frame (object indices, increasing; read back:
-  // waits for the pass), or nullopt when the last frame did not test them on the GPU.
-  std::optional<std::vector<std::uint32_t>> treesKeptOnGpu(int slice) const;
+  // The trees drawn into a slice's layer in the last frame when they were tested beyond the
+  // selection — on the GPU (read back: waits for the pass) or against the layer read back
+  // (CasterOcclusion) — as object indices, increasing; else nullopt.
+  std::optional<std::vector<std::uint32_t>> treesTested(int slice) const;
   void propsMoved(const std::vector<PropBox>& props);
   // Trees moved (Frame::moveTrees): no cached layer holds them where they are.
   void treesMoved() { cache_.forget(); }
@@ -57,6 +59,11 @@ class ShadowPass {
   // The GPU's caster filter on the tree renderers for this frame (null: none), built on first use.
   void useGpuFilter(bool use);
   void ensureIdLayers();
+  // The slice's casters in two draws with the trees hidden from the sun culled between them
+  // (CasterOcclusion): what the layer holds after the first is read back. `reach`: how far a lookup
+  // reads (ShadowPlan::lookupReachTexels). The triangles drawn.
+  long long drawWithOcclusion(int i, const ShadowSlice& slice, const LayerDraw& layer, double reach, const DrawView& eye, const terrain::TerrainLod* lod,
+                              const FrameSettings& settings, const glm::dvec3& l, FrameStats& stats);
   int countOtherThanTrees(std::span<const std::uint32_t> casters) const;  // the tiles and props among them
 
   const SceneObjects& objects_;
@@ -71,6 +78,10 @@ class ShadowPass {
   std::vector<int> tiles_;  // scratch: the caster tiles of a slice drawn whole
   std::unique_ptr<GpuCasterFilter> gpuFilter_;
   bool filteredOnGpu_ = false;  // the last run tested its trees on the GPU
+  std::unique_ptr<CasterOcclusion> occlusion_;  // the read-back path's (built on first use)
+  std::array<std::optional<std::vector<std::uint32_t>>, shadows::kMaxCascades> treesOccluded_;  // per slice: the trees drawn, when culled
+  std::vector<std::uint32_t> first_, others_, idsRead_;  // drawWithOcclusion's
+  std::vector<float> depthsRead_;
   gl::Texture map_;
   std::vector<gl::Framebuffer> framebuffers_;  // one per layer
   gl::Texture ids_;                               // object IDs beside the map, for the GPU's caster filter

@@ -158,7 +158,9 @@ void ShadowSetupPass::refineCasters(ShadowSlice& slice, const FrameSettings& set
     const SceneObjects::Object& object = objects.objects()[o];
     if (object.kind != SceneObjects::Kind::Tile) {
       const std::span<const Aabb> shapes = objects.shapeBoxes(o);
-      if (std::any_of(shapes.begin(), shapes.end(), covers)) slice.casters[kept++] = o;
+      if (std::any_of(shapes.begin(), shapes.end(), covers) &&
+          (!mask || object.kind != SceneObjects::Kind::Tree || crownMayShadow(objects, object.index, *mask, reach)))
+        slice.casters[kept++] = o;
       continue;
     }
     if (!terrain) {
@@ -185,8 +187,20 @@ void ShadowSetupPass::refineCasters(ShadowSlice& slice, const FrameSettings& set
   slice.casters.resize(kept);
 }
 
+// A tree the mask keeps by its query boxes, tested again by its caster slabs (vegetation/
+// crown_slabs.hpp), whose frusta follow its tiers where a box wraps them in air: a tree stays when
+// both may shadow a receiver (each holds the tree, so either alone is exact).
+bool ShadowSetupPass::crownMayShadow(const SceneObjects& objects, std::uint32_t tree, const shadows::ReceiverMask& mask, double reach) {
+  crownSlabs_.clear();
+  objects.forest()->placedCasterSlabs(tree, crownSlabs_);
+  return std::any_of(crownSlabs_.begin(), crownSlabs_.end(), [&](const vegetation::PlacedCrownSlab& slab) {
+    const std::array<dvec3, 16> corners = slab.corners();
+    return mask.mayShadow(std::span<const dvec3>(corners), reach);
+  });
+}
+
 // The receiver mask of the slice: the pixels whose eye depth its focus body spans, in its map.
-void ShadowSetupPass::fillReceiverMask(const ShadowSlice& slice, const ReceiverPixels& receiverPixels) {
+void ShadowSetupPass::fillReceiverMask(const ShadowSlice& slice, const ReceiverPixels& receiverPixels, shadows::ReceiverMask& target) {
   // Cells of 4 texels: finer cells keep fewer casters (LiSPSM 2048², ground view, 75° sun: 4.16×
   // the triangles the truth needs with 8-texel cells, 4.03× with 4, 3.96× with 2), coarser ones
   // are cheaper to clear and scan.
@@ -198,7 +212,7 @@ void ShadowSetupPass::fillReceiverMask(const ShadowSlice& slice, const ReceiverP
   bandMasks_.resize(static_cast<size_t>(bands));
   bandRows_.resize(static_cast<size_t>(bands));
   workers_.run([&](int band) {
-    shadows::ReceiverMask& mask = band == 0 ? mask_ : bandMasks_[static_cast<size_t>(band)];
+    shadows::ReceiverMask& mask = band == 0 ? target : bandMasks_[static_cast<size_t>(band)];
     mask.reset(slice.setup, slice.mapSize, cells);
     std::vector<float>& depths = bandRows_[static_cast<size_t>(band)];
     depths.resize(static_cast<size_t>(receiverPixels.width()));
@@ -209,7 +223,7 @@ void ShadowSetupPass::fillReceiverMask(const ShadowSlice& slice, const ReceiverP
     }
   });
   workers_.run([&](int part) {  // each thread merges a share of the cells
-    for (size_t band = 1; band < bandMasks_.size(); ++band) mask_.merge(bandMasks_[band], part, bands);
+    for (size_t band = 1; band < bandMasks_.size(); ++band) target.merge(bandMasks_[band], part, bands);
   });
 }
 
@@ -278,7 +292,7 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
       slice.setup = shadows::computeShadowSetup(input, settings.method);
     }
     history_.remember(settings.method, i, slice.setup);
-    if (!slice.setup.empty) selectCasters(slice, context);
+    if (!slice.setup.empty) selectCasters(slice, i, context);
     out.fromM = slice.from;
     out.toM = slice.to;
     out.n = slice.setup.diagnostics.n;
@@ -328,6 +342,7 @@ void ShadowSetupPass::startPlan(const Camera& camera, const culling::CullingResu
     slice.terrainBlocks.clear();
     slice.terrainByBlock = false;
     slice.texelsRead.reset();
+    slice.receiverMask = nullptr;
   }
 }
 
@@ -373,7 +388,7 @@ shadows::ShadowInput ShadowSetupPass::sliceInput(const ShadowSlice& slice, int i
 }
 
 // The casters the slice's layer draws, by the frame's caster selection.
-void ShadowSetupPass::selectCasters(ShadowSlice& slice, const SliceContext& context) {
+void ShadowSetupPass::selectCasters(ShadowSlice& slice, int index, const SliceContext& context) {
   const FrameSettings& settings = context.settings;
   const std::size_t objectCount = context.objects.boxes().size();
   switch (settings.casters) {
@@ -383,10 +398,14 @@ void ShadowSetupPass::selectCasters(ShadowSlice& slice, const SliceContext& cont
       break;
     case CasterSelection::ReceiverPixels:
       if (!context.receiverPixels) throw Error("shadow setup: receiver-pixels casters without the receiver pixels");
-      fillReceiverMask(slice, *context.receiverPixels);
-      slice.texelsRead = mask_.texelsRead(lookupReachTexels(settings));
-      selectCastersOfReceivers(slice, context, &mask_);
+    {
+      shadows::ReceiverMask& mask = masks_[static_cast<size_t>(index)];
+      fillReceiverMask(slice, *context.receiverPixels, mask);
+      slice.texelsRead = mask.texelsRead(lookupReachTexels(settings));
+      slice.receiverMask = &mask;
+      selectCastersOfReceivers(slice, context, &mask);
       break;
+    }
     case CasterSelection::FrustumBody: {
       const ConvexBody body = shadows::computeFocusBody(slice.camera, context.l, context.sceneBounds);
       for (std::uint32_t o = 0; o < objectCount; ++o)

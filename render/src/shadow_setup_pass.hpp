@@ -40,6 +40,9 @@ struct ShadowSlice {
   // lookups can read (shadows::ReceiverMask::texelsRead), the only ones the shadow pass needs to
   // draw into. Unset: the whole layer.
   std::optional<shadows::TexelRect> texelsRead;
+  // Its receiver mask (CasterSelection::ReceiverPixels; else null): the shadow pass culls the trees
+  // hidden from the sun with it (CasterOcclusion). Held by the setup pass until its next frame.
+  const shadows::ReceiverMask* receiverMask = nullptr;
 };
 
 // What the shadow pass and the shadow term work from. Kept from the last frame that had a sun and
@@ -95,7 +98,7 @@ class ShadowSetupPass {
                  const ShadowSettings& cascades, ShadowPlan& plan, FrameStats& stats);
   void measureReceiverDepths(const Camera& camera);
   shadows::ShadowInput sliceInput(const ShadowSlice& slice, int index, std::optional<double> nNear, const SliceContext& context);
-  void selectCasters(ShadowSlice& slice, const SliceContext& context);
+  void selectCasters(ShadowSlice& slice, int index, const SliceContext& context);
   // The split depths of [camera near, z_f]: Zhang's scheme from z_near, the inner splits smoothed.
   shadows::SplitDepths splitsFor(const Camera& camera, double farDepth, std::optional<double> nearestDepth,
                                  const ShadowSettings& cascades);
@@ -110,8 +113,10 @@ class ShadowSetupPass {
   // that may darken one of its pixels.
   void refineCasters(ShadowSlice& slice, const FrameSettings& settings, const glm::dvec3& l, const SceneObjects& objects,
                      const terrain::TerrainLod* lod, const shadows::ReceiverMask* mask);
-  // mask_ over the visible sun-facing pixels whose eye depth the slice's focus body spans.
-  void fillReceiverMask(const ShadowSlice& slice, const ReceiverPixels& receiverPixels);
+  // Whether one of the tree's caster slabs may shadow a receiver of the mask.
+  bool crownMayShadow(const SceneObjects& objects, std::uint32_t tree, const shadows::ReceiverMask& mask, double reach);
+  // `mask` over the visible sun-facing pixels whose eye depth the slice's focus body spans.
+  void fillReceiverMask(const ShadowSlice& slice, const ReceiverPixels& receiverPixels, shadows::ReceiverMask& mask);
 
   shadows::MethodHistory history_;  // what the shadow method carries from frame to frame, per slice
   shadows::KeptSlices kept_;        // the slices' kept maps (FrameSettings::keepSlices)
@@ -121,9 +126,10 @@ class ShadowSetupPass {
   std::vector<Aabb> receivers_, sliceReceivers_, footprints_;
   std::vector<std::int32_t> nodeStack_;  // selectByHierarchy's, kept between frames
   std::vector<terrain::CellSpan> cellRuns_;  // one terrain block's (refineCasters)
+  std::vector<vegetation::PlacedCrownSlab> crownSlabs_;  // one tree's (crownMayShadow)
   std::vector<glm::dvec2> receiverDepths_;  // each receiver's eye-depth range
   shadows::CasterSelector selector_;
-  shadows::ReceiverMask mask_;
+  std::array<shadows::ReceiverMask, shadows::kMaxCascades> masks_;  // per slice (ShadowSlice::receiverMask)
   std::vector<shadows::ReceiverMask> bandMasks_;  // [1, bands): the other bands' masks (fillReceiverMask)
   std::vector<std::vector<float>> bandRows_;      // per band: a row's receiver depths (fillReceiverMask)
   WorkerThreads& workers_;                        // the bands' threads

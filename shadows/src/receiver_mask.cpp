@@ -205,6 +205,28 @@ void ReceiverMask::merge(const ReceiverMask& other, int part, int parts) {
   }
 }
 
+std::optional<double> ReceiverMask::farthestReading(int x, int y, double reachTexels) const {
+  if (side_ == 0) return std::nullopt;
+  // Sub-cell s reads texel x when x + 0.5 lies in [s · perSubCell − reach, (s + 1) · perSubCell + reach].
+  const double perSubCell = static_cast<double>(mapSize_) / (side_ * kSubCells);
+  const int last = side_ * kSubCells - 1;
+  auto range = [&](int t) {
+    const double centre = t + 0.5;
+    return std::pair<int, int>(std::max(0, static_cast<int>(std::ceil((centre - reachTexels) / perSubCell - 1.0))),
+                               std::min(last, static_cast<int>(std::floor((centre + reachTexels) / perSubCell))));
+  };
+  const auto [sx0, sx1] = range(x);
+  const auto [sy0, sy1] = range(y);
+  int farthest = -1;
+  for (int sy = sy0; sy <= sy1; ++sy)
+    for (int sx = sx0; sx <= sx1; ++sx) {
+      const Cell& cell = cells_[static_cast<size_t>(sy / kSubCells) * side_ + sx / kSubCells];
+      if ((cell.occupied >> (kSubCells * (sy % kSubCells) + sx % kSubCells) & 1u) != 0) farthest = std::max<int>(farthest, cell.farthest);
+    }
+  if (farthest < 0) return std::nullopt;
+  return farthest / kCodesPerUnit - 1.0;  // a code at or beyond its receivers' depths (depthCodeAtOrBeyond)
+}
+
 namespace {
 // A cell's occupied bits folded onto one row (which sub-cell columns i occur) or one column (which rows j).
 unsigned subColumns(unsigned bits) {
@@ -259,27 +281,34 @@ TexelRect ReceiverMask::texelsRead(double reachTexels) const {
 }
 
 bool ReceiverMask::mayShadow(const Aabb& caster, double reachTexels) const {
+  std::array<dvec3, 8> corners;
+  for (int c = 0; c < 8; ++c) corners[static_cast<size_t>(c)] = caster.corner(c);
+  return mayShadow(std::span<const dvec3>(corners), reachTexels);
+}
+
+bool ReceiverMask::mayShadow(std::span<const dvec3> caster, double reachTexels) const {
   if (everywhere_) return true;
   if (side_ == 0) return false;
-  // The box's footprint in the map (x, y) and its nearest depth: over a box, a projective map's
-  // x/w, y/w and depth are extreme at corners when w > 0 at all of them (w is affine).
+  if (caster.size() > kMaxCorners) throw Error("ReceiverMask::mayShadow: more than 16 corners");
+  // The body's footprint in the map (x, y) and its nearest depth: over a convex body, a projective
+  // map's x/w, y/w and depth are extreme at corners when w > 0 at all of them (w is affine).
   double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0, nearest = x0;
-  std::array<dvec2, 8> corners;
-  for (int c = 0; c < 8; ++c) {
-    const dvec3 p = caster.corner(c);
+  std::array<dvec2, kMaxCorners> corners;
+  for (size_t c = 0; c < caster.size(); ++c) {
+    const dvec3& p = caster[c];
     const dvec4 h = worldToShadowClip_ * dvec4(p, 1.0);
     if (!(h.w > 0.0)) return true;
     const double x = h.x / h.w, y = h.y / h.w, z = depthOf(p, h);
-    corners[static_cast<size_t>(c)] = dvec2(x, y);
+    corners[c] = dvec2(x, y);
     x0 = std::min(x0, x);
     x1 = std::max(x1, x);
     y0 = std::min(y0, y);
     y1 = std::max(y1, y);
     nearest = std::min(nearest, z);
   }
-  // The box's outline: the hull of its corners (a projective map with w > 0 keeps it convex),
+  // The body's outline: the hull of its corners (a projective map with w > 0 keeps it convex),
   // found when a sub-cell first needs it (most boxes end at a cell's depth or bits).
-  std::array<dvec2, 16> hull;
+  std::array<dvec2, 2 * kMaxCorners> hull;
   size_t hullSize = 0;
   bool hullFound = false;
   // Grown by the reach, in map units (2 / mapSize per texel).
@@ -290,7 +319,7 @@ bool ReceiverMask::mayShadow(const Aabb& caster, double reachTexels) const {
   // (its x and y range meet the outline's: the loops below stay inside them).
   auto meetsOutline = [&](int sx, int sy) {
     if (!hullFound) {
-      hullSize = convexHullInPlace(corners, hull);
+      hullSize = convexHullInPlace(std::span<dvec2>(corners.data(), caster.size()), hull);
       hullFound = true;
     }
     if (hullSize < 3) return true;  // a flat outline: its bounding rectangle decides

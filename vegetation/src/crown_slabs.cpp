@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <vector>
 
 #include "forest/core/error.hpp"
@@ -16,6 +17,54 @@ double CrownSlab::radiusAt(double y) const {
   if (!(top > bottom)) return std::max(radiusBottom, radiusTop);
   const double s = std::clamp((y - bottom) / (top - bottom), 0.0, 1.0);
   return radiusBottom + (radiusTop - radiusBottom) * s;
+}
+
+std::array<dvec3, 16> PlacedCrownSlab::corners() const {
+  // An octagon of apothem ρ has its corners at ρ / cos(π/8), at π/8 + k·π/4.
+  constexpr double kCornerRadius = 1.0 / 0.92387953251128674;  // 1 / cos(π/8)
+  std::array<dvec3, 16> c;
+  for (int end = 0; end < 2; ++end) {
+    const double y = end == 0 ? bottom : top, r = (end == 0 ? radiusBottom : radiusTop) * kCornerRadius;
+    for (int k = 0; k < 8; ++k) {
+      const double angle = std::numbers::pi / 8.0 + k * std::numbers::pi / 4.0;
+      c[static_cast<size_t>(8 * end + k)] = base + dvec3(r * std::cos(angle), y - base.y, r * std::sin(angle));
+    }
+  }
+  return c;
+}
+
+std::optional<dvec2> PlacedCrownSlab::lineSpan(const dvec3& a, const dvec3& d, double grow) const {
+  const dvec3 p = a - base;  // relative to the axis's foot
+  const double yBottom = bottom - base.y, yTop = top - base.y;
+  const double slope = yTop > yBottom ? (radiusTop - radiusBottom) / (yTop - yBottom) : 0.0;
+  double sNear = -std::numeric_limits<double>::infinity(), sFar = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 10; ++i) {
+    // Face i as n·q ≤ k: the floor, the roof, then the eight sides n·(x, z) ≤ ρ(y) = radiusBottom +
+    // slope (y − bottom), moved out by grow · |n| (|n| ≤ 1 + |slope|).
+    dvec3 n;
+    double k;
+    if (i == 0) {
+      n = dvec3(0.0, -1.0, 0.0);
+      k = -(yBottom - grow);
+    } else if (i == 1) {
+      n = dvec3(0.0, 1.0, 0.0);
+      k = yTop + grow;
+    } else {
+      const double angle = (i - 2) * std::numbers::pi / 4.0;
+      n = dvec3(std::cos(angle), -slope, std::sin(angle));
+      k = radiusBottom - slope * yBottom + grow * (1.0 + std::abs(slope));
+    }
+    const double along = glm::dot(n, d), room = k - glm::dot(n, p);  // inside: room − s·along ≥ 0
+    if (along == 0.0) {
+      if (room < 0.0) return std::nullopt;
+      continue;
+    }
+    const double s = room / along;
+    if (along > 0.0) sFar = std::min(sFar, s);
+    else sNear = std::max(sNear, s);
+  }
+  if (!(sNear <= sFar)) return std::nullopt;
+  return dvec2(sNear, sFar);
 }
 
 namespace {

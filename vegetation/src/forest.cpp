@@ -148,6 +148,16 @@ std::array<Aabb, kQuerySlabs> Forest::treeQueryBoxes(std::uint32_t index) const 
   return boxes;
 }
 
+void Forest::placedCasterSlabs(std::uint32_t index, std::vector<PlacedCrownSlab>& out) const {
+  const TreeInstance& t = trees_[index];
+  for (const CrownSlab& slab : casterSlabs_[static_cast<size_t>(t.species)]) {
+    if (slab.empty()) continue;
+    const double sway = settings_.wind_strength * t.scale * std::max(std::abs(slab.bottom), std::abs(slab.top));
+    out.push_back({t.position, t.position.y + slab.bottom * t.scale, t.position.y + slab.top * t.scale,
+                   slab.radiusBottom * t.scale + sway, slab.radiusTop * t.scale + sway});
+  }
+}
+
 int Forest::lodFor(std::uint32_t tree, const glm::dvec3& eye) const {
   if (settings_.force_lod0) return 0;
   // Bands scaled by the size class (a tree twice as tall keeps its detail twice as far); a young

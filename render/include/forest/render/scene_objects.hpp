@@ -42,6 +42,7 @@ class SceneObjects {
   std::span<const Aabb> shapeBoxes(std::uint32_t object) const;
   std::size_t tileCount() const { return tiles_; }
   const terrain::Terrain* terrain() const { return terrain_; }  // null without terrain
+  const vegetation::Forest* forest() const { return forest_; }   // null without trees
   std::size_t treeCount() const { return trees_; }
   std::size_t propCount() const { return objects_.size() - tiles_ - trees_; }
   // Boxes again after trees or props moved.
@@ -64,6 +65,7 @@ class SceneObjects {
   std::vector<Aabb> boxes_;
   std::vector<Object> objects_;
   const terrain::Terrain* terrain_ = nullptr;
+  const vegetation::Forest* forest_ = nullptr;
   // Query shapes, laid out at construction: each tile owns kMaxBlockBoxes slots from the start,
   // rewritten for the LOD of each queryShapes call (hence mutable); then each tree's non-empty
   // slabs (how many depends on the species only) and each prop's box.

@@ -13,7 +13,9 @@
 // as much and cost ~3 ms a frame at 800 × 600 (DESIGN §4).
 #include <glm/glm.hpp>
 
+#include <cmath>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -57,7 +59,19 @@ class ReceiverMask {
   // the light than the box: `reachTexels` is how far (in texels, per axis) a lookup reads from its
   // point. True when the box reaches behind the light's projection (w ≤ 0 at a corner).
   bool mayShadow(const Aabb& caster, double reachTexels) const;
+  // The same for a convex body given by its corners (at most kMaxCorners): a tree's crown slab.
+  static constexpr size_t kMaxCorners = 16;
+  bool mayShadow(std::span<const glm::dvec3> caster, double reachTexels) const;
   int receivers() const { return receivers_; }
+  // The farthest receiver (map depth as the mask keeps it, at or beyond the true one) among those
+  // whose lookups may read texel (x, y) — whose sub-cells lie within `reachTexels` of its centre —
+  // or none. Without everywhere().
+  std::optional<double> farthestReading(int x, int y, double reachTexels) const;
+  // Calls visit(x, y) for each texel a receiver's lookup may read (a texel once per receiver
+  // sub-cell that reaches it).
+  template <class Visit>
+  void forEachTexelRead(double reachTexels, Visit visit) const;
+  bool everywhere() const { return everywhere_; }
   // Every texel a lookup at one of the receivers can read, reaching `reachTexels` from its point
   // along each map axis: the rectangle of the occupied sub-cells grown by the reach and clamped to
   // the map. The whole map once a receiver could not be placed; empty without receivers. A shadow
@@ -86,5 +100,27 @@ class ReceiverMask {
   };
   std::vector<Cell> cells_;  // row by row: 4 bytes a cell, as the paper's float depth alone
 };
+
+template <class Visit>
+void ReceiverMask::forEachTexelRead(double reachTexels, Visit visit) const {
+  // Sub-cell s spans texels [s, s + 1) · perSubCell; a lookup in it reads up to the reach beyond:
+  // the texels whose centres lie in that range grown by the reach.
+  const double perSubCell = static_cast<double>(mapSize_) / (side_ * kSubCells);
+  for (int cy = 0; cy < side_; ++cy)
+    for (int cx = 0; cx < side_; ++cx) {
+      const unsigned bits = cells_[static_cast<size_t>(cy) * side_ + cx].occupied;
+      for (int j = 0; bits != 0 && j < kSubCells; ++j)
+        for (int i = 0; i < kSubCells; ++i) {
+          if ((bits >> (kSubCells * j + i) & 1u) == 0) continue;
+          const int sx = cx * kSubCells + i, sy = cy * kSubCells + j;
+          const int x0 = std::max(0, static_cast<int>(std::ceil(sx * perSubCell - reachTexels - 0.5)));
+          const int x1 = std::min(mapSize_ - 1, static_cast<int>(std::floor((sx + 1) * perSubCell + reachTexels - 0.5)));
+          const int y0 = std::max(0, static_cast<int>(std::ceil(sy * perSubCell - reachTexels - 0.5)));
+          const int y1 = std::min(mapSize_ - 1, static_cast<int>(std::floor((sy + 1) * perSubCell + reachTexels - 0.5)));
+          for (int y = y0; y <= y1; ++y)
+            for (int x = x0; x <= x1; ++x) visit(x, y);
+        }
+    }
+}
 
 }  // namespace forest::shadows

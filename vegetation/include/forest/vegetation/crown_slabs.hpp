@@ -4,6 +4,8 @@
 // the trunk's axis that holds every triangle's part in it, and a tighter cone frustum — the radius
 // affine in height — that holds the same parts (a conifer's tiers taper; a box or a cylinder of the
 // widest tier wraps the slab's top in air, which a light's line can cross above the crown).
+#include <array>
+#include <optional>
 #include <vector>
 
 #include "forest/core/bounds.hpp"
@@ -24,6 +26,18 @@ struct CrownSlab {
   bool empty() const { return !(bottom <= top); }
   // The frustum's radius at height y (clamped to the slab's range).
   double radiusAt(double y) const;
+};
+
+// A crown slab in the world: over `base`, heights [bottom, top] (world y), its frustum's radii at
+// them — wrapped in the octagonal frustum whose faces touch the frustum's circles (apothem =
+// radius), a convex body of 16 corners and 10 faces.
+struct PlacedCrownSlab {
+  glm::dvec3 base{0.0};
+  double bottom = 0.0, top = 0.0, radiusBottom = 0.0, radiusTop = 0.0;
+  std::array<glm::dvec3, 16> corners() const;
+  // The parameters [s0, s1] of the line a + s·d inside the octagonal frustum grown by `grow` (its
+  // faces moved out by at least that), or none where the line misses it (Cyrus–Beck).
+  std::optional<glm::dvec2> lineSpan(const glm::dvec3& a, const glm::dvec3& d, double grow) const;
 };
 
 // `count` equal slabs of `bounds`' height (the species' box over all LODs), each cut to the triangle

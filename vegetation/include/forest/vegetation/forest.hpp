@@ -78,6 +78,10 @@ class Forest {
   // any yaw), grown by the sway at the slab's top, each cut to treeBounds. The culler queries with
   // them (a crown's box no longer shows where only its corners would).
   std::array<Aabb, kQuerySlabs> treeQueryBoxes(std::uint32_t tree) const;
+  // The tree's caster slabs (casterSlabs) in the world, holding it at all times: each non-empty
+  // one's frustum scaled and over its base, the radii grown by the wind's largest shift at the
+  // slab's ends (as treeQueryBoxes). Appended to `out`.
+  void placedCasterSlabs(std::uint32_t tree, std::vector<PlacedCrownSlab>& out) const;
   // The species' height slabs in object space over all LODs (crown_slabs.hpp): kQuerySlabs equal
   // ones (the query boxes'), and kCasterSlabs fitted to its shape (the GPU caster filter's).
   const std::vector<CrownSlab>& querySlabs(Species species) const { return querySlabs_[static_cast<size_t>(species)]; }

@@ -1,0 +1,49 @@
+#pragma once
+// Trees hidden from the sun, culled on the read-back path (CasterSelection::ReceiverPixels): the
+// CPU's form of what the GPU's caster filter does beside its mask (gpu_caster_filter.hpp). The
+// trees whose texels a receiver's lookup read in the last frame's map are drawn first with the
+// terrain and every other caster; the layer is read back; each other tree is then drawn only where
+// one of its crown slabs (vegetation/crown_slabs.hpp) may come nearer the light than the layer
+// holds at a texel centre it covers — where the light's line through that centre enters the slab —
+// and a receiver beyond that point reads the texel (shadows::ReceiverMask::farthestReading). A
+// tree behind the canopy from the sun writes no texel a lookup reads, so the term is the term of
+// all casters, whatever the last frame was; which trees counted decides only how many are drawn.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "forest/render/scene_objects.hpp"
+#include "forest/shadows/receiver_mask.hpp"
+#include "forest/shadows/shadow_setup.hpp"
+
+namespace forest::render {
+
+class CasterOcclusion {
+ public:
+  explicit CasterOcclusion(const SceneObjects& objects);
+  // A new frame: the trees marked in the last one count.
+  void beginFrame();
+  // Splits `casters` (object indices) into what is drawn first — everything but the trees that did
+  // not count in the last frame — and those trees.
+  void split(std::span<const std::uint32_t> casters, std::vector<std::uint32_t>& first, std::vector<std::uint32_t>& others) const;
+  // Keeps of `trees` (object indices) those that may lower a texel a receiver of `mask` reads, the
+  // layer holding `depths` (as stored, [0, 1], row by row over `rect`) in the slice's map of
+  // mapSize² texels with `setup`; `reachTexels`: how far a lookup reads from its point.
+  void keepUnhidden(const shadows::ShadowSetup& setup, int mapSize, const shadows::ReceiverMask& mask, double reachTexels,
+                    const shadows::TexelRect& rect, std::span<const float> depths, std::vector<std::uint32_t>& trees);
+  // Marks the trees whose object IDs (`ids`, row by row over `rect`) lie at texels a receiver of
+  // `mask` reads: the next frame draws them first.
+  void markCounted(const shadows::ReceiverMask& mask, double reachTexels, const shadows::TexelRect& rect,
+                   std::span<const std::uint32_t> ids);
+
+ private:
+  bool treeMayShow(std::uint32_t tree, const shadows::ShadowSetup& setup, int mapSize, const shadows::ReceiverMask& mask,
+                   double reachTexels, const shadows::TexelRect& rect, std::span<const float> depths);
+
+  const SceneObjects& objects_;
+  std::vector<std::uint8_t> counted_, marked_;  // per tree: counted in the last frame, marked in this one
+  glm::dmat4 clipToWorld_{1.0};                 // the slice's, for keepUnhidden
+  std::vector<vegetation::PlacedCrownSlab> slabs_;  // one tree's
+};
+
+}  // namespace forest::render
