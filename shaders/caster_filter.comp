@@ -192,7 +192,7 @@ float entryDepth(Crown c, float grow, ivec2 x) {
 // through a texel centre meets it (grown by kCentreMargin of a texel for float32 and the
 // rasteriser's snapping) at a depth a receiver reading that texel lies beyond and — phase 2 — the
 // map does not already hold nearer. Larger ones: the two tests above, each over the whole footprint.
-const int kExactTexels = 8;
+const int kExactTexels = 32;
 bool mayMatter(vec3 lo, vec3 hi, Crown crown) {
   Footprint f = footprintOf(lo, hi);
   if (f.behind) return true;

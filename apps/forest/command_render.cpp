@@ -168,8 +168,8 @@ void writeTruth(const render::Frame& frame, const render::FrameStats& stats, con
       e.aliasingPixels.max,
       e.aliasingPixels.p95, e.aliasingPixels.mean, e.casters.selected, e.casters.selectedTriangles, e.casters.needed,
       e.casters.neededTriangles, e.casters.missing,
-      // The GPU's filter leaves out crowns behind others from the sun: the oracle names the one nearer the pixel.
-      options.frame.casters.casters == "receiver-mask-gpu" && e.casters.missing > 0 ? " (hidden from the sun behind crowns it kept)" : "",
+      // Culling crowns behind others from the sun: the oracle names the one nearer the pixel.
+      e.casters.missing > 0 ? " (hidden from the sun behind crowns drawn)" : "",
       shownPath(folder / "truth.json"), shownPath(folder / "error.png"));
 }
 
@@ -273,7 +273,7 @@ void addFrameInputs(CLI::App* command, RenderOptions* options) {
   command->add_option("--frames-before", options->framesBefore,
                       "Frames rendered at the same view before the one measured, so that it starts from what a\n"
                       "frame hands the next in a walk (LiSPSM's smoothed n, the culler's visibility, the trees\n"
-                      "that counted in the GPU caster filter's map) (0 to 100)")
+                      "that counted in the shadow map, drawn first) (0 to 100)")
       ->check(CLI::Range(0, 100))
       ->capture_default_str();
   options->frame.add(*command);

@@ -144,6 +144,13 @@ void FrameOptions::add(CLI::App& command, bool withCulling) {
                      "warp snapped. off: every slice refits to the view every frame (a frame alone: the same)")
       ->check(CLI::IsMember({"off", "on"}))
       ->capture_default_str();
+  command.add_option("--hidden-casters", hiddenCasters,
+                     "Trees hidden from the sun with receiver-pixels casters: cull (the trees that counted in\n"
+                     "the last frame's map drawn first, the layer read back, every other tree drawn only where\n"
+                     "it may come nearer the light at a texel a receiver beyond it reads) or draw (all that the\n"
+                     "receiver mask keeps). The term is the same; cull draws fewer trees")
+      ->check(CLI::IsMember({"cull", "draw"}))
+      ->capture_default_str();
   command.add_option("--cache-slices", cacheSlices,
                      "Cached shadow map layers: a slice whose map was kept and whose casters are as they were\n"
                      "drawn (the same LODs and terrain morphs, none moved, the wind's sway since under a\n"
@@ -203,6 +210,7 @@ render::FrameSettings FrameOptions::settings(const gl::ContextInfo& context) con
   s.blurReferenceDepth = blurDepth;
   s.shadowTermScale = termResolution == "half" ? 2 : 1;
   s.keepSlices = keepSlices == "on";
+  s.cullHiddenCasters = hiddenCasters == "cull";
   s.cacheSlices = cacheSlices != "off";
   s.staggerSlices = cacheSlices == "staggered";
   if (cascadesOption && cascadesOption->count() > 0) s.cascades = cascades;
@@ -249,6 +257,7 @@ nlohmann::ordered_json FrameOptions::json(const gl::ContextInfo& context, const 
                               {"blur_depth_m", blurDepth},
                               {"term_resolution", termResolution},
                               {"keep_slices", keepSlices},
+                              {"hidden_casters", hiddenCasters},
                               {"cache_slices", cacheSlices}};
   j.update(modes.json(context));
   return j;

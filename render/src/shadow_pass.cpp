@@ -144,7 +144,7 @@ long long ShadowPass::run(const ShadowPlan& plan, const DrawView& eye, const ter
   long long triangles = 0;
   const bool profiling = settings.timing == gl::TimingMode::Profiling;
   // The read-back path culls the trees hidden from the sun (its layers drawn whole: not cached).
-  const bool occluding = !filteredOnGpu_ && !caching && forestSource_ != nullptr;
+  const bool occluding = settings.cullHiddenCasters && !filteredOnGpu_ && !caching && forestSource_ != nullptr;
   if (occluding && !occlusion_) occlusion_ = std::make_unique<CasterOcclusion>(objects_);
   if (occluding) occlusion_->beginFrame();
   for (std::optional<std::vector<std::uint32_t>>& trees : treesOccluded_) trees.reset();
@@ -188,8 +188,8 @@ long long ShadowPass::drawLayer(int i, const ShadowPlan& plan, const ShadowSlice
                                 const gl::Texture* receiverSurface, FrameStats& stats) {
   // With the GPU's filter or the read-back path's occlusion, the object-ID layer too (which trees
   // counted), unless the method writes the linear light depth (its programs write no ID).
-  const bool occluded = occlusion_ && !filteredOnGpu_ && slice.receiverMask && layer.update == SliceUpdate::Redraw &&
-                        !settings.cacheSlices && !slice.setup.linearDepth;
+  const bool occluded = occlusion_ && settings.cullHiddenCasters && !filteredOnGpu_ && slice.receiverMask &&
+                        layer.update == SliceUpdate::Redraw && !settings.cacheSlices && !slice.setup.linearDepth;
   const bool withIds = (filteredOnGpu_ || occluded) && !slice.setup.linearDepth;
   if (withIds) ensureIdLayers();
   glBindFramebuffer(GL_FRAMEBUFFER, (withIds ? idFramebuffers_ : framebuffers_)[static_cast<size_t>(i)].id());

@@ -133,6 +133,9 @@ struct FrameSettings {
   // the tests); the command line's --keep-slices is on unless asked otherwise.
   bool keepSlices = false;
   shadows::KeepLimits keepLimits;
+  // With CasterSelection::ReceiverPixels and caching off, the trees hidden from the sun culled
+  // between two draws of each layer (render/src/caster_occlusion.hpp): the same term, fewer trees.
+  bool cullHiddenCasters = true;
   // Cached slices (render/src/slice_cache.hpp): a layer that still holds what its slice needs —
   // the same matrices (a kept slice), the casters drawn then, none moved by a texel — is not
   // redrawn. Layers are then drawn whole (no scissor), and the GPU's caster filter disables it.

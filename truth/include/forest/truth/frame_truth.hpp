@@ -40,8 +40,9 @@ struct DistanceBand {
 struct CasterOracle {
   int selected = 0;                  // culling objects the frame selected as casters
   int needed = 0;                    // culling objects that occlude the sun for a scored pixel
-  // Needed but not selected: 0, except where a selection leaves out casters hidden from the sun by
-  // others (CasterSelection::ReceiverMaskGpu keeps the crown nearer the sun of two a ray meets).
+  // Needed but not drawn: 0, except where a selection culls the casters hidden from the sun by
+  // others (CasterSelection::ReceiverMaskGpu, ReceiverPixels with FrameSettings::cullHiddenCasters:
+  // they keep the crown nearer the sun of two a ray meets, the oracle names the one nearer the pixel).
   int missing = 0;
   long long selectedTriangles = 0;   // drawn in the shadow pass
   long long neededTriangles = 0;     // of the occluding instances (trees, tiles, props)
