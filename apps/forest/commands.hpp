@@ -95,7 +95,7 @@ struct FrameOptions {
   double blurDepth = 10.0;   // metres up to which the full radius applies
   std::string termResolution = "full";  // of the blurred shadow term: full or half (FrameSettings::shadowTermScale)
   std::string keepSlices = "on";        // kept shadow maps: off or on (FrameSettings::keepSlices)
-  std::string hiddenCasters = "cull";   // trees hidden from the sun: cull or draw (FrameSettings::cullHiddenCasters)
+  std::string hiddenCasters = "auto";   // trees hidden from the sun: auto, cull or draw (FrameSettings::hiddenCasters)
   std::string cacheSlices = "off";      // cached shadow map layers: off, on or staggered (FrameSettings::cacheSlices, staggerSlices)
   CasterOptions casters;
   // Z-partitioning; each left unset (the scene's [shadows]) unless its flag is given.

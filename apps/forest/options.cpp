@@ -147,9 +147,10 @@ void FrameOptions::add(CLI::App& command, bool withCulling) {
   command.add_option("--hidden-casters", hiddenCasters,
                      "Trees hidden from the sun with receiver-pixels casters: cull (the trees that counted in\n"
                      "the last frame's map drawn first, the layer read back, every other tree drawn only where\n"
-                     "it may come nearer the light at a texel a receiver beyond it reads) or draw (all that the\n"
-                     "receiver mask keeps). The term is the same; cull draws fewer trees")
-      ->check(CLI::IsMember({"cull", "draw"}))
+                     "it may come nearer the light at a texel a receiver beyond it reads), draw (all that the\n"
+                     "receiver mask keeps), or auto (cull where the other trees' triangles outweigh the layer's\n"
+                     "read-backs: a landscape, not a grove). The term is the same")
+      ->check(CLI::IsMember({"auto", "cull", "draw"}))
       ->capture_default_str();
   command.add_option("--cache-slices", cacheSlices,
                      "Cached shadow map layers: a slice whose map was kept and whose casters are as they were\n"
@@ -210,7 +211,7 @@ render::FrameSettings FrameOptions::settings(const gl::ContextInfo& context) con
   s.blurReferenceDepth = blurDepth;
   s.shadowTermScale = termResolution == "half" ? 2 : 1;
   s.keepSlices = keepSlices == "on";
-  s.cullHiddenCasters = hiddenCasters == "cull";
+  s.hiddenCasters = render::kHiddenCastersNames.parse(hiddenCasters);
   s.cacheSlices = cacheSlices != "off";
   s.staggerSlices = cacheSlices == "staggered";
   if (cascadesOption && cascadesOption->count() > 0) s.cascades = cascades;

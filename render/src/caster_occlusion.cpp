@@ -19,6 +19,11 @@ constexpr double kDepthTolerance = 2e-5;
 // A slab whose footprint spans more texels than this is kept untested: a tree that near the eye
 // is nearly always one that counted, and the test would cost more than its draw.
 constexpr long long kLargestTestedTexels = 64 * 64;
+// A texel read back (its depth and its object ID) costs about what 1/64 of a shadow triangle
+// does: llvmpipe on 2 cores, the landscape walk at 5000 trees (bench scale): the read-backs and
+// tests added ~21 ms p50 over the read rectangles, where 52 k triangles took ~24 ms (≈ 80 texels
+// a triangle; rounded down, so that a layer is culled a little sooner).
+constexpr long long kTexelsPerTriangle = 64;
 }  // namespace
 
 CasterOcclusion::CasterOcclusion(const SceneObjects& objects)
@@ -27,6 +32,24 @@ CasterOcclusion::CasterOcclusion(const SceneObjects& objects)
 void CasterOcclusion::beginFrame() {
   counted_.swap(marked_);
   std::fill(marked_.begin(), marked_.end(), std::uint8_t{0});
+}
+
+long long CasterOcclusion::triangles(std::uint32_t tree, const dvec3& eye) const {
+  const vegetation::Forest& forest = *objects_.forest();
+  const vegetation::Species species = forest.trees()[tree].species;
+  return forest.model(species).lods[static_cast<size_t>(forest.lodFor(tree, eye))].triangleCount();
+}
+
+bool CasterOcclusion::worthCulling(std::span<const std::uint32_t> casters, long long texels, const dvec3& eye) {
+  double expected = 0.0;
+  for (std::uint32_t o : casters) {
+    const SceneObjects::Object& object = objects_.objects()[o];
+    if (object.kind != SceneObjects::Kind::Tree || counted_[object.index] != 0) continue;
+    expected += culledShare_ * static_cast<double>(triangles(object.index, eye));
+    if (expected * kTexelsPerTriangle >= static_cast<double>(texels)) return true;
+  }
+  culledShare_ = std::min(1.0, culledShare_ * 1.1);
+  return false;
 }
 
 void CasterOcclusion::split(std::span<const std::uint32_t> casters, std::vector<std::uint32_t>& first,
@@ -42,13 +65,20 @@ void CasterOcclusion::split(std::span<const std::uint32_t> casters, std::vector<
 
 void CasterOcclusion::keepUnhidden(const shadows::ShadowSetup& setup, int mapSize, const shadows::ReceiverMask& mask,
                                    double reachTexels, const shadows::TexelRect& rect, std::span<const float> depths,
-                                   std::vector<std::uint32_t>& trees) {
+                                   const dvec3& eye, std::vector<std::uint32_t>& trees) {
   if (mask.everywhere() || rect.empty()) return;  // a receiver the map cannot place: keep them all
   clipToWorld_ = glm::inverse(setup.worldToShadowClip);
+  long long tested = 0, culled = 0;
   const auto hidden = [&](std::uint32_t o) {
-    return !treeMayShow(objects_.objects()[o].index, setup, mapSize, mask, reachTexels, rect, depths);
+    const std::uint32_t tree = objects_.objects()[o].index;
+    const long long t = triangles(tree, eye);
+    tested += t;
+    if (treeMayShow(tree, setup, mapSize, mask, reachTexels, rect, depths)) return false;
+    culled += t;
+    return true;
   };
   trees.erase(std::remove_if(trees.begin(), trees.end(), hidden), trees.end());
+  culledShare_ = tested > 0 ? std::max(0.01, static_cast<double>(culled) / static_cast<double>(tested)) : culledShare_;
 }
 
 // Whether one of the tree's crown slabs may lower a texel of the layer that a receiver beyond it

@@ -23,26 +23,35 @@ class CasterOcclusion {
   explicit CasterOcclusion(const SceneObjects& objects);
   // A new frame: the trees marked in the last one count.
   void beginFrame();
+  // Whether culling pays on a layer (HiddenCasters::Auto): the triangles it is expected to leave out
+  // — those of the trees that did not count, at the eye's LODs, times the share it left out when it
+  // last culled — against its two read-backs of `texels`. A layer not culled lets that share grow
+  // back by a tenth a frame, so a view that changes is tried again.
+  bool worthCulling(std::span<const std::uint32_t> casters, long long texels, const glm::dvec3& eye);
   // Splits `casters` (object indices) into what is drawn first — everything but the trees that did
   // not count in the last frame — and those trees.
   void split(std::span<const std::uint32_t> casters, std::vector<std::uint32_t>& first, std::vector<std::uint32_t>& others) const;
   // Keeps of `trees` (object indices) those that may lower a texel a receiver of `mask` reads, the
   // layer holding `depths` (as stored, [0, 1], row by row over `rect`) in the slice's map of
   // mapSize² texels with `setup`; `reachTexels`: how far a lookup reads from its point.
+  // `eye`: the draws' LOD origin (what the share left out is weighed by).
   void keepUnhidden(const shadows::ShadowSetup& setup, int mapSize, const shadows::ReceiverMask& mask, double reachTexels,
-                    const shadows::TexelRect& rect, std::span<const float> depths, std::vector<std::uint32_t>& trees);
+                    const shadows::TexelRect& rect, std::span<const float> depths, const glm::dvec3& eye,
+                    std::vector<std::uint32_t>& trees);
   // Marks the trees whose object IDs (`ids`, row by row over `rect`) lie at texels a receiver of
   // `mask` reads: the next frame draws them first.
   void markCounted(const shadows::ReceiverMask& mask, double reachTexels, const shadows::TexelRect& rect,
                    std::span<const std::uint32_t> ids);
 
  private:
+  long long triangles(std::uint32_t tree, const glm::dvec3& eye) const;  // at the eye's LOD
   bool treeMayShow(std::uint32_t tree, const shadows::ShadowSetup& setup, int mapSize, const shadows::ReceiverMask& mask,
                    double reachTexels, const shadows::TexelRect& rect, std::span<const float> depths);
 
   const SceneObjects& objects_;
   std::vector<std::uint8_t> counted_, marked_;  // per tree: counted in the last frame, marked in this one
   glm::dmat4 clipToWorld_{1.0};                 // the slice's, for keepUnhidden
+  double culledShare_ = 1.0;                    // of the tested trees' triangles, left out when last culled
   std::vector<vegetation::PlacedCrownSlab> slabs_;  // one tree's
 };
 

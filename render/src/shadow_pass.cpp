@@ -144,7 +144,7 @@ long long ShadowPass::run(const ShadowPlan& plan, const DrawView& eye, const ter
   long long triangles = 0;
   const bool profiling = settings.timing == gl::TimingMode::Profiling;
   // The read-back path culls the trees hidden from the sun (its layers drawn whole: not cached).
-  const bool occluding = settings.cullHiddenCasters && !filteredOnGpu_ && !caching && forestSource_ != nullptr;
+  const bool occluding = settings.hiddenCasters != HiddenCasters::Draw && !filteredOnGpu_ && !caching && forestSource_ != nullptr;
   if (occluding && !occlusion_) occlusion_ = std::make_unique<CasterOcclusion>(objects_);
   if (occluding) occlusion_->beginFrame();
   for (std::optional<std::vector<std::uint32_t>>& trees : treesOccluded_) trees.reset();
@@ -188,8 +188,9 @@ long long ShadowPass::drawLayer(int i, const ShadowPlan& plan, const ShadowSlice
                                 const gl::Texture* receiverSurface, FrameStats& stats) {
   // With the GPU's filter or the read-back path's occlusion, the object-ID layer too (which trees
   // counted), unless the method writes the linear light depth (its programs write no ID).
-  const bool occluded = occlusion_ && settings.cullHiddenCasters && !filteredOnGpu_ && slice.receiverMask &&
-                        layer.update == SliceUpdate::Redraw && !settings.cacheSlices && !slice.setup.linearDepth;
+  const bool occluded = occlusion_ && settings.hiddenCasters != HiddenCasters::Draw && !filteredOnGpu_ && slice.receiverMask &&
+                        layer.update == SliceUpdate::Redraw && !settings.cacheSlices && !slice.setup.linearDepth &&
+                        (settings.hiddenCasters == HiddenCasters::Cull || occlusion_->worthCulling(layer.casters, layer.rect.texels(), eye.origin));
   const bool withIds = (filteredOnGpu_ || occluded) && !slice.setup.linearDepth;
   if (withIds) ensureIdLayers();
   glBindFramebuffer(GL_FRAMEBUFFER, (withIds ? idFramebuffers_ : framebuffers_)[static_cast<size_t>(i)].id());
@@ -242,7 +243,7 @@ long long ShadowPass::drawWithOcclusion(int i, const ShadowSlice& slice, const L
   depthsRead_.resize(texels);
   glGetTextureSubImage(map_.id(), 0, rect.x0, rect.y0, i, width, height, 1, GL_DEPTH_COMPONENT, GL_FLOAT,
                        static_cast<GLsizei>(texels * sizeof(float)), depthsRead_.data());
-  occlusion_->keepUnhidden(slice.setup, slice.mapSize, *slice.receiverMask, reach, rect, depthsRead_, others_);
+  occlusion_->keepUnhidden(slice.setup, slice.mapSize, *slice.receiverMask, reach, rect, depthsRead_, eye.origin, others_);
   phase.casters = others_;
   phase.blocks = {};  // the terrain went with the first draw
   drawn += drawSlice(slice, phase, eye, lod, settings, l, stats.shadowTerrainTriangles);

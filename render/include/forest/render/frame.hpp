@@ -62,6 +62,13 @@ inline constexpr EnumNames<CasterSelection, 5> kCasterSelectionNames{
                           {CasterSelection::ReceiverMaskGpu, "receiver-mask-gpu"}, {CasterSelection::FrustumBody, "frustum-body"},
                           {CasterSelection::All, "all"}}}};
 
+// The read-back path's trees hidden from the sun (render/src/caster_occlusion.hpp): culled between
+// two draws of each layer (the layer read back between them), drawn with the rest, or culled where
+// the trees it could leave out outweigh the read-backs (kTrianglesPerTexelReadBack).
+enum class HiddenCasters { Auto, Cull, Draw };
+inline constexpr EnumNames<HiddenCasters, 3> kHiddenCastersNames{
+    "hidden casters", {{{HiddenCasters::Auto, "auto"}, {HiddenCasters::Cull, "cull"}, {HiddenCasters::Draw, "draw"}}}};
+
 // What bounds the focus body B: the visible receivers (their box, and the visible set's z_f as
 // the far distance; thesis §9.2.5, DESIGN §4) or the whole view frustum within the scene (V ∩ S,
 // eq. 4.2, the camera's own far plane).
@@ -133,9 +140,9 @@ struct FrameSettings {
   // the tests); the command line's --keep-slices is on unless asked otherwise.
   bool keepSlices = false;
   shadows::KeepLimits keepLimits;
-  // With CasterSelection::ReceiverPixels and caching off, the trees hidden from the sun culled
-  // between two draws of each layer (render/src/caster_occlusion.hpp): the same term, fewer trees.
-  bool cullHiddenCasters = true;
+  // With CasterSelection::ReceiverPixels and caching off: whether the trees hidden from the sun are
+  // culled (HiddenCasters): the same term, fewer trees, two read-backs of each layer drawn.
+  HiddenCasters hiddenCasters = HiddenCasters::Auto;
   // Cached slices (render/src/slice_cache.hpp): a layer that still holds what its slice needs —
   // the same matrices (a kept slice), the casters drawn then, none moved by a texel — is not
   // redrawn. Layers are then drawn whole (no scissor), and the GPU's caster filter disables it.
