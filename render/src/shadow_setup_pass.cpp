@@ -158,9 +158,7 @@ void ShadowSetupPass::refineCasters(ShadowSlice& slice, const FrameSettings& set
     const SceneObjects::Object& object = objects.objects()[o];
     if (object.kind != SceneObjects::Kind::Tile) {
       const std::span<const Aabb> shapes = objects.shapeBoxes(o);
-      if (std::any_of(shapes.begin(), shapes.end(), covers) &&
-          (!mask || object.kind != SceneObjects::Kind::Tree || crownMayShadow(objects, object.index, *mask, reach)))
-        slice.casters[kept++] = o;
+      if (std::any_of(shapes.begin(), shapes.end(), covers)) slice.casters[kept++] = o;
       continue;
     }
     if (!terrain) {
@@ -185,18 +183,6 @@ void ShadowSetupPass::refineCasters(ShadowSlice& slice, const FrameSettings& set
     if (any) slice.casters[kept++] = o;
   }
   slice.casters.resize(kept);
-}
-
-// A tree the mask keeps by its query boxes, tested again by its caster slabs (vegetation/
-// crown_slabs.hpp), whose frusta follow its tiers where a box wraps them in air: a tree stays when
-// both may shadow a receiver (each holds the tree, so either alone is exact).
-bool ShadowSetupPass::crownMayShadow(const SceneObjects& objects, std::uint32_t tree, const shadows::ReceiverMask& mask, double reach) {
-  crownSlabs_.clear();
-  objects.forest()->placedCasterSlabs(tree, crownSlabs_);
-  return std::any_of(crownSlabs_.begin(), crownSlabs_.end(), [&](const vegetation::PlacedCrownSlab& slab) {
-    const std::array<dvec3, 16> corners = slab.corners();
-    return mask.mayShadow(std::span<const dvec3>(corners), reach);
-  });
 }
 
 // The receiver mask of the slice: the pixels whose eye depth its focus body spans, in its map.

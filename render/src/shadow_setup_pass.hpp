@@ -113,8 +113,6 @@ class ShadowSetupPass {
   // that may darken one of its pixels.
   void refineCasters(ShadowSlice& slice, const FrameSettings& settings, const glm::dvec3& l, const SceneObjects& objects,
                      const terrain::TerrainLod* lod, const shadows::ReceiverMask* mask);
-  // Whether one of the tree's caster slabs may shadow a receiver of the mask.
-  bool crownMayShadow(const SceneObjects& objects, std::uint32_t tree, const shadows::ReceiverMask& mask, double reach);
   // `mask` over the visible sun-facing pixels whose eye depth the slice's focus body spans.
   void fillReceiverMask(const ShadowSlice& slice, const ReceiverPixels& receiverPixels, shadows::ReceiverMask& mask);
 
@@ -126,7 +124,6 @@ class ShadowSetupPass {
   std::vector<Aabb> receivers_, sliceReceivers_, footprints_;
   std::vector<std::int32_t> nodeStack_;  // selectByHierarchy's, kept between frames
   std::vector<terrain::CellSpan> cellRuns_;  // one terrain block's (refineCasters)
-  std::vector<vegetation::PlacedCrownSlab> crownSlabs_;  // one tree's (crownMayShadow)
   std::vector<glm::dvec2> receiverDepths_;  // each receiver's eye-depth range
   shadows::CasterSelector selector_;
   std::array<shadows::ReceiverMask, shadows::kMaxCascades> masks_;  // per slice (ShadowSlice::receiverMask)

@@ -59,7 +59,7 @@ class ReceiverMask {
   // the light than the box: `reachTexels` is how far (in texels, per axis) a lookup reads from its
   // point. True when the box reaches behind the light's projection (w ≤ 0 at a corner).
   bool mayShadow(const Aabb& caster, double reachTexels) const;
-  // The same for a convex body given by its corners (at most kMaxCorners): a tree's crown slab.
+  // The same for a convex body given by its corners (at most kMaxCorners; a box: its 8).
   static constexpr size_t kMaxCorners = 16;
   bool mayShadow(std::span<const glm::dvec3> caster, double reachTexels) const;
   int receivers() const { return receivers_; }
