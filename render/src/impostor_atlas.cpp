@@ -1,0 +1,157 @@
+#include "forest/render/impostor_atlas.hpp"
+
+#include <chrono>
+#include <cstring>
+
+#include "forest/gl/shader.hpp"
+
+namespace forest::render {
+namespace {
+
+using vegetation::kSpeciesCount;
+
+struct BakeVertex {
+  glm::vec3 position, normal, albedo;
+};
+
+// LOD0 of a species in buffers the bake draws from.
+struct BakeMesh {
+  gl::Buffer vertices, indices;
+  gl::VertexArray vertexArray;
+  GLsizei indexCount = 0;
+
+  explicit BakeMesh(const vegetation::TreeMesh& mesh) {
+    std::vector<BakeVertex> v(mesh.positions.size());
+    for (size_t k = 0; k < v.size(); ++k) v[k] = {mesh.positions[k], mesh.normals[k], mesh.albedo[k]};
+    vertices = gl::Buffer(v.size() * sizeof(BakeVertex), v.data(), 0);
+    indices = gl::Buffer(mesh.indices.size() * sizeof(std::uint32_t), mesh.indices.data(), 0);
+    indexCount = static_cast<GLsizei>(mesh.indices.size());
+    const GLuint vao = vertexArray.id();
+    glVertexArrayVertexBuffer(vao, 0, vertices.id(), 0, sizeof(BakeVertex));
+    glVertexArrayElementBuffer(vao, indices.id());
+    for (GLuint a = 0; a < 3; ++a) {
+      glEnableVertexArrayAttrib(vao, a);
+      glVertexArrayAttribFormat(vao, a, 3, GL_FLOAT, GL_FALSE, a * sizeof(glm::vec3));
+      glVertexArrayAttribBinding(vao, a, 0);
+    }
+  }
+};
+
+float floatOf(std::uint32_t bits) {
+  float f;
+  std::memcpy(&f, &bits, sizeof f);
+  return f;
+}
+
+std::uint32_t bitsOf(float f) {
+  std::uint32_t bits;
+  std::memcpy(&bits, &f, sizeof bits);
+  return bits;
+}
+
+}  // namespace
+
+ImpostorTexel unpackImpostorTexel(const glm::uvec4& packed) {
+  ImpostorTexel t;
+  t.covered = (packed.y >> 24) != 0u;
+  if (!t.covered) return t;
+  t.front = floatOf(packed.x);
+  t.back = floatOf(packed.w);
+  for (int c = 0; c < 3; ++c) {
+    t.albedo[c] = ((packed.y >> (8 * c)) & 0xffu) / 255.0;
+    t.normal[c] = ((packed.z >> (10 * c)) & 0x3ffu) / 1023.0 * 2.0 - 1.0;
+  }
+  return t;
+}
+
+ImpostorAtlas::ImpostorAtlas(const vegetation::Forest& forest, int views, int texels) : grid_(views), texels_(texels) {
+  const auto start = std::chrono::steady_clock::now();
+  const int side = views * texels;
+  texture_ = gl::Texture(GL_RGBA32UI, side, side, 1, kSpeciesCount);
+  for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER}) glTextureParameteri(texture_.id(), p, GL_NEAREST);
+  const gl::Program program = gl::loadProgram({"impostor_bake.vert", "impostor_bake.frag"});
+  std::vector<glm::uvec4> layer;
+  for (int s = 0; s < kSpeciesCount; ++s) {
+    const vegetation::SpeciesModel& model = forest.species()[static_cast<size_t>(s)];
+    spheres_[static_cast<size_t>(s)] = vegetation::impostorSphere(model);
+    layer.assign(static_cast<size_t>(side) * side, glm::uvec4(0u));
+    if (model.lods[0].indices.empty() || spheres_[static_cast<size_t>(s)].radius <= 0.0) continue;
+    bakeSpecies(model, program, layer);
+    glTextureSubImage3D(texture_.id(), 0, 0, 0, s, side, side, 1, GL_RGBA_INTEGER, GL_UNSIGNED_INT, layer.data());
+  }
+  bakeSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void ImpostorAtlas::bakeSpecies(const vegetation::SpeciesModel& model, const gl::Program& program,
+                                std::vector<glm::uvec4>& layer) const {
+  const int side = grid_.views() * texels_;
+  const vegetation::ImpostorSphere& sphere = spheres_[static_cast<size_t>(model.species)];
+  const BakeMesh mesh(model.lods[0]);
+  gl::Texture surface(GL_RGBA32UI, side, side), depth(GL_DEPTH_COMPONENT32F, side, side);
+  gl::Framebuffer target;
+  target.attach(GL_COLOR_ATTACHMENT0, surface);
+  target.attach(GL_DEPTH_ATTACHMENT, depth);
+  target.checkComplete("impostor bake");
+  program.set("uCentreRadius", glm::vec4(glm::vec3(sphere.centre), static_cast<float>(sphere.radius)));
+  program.set("uRadius", static_cast<float>(sphere.radius));
+
+  glBindFramebuffer(GL_FRAMEBUFFER, target.id());
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  glDisable(GL_SCISSOR_TEST);
+  glEnable(GL_CULL_FACE);
+  program.use();
+  glBindVertexArray(mesh.vertexArray.id());
+  // Pass 1 draws the faces turned to the viewer (the surface it sees), pass 2 those turned away
+  // (with the nearest, the surface a backside shadow map stores: Scherzer 2006 §5.1).
+  std::vector<float> back(static_cast<size_t>(side) * side);
+  for (GLenum culled : {GL_BACK, GL_FRONT}) {
+    const GLuint nothing[4] = {0, 0, 0, 0};
+    const float far = 1.0f;
+    glClearBufferuiv(GL_COLOR, 0, nothing);
+    glClearBufferfv(GL_DEPTH, 0, &far);
+    glCullFace(culled);
+    glColorMaski(0, culled == GL_BACK, culled == GL_BACK, culled == GL_BACK, culled == GL_BACK);
+    for (int i = 0; i < grid_.views(); ++i)
+      for (int j = 0; j < grid_.views(); ++j) {
+        const vegetation::ImpostorFrame f = grid_.frame(i, j);
+        program.set("uRight", glm::vec3(f.right));
+        program.set("uUp", glm::vec3(f.up));
+        program.set("uToViewer", glm::vec3(f.toViewer));
+        glViewport(i * texels_, j * texels_, texels_, texels_);
+        glDrawElements(GL_TRIANGLES, mesh.indexCount, GL_UNSIGNED_INT, nullptr);
+      }
+    if (culled == GL_BACK)
+      glGetTextureImage(surface.id(), 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, static_cast<GLsizei>(layer.size() * sizeof(glm::uvec4)),
+                        layer.data());
+    else
+      glGetTextureImage(depth.id(), 0, GL_DEPTH_COMPONENT, GL_FLOAT, static_cast<GLsizei>(back.size() * sizeof(float)), back.data());
+  }
+  glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glCullFace(GL_BACK);
+  glBindVertexArray(0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  const double toMetres = 2.0 * sphere.radius;
+  for (size_t k = 0; k < layer.size(); ++k)
+    if ((layer[k].y >> 24) != 0u) layer[k].w = bitsOf(static_cast<float>(back[k] * toMetres));
+}
+
+glm::dvec3 ImpostorAtlas::bakePoint(vegetation::Species species, int i, int j, const glm::dvec2& texel, double s) const {
+  const vegetation::ImpostorSphere& sphere = spheres_[static_cast<size_t>(species)];
+  const vegetation::ImpostorFrame f = grid_.frame(i, j);
+  const double r = sphere.radius;
+  const double a = (2.0 * texel.x / texels_ - 1.0) * r, b = (2.0 * texel.y / texels_ - 1.0) * r;
+  return sphere.centre + a * f.right + b * f.up + (r - s) * f.toViewer;
+}
+
+std::vector<glm::uvec4> ImpostorAtlas::download(vegetation::Species species) const {
+  const int side = texture_.width();
+  std::vector<glm::uvec4> layer(static_cast<size_t>(side) * side);
+  glGetTextureSubImage(texture_.id(), 0, 0, 0, static_cast<int>(species), side, side, 1, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
+                       static_cast<GLsizei>(layer.size() * sizeof(glm::uvec4)), layer.data());
+  return layer;
+}
+
+}  // namespace forest::render
