@@ -20,7 +20,7 @@ struct Command {  // glDrawElementsIndirect's
   int baseVertex;
   uint baseInstance;
 };
-const int kMaxGroups = 16, kSlabs = 8, kMaxSpecies = 4;  // kSlabs: vegetation::kCasterSlabs
+const int kMaxGroups = 32, kSlabs = 8, kMaxSpecies = 4;  // kSlabs: vegetation::kCasterSlabs
 
 layout(std430, binding = 0) readonly buffer Input { Instance instances[]; };
 layout(std430, binding = 1) writeonly buffer Output { Instance selected[]; };
@@ -138,54 +138,15 @@ float mapDepthAt(vec3 p) {
   return uLinearDepth != 0 ? 0.5 * dot(uLightDepthRow, vec4(p, 1.0)) + 0.5 : h.z / h.w;
 }
 
-// The crown slab (crown_slabs.hpp) of an instance as the draw places it: heights [h.x, h.y] over
-// the base, the frustum's radius r.x at h.x and r.y at h.y (scaled), sheared by `shear` — in the
-// unsheared frame (x − shear.x·y, z − shear.y·y) an upright frustum about the axis, wrapped here in
-// the octagonal one whose faces touch its circles (apothem = radius).
-struct Crown {
-  vec3 base;
-  vec2 shear, h, r;
-};
-
 // The depth at which the light's line through map texel x meets the crown slab grown by `grow`
 // first — the least map depth of any point of it on that line (the depth along the line is
-// monotonic where w > 0) — or 2 where the line misses it: the line clipped by the slab's ten
-// planes (Cyrus–Beck) in the unsheared frame, where the line is a + s·d mapped linearly (the same s).
+// monotonic where w > 0) — or 2 where the line misses it (crown_slab.glsl: crownSlabSpan).
 float entryDepth(Crown c, float grow, ivec2 x) {
   vec3 a, d;
   lightLine(x, a, d);
-  vec3 p = a - c.base;
-  vec3 la = vec3(p.x - c.shear.x * p.y, p.y, p.z - c.shear.y * p.y);
-  vec3 ld = vec3(d.x - c.shear.x * d.y, d.y, d.z - c.shear.y * d.y);
-  float sNear = -1e30, sFar = 1e30;
-  // Each plane as n·q ≤ k: the slab's floor and roof, then the eight sides, whose bound is the
-  // radius at the point's height, ρ(y) = r.x + slope (y − h.x), grown.
-  float slope = c.h.y > c.h.x ? (c.r.y - c.r.x) / (c.h.y - c.h.x) : 0.0;
-  for (int i = 0; i < 10; ++i) {
-    vec3 n;
-    float k;
-    if (i == 0) {
-      n = vec3(0.0, -1.0, 0.0);
-      k = -(c.h.x - grow);
-    } else if (i == 1) {
-      n = vec3(0.0, 1.0, 0.0);
-      k = c.h.y + grow;
-    } else {
-      float angle = float(i - 2) * 0.78539816;  // π/4
-      n = vec3(cos(angle), -slope, sin(angle));
-      k = c.r.x - slope * c.h.x + grow * (1.0 + abs(slope));
-    }
-    float along = dot(n, ld), at = k - dot(n, la);  // inside: at − s·along ≥ 0
-    if (abs(along) < 1e-20) {
-      if (at < 0.0) return 2.0;
-      continue;
-    }
-    float s = at / along;
-    if (along > 0.0) sFar = min(sFar, s);
-    else sNear = max(sNear, s);
-  }
-  if (!(sNear <= sFar)) return 2.0;
-  return min(mapDepthAt(a + sNear * d), mapDepthAt(a + sFar * d));
+  vec2 span = crownSlabSpan(c, grow, a, d);
+  if (!(span.x <= span.y)) return 2.0;
+  return min(mapDepthAt(a + span.x * d), mapDepthAt(a + span.y * d));
 }
 
 // A footprint small enough is tested texel by texel: it may matter only where the light's line

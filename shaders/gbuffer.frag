@@ -11,12 +11,15 @@
 // (DESIGN §4), and only that test is kept of it. The sun comes from the view block.
 layout(location = 0) out uvec4 gSurface;
 
+// A surface whose eye depth and sun-facing test the caller knows (impostor.frag: the baked point).
+void writeGBufferSurface(vec3 albedo, vec3 shadingNormal, float eyeDepth, bool facesSun, uint objectId) {
+  uvec3 n = uvec3(round(clamp(0.5 * normalize(shadingNormal) + 0.5, 0.0, 1.0) * 1023.0));
+  gSurface = uvec4(floatBitsToUint(eyeDepth), packUnorm4x8(vec4(albedo, facesSun ? 1.0 : 0.0)), n.x | (n.y << 10) | (n.z << 20), objectId);
+}
+
 void writeGBuffer(vec3 albedo, vec3 shadingNormal, vec3 relativePosition, uint objectId) {
   vec3 geometric = cross(dFdx(relativePosition), dFdy(relativePosition));
   if (dot(geometric, relativePosition) > 0.0) geometric = -geometric;  // toward the eye: a front face
-  float facesSun = dot(geometric, uView.toSunAmbient.xyz) > 0.0 ? 1.0 : 0.0;
   // Perspective projection: clip w is the eye depth, and gl_FragCoord.w holds 1 / w.
-  float eyeDepth = 1.0 / gl_FragCoord.w;
-  uvec3 n = uvec3(round(clamp(0.5 * normalize(shadingNormal) + 0.5, 0.0, 1.0) * 1023.0));
-  gSurface = uvec4(floatBitsToUint(eyeDepth), packUnorm4x8(vec4(albedo, facesSun)), n.x | (n.y << 10) | (n.z << 20), objectId);
+  writeGBufferSurface(albedo, shadingNormal, 1.0 / gl_FragCoord.w, dot(geometric, uView.toSunAmbient.xyz) > 0.0, objectId);
 }

@@ -6,6 +6,9 @@ in vec3 vNormal;
 in vec3 vAlbedo;
 in vec3 vRelativePosition;
 flat in uint vObjectId;
+#if defined(CROSS_FADE)
+flat in float vFade;  // the impostor's share: the mesh keeps the pixels the impostor leaves (impostor.glsl)
+#endif
 
 // The sun: the view block (view_block.glsl).
 
@@ -22,6 +25,9 @@ out vec4 fragColor;
 #endif
 
 void main() {
+#if defined(CROSS_FADE)
+  if (crossFadeDither(gl_FragCoord.xy) < vFade) discard;
+#endif
 #if defined(OUTPUT_GBUFFER)
   writeGBuffer(vAlbedo, vNormal, vRelativePosition, vObjectId);
 #elif defined(OUTPUT_ID)

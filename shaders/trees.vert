@@ -9,6 +9,10 @@ layout(location = 3) in vec4 iBaseScale;      // xyz: base − view origin; w: s
 layout(location = 4) in vec4 iRotationShear;  // xy: cos and sin of the yaw; zw: the wind's shear (x, z)
 layout(location = 5) in vec4 iTint;
 layout(location = 6) in uint iObjectId;
+#if defined(CROSS_FADE)
+layout(location = 7) in uvec2 iFadeSpecies;  // x: the impostor's share of the cross-fade (float bits)
+flat out float vFade;
+#endif
 
 // uView: the view block (view_block.glsl).
 
@@ -33,6 +37,9 @@ void main() {
   vNormal = n;
   vAlbedo = aAlbedo * iTint.rgb;
   vObjectId = iObjectId;
+#if defined(CROSS_FADE)
+  vFade = uintBitsToFloat(iFadeSpecies.x);
+#endif
   vRelativePosition = p + iBaseScale.xyz;
   gl_Position = uView.viewProjectionRelative * vec4(vRelativePosition, 1.0);
 }

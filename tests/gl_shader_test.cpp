@@ -81,7 +81,8 @@ std::vector<BlockLayout> expectedBlocks() {
        {{"viewProjectionRelative", offsetof(ViewBlock, viewProjectionRelative)},
         {"lightDepthRow", offsetof(ViewBlock, lightDepthRow)},
         {"toSunAmbient", offsetof(ViewBlock, toSunAmbient)},
-        {"sunColorSlopeBias", offsetof(ViewBlock, sunColorSlopeBias)}}},
+        {"sunColorSlopeBias", offsetof(ViewBlock, sunColorSlopeBias)},
+        {"viewer", offsetof(ViewBlock, viewer)}}},
       {"TerrainViewBlock", render::kTerrainViewBlockBinding, sizeof(TerrainViewBlock),
        {{"originRelative", offsetof(TerrainViewBlock, originRelative)},
         {"eye", offsetof(TerrainViewBlock, eye)},
@@ -97,6 +98,13 @@ std::vector<BlockLayout> expectedBlocks() {
         {"blur", offsetof(FrameBlock, blur)},
         {"modes", offsetof(FrameBlock, modes)},
         {"halfTerm", offsetof(FrameBlock, halfTerm)}}},
+      {"ImpostorBlock", render::kImpostorBlockBinding, sizeof(render::ImpostorBlock),
+       {{"grid", offsetof(render::ImpostorBlock, grid)},
+        {"sphere[0]", offsetof(render::ImpostorBlock, sphere)},
+        {"boxMin[0]", offsetof(render::ImpostorBlock, boxMin)},
+        {"boxMax[0]", offsetof(render::ImpostorBlock, boxMax)},
+        {"querySlabs[0]", offsetof(render::ImpostorBlock, querySlabs)},
+        {"casterSlabs[0]", offsetof(render::ImpostorBlock, casterSlabs)}}},
       // QueryBatches::QueryView (culling/src/query_batches.hpp): a mat4, then the frame's stamp in a uvec4.
       {"QueryViewBlock", 3, sizeof(glm::mat4) + sizeof(glm::uvec4), {{"viewProjectionRelative", 0}, {"frameStamp", sizeof(glm::mat4)}}},
   };
@@ -118,6 +126,8 @@ TEST_F(GlTest, UniformBlocksMatchTheShaders) {
     programs.emplace_back("trees/" + tag, render::loadSurfaceProgram("trees.vert", "trees.frag", output));
     programs.emplace_back("props/" + tag, render::loadSurfaceProgram("props.vert", "props.frag", output));
     programs.emplace_back("terrain/" + tag, render::loadSurfaceProgram("terrain.vert", "terrain.frag", output, levels));
+    programs.emplace_back("impostors/" + tag, render::loadSurfaceProgram("impostor.vert", "impostor.frag+crown_slab.glsl+cross_fade.glsl",
+                                                                         output, gl::readShader("impostor.glsl")));
   }
   const std::string lookup = "#define PCF_RADIUS 1\n#define SHADOW_SLICES 4\n";  // the lookup's constants (ShadowLookupPrograms)
   // The half-resolution term and the lighting beyond its depth (AT_HALF_TERM_DEPTH) read halfTerm.
@@ -155,9 +165,10 @@ TEST_F(GlTest, UniformBlocksMatchTheShaders) {
       }
     }
   }
-  // Every surface program reads the view block, the terrain's its own, the full-screen passes (the
+  // Every surface program reads the view block, the impostors theirs, the terrain's its own, the full-screen passes (the
   // term, the blur, three lighting programs, the sky) the frame block, the query boxes theirs.
-  EXPECT_EQ(programsWith["ViewBlock"], 12);
+  EXPECT_EQ(programsWith["ViewBlock"], 16);
+  EXPECT_EQ(programsWith["ImpostorBlock"], 4);
   EXPECT_EQ(programsWith["TerrainViewBlock"], 4);
   EXPECT_EQ(programsWith["FrameBlock"], 6);
   EXPECT_EQ(programsWith["QueryViewBlock"], 1);

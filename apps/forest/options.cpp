@@ -152,6 +152,18 @@ void FrameOptions::add(CLI::App& command, bool withCulling) {
                      "read-backs: a landscape, not a grove). The term is the same")
       ->check(CLI::IsMember({"auto", "cull", "draw"}))
       ->capture_default_str();
+  command.add_option("--impostors", impostors,
+                     "Far trees as impostors: on draws each tree beyond --impostor-distance by a quad textured\n"
+                     "from its species' mesh baked from 256 directions (depth, albedo, normal; facing the sun\n"
+                     "in the shadow map), cross-faded from the mesh over the next 10%; off: meshes only.\n"
+                     "The truth still traces every tree's mesh. Not with --cache-slices")
+      ->check(CLI::IsMember({"off", "on"}))
+      ->capture_default_str();
+  command.add_option("--impostor-distance", impostorDistance,
+                     "Metres from the eye to a tree's base, over its size class's scale (as the LOD bands),\n"
+                     "beyond which --impostors on draws it as its impostor (1 to 1000000)")
+      ->check(CLI::Range(1.0, 1e6))
+      ->capture_default_str();
   command.add_option("--cache-slices", cacheSlices,
                      "Cached shadow map layers: a slice whose map was kept and whose casters are as they were\n"
                      "drawn (the same LODs and terrain morphs, none moved, the wind's sway since under a\n"
@@ -214,6 +226,7 @@ render::FrameSettings FrameOptions::settings(const gl::ContextInfo& context) con
   s.hiddenCasters = render::kHiddenCastersNames.parse(hiddenCasters);
   s.cacheSlices = cacheSlices != "off";
   s.staggerSlices = cacheSlices == "staggered";
+  s.impostorDistance = impostors == "on" ? impostorDistance : 0.0;
   if (cascadesOption && cascadesOption->count() > 0) s.cascades = cascades;
   if (splitLambdaOption && splitLambdaOption->count() > 0) s.splitLambda = splitLambda;
   if (cascadeBlendOption && cascadeBlendOption->count() > 0) s.cascadeBlend = cascadeBlend;
@@ -259,7 +272,9 @@ nlohmann::ordered_json FrameOptions::json(const gl::ContextInfo& context, const 
                               {"term_resolution", termResolution},
                               {"keep_slices", keepSlices},
                               {"hidden_casters", hiddenCasters},
-                              {"cache_slices", cacheSlices}};
+                              {"cache_slices", cacheSlices},
+                              {"impostors", impostors},
+                              {"impostor_distance_m", impostorDistance}};
   j.update(modes.json(context));
   return j;
 }

@@ -176,9 +176,18 @@ std::string readShader(const std::string& file) {
 
 Program loadProgram(const std::vector<std::string>& files, const std::string& defines) {
   std::vector<ShaderSource> sources;
-  for (const std::string& file : files) {
+  for (const std::string& entry : files) {
+    // "a.frag+b.glsl": a.frag with b.glsl's text after the defines, in that file alone.
+    const size_t plus = entry.find('+');
+    const std::string file = entry.substr(0, plus);
+    std::string own = defines;
+    for (size_t from = plus; from != std::string::npos;) {
+      const size_t next = entry.find('+', from + 1);
+      own += "\n" + readShader(entry.substr(from + 1, next == std::string::npos ? std::string::npos : next - from - 1));
+      from = next;
+    }
     const fs::path path = fs::path(file).is_absolute() ? fs::path(file) : shaderDirectory() / file;
-    sources.push_back({stageFromExtension(path), path.string(), withDefines(readShader(file), defines)});
+    sources.push_back({stageFromExtension(path), path.string(), withDefines(readShader(file), own)});
   }
   return compileProgram(sources);
 }

@@ -20,6 +20,7 @@ ViewBlock viewBlock(const DrawView& view) {
   b.lightDepthRow = glm::vec4(view.lightDepthRelative);
   b.toSunAmbient = glm::vec4(glm::vec3(-view.sun.direction), static_cast<float>(view.sun.ambient));
   b.sunColorSlopeBias = glm::vec4(glm::vec3(view.sun.color), static_cast<float>(view.depthSlopeBias));
+  b.viewer = view.fromSun ? glm::vec4(1.0f, 1.0f, 0.0f, 0.0f) : glm::vec4(0.0f, -1.0f, 0.0f, 0.0f);
   return b;
 }
 

@@ -11,6 +11,7 @@
 #include "forest/core/heap.hpp"
 #include "frame_history.hpp"
 #include "frame_uniforms.hpp"
+#include "forest/render/impostor_atlas.hpp"
 #include "geometry_pass.hpp"
 #include "lighting_pass.hpp"
 #include "pass_floors.hpp"
@@ -51,6 +52,12 @@ void validate(const FrameSettings& settings) {
   if (const int far = sliceMapSize(settings, 1, 2); far < 256 || far > 8192)
     throw InputError(fmt::format("far slice scale {} of {} texels: the far layer's {} texels per side are outside 256 to 8192",
                                  settings.farSliceScale, settings.shadowMapSize, far));
+  if (!(settings.impostorDistance >= 0.0 && settings.impostorDistance <= 1e6))
+    throw InputError(fmt::format("impostor distance {}: expected 0 (meshes only) to 1000000 m", settings.impostorDistance));
+  if (!(settings.impostorBand >= 0.0 && settings.impostorBand <= 1.0))
+    throw InputError(fmt::format("impostor band {}: expected 0 to 1 (a share of the impostor distance)", settings.impostorBand));
+  if (settings.impostorDistance > 0.0 && settings.cacheSlices)
+    throw InputError("impostors with cached slices: a layer's cache does not follow a tree's cross-fade (turn one off)");
   if (settings.farSliceScale != 1.0 && settings.casters == CasterSelection::ReceiverMaskGpu)
     throw InputError(fmt::format("far slice scale {} with casters receiver-mask-gpu: the GPU's caster filter needs layers of one "
                                  "size (choose receiver-pixels or receivers, or a scale of 1)", settings.farSliceScale));
@@ -115,6 +122,7 @@ struct Frame::Passes {
   ShadowTermPass shadowTerm;
   BlurPass blur;
   LightingPass lighting;
+  std::unique_ptr<ImpostorAtlas> impostors;  // baked by the first frame with impostors
   FrameHistory history;
   FrameHistory::CullPlan cullPlan;  // this frame's
 
@@ -315,8 +323,21 @@ Frame::Inputs Frame::resolveInputs(const Camera& camera, double time, const Fram
 }
 
 // The programs this frame's passes use, compiled before any pass is timed; the timer's frame.
+void Frame::useImpostors(const FrameSettings& settings) {
+  Passes& p = *passes_;
+  const ImpostorSwitch impostors{settings.impostorDistance, settings.impostorBand};
+  const bool on = impostors.distance > 0.0 && forest_;
+  if (on && !p.impostors) {
+    p.impostors = std::make_unique<ImpostorAtlas>(*forest_);
+    startup_.push_back({"impostor_bake", 1e3 * p.impostors->bakeSeconds(), residentMegabytes(), heapInUseMegabytes()});
+  }
+  p.geometry.setImpostors(on ? p.impostors.get() : nullptr, impostors);
+  p.shadow.setImpostors(on ? p.impostors.get() : nullptr, impostors);
+}
+
 FrameStats Frame::beginFrame(const Inputs& in) {
   Passes& p = *passes_;
+  useImpostors(in.settings);
   if (in.blurred) {
     p.shadowTerm.prepare(in.lookupShape, in.termScale);
     p.blur.prepare(in.termScale, in.blurTaps);

@@ -41,6 +41,10 @@ class GeometryPass {
                              culling::CullingStrategy strategy, culling::OcclusionCuller& culler, const culling::Bvh& bvh,
                              const std::vector<std::uint32_t>* frozen);
   void propsMoved(const std::vector<PropBox>& props) { props_->update(props); }
+  // Far trees as impostors from here on (TreeRenderer::setImpostors).
+  void setImpostors(const ImpostorAtlas* atlas, const ImpostorSwitch& impostors) {
+    if (trees_) trees_->setImpostors(atlas, impostors);
+  }
   // The blocks with a pixel in the last frame's image, for the next run only
   // (TerrainBlockVisibility::setShownInLastImage).
   void setShownBlocksInLastImage(std::span<const std::uint16_t> shown) {

@@ -40,7 +40,7 @@ GpuCasterFilter::GpuCasterFilter(const vegetation::Forest& forest, std::uint32_t
       build_(gl::loadProgram({"receiver_mask.comp"})),
       reduce_(gl::loadProgram({"receiver_mask_reduce.comp"})),
       reach_program_(gl::loadProgram({"receiver_reach.comp"})),
-      filter_(gl::loadProgram({"caster_filter.comp"})),
+      filter_(gl::loadProgram({"caster_filter.comp+crown_slab.glsl"})),
       occludersFromMap_(gl::loadProgram({"occluder_depths.comp"}, "#define FROM_MAP 1\n")),
       occludersReduce_(gl::loadProgram({"occluder_depths.comp"})),
       markCounted_(gl::loadProgram({"caster_contribution.comp"})),
@@ -166,7 +166,7 @@ void GpuCasterFilter::ensureOutput(std::size_t instances) {
 }
 
 std::size_t GpuCasterFilter::select(GLuint instances, std::uint32_t baseInstance, std::span<const Group> groups, Phase phase) {
-  if (groups.size() > static_cast<std::size_t>(kMaxGroups)) throw Error("GpuCasterFilter: more than 16 groups in a draw");
+  if (groups.size() > static_cast<std::size_t>(kMaxGroups)) throw Error("GpuCasterFilter: more than " + std::to_string(kMaxGroups) + " groups in a draw");
   if (draws_ >= kMaxDraws) throw Error(fmt::format("GpuCasterFilter: more than {} tree draws in a frame", kMaxDraws));
   std::uint32_t total = 0;
   for (const Group& g : groups) total = std::max(total, g.first + g.count);

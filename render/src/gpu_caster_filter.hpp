@@ -36,7 +36,7 @@ namespace forest::render {
 
 class GpuCasterFilter {
  public:
-  static constexpr int kMaxSlices = 4, kMaxGroups = 16, kMaxDraws = 64;  // draws: tree draws a frame
+  static constexpr int kMaxSlices = 4, kMaxGroups = 32, kMaxDraws = 64;  // draws: tree draws a frame
   // `treeIdBase`: the object ID of tree 0 (SceneObjects::treeIdBase), as the instances carry it.
   GpuCasterFilter(const vegetation::Forest& forest, std::uint32_t treeIdBase);
 

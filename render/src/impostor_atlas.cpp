@@ -79,6 +79,27 @@ ImpostorAtlas::ImpostorAtlas(const vegetation::Forest& forest, int views, int te
     bakeSpecies(model, program, layer);
     glTextureSubImage3D(texture_.id(), 0, 0, 0, s, side, side, 1, GL_RGBA_INTEGER, GL_UNSIGNED_INT, layer.data());
   }
+  ImpostorBlock block;
+  block.grid = glm::ivec4(views, texels, 0, 0);
+  static_assert(kSpeciesCount <= 4 && vegetation::kQuerySlabs == 4 && vegetation::kCasterSlabs == 8, "impostor.glsl's array sizes");
+  for (vegetation::Species species : vegetation::kAllSpecies) {
+    const auto s = static_cast<size_t>(species);
+    const vegetation::SpeciesModel& model = forest.model(species);
+    Aabb box;
+    for (const vegetation::TreeMesh& lod : model.lods) box.extend(lod.bounds);
+    if (!box.valid()) box.extend(glm::dvec3(0.0));
+    block.sphere[s] = glm::vec4(glm::vec3(spheres_[s].centre), static_cast<float>(spheres_[s].radius));
+    block.boxMin[s] = glm::vec4(glm::vec3(box.min), 0.0f);
+    block.boxMax[s] = glm::vec4(glm::vec3(box.max), 0.0f);
+    const std::vector<vegetation::CrownSlab>& query = forest.querySlabs(species);
+    for (size_t k = 0; k < query.size() && k < 4; ++k)
+      block.querySlabs[s * 4 + k] = glm::vec4(query[k].bottom, query[k].top, query[k].radius, 0.0);
+    const std::vector<vegetation::CrownSlab>& caster = forest.casterSlabs(species);
+    for (size_t k = 0; k < 8; ++k)
+      block.casterSlabs[s * 8 + k] = k < caster.size() ? glm::vec4(caster[k].bottom, caster[k].top, caster[k].radiusBottom, caster[k].radiusTop)
+                                                       : glm::vec4(1.0f, 0.0f, 0.0f, 0.0f);  // empty
+  }
+  block_ = gl::Buffer(sizeof block, &block, 0);
   bakeSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
@@ -136,6 +157,11 @@ void ImpostorAtlas::bakeSpecies(const vegetation::SpeciesModel& model, const gl:
   const double toMetres = 2.0 * sphere.radius;
   for (size_t k = 0; k < layer.size(); ++k)
     if ((layer[k].y >> 24) != 0u) layer[k].w = bitsOf(static_cast<float>(back[k] * toMetres));
+}
+
+void ImpostorAtlas::bind() const {
+  glBindTextureUnit(kImpostorAtlasUnit, texture_.id());
+  glBindBufferBase(GL_UNIFORM_BUFFER, kImpostorBlockBinding, block_.id());
 }
 
 glm::dvec3 ImpostorAtlas::bakePoint(vegetation::Species species, int i, int j, const glm::dvec2& texel, double s) const {

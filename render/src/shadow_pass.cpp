@@ -64,11 +64,21 @@ void ShadowPass::propsMoved(const std::vector<PropBox>& props) {
     if (r) r->update(props);
 }
 
+void ShadowPass::setImpostors(const ImpostorAtlas* atlas, const ImpostorSwitch& impostors) {
+  impostorAtlas_ = atlas;
+  impostors_ = impostors;
+  for (TreeRenderer* r : {trees_.get(), treesLightDepth_.get()})
+    if (r) r->setImpostors(atlas, impostors);
+}
+
 void ShadowPass::ensureLightDepthRenderers() {
   if (propsLightDepth_) return;
   if (terrainSource_)
     terrainLightDepth_ = std::make_unique<TerrainRenderer>(*terrainSource_, TerrainRenderer::Output::LightDepth, objects_.terrainIdBase());
-  if (forestSource_) treesLightDepth_ = std::make_unique<TreeRenderer>(*forestSource_, SurfaceOutput::LightDepth, objects_.treeIdBase());
+  if (forestSource_) {
+    treesLightDepth_ = std::make_unique<TreeRenderer>(*forestSource_, SurfaceOutput::LightDepth, objects_.treeIdBase());
+    treesLightDepth_->setImpostors(impostorAtlas_, impostors_);
+  }
   propsLightDepth_ = std::make_unique<PropRenderer>(propsSource_, SurfaceOutput::LightDepth, objects_.propIdBase());
   lightDepthDrawer_ = std::make_unique<SceneDrawer>(objects_, nullptr, treesLightDepth_.get(), propsLightDepth_.get(),
                                                     DrawView{}, nullptr);
@@ -277,6 +287,7 @@ long long ShadowPass::drawSlice(const ShadowSlice& slice, const LayerDraw& layer
   }
   DrawView light = eye;  // the eye's origin and LOD, seen from the light
   light.viewProjectionRelative = eyeRelativeToShadowClip(setup, eye.origin);
+  light.fromSun = true;
   long long triangles = 0, terrain = 0;
   if (setup.linearDepth) {
     // TSM §4: the shaders write the linear light depth (and add the slope bias themselves).

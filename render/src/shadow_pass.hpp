@@ -37,6 +37,8 @@ class ShadowPass {
   void propsMoved(const std::vector<PropBox>& props);
   // Trees moved (Frame::moveTrees): no cached layer holds them where they are.
   void treesMoved() { cache_.forget(); }
+  // Far trees as impostors from here on (TreeRenderer::setImpostors), in every tree renderer.
+  void setImpostors(const ImpostorAtlas* atlas, const ImpostorSwitch& impostors);
 
   const gl::Texture& map() const { return map_; }  // a 2D array texture, one layer per slice
   int size() const { return size_; }
@@ -72,6 +74,8 @@ class ShadowPass {
   const std::vector<PropBox>& propsSource_;  // the scene's, moved by the caller
   std::unique_ptr<TerrainRenderer> terrain_, terrainLightDepth_;
   std::unique_ptr<TreeRenderer> trees_, treesLightDepth_;
+  const ImpostorAtlas* impostorAtlas_ = nullptr;
+  ImpostorSwitch impostors_;
   std::unique_ptr<PropRenderer> props_, propsLightDepth_;
   // Trees and props; the terrain is drawn apart, by tile or by block (ShadowSlice::terrainByBlock).
   std::unique_ptr<SceneDrawer> drawer_, lightDepthDrawer_;  // kept: their lists are reused

@@ -2,10 +2,13 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
 #include "forest/core/frustum.hpp"
+#include "forest/gl/shader.hpp"
+#include "forest/render/impostor_atlas.hpp"
 #include "gpu_caster_filter.hpp"
 
 namespace forest::render {
@@ -18,7 +21,19 @@ struct TreeVertex {
   glm::vec3 position, normal, albedo;
 };
 
+std::uint32_t bitsOf(float f) {
+  std::uint32_t bits;
+  std::memcpy(&bits, &f, sizeof bits);
+  return bits;
+}
+
 }  // namespace
+
+double impostorShare(const ImpostorSwitch& impostors, double eyeDistance) {
+  if (!(impostors.distance > 0.0)) return 0.0;
+  if (!(impostors.band > 0.0)) return eyeDistance >= impostors.distance ? 1.0 : 0.0;
+  return std::clamp((eyeDistance - impostors.distance) / (impostors.band * impostors.distance), 0.0, 1.0);
+}
 
 TreeRenderer::TreeRenderer(const vegetation::Forest& forest, Output output, std::uint32_t objectIdBase)
     : forest_(forest),
@@ -39,6 +54,11 @@ TreeRenderer::TreeRenderer(const vegetation::Forest& forest, Output output, std:
     for (int lod = 0; lod < kTreeLods; ++lod) append(forest.species()[s].lods[lod], ranges_[s][lod]);
     append(forest.species()[s].queryHull, hullRanges_[s]);
   }
+  vegetation::TreeMesh quad;
+  quad.positions = {{-1.0f, -1.0f, 0.0f}, {1.0f, -1.0f, 0.0f}, {1.0f, 1.0f, 0.0f}, {-1.0f, 1.0f, 0.0f}};
+  quad.normals = quad.albedo = std::vector<glm::vec3>(4, glm::vec3(0.0f));
+  quad.indices = {0, 1, 2, 0, 2, 3};
+  append(quad, quadRange_);
   vertices_ = gl::Buffer(vertices.size() * sizeof(TreeVertex), vertices.data(), 0);
   indices_ = gl::Buffer(indices.size() * sizeof(std::uint32_t), indices.data(), 0);
   // A segment holds every tree (the largest draw), so the ring never grows.
@@ -63,6 +83,43 @@ TreeRenderer::TreeRenderer(const vegetation::Forest& forest, Output output, std:
   glEnableVertexArrayAttrib(vao, 6);
   glVertexArrayAttribIFormat(vao, 6, 1, GL_UNSIGNED_INT, offsetof(InstanceGpu, objectId));
   glVertexArrayAttribBinding(vao, 6, 1);
+  glEnableVertexArrayAttrib(vao, 7);
+  glVertexArrayAttribIFormat(vao, 7, 2, GL_UNSIGNED_INT, offsetof(InstanceGpu, fadeBits));
+  glVertexArrayAttribBinding(vao, 7, 1);
+}
+
+void TreeRenderer::setImpostors(const ImpostorAtlas* atlas, const ImpostorSwitch& impostors) {
+  atlas_ = atlas;
+  impostors_ = atlas ? impostors : ImpostorSwitch{};
+}
+
+const gl::Program& TreeRenderer::programFor(int representation, bool query) const {
+  const SurfaceOutput output = query ? SurfaceOutput::QueryStamp : output_;
+  auto load = [&](std::optional<gl::Program>& program, const char* vertex, const char* fragment, const std::string& defines) -> const gl::Program& {
+    if (!program) program = loadSurfaceProgram(vertex, fragment, output, defines);
+    return *program;
+  };
+  if (representation < kTreeLods) return query ? load(queryProgram_, "trees.vert", "trees.frag", "") : program_;
+  if (representation < kImpostor)
+    return load(query ? fadingQueryProgram_ : fadingProgram_, "trees.vert", "trees.frag+cross_fade.glsl", "#define CROSS_FADE 1\n");
+  return load(query ? impostorQueryProgram_ : impostorProgram_, "impostor.vert", "impostor.frag+crown_slab.glsl+cross_fade.glsl",
+              gl::readShader("impostor.glsl"));
+}
+
+const TreeRenderer::Range& TreeRenderer::rangeFor(int species, int representation, bool hull) const {
+  if (representation == kImpostor) return quadRange_;
+  if (hull && hullRanges_[species].indexCount > 0) return hullRanges_[species];
+  return ranges_[species][representation % kTreeLods];
+}
+
+void TreeRenderer::beginImpostors() const {
+  atlas_->bind();
+  cullingWasOn_ = glIsEnabled(GL_CULL_FACE) == GL_TRUE;
+  glDisable(GL_CULL_FACE);
+}
+
+void TreeRenderer::endImpostors() const {
+  if (cullingWasOn_) glEnable(GL_CULL_FACE);
 }
 
 std::vector<std::uint32_t> TreeRenderer::treesInFrustum(const Camera& camera) const {
@@ -81,36 +138,48 @@ TreeRenderer::Stats TreeRenderer::draw(const Camera& camera, std::span<const std
 TreeRenderer::Stats TreeRenderer::draw(const DrawView& view, std::span<const std::uint32_t> trees) const {
   if (filter_) {
     const Groups groups = writeInstances(view, trees, {});
-    return groups.empty ? Stats{} : drawFiltered(view, groups);
+    return groups.empty ? Stats{} : drawFiltered(view, groups, trees.size());
   }
-  return drawInstances(view, trees, {}, program_);
+  return drawInstances(view, trees, {}, false);
 }
 
 TreeRenderer::Stats TreeRenderer::drawQueries(const DrawView& view, std::span<const std::uint32_t> trees,
                                               std::span<const std::uint32_t> slots, bool hulls) const {
-  if (!queryProgram_) queryProgram_ = loadSurfaceProgram("trees.vert", "trees.frag", SurfaceOutput::QueryStamp);
-  return drawInstances(view, trees, slots, *queryProgram_, hulls);
+  return drawInstances(view, trees, slots, true, hulls);
 }
 
 TreeRenderer::Groups TreeRenderer::writeInstances(const DrawView& view, std::span<const std::uint32_t> trees,
                                                   std::span<const std::uint32_t> ids) const {
   Groups groups;
   const double time = view.time;
-  // Instances grouped by (species, LOD), base positions relative to the eye in double, written
-  // straight into the ring: count the groups, then place each tree in its group's part.
+  // Instances grouped by (species, representation), base positions relative to the eye in double,
+  // written straight into the ring: count the groups, then place each tree in its groups' parts.
   std::array<int, kGroups> cursor{};
   groupOf_.clear();
+  fadeOf_.clear();
+  const bool impostors = atlas_ && impostors_.distance > 0.0;
+  size_t instances = 0;
   for (std::uint32_t t : trees) {
-    const int group = static_cast<int>(forest_.trees()[t].species) * kTreeLods + forest_.lodFor(t, view.lodEye);
+    const int species = static_cast<int>(forest_.trees()[t].species);
+    const double share = impostors ? impostorShare(impostors_, forest_.lodDistance(t, view.lodEye)) : 0.0;
+    const int lod = share < 1.0 ? forest_.lodFor(t, view.lodEye) : 0;
+    const int representation = share >= 1.0 ? kImpostor : share > 0.0 ? kTreeLods + lod : lod;
+    const int group = species * kRepresentations + representation;
     groupOf_.push_back(static_cast<std::uint8_t>(group));
+    fadeOf_.push_back(static_cast<float>(share));
     ++groups.counts[static_cast<size_t>(group)];
+    ++instances;
+    if (representation != kImpostor && share > 0.0) {  // cross-fading: its impostor too
+      ++groups.counts[static_cast<size_t>(species * kRepresentations + kImpostor)];
+      ++instances;
+    }
   }
   if (groupOf_.empty()) return groups;
   groups.empty = false;
   for (size_t g = 1; g < cursor.size(); ++g) cursor[g] = cursor[g - 1] + groups.counts[g - 1];
   groups.first = cursor;
   const GLuint ringBefore = instances_->id();
-  const gl::StreamRing::Allocation part = instances_->allocate(groupOf_.size() * sizeof(InstanceGpu));
+  const gl::StreamRing::Allocation part = instances_->allocate(instances * sizeof(InstanceGpu));
   if (instances_->id() != ringBefore) glVertexArrayVertexBuffer(vertexArray_.id(), 1, instances_->id(), 0, sizeof(InstanceGpu));
   auto* out = static_cast<InstanceGpu*>(part.data);
   size_t k = 0;  // the tree's place in `trees` (and `ids`)
@@ -126,36 +195,47 @@ TreeRenderer::Groups TreeRenderer::writeInstances(const DrawView& view, std::spa
                                 static_cast<float>(shear.x), static_cast<float>(shear.y));
     g.tint = glm::vec4(tree.tint, 1.0f);
     g.objectId = ids.empty() ? objectIdBase_ + t : ids[i];
-    g.padding[0] = g.padding[1] = g.padding[2] = 0;
+    g.fadeBits = bitsOf(fadeOf_[i]);
+    g.species = static_cast<std::uint32_t>(tree.species);
+    g.padding = 0;
+    const int impostorGroup = static_cast<int>(tree.species) * kRepresentations + kImpostor;
+    if (groupOf_[i] != impostorGroup && fadeOf_[i] > 0.0f) out[cursor[static_cast<size_t>(impostorGroup)]++] = g;
   }
   groups.baseInstance = static_cast<GLuint>(part.offset / sizeof(InstanceGpu));
   return groups;
 }
 
-TreeRenderer::Stats TreeRenderer::drawFiltered(const DrawView& view, const Groups& groups) const {
+TreeRenderer::Stats TreeRenderer::drawFiltered(const DrawView& view, const Groups& groups, std::size_t trees) const {
   Stats stats;
+  stats.trees = static_cast<int>(trees);
   std::array<GpuCasterFilter::Group, kGroups> list{};
+  std::array<int, kGroups> representationOf{};
   size_t listed = 0;
   for (int s = 0; s < kSpeciesCount; ++s)
-    for (int lod = 0; lod < kTreeLods; ++lod) {
-      const size_t g = static_cast<size_t>(s * kTreeLods + lod);
+    for (int rep = 0; rep < kRepresentations; ++rep) {
+      const size_t g = static_cast<size_t>(s * kRepresentations + rep);
       if (groups.counts[g] == 0) continue;
-      const Range& r = ranges_[s][lod];
+      const Range& r = rangeFor(s, rep, false);
+      representationOf[listed] = rep;
       list[listed++] = {static_cast<std::uint32_t>(groups.first[g]), static_cast<std::uint32_t>(groups.counts[g]), s,
                         static_cast<std::uint32_t>(r.indexCount), static_cast<std::uint32_t>(r.firstIndex), r.baseVertex};
-      stats.trees += groups.counts[g];
-      stats.treesPerLod[lod] += groups.counts[g];  // given; the triangles drawn are the GPU's to count
+      // Given; the triangles drawn are the GPU's to count.
+      if (rep == kImpostor) stats.impostors += groups.counts[g];
+      else stats.treesPerLod[rep % kTreeLods] += groups.counts[g];
     }
   const std::span<const GpuCasterFilter::Group> given(list.data(), listed);
   viewUniforms_.bind(viewBlock(view));
   auto drawKept = [&](std::size_t commands) {  // one indirect draw per group, of what the filter kept
-    program_.use();
     glBindVertexArray(vertexArray_.id());
     glVertexArrayVertexBuffer(vertexArray_.id(), 1, filter_->output(), 0, sizeof(InstanceGpu));
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, filter_->commands());
     for (size_t g = 0; g < listed; ++g) {
+      const bool impostor = representationOf[g] == kImpostor;
+      programFor(representationOf[g], false).use();
+      if (impostor) beginImpostors();
       glDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_INT,
                              reinterpret_cast<const void*>(static_cast<std::uintptr_t>(commands + g * GpuCasterFilter::commandBytes())));
+      if (impostor) endImpostors();
       ++stats.draws;
     }
     glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
@@ -174,28 +254,29 @@ TreeRenderer::Stats TreeRenderer::drawFiltered(const DrawView& view, const Group
 }
 
 TreeRenderer::Stats TreeRenderer::drawInstances(const DrawView& view, std::span<const std::uint32_t> trees,
-                                                std::span<const std::uint32_t> ids, const gl::Program& program, bool hulls) const {
+                                                std::span<const std::uint32_t> ids, bool query, bool hulls) const {
   Stats stats;
   const Groups groups = writeInstances(view, trees, ids);
   if (groups.empty) return stats;
-  const std::array<int, kGroups>& counts = groups.counts;
-  const std::array<int, kGroups>& first = groups.first;
-  const GLuint baseInstance = groups.baseInstance;
-
+  stats.trees = static_cast<int>(trees.size());
   viewUniforms_.bind(viewBlock(view));
-  program.use();
   glBindVertexArray(vertexArray_.id());
   for (int s = 0; s < kSpeciesCount; ++s) {
-    for (int lod = 0; lod < kTreeLods; ++lod) {
-      const int count = counts[static_cast<size_t>(s * kTreeLods + lod)];
+    for (int rep = 0; rep < kRepresentations; ++rep) {
+      const size_t g = static_cast<size_t>(s * kRepresentations + rep);
+      const int count = groups.counts[g];
       if (count == 0) continue;
-      const Range& r = hulls && hullRanges_[s].indexCount > 0 ? hullRanges_[s] : ranges_[s][lod];
+      const Range& r = rangeFor(s, rep, hulls);
+      const bool impostor = rep == kImpostor;
+      programFor(rep, query).use();
+      if (impostor) beginImpostors();
       glDrawElementsInstancedBaseVertexBaseInstance(
           GL_TRIANGLES, r.indexCount, GL_UNSIGNED_INT,
           reinterpret_cast<const void*>(static_cast<std::uintptr_t>(r.firstIndex) * sizeof(std::uint32_t)), count,
-          r.baseVertex, baseInstance + static_cast<GLuint>(first[static_cast<size_t>(s * kTreeLods + lod)]));
-      stats.trees += count;
-      stats.treesPerLod[lod] += count;
+          r.baseVertex, groups.baseInstance + static_cast<GLuint>(groups.first[g]));
+      if (impostor) endImpostors();
+      if (impostor) stats.impostors += count;
+      else stats.treesPerLod[rep % kTreeLods] += count;
       stats.triangles += static_cast<long long>(count) * r.indexCount / 3;
       ++stats.draws;
     }

@@ -163,10 +163,15 @@ int Forest::lodFor(std::uint32_t tree, const glm::dvec3& eye) const {
   // Bands scaled by the size class (a tree twice as tall keeps its detail twice as far); a young
   // tree's chain starts at LOD1.
   const TreeInstance& t = trees_[tree];
-  const double distance = glm::distance(eye, t.position) / settings_.sizes.scale[static_cast<int>(t.size)];
+  const double distance = lodDistance(tree, eye);
   const glm::dvec3& d = settings_.lod_distances;
   const int lod = distance < d.x ? 0 : distance < d.y ? 1 : distance < d.z ? 2 : 3;
   return t.size == SizeClass::Young ? std::max(lod, 1) : lod;
+}
+
+double Forest::lodDistance(std::uint32_t tree, const glm::dvec3& eye) const {
+  const TreeInstance& t = trees_[tree];
+  return glm::distance(eye, t.position) / settings_.sizes.scale[static_cast<int>(t.size)];
 }
 
 Aabb Forest::clusterBounds(const TreeCluster& cluster) const {

@@ -59,7 +59,9 @@ Program compileProgram(const std::vector<ShaderSource>& sources);
 std::string readShader(const std::string& file);
 
 // Reads `files` (relative to shaderDirectory() unless absolute) and compiles them. `defines` are
-// inserted after the #version line ("#define A 1\n..."), keeping line numbers right.
+// inserted after the #version line ("#define A 1\n..."), keeping line numbers right. An entry
+// "a.frag+b.glsl" also inserts b.glsl's text there, into a.frag alone: functions shared by files
+// of different programs, which a stage linking two copies would refuse.
 Program loadProgram(const std::vector<std::string>& files, const std::string& defines = "");
 
 // Rewrites a driver info log (Mesa "0:12(5): error: ...", NVIDIA "0(12) : error C...") into

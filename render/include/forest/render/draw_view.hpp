@@ -23,6 +23,9 @@ struct DrawView {
   glm::dvec4 lightDepthRelative{0.0};
   double depthSlopeBias = 0.0;
   SunSettings sun;
+  // The shadow pass's views: seen from the sun (impostors turn to it; the depth test keeps the
+  // lesser depth), not from an eye at the origin with reversed-Z.
+  bool fromSun = false;
 
   // The eye's own view.
   static DrawView fromCamera(const Camera& camera, double time, const SunSettings& sun);

@@ -143,6 +143,13 @@ struct FrameSettings {
   // With CasterSelection::ReceiverPixels and caching off: whether the trees hidden from the sun are
   // culled (HiddenCasters): the same term, fewer trees, two read-backs of each layer drawn.
   HiddenCasters hiddenCasters = HiddenCasters::Auto;
+  // Far trees as impostors (issue "Far trees as impostors"; TreeRenderer, ImpostorAtlas): beyond
+  // impostorDistance metres from the eye to a tree's base, over its size class's scale (as the LOD
+  // bands), the tree is drawn — in the G-buffer and in the shadow map — by its impostor baked from
+  // its species' LOD0 (at the first frame that asks), cross-faded from its mesh over impostorBand ×
+  // the distance. 0: meshes only. Not with cached slices.
+  double impostorDistance = 0.0;
+  double impostorBand = 0.1;
   // Cached slices (render/src/slice_cache.hpp): a layer that still holds what its slice needs —
   // the same matrices (a kept slice), the casters drawn then, none moved by a texel — is not
   // redrawn. Layers are then drawn whole (no scissor), and the GPU's caster filter disables it.
@@ -337,6 +344,7 @@ class Frame {
 
  private:
   void requireUsedTerm(const char* reader) const;
+  void useImpostors(const FrameSettings& settings);  // bakes them at the first frame that asks
   void objectsMoved();  // after object boxes changed: refit the BVH, recompute the scene bounds
   std::optional<terrain::TerrainLod> terrainLodFor(const Camera& camera) const;  // none without terrain
   struct Passes;  // the passes in order (src/*_pass.hpp) and what a frame tells the next (src/frame_history.hpp)

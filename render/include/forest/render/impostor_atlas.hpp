@@ -12,6 +12,7 @@
 
 #include "forest/gl/objects.hpp"
 #include "forest/gl/shader.hpp"
+#include "forest/render/uniform_blocks.hpp"
 #include "forest/vegetation/forest.hpp"
 #include "forest/vegetation/impostor_views.hpp"
 
@@ -35,6 +36,9 @@ class ImpostorAtlas {
   explicit ImpostorAtlas(const vegetation::Forest& forest, int views = kImpostorViews, int texels = kImpostorTexels);
 
   const gl::Texture& texture() const { return texture_; }  // RGBA32UI array, one layer per species
+  // Binds the texture and the ImpostorBlock (the layout, the species' spheres, boxes and slabs)
+  // where impostor.vert and impostor.frag read them.
+  void bind() const;
   const vegetation::ImpostorGrid& grid() const { return grid_; }
   int texelsPerView() const { return texels_; }
   const vegetation::ImpostorSphere& sphere(vegetation::Species species) const { return spheres_[static_cast<size_t>(species)]; }
@@ -54,6 +58,7 @@ class ImpostorAtlas {
   int texels_;
   std::array<vegetation::ImpostorSphere, vegetation::kSpeciesCount> spheres_{};
   gl::Texture texture_;
+  gl::Buffer block_;  // ImpostorBlock
   double bakeSeconds_ = 0.0;
 };
 

@@ -21,6 +21,19 @@
 namespace forest::render {
 
 class GpuCasterFilter;  // render/src/gpu_caster_filter.hpp
+class ImpostorAtlas;    // forest/render/impostor_atlas.hpp
+
+// Where a tree is drawn as its impostor (issue "Far trees as impostors"): beyond `distance` metres
+// from the LOD eye to its base, divided by its size class's scale (as the LOD bands), it fades from
+// its mesh to its impostor over `band` × distance, dithered (shaders/impostor.glsl); beyond that it
+// is its impostor alone. distance 0: every tree is a mesh.
+struct ImpostorSwitch {
+  double distance = 0.0;
+  double band = 0.1;
+};
+// The share of the tree's pixels its impostor draws at `eyeDistance` (metres, already divided by
+// the size class's scale): 0 (all mesh) to 1 (all impostor).
+double impostorShare(const ImpostorSwitch& impostors, double eyeDistance);
 
 class TreeRenderer {
  public:
@@ -33,7 +46,8 @@ class TreeRenderer {
   struct Stats {
     int trees = 0;
     long long triangles = 0;
-    std::array<int, vegetation::kTreeLods> treesPerLod{};
+    std::array<int, vegetation::kTreeLods> treesPerLod{};  // drawn by their meshes (in full or fading)
+    int impostors = 0;                                     // drawn by their impostors (in full or fading)
     int draws = 0;
   };
   // Draws `trees` (indices into Forest::trees(), each once) at `time`, each at the LOD the eye's
@@ -54,6 +68,9 @@ class TreeRenderer {
   // every tree given is drawn. Stats then count the trees given, not those kept, and no triangles
   // (GpuCasterFilter::selectedTriangles reads what was drawn back).
   void setCasterFilter(GpuCasterFilter* filter) { filter_ = filter; }
+  // Far trees as impostors from `atlas` (null, or a switch at distance 0: meshes only). The atlas
+  // must outlive the draws.
+  void setImpostors(const ImpostorAtlas* atlas, const ImpostorSwitch& impostors);
   // Trees whose boxes meet the camera's frustum.
   std::vector<std::uint32_t> treesInFrustum(const Camera& camera) const;
 
@@ -68,15 +85,21 @@ class TreeRenderer {
     glm::vec4 rotationShear;  // cos yaw, sin yaw; the wind's shear at the draw's time (x, z)
     glm::vec4 tint;
     std::uint32_t objectId;
-    std::uint32_t padding[3];
+    std::uint32_t fadeBits;  // float: the impostor's share of the cross-fade (impostor.glsl), 1 outside it
+    std::uint32_t species;   // the impostor's layer and volumes
+    std::uint32_t padding;
   };
   struct Range {
     int baseVertex = 0, firstIndex = 0, indexCount = 0;
   };
-  // The instances of `trees` written into the ring, grouped by (species, LOD): each group's count
-  // and first instance (relative to baseInstance). Each instance's ID is ids[i], or
-  // objectIdBase + tree without ids.
-  static constexpr int kGroups = vegetation::kSpeciesCount * vegetation::kTreeLods;
+  // How a group draws its trees: a LOD's mesh in full, a LOD's mesh cross-fading with the impostor
+  // (its pixels where the impostor leaves them), or the impostor.
+  static constexpr int kRepresentations = 2 * vegetation::kTreeLods + 1;
+  static constexpr int kImpostor = 2 * vegetation::kTreeLods;
+  // The instances of `trees` written into the ring, grouped by (species, representation): each
+  // group's count and first instance (relative to baseInstance); a tree in the cross-fade is in two
+  // groups. Each instance's ID is ids[i], or objectIdBase + tree without ids.
+  static constexpr int kGroups = vegetation::kSpeciesCount * kRepresentations;
   struct Groups {
     std::array<int, kGroups> counts{}, first{};
     GLuint baseInstance = 0;
@@ -84,26 +107,42 @@ class TreeRenderer {
   };
   Groups writeInstances(const DrawView& view, std::span<const std::uint32_t> trees, std::span<const std::uint32_t> ids) const;
   // The groups' triangles drawn with the filter (filter_): indirect draws of what it kept.
-  Stats drawFiltered(const DrawView& view, const Groups& groups) const;
-  // Draws the trees with `program`; each instance's ID is ids[i], or objectIdBase + tree without ids.
-  // `hulls`: a species with a query hull is drawn with it at every LOD.
+  Stats drawFiltered(const DrawView& view, const Groups& groups, std::size_t trees) const;
+  // Draws the trees; each instance's ID is ids[i], or objectIdBase + tree without ids. `query`: the
+  // geometry queries' programs (SurfaceOutput::QueryStamp), and with `hulls` a species with a query
+  // hull is drawn with it in place of its meshes.
   Stats drawInstances(const DrawView& view, std::span<const std::uint32_t> trees, std::span<const std::uint32_t> ids,
-                      const gl::Program& program, bool hulls = false) const;
+                      bool query, bool hulls = false) const;
+  // The program and the index range a representation of a species draws with.
+  const gl::Program& programFor(int representation, bool query) const;
+  const Range& rangeFor(int species, int representation, bool hull) const;
+  // Before and after a group of impostors: their atlas and block bound, face culling off (the quad
+  // faces the viewer; a backside shadow pass culls front faces); then the culling as it was.
+  void beginImpostors() const;
+  void endImpostors() const;
   const vegetation::Forest& forest_;
   Output output_;
   std::uint32_t objectIdBase_;
   gl::Program program_;
   mutable std::optional<gl::Program> queryProgram_;  // SurfaceOutput::QueryStamp, loaded at the first query
+  // The cross-fading meshes' and the impostors' programs (and their queries), loaded at first use.
+  mutable std::optional<gl::Program> fadingProgram_, fadingQueryProgram_, impostorProgram_, impostorQueryProgram_;
+  const ImpostorAtlas* atlas_ = nullptr;
+  ImpostorSwitch impostors_;
+  mutable bool cullingWasOn_ = true;
   mutable gl::UniformStream viewUniforms_;  // ViewBlock at binding 0
   gl::VertexArray vertexArray_;
   gl::Buffer vertices_, indices_;
   // Instances, written once per draw into a persistently mapped ring (DESIGN §9): each draw
   // addresses its part by base instance; nothing the GPU may still read is rewritten.
   std::unique_ptr<gl::StreamRing> instances_;
-  // Per-draw scratch: each drawn tree's (species, LOD) group, room for every tree (no allocation).
+  // Per-draw scratch: each drawn tree's group (and the impostor's share where it cross-fades), room
+  // for every tree (no allocation).
   mutable std::vector<std::uint8_t> groupOf_;
+  mutable std::vector<float> fadeOf_;
   std::array<std::array<Range, vegetation::kTreeLods>, vegetation::kSpeciesCount> ranges_{};
   std::array<Range, vegetation::kSpeciesCount> hullRanges_{};  // indexCount 0: no query hull
+  Range quadRange_;  // the impostor's quad: corners (±1, ±1, 0), counter-clockwise
   GpuCasterFilter* filter_ = nullptr;
 };
 

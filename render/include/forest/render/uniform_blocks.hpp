@@ -16,6 +16,9 @@ struct ViewBlock {
   glm::vec4 lightDepthRow{0.0f};           // LightDepth output: (p − view origin, 1) → z_L
   glm::vec4 toSunAmbient{0.0f};            // xyz: toward the sun; w: ambient share
   glm::vec4 sunColorSlopeBias{0.0f};       // rgb: sun colour; w: LightDepth slope-scale bias
+  // x: 1 when the view is the sun's (its rays along −toSun), 0 an eye at the origin; y: +1 when the
+  // pass's depth test keeps the lesser depth, −1 the greater (reversed-Z). Impostors read it.
+  glm::vec4 viewer{0.0f, -1.0f, 0.0f, 0.0f};
 };
 constexpr GLuint kViewBlockBinding = 0;
 
@@ -50,6 +53,18 @@ struct FrameBlock {
   glm::vec4 halfTerm{0.0f};
 };
 constexpr GLuint kFrameBlockBinding = 2;
+
+// shaders/impostor.glsl, binding 4: the impostor bake's layout and the species' volumes, written
+// once at the bake (ImpostorAtlas).
+struct ImpostorBlock {
+  glm::ivec4 grid{0};           // x: views a side, y: texels a view side
+  glm::vec4 sphere[4]{};        // per species: bake sphere centre, radius (object space)
+  glm::vec4 boxMin[4]{}, boxMax[4]{};  // per species: its box over all LODs
+  glm::vec4 querySlabs[16]{};   // species s, slab k (4 a species): bottom, top, radius
+  glm::vec4 casterSlabs[32]{};  // species s, slab k (8 a species): bottom, top, radius at each
+};
+constexpr GLuint kImpostorBlockBinding = 4;
+constexpr GLuint kImpostorAtlasUnit = 9;  // impostor.frag's uImpostorAtlas
 
 // Binding 3: culling's query_box.vert (a mat4, the camera-relative view-projection).
 

@@ -90,6 +90,8 @@ class Forest {
   // young tree never takes LOD0 (force_lod0 → 0 for all): a pure function of the camera, so
   // culling never changes what is drawn.
   int lodFor(std::uint32_t tree, const glm::dvec3& eye) const;
+  // The distance lodFor compares with its bands: from `eye` to the tree's base over its size class's scale.
+  double lodDistance(std::uint32_t tree, const glm::dvec3& eye) const;
 
   // Moves trees between frames (base snapped to the terrain); returns the clusters whose boxes
   // changed, in increasing order.
