@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "forest/core/error.hpp"
 #include "forest/core/image_difference.hpp"
@@ -31,7 +32,8 @@ Image8 grey(int width, int height, int value) {
 // exp(−(i² + j²) / (2 · 1.5²)) normalised to unit sum (§III-C), eq. 14–16 computed as weighted
 // sums of deviations, eq. 13 with C1 = (0.01 · 255)², C2 = (0.03 · 255)², averaged over the windows
 // inside the image.
-double bruteForceSsim(const Image8& a, const Image8& b) {
+// With a mask: the windows whose centre pixel (x0 + 5, y0 + 5) is in it.
+double bruteForceSsim(const Image8& a, const Image8& b, const std::vector<std::uint8_t>* mask = nullptr) {
   double w[11][11], total = 0.0;
   for (int j = 0; j < 11; ++j)
     for (int i = 0; i < 11; ++i) total += w[j][i] = std::exp(-((i - 5) * (i - 5) + (j - 5) * (j - 5)) / (2.0 * 1.5 * 1.5));
@@ -40,6 +42,7 @@ double bruteForceSsim(const Image8& a, const Image8& b) {
   int windows = 0;
   for (int y0 = 0; y0 + 11 <= a.height; ++y0)
     for (int x0 = 0; x0 + 11 <= a.width; ++x0) {
+      if (mask && !(*mask)[static_cast<size_t>((y0 + 5) * a.width + x0 + 5)]) continue;
       double mx = 0.0, my = 0.0;
       for (int j = 0; j < 11; ++j)
         for (int i = 0; i < 11; ++i) {
@@ -108,6 +111,40 @@ TEST(Ssim, ColourImagesAreComparedByTheirLuma) {
     for (int x = 0; x < 12; ++x) green.at(x, y, 1) = 100;
   const double c1 = std::pow(0.01 * 255.0, 2.0), luma = 71.52;
   EXPECT_NEAR(meanSsim(green, black), c1 / (luma * luma + c1), 1e-12);
+}
+
+// Masked: the pixels and windows of the mask alone. A change outside it leaves them as if the
+// images were equal; inside, the closed forms of the whole image's case over the mask's pixels.
+TEST(ImageDifference, AMaskComparesItsPixelsAndTheWindowsCentredOnThem) {
+  const Image8 a = grey(20, 20, 100);
+  Image8 b = a;
+  std::vector<std::uint8_t> left(400, 0);
+  for (int y = 0; y < 20; ++y)
+    for (int x = 0; x < 20; ++x) {
+      left[static_cast<size_t>(y * 20 + x)] = x < 10 ? 1 : 0;
+      if (x >= 10) b.at(x, y, 0) = b.at(x, y, 1) = b.at(x, y, 2) = 130;  // the right half by 30
+    }
+  EXPECT_EQ(pixelDifference(a, b, left).meanAbsolute, 0.0);
+  std::vector<std::uint8_t> right(left.size());
+  for (size_t p = 0; p < left.size(); ++p) right[p] = left[p] ? 0 : 1;
+  EXPECT_DOUBLE_EQ(pixelDifference(a, b, right).meanAbsolute, 30.0);
+  EXPECT_DOUBLE_EQ(pixelDifference(a, b, right).shareOver8, 1.0);
+  EXPECT_DOUBLE_EQ(pixelDifference(a, b).meanAbsolute, 15.0);
+  EXPECT_EQ(pixelDifference(a, b, std::vector<std::uint8_t>(400, 0)).shareOver8, 0.0);  // no pixels: nothing differs
+  // Windows centred on x < 5 lie in the equal half entirely: SSIM 1 there.
+  std::vector<std::uint8_t> farLeft(400, 0);
+  for (int y = 0; y < 20; ++y)
+    for (int x = 0; x < 5; ++x) farLeft[static_cast<size_t>(y * 20 + x)] = 1;
+  EXPECT_NEAR(meanSsim(a, b, farLeft), 1.0, 1e-12);
+  for (unsigned seed = 0; seed < 3; ++seed) {
+    const Image8 x = randomImage(23, 17, 1, 10 + seed), y = randomImage(23, 17, 1, 20 + seed);
+    std::vector<std::uint8_t> mask(23 * 17);
+    std::mt19937 rng(seed);
+    for (std::uint8_t& m : mask) m = static_cast<std::uint8_t>(rng() % 3 == 0);
+    EXPECT_NEAR(meanSsim(x, y, mask), bruteForceSsim(x, y, &mask), 1e-9);
+  }
+  EXPECT_THROW(pixelDifference(a, b, std::vector<std::uint8_t>(399, 1)), InputError);
+  EXPECT_THROW(meanSsim(a, b, std::vector<std::uint8_t>(401, 1)), InputError);
 }
 
 TEST(Ssim, RefusesImagesItCannotCompare) {

@@ -2,11 +2,17 @@
 // traced by Embree from the bake's own views — coverage against the mesh's silhouette, and the
 // viewer's and the far side's depths within what the surface spans across one texel.
 #include <algorithm>
+#include <array>
+#include <optional>
 #include <cstdio>
 #include <vector>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "forest/raytrace/ray_scene.hpp"
+#include "forest/render/draw_view.hpp"
 #include "forest/render/impostor_atlas.hpp"
+#include "forest/render/tree_renderer.hpp"
 #include "gl_test_support.hpp"
 #include "test_paths.hpp"
 
@@ -131,6 +137,115 @@ TEST_F(ImpostorGl, TheBakeIsTheMeshSeenFromEachBakeView) {
     EXPECT_EQ(frontWrong, 0);
     EXPECT_EQ(backWrong, 0);
   }
+}
+
+// The entry of the line a + s·d (s ≥ sMin) into the box, or none.
+std::optional<double> boxEntry(const Aabb& box, const glm::dvec3& a, const glm::dvec3& d, double sMin) {
+  double enter = sMin, leave = 1e300;
+  for (int k = 0; k < 3; ++k) {
+    if (d[k] == 0.0) {
+      if (a[k] < box.min[k] || a[k] > box.max[k]) return std::nullopt;
+      continue;
+    }
+    const double s0 = (box.min[k] - a[k]) / d[k], s1 = (box.max[k] - a[k]) / d[k];
+    enter = std::max(enter, std::min(s0, s1));
+    leave = std::min(leave, std::max(s0, s1));
+  }
+  if (enter > leave) return std::nullopt;
+  return enter;
+}
+
+// An impostor writes only inside the volumes the exact tests take for its tree, never nearer than
+// where the fragment's line enters them: seen by the eye, the pixel's ray meets the tree's query
+// boxes (Forest::treeQueryBoxes, what the culler asks) no farther than the depth written; seen from
+// the sun, the texel's line meets its crown slabs (Forest::placedCasterSlabs, what the caster tests
+// take) no farther than the light depth written. Every species from 36 directions each, between the
+// bake views (where the bake's parallax is largest), at 40 m and from the sun at 3 elevations.
+TEST_F(ImpostorGl, AnImpostorStaysInsideItsQueryBoxesAndCrownSlabs) {
+  const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
+  const terrain::Terrain terrain(*scene.terrain);
+  VegetationSettings settings = *scene.vegetation;
+  settings.count = 60;
+  settings.wind_strength = 0.0;  // the boxes and slabs as drawn (impostors do not sway)
+  const vegetation::Forest forest(settings, terrain);
+  const render::ImpostorAtlas atlas(forest);
+  render::TreeRenderer trees(forest, render::SurfaceOutput::ObjectId, 1);
+  trees.setImpostors(&atlas, {1.0, 0.0});  // every tree 1 m away or more: its impostor
+  const int size = 200;
+  const IdDepthTarget target(size, size);
+  long long eyePixels = 0, eyeOutside = 0, sunTexels = 0, sunOutside = 0;
+  for (vegetation::Species species : vegetation::kAllSpecies) {
+    std::uint32_t tree = 0;
+    while (tree < forest.trees().size() && forest.trees()[tree].species != species) ++tree;
+    ASSERT_LT(tree, forest.trees().size());
+    const std::uint32_t drawn[] = {tree};
+    const glm::dvec3 centre = forest.treeBounds(tree).centre();
+    const std::array<Aabb, vegetation::kQuerySlabs> boxes = forest.treeQueryBoxes(tree);
+    std::vector<vegetation::PlacedCrownSlab> slabs;
+    forest.placedCasterSlabs(tree, slabs);
+    for (int k = 0; k < 36; ++k) {
+      const double azimuth = glm::radians(7.0 + 30.0 * (k % 12)), elevation = glm::radians(3.0 + 17.0 * (k / 12));
+      const glm::dvec3 toViewer(std::cos(elevation) * std::cos(azimuth), std::sin(elevation), std::cos(elevation) * std::sin(azimuth));
+      // The eye, 40 m out.
+      Camera camera;
+      camera.position = centre + 40.0 * toViewer;
+      camera.orient(centre - camera.position, glm::dvec3(0.0, 1.0, 0.0));
+      camera.aspect = 1.0;
+      camera.near = 1.0;
+      camera.far = 200.0;
+      target.bindAndClear();
+      trees.draw(render::DrawView::fromCamera(camera, 0.0, scene.sun), drawn);
+      const std::vector<std::uint32_t> ids = target.readIds();
+      const std::vector<float> depth = target.readDepth();
+      for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+          const size_t p = static_cast<size_t>(y) * size + x;
+          if (ids[p] == 0) continue;
+          ++eyePixels;
+          const glm::dvec3 at = pixelPosition(camera, x, y, depth[p], size, size);
+          const glm::dvec3 ray = at - camera.position;
+          std::optional<double> entry;
+          for (const Aabb& box : boxes)
+            if (const std::optional<double> e = boxEntry(box, camera.position, ray, 0.0)) entry = std::min(entry.value_or(1e300), *e);
+          eyeOutside += !entry || *entry > 1.0 + 1e-5 ? 1 : 0;  // at s = 1 the written depth
+        }
+      // The sun: an orthographic view along −toViewer, depth 0 nearest the sun.
+      const glm::dmat4 light = glm::orthoRH_ZO(-25.0, 25.0, -25.0, 25.0, 0.0, 200.0) *
+                               glm::lookAt(centre + 100.0 * toViewer, centre, glm::dvec3(0.0, 1.0, 0.0));
+      render::DrawView sun = render::DrawView::fromCamera(camera, 0.0, scene.sun);
+      sun.sun.direction = -toViewer;
+      sun.fromSun = true;
+      sun.origin = centre;
+      sun.viewProjectionRelative = light * glm::translate(glm::dmat4(1.0), centre);
+      target.bindAndClear();
+      glClearDepth(1.0);
+      glClear(GL_DEPTH_BUFFER_BIT);
+      glDepthFunc(GL_LESS);
+      trees.draw(sun, drawn);
+      const std::vector<std::uint32_t> texelIds = target.readIds();
+      const std::vector<float> lightDepth = target.readDepth();
+      glDepthFunc(GL_GREATER);
+      const glm::dmat4 toWorld = glm::inverse(light);
+      for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+          const size_t p = static_cast<size_t>(y) * size + x;
+          if (texelIds[p] == 0) continue;
+          ++sunTexels;
+          const glm::dvec2 ndc(2.0 * (x + 0.5) / size - 1.0, 2.0 * (y + 0.5) / size - 1.0);
+          const glm::dvec3 a = glm::dvec3(toWorld * glm::dvec4(ndc, 0.0, 1.0)), b = glm::dvec3(toWorld * glm::dvec4(ndc, 1.0, 1.0));
+          std::optional<double> entry;  // as a light depth, 0 … 1 from a to b
+          for (const vegetation::PlacedCrownSlab& slab : slabs)
+            if (const std::optional<glm::dvec2> span = slab.lineSpan(a, b - a, 0.0)) entry = std::min(entry.value_or(1e300), span->x);
+          sunOutside += !entry || *entry > lightDepth[p] + 1e-5 ? 1 : 0;
+        }
+    }
+  }
+  std::printf("[impostor volumes] %lld eye pixels, %lld outside the query boxes or nearer than their entry; %lld sun texels, %lld "
+              "outside the crown slabs or nearer than their entry\n", eyePixels, eyeOutside, sunTexels, sunOutside);
+  EXPECT_GT(eyePixels, 30000);
+  EXPECT_GT(sunTexels, 30000);
+  EXPECT_EQ(eyeOutside, 0);
+  EXPECT_EQ(sunOutside, 0);
 }
 
 }  // namespace

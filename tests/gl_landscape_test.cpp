@@ -30,19 +30,16 @@ Scene landscapeAroundItsWalk(double side) {
   return scene;
 }
 
-TEST_F(LandscapeGl, CulledGeometryAndSelectedCastersAreExactOnTheRidgeAndAboveTheStands) {
-  if (backendUnderTest() != "egl") GTEST_SKIP() << "the engine's own logic: checked on the egl backend";
-  const Scene scene = landscapeAroundItsWalk(1000.0);
-  render::Frame frame(scene, kWidth, kHeight);
-  ASSERT_EQ(frame.forest()->trees().size(), 62500u);
+// The ridge at the walk's end (its last 2 s) and two views 100 m over the stands, 15° down.
+std::vector<Camera> ridgeAndStandViews(const render::Frame& frame) {
   const CameraPath walk = CameraPath::load(std::string(FOREST_REPO_DATA) + "/paths/landscape-walk.toml");
   std::vector<Camera> views;
-  for (double t = walk.endTime() - 2.0; t <= walk.endTime() + 1e-9; t += 1.0) {  // the last 2 s: the ridge
+  for (double t = walk.endTime() - 2.0; t <= walk.endTime() + 1e-9; t += 1.0) {
     Camera c = frame.cameraAt(walk.at(t), walk.aboveGround());
     c.aspect = static_cast<double>(kWidth) / kHeight;
     views.push_back(c);
   }
-  for (int k = 0; k < 2; ++k) {  // 100 m over the stands, looking 15° down
+  for (int k = 0; k < 2; ++k) {
     CameraPose pose = walk.at(5.0 + 15.0 * k);
     pose.position.y = 100.0;
     pose.pitch_deg = -15.0;
@@ -50,9 +47,12 @@ TEST_F(LandscapeGl, CulledGeometryAndSelectedCastersAreExactOnTheRidgeAndAboveTh
     c.aspect = static_cast<double>(kWidth) / kHeight;
     views.push_back(c);
   }
-  render::FrameSettings settings;
-  settings.shadowMapSize = 1024;
-  settings.culling = culling::CullingStrategy::ChcPlusPlus;
+  return views;
+}
+
+// At each view: chc++'s geometry pass (depth and IDs) equals frustum culling's, and each caster
+// selection gives the term of all casters. Returns the tree pixels seen over the views.
+int expectCullingAndCastersExact(render::Frame& frame, const std::vector<Camera>& views, const render::FrameSettings& settings) {
   int pixelsOfTrees = 0;
   for (size_t v = 0; v < views.size(); ++v) {
     const double time = 0.5 * static_cast<double>(v);
@@ -80,8 +80,50 @@ TEST_F(LandscapeGl, CulledGeometryAndSelectedCastersAreExactOnTheRidgeAndAboveTh
       EXPECT_LT(c.selectedCasters, c.allCasters) << "view " << v;
     }
   }
+  return pixelsOfTrees;
+}
+
+render::FrameSettings landscapeSettings() {
+  render::FrameSettings settings;
+  settings.shadowMapSize = 1024;
+  settings.culling = culling::CullingStrategy::ChcPlusPlus;
+  return settings;
+}
+
+TEST_F(LandscapeGl, CulledGeometryAndSelectedCastersAreExactOnTheRidgeAndAboveTheStands) {
+  if (backendUnderTest() != "egl") GTEST_SKIP() << "the engine's own logic: checked on the egl backend";
+  const Scene scene = landscapeAroundItsWalk(1000.0);
+  render::Frame frame(scene, kWidth, kHeight);
+  ASSERT_EQ(frame.forest()->trees().size(), 62500u);
+  const std::vector<Camera> views = ridgeAndStandViews(frame);
+  const int pixelsOfTrees = expectCullingAndCastersExact(frame, views, landscapeSettings());
   EXPECT_GT(pixelsOfTrees, kWidth * kHeight / 10);  // the views do look at the forest
   std::printf("[landscape] %zu views, %d tree pixels\n", views.size(), pixelsOfTrees);
+}
+
+// The same with far trees as impostors from 120 m (most trees in view, some cross-fading): an
+// impostor draws only inside its tree's query boxes, never nearer than where its line enters them,
+// and casts only inside its crown slabs, so culling and the caster selections stay exact with the
+// representation drawn. The impostors do draw: the ID images differ from the meshes'.
+TEST_F(LandscapeGl, ImpostorsKeepCullingAndCasterSelectionExact) {
+  if (backendUnderTest() != "egl") GTEST_SKIP() << "the engine's own logic: checked on the egl backend";
+  const Scene scene = landscapeAroundItsWalk(1000.0);
+  render::Frame frame(scene, kWidth, kHeight);
+  const std::vector<Camera> views = ridgeAndStandViews(frame);
+  render::FrameSettings settings = landscapeSettings();
+  frame.render(views.front(), 0.0, settings);
+  const std::vector<std::uint32_t> meshIds = frame.readObjectIds();
+  settings.impostorDistance = 120.0;
+  frame.resetHistory();
+  const int pixelsOfTrees = expectCullingAndCastersExact(frame, views, settings);
+  EXPECT_GT(pixelsOfTrees, kWidth * kHeight / 10);
+  frame.render(views.front(), 0.0, settings);
+  const std::vector<std::uint32_t> impostorIds = frame.readObjectIds();
+  long long changed = 0;
+  for (size_t i = 0; i < meshIds.size(); ++i) changed += meshIds[i] != impostorIds[i] ? 1 : 0;
+  EXPECT_GT(changed, 100) << "the impostors draw";
+  std::printf("[landscape, impostors from 120 m] %zu views, %d tree pixels; %lld pixels of the ridge view differ from the meshes'\n",
+              views.size(), pixelsOfTrees, changed);
 }
 
 }  // namespace

@@ -24,4 +24,9 @@ std::vector<Camera> benchPath(const std::string& kind, const Scene& scene, const
 // tables and the JSON.
 std::string pathDescription(const std::string& kind, int frames);
 
+// The scene with `trees` trees at the full scene's stand density: on a square of the terrain of
+// trees / count of its area, centred on the path's keys (moved inside the terrain where it would
+// reach past an edge). forest bench scale and bench impostors.
+Scene sceneWithTrees(const Scene& full, const CameraPath& path, int trees);
+
 }  // namespace forest::app

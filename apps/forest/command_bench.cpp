@@ -582,10 +582,13 @@ Run addBenchCommand(CLI::App& app) {
   const Run passes = addPassesBenchCommand(*bench);
   CLI::App* passesCommand = bench->get_subcommand("passes");
   const Run scale = addScaleBenchCommand(*bench);
-  return [options, cullingBench, speedErrorCommand, speedError, passesCommand, passes, scale] {
+  CLI::App* scaleCommand = bench->get_subcommand("scale");
+  const Run impostors = addImpostorsBenchCommand(*bench);
+  return [options, cullingBench, speedErrorCommand, speedError, passesCommand, passes, scaleCommand, scale, impostors] {
     if (cullingBench->parsed()) return runBenchCulling(*options);
     if (speedErrorCommand->parsed()) return speedError();
-    return passesCommand->parsed() ? passes() : scale();
+    if (passesCommand->parsed()) return passes();
+    return scaleCommand->parsed() ? scale() : impostors();
   };
 }
 

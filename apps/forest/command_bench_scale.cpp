@@ -47,24 +47,6 @@ struct ScaleOptions {
   bool quiet = false;
 };
 
-// The scene with `trees` trees at the full scene's stand density: on a square of the terrain of
-// trees / count of its area, centred on the path's keys (moved inside the terrain where it would
-// reach past an edge).
-Scene sceneWithTrees(const Scene& full, const CameraPath& path, int trees) {
-  Scene scene = full;
-  VegetationSettings& v = *scene.vegetation;
-  const double size = full.terrain->size, side = size * std::sqrt(static_cast<double>(trees) / full.vegetation->count);
-  glm::dvec2 lo(1e300), hi(-1e300);
-  for (const PathKey& key : path.keys()) {
-    lo = glm::min(lo, glm::dvec2(key.pose.position.x, key.pose.position.z));
-    hi = glm::max(hi, glm::dvec2(key.pose.position.x, key.pose.position.z));
-  }
-  const glm::dvec2 centre = glm::clamp(0.5 * (lo + hi), glm::dvec2(-size / 2 + side / 2), glm::dvec2(size / 2 - side / 2));
-  v.count = trees;
-  if (side < size) v.area = glm::dvec4(centre - side / 2, centre + side / 2);
-  return scene;
-}
-
 struct ScaleRun {
   std::string path;
   int trees = 0, placed = 0;  // requested, and placed (fewer when they do not fit)

@@ -218,6 +218,7 @@ Run addBenchCommand(CLI::App& app);
 Run addSpeedErrorCommand(CLI::App& bench);
 Run addPassesBenchCommand(CLI::App& bench);  // command_bench_passes.cpp
 Run addScaleBenchCommand(CLI::App& bench);   // command_bench_scale.cpp
+Run addImpostorsBenchCommand(CLI::App& bench);  // command_bench_impostors.cpp
 Run addWalkthroughCommand(CLI::App& app);
 Run addBudgetCommand(CLI::App& app);
 Run addStressCommand(CLI::App& app);

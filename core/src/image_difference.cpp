@@ -69,15 +69,21 @@ std::vector<double> windowed(const std::vector<double>& v, int width, int height
   return out;
 }
 
-}  // namespace
+void requireMask(const Image8& a, const std::vector<std::uint8_t>* mask, const char* what) {
+  if (mask && mask->size() != static_cast<size_t>(a.width) * a.height)
+    throw InputError(fmt::format("{}: a mask of {} bytes for {}x{} pixels: expected one a pixel", what, mask->size(), a.width, a.height));
+}
 
-PixelDifference pixelDifference(const Image8& a, const Image8& b) {
+PixelDifference maskedPixelDifference(const Image8& a, const Image8& b, const std::vector<std::uint8_t>* mask) {
   requireSameSize(a, b, "pixel difference");
+  requireMask(a, mask, "pixel difference");
   if (a.channels != 3 && a.channels != 4) throw InputError(fmt::format("pixel difference: {} channels, expected 3 or 4", a.channels));
   double sum = 0.0;
-  long long differing = 0;
+  long long differing = 0, counted = 0;
   const size_t pixels = static_cast<size_t>(a.width) * a.height, step = static_cast<size_t>(a.channels);
   for (size_t p = 0; p < pixels; ++p) {
+    if (mask && !(*mask)[p]) continue;
+    ++counted;
     int largest = 0;
     for (size_t c = 0; c < 3; ++c) {
       const int d = std::abs(a.pixels[p * step + c] - b.pixels[p * step + c]);
@@ -86,12 +92,13 @@ PixelDifference pixelDifference(const Image8& a, const Image8& b) {
     }
     differing += largest > 8 ? 1 : 0;
   }
-  const double n = std::max<double>(1.0, static_cast<double>(pixels));
+  const double n = std::max<double>(1.0, static_cast<double>(counted));
   return {sum / (3.0 * n), static_cast<double>(differing) / n};
 }
 
-double meanSsim(const Image8& a, const Image8& b) {
+double maskedSsim(const Image8& a, const Image8& b, const std::vector<std::uint8_t>* mask) {
   requireSameSize(a, b, "SSIM");
+  requireMask(a, mask, "SSIM");
   if (a.channels != 1 && a.channels != 3 && a.channels != 4) throw InputError(fmt::format("SSIM: {} channels, expected 1, 3 or 4", a.channels));
   if (a.width < kWindow || a.height < kWindow)
     throw InputError(fmt::format("SSIM: {}x{} pixels, expected at least {}x{} (one window)", a.width, a.height, kWindow, kWindow));
@@ -105,12 +112,26 @@ double meanSsim(const Image8& a, const Image8& b) {
   const std::vector<double> mx = windowed(x, a.width, a.height), my = windowed(y, a.width, a.height);
   const std::vector<double> sxx = windowed(xx, a.width, a.height), syy = windowed(yy, a.width, a.height), sxy = windowed(xy, a.width, a.height);
   double sum = 0.0;
+  long long windows = 0;
+  const int outW = a.width - kWindow + 1;
   for (size_t i = 0; i < mx.size(); ++i) {
+    const int x0 = static_cast<int>(i % static_cast<size_t>(outW)), y0 = static_cast<int>(i / static_cast<size_t>(outW));
+    if (mask && !(*mask)[static_cast<size_t>(y0 + kWindow / 2) * a.width + x0 + kWindow / 2]) continue;  // its centre pixel
+    ++windows;
     // Eq. 14–16 with weights summing to 1: σ² = E[x²] − μ², σxy = E[xy] − μx μy.
     const double varX = sxx[i] - mx[i] * mx[i], varY = syy[i] - my[i] * my[i], cov = sxy[i] - mx[i] * my[i];
     sum += (2.0 * mx[i] * my[i] + kC1) * (2.0 * cov + kC2) / ((mx[i] * mx[i] + my[i] * my[i] + kC1) * (varX + varY + kC2));
   }
-  return sum / static_cast<double>(mx.size());
+  return windows > 0 ? sum / static_cast<double>(windows) : 1.0;
 }
+
+}  // namespace
+
+PixelDifference pixelDifference(const Image8& a, const Image8& b) { return maskedPixelDifference(a, b, nullptr); }
+PixelDifference pixelDifference(const Image8& a, const Image8& b, const std::vector<std::uint8_t>& mask) {
+  return maskedPixelDifference(a, b, &mask);
+}
+double meanSsim(const Image8& a, const Image8& b) { return maskedSsim(a, b, nullptr); }
+double meanSsim(const Image8& a, const Image8& b, const std::vector<std::uint8_t>& mask) { return maskedSsim(a, b, &mask); }
 
 }  // namespace forest

@@ -3,6 +3,9 @@
 // move) and the structural similarity index of Wang, Bovik, Sheikh & Simoncelli, "Image Quality
 // Assessment: From Error Visibility to Structural Similarity" (IEEE TIP 13(4), 2004) — the
 // perceptual measure the impostors' error is stated in (issue "Far trees as impostors").
+#include <cstdint>
+#include <vector>
+
 #include "forest/core/image.hpp"
 
 namespace forest {
@@ -13,6 +16,9 @@ struct PixelDifference {
 };
 // Throws InputError unless both images have the same size and 3 or 4 channels.
 PixelDifference pixelDifference(const Image8& a, const Image8& b);
+// Over the pixels where mask is non-zero (one byte a pixel, the images' order): the shares are of
+// those pixels (0 where there are none). Throws InputError unless the mask has a byte per pixel.
+PixelDifference pixelDifference(const Image8& a, const Image8& b, const std::vector<std::uint8_t>& mask);
 
 // Mean SSIM (the paper's eq. 13, MSSIM) of the images' luma Y = 0.2126 R + 0.7152 G + 0.0722 B
 // (one channel: the channel itself), with its recommended parameters: an 11 × 11 circular-symmetric
@@ -22,5 +28,7 @@ PixelDifference pixelDifference(const Image8& a, const Image8& b);
 // 1 for identical images; lower for less alike. Throws InputError unless the images have the same
 // size, 1, 3 or 4 channels, and at least 11 × 11 pixels.
 double meanSsim(const Image8& a, const Image8& b);
+// The mean over the windows whose centre pixel is in the mask (1 where there are none).
+double meanSsim(const Image8& a, const Image8& b, const std::vector<std::uint8_t>& mask);
 
 }  // namespace forest
