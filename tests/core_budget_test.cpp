@@ -29,6 +29,7 @@ TEST(BudgetStatistics, PercentileInterpolatesBetweenRanks) {
   EXPECT_DOUBLE_EQ(percentile({1.0, 2.0, 3.0, 4.0}, 0.5), 2.5);
   EXPECT_DOUBLE_EQ(percentile({4.0, 1.0, 3.0, 2.0}, 1.0), 4.0);
   EXPECT_DOUBLE_EQ(percentile({}, 0.5), 0.0);
+  EXPECT_THROW(percentile({1.0, 2.0}, 50.0), Error);  // a percent, not a share: refused, not read past the end
   EXPECT_EQ((Statistic{false, 0.95}).framesNeeded(), 400);  // 20 frames beyond the p95
   EXPECT_EQ((Statistic{false, 0.99}).framesNeeded(), 2000);
   EXPECT_EQ((Statistic{false, 0.5}).framesNeeded(), 40);

@@ -105,7 +105,7 @@ std::pair<double, double> alternatingFrameMs(render::Frame& frame, const Camera&
     glFinish();
     ms[k % 2].push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
   }
-  return {percentile(ms[0], 50.0), percentile(ms[1], 50.0)};
+  return {percentile(ms[0], 0.5), percentile(ms[1], 0.5)};
 }
 
 // The mean |Δ| (1/255) between consecutive frames of a dolly back from `camera`, `frames` frames of
@@ -182,7 +182,7 @@ std::string tableOf(const ordered_json& views, double distance) {
                       v["lod_chain_vs_lod0"]["ssim"].get<double>(), v["impostors_vs_meshes"]["mean_abs_255"].get<double>(),
                       v["lod_chain_vs_lod0"]["mean_abs_255"].get<double>(), 100.0 * meshes, 100.0 * impostors,
                       meshes > 0.0 ? impostors / meshes : 0.0, pair("eye_triangles", 1e3, " k"), pair("shadow_triangles", 1e3, " k"),
-                      pair("frame_ms_p50", 1.0, ""), on, off, off > 0.0 ? on / off : 0.0);
+                      pair("frame_ms_p50", 1.0, " ms"), on, off, off > 0.0 ? on / off : 0.0);
   }
   return md;
 }

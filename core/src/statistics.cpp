@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <string>
 
+#include "forest/core/error.hpp"
 #include "forest/core/random.hpp"
 
 namespace forest {
 
 double percentile(std::vector<double> values, double q) {
+  if (!(q >= 0.0 && q <= 1.0)) throw Error("percentile " + std::to_string(q) + ": expected q in [0, 1]");
   if (values.empty()) return 0.0;
   const double position = q * static_cast<double>(values.size() - 1);
   const std::size_t below = static_cast<std::size_t>(position);
