@@ -2,6 +2,7 @@
 // traced by Embree from the bake's own views — coverage against the mesh's silhouette, and the
 // viewer's and the far side's depths within what the surface spans across one texel.
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <optional>
 #include <cstdio>
@@ -246,6 +247,157 @@ TEST_F(ImpostorGl, AnImpostorStaysInsideItsQueryBoxesAndCrownSlabs) {
   EXPECT_GT(sunTexels, 30000);
   EXPECT_EQ(eyeOutside, 0);
   EXPECT_EQ(sunOutside, 0);
+}
+
+// A lone tree's shadow from its impostor against its mesh's, traced by Embree: with the sun along
+// one of the bake's views (so the bake's angle to the sun is 0 and only the texels differ), the
+// impostor covers a light-view texel exactly where the mesh's traced silhouette does, but within a
+// bake texel's half diagonal (scaled to the tree) plus a map texel's of the silhouette's edge.
+TEST_F(ImpostorGl, ALoneImpostorsShadowIsItsMeshsWithinATexelOfTheEdge) {
+  const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
+  const terrain::Terrain terrain(*scene.terrain);
+  VegetationSettings settings = *scene.vegetation;
+  settings.count = 60;
+  settings.wind_strength = 0.0;
+  const vegetation::Forest forest(settings, terrain);
+  const render::ImpostorAtlas atlas(forest);
+  render::TreeRenderer trees(forest, render::SurfaceOutput::ObjectId, 1);
+  trees.setImpostors(&atlas, {1.0, 0.0});
+  const int size = 256;
+  const IdDepthTarget target(size, size);
+  long long shadowTexels = 0, wrong = 0, wrongNearEdge = 0;
+  for (vegetation::Species species : vegetation::kAllSpecies) {
+    std::uint32_t tree = 0;
+    while (tree < forest.trees().size() && forest.trees()[tree].species != species) ++tree;
+    const vegetation::TreeInstance& t = forest.trees()[tree];
+    const std::uint32_t drawn[] = {tree};
+    raytrace::RayScene rays;
+    const vegetation::TreeMesh& mesh = forest.model(species).lods[0];
+    rays.addInstance(rays.addMesh(mesh.positions, mesh.indices), forest.treeTransform(tree, 0.0), 1);
+    rays.commit();
+    const double extent = 1.1 * atlas.sphere(species).radius * t.scale;  // the light view's half width
+    const double mapTexel = 2.0 * extent / size, bakeTexel = 2.0 * atlas.sphere(species).radius * t.scale / atlas.texelsPerView();
+    const double edgeBand = std::sqrt(0.5) * (mapTexel + bakeTexel);
+    const glm::dvec3 centre = glm::dvec3(forest.treeTransform(tree, 0.0) * glm::dvec4(atlas.sphere(species).centre, 1.0));
+    for (const glm::ivec2 view : {glm::ivec2(3, 12), glm::ivec2(6, 9), glm::ivec2(10, 4)}) {
+      // The bake view's direction in the world: rotated by the tree's yaw (Forest::treeTransform).
+      const glm::dvec3 toSun = glm::dvec3(glm::rotate(glm::dmat4(1.0), t.yaw, glm::dvec3(0.0, 1.0, 0.0)) *
+                                          glm::dvec4(atlas.grid().frame(view.x, view.y).toViewer, 0.0));
+      const glm::dvec3 side = glm::normalize(glm::cross(glm::dvec3(0.0, 1.0, 0.0), toSun)), up = glm::cross(toSun, side);
+      const glm::dmat4 light = glm::orthoRH_ZO(-extent, extent, -extent, extent, 0.0, 400.0) * glm::lookAt(centre + 200.0 * toSun, centre, up);
+      render::DrawView sun;
+      sun.sun = scene.sun;
+      sun.sun.direction = -toSun;
+      sun.fromSun = true;
+      sun.origin = centre;
+      sun.lodEye = centre + glm::dvec3(1000.0, 0.0, 0.0);
+      sun.viewProjectionRelative = light * glm::translate(glm::dmat4(1.0), centre);
+      target.bindAndClear();
+      glClearDepth(1.0);
+      glClear(GL_DEPTH_BUFFER_BIT);
+      glDepthFunc(GL_LESS);
+      trees.draw(sun, drawn);
+      glDepthFunc(GL_GREATER);
+      const std::vector<std::uint32_t> ids = target.readIds();
+      // The mesh's shadow: each texel's line toward the sun meets the mesh.
+      std::vector<std::uint8_t> traced(ids.size());
+      for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+          const glm::dvec3 at = centre + (-extent + (x + 0.5) * mapTexel) * side + (-extent + (y + 0.5) * mapTexel) * up + 200.0 * toSun;
+          traced[static_cast<size_t>(y) * size + x] = rays.occluded(at, -toSun) ? 1 : 0;
+        }
+      const int reach = static_cast<int>(std::ceil(edgeBand / mapTexel));
+      for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+          const size_t p = static_cast<size_t>(y) * size + x;
+          shadowTexels += traced[p];
+          if ((ids[p] != 0) == (traced[p] != 0)) continue;
+          // Within edgeBand of a texel the trace puts on the other side?
+          bool nearEdge = false;
+          for (int dy = -reach; dy <= reach && !nearEdge; ++dy)
+            for (int dx = -reach; dx <= reach && !nearEdge; ++dx) {
+              const int nx = x + dx, ny = y + dy;
+              if (nx < 0 || ny < 0 || nx >= size || ny >= size || std::hypot(dx, dy) * mapTexel > edgeBand + mapTexel) continue;
+              nearEdge = traced[static_cast<size_t>(ny) * size + nx] != traced[p];
+            }
+          (nearEdge ? wrongNearEdge : wrong) += 1;
+        }
+    }
+  }
+  std::printf("[impostor shadow] %lld texels of mesh shadow traced; the impostor's differs at %lld within a texel of the edge, %lld "
+              "farther\n", shadowTexels, wrongNearEdge, wrong);
+  EXPECT_GT(shadowTexels, 20000);
+  EXPECT_EQ(wrong, 0);
+}
+
+// The cross-fade's share against its closed form: 0 up to the switch distance, rising linearly to 1
+// over the band, 1 beyond — continuous in distance (no step larger than the slope times the step).
+TEST(ImpostorSwitch, TheImpostorsShareRisesContinuouslyOverTheBand) {
+  const render::ImpostorSwitch s{600.0, 0.1};
+  EXPECT_EQ(render::impostorShare(s, 0.0), 0.0);
+  EXPECT_EQ(render::impostorShare(s, 600.0), 0.0);
+  EXPECT_DOUBLE_EQ(render::impostorShare(s, 630.0), 0.5);
+  EXPECT_EQ(render::impostorShare(s, 660.0), 1.0);
+  EXPECT_EQ(render::impostorShare(s, 1e6), 1.0);
+  double previous = 0.0;
+  for (double d = 0.0; d <= 1000.0; d += 0.01) {
+    const double share = render::impostorShare(s, d);
+    ASSERT_LE(std::abs(share - previous), 0.01 / 60.0 + 1e-12) << d;
+    ASSERT_GE(share, previous) << d;
+    previous = share;
+  }
+  EXPECT_EQ(render::impostorShare({0.0, 0.1}, 1e6), 0.0);  // off
+  EXPECT_EQ(render::impostorShare({600.0, 0.0}, 599.0), 0.0);  // no band: a step
+  EXPECT_EQ(render::impostorShare({600.0, 0.0}, 600.0), 1.0);
+}
+
+// In the band both representations draw the tree with complementary dither: every pixel that the
+// mesh alone and the impostor alone both cover is written by exactly one of them (so covered), and
+// nothing outside what either covers is.
+TEST_F(ImpostorGl, TheCrossFadeCoversWhatBothRepresentationsCover) {
+  const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
+  const terrain::Terrain terrain(*scene.terrain);
+  VegetationSettings settings = *scene.vegetation;
+  settings.count = 60;
+  settings.wind_strength = 0.0;
+  const vegetation::Forest forest(settings, terrain);
+  const render::ImpostorAtlas atlas(forest);
+  render::TreeRenderer trees(forest, render::SurfaceOutput::ObjectId, 1);
+  const int size = 200;
+  const IdDepthTarget target(size, size);
+  long long both = 0, bothMissed = 0, fadeOutside = 0, fadeCovered = 0;
+  for (std::uint32_t tree = 0; tree < 6; ++tree) {
+    const std::uint32_t drawn[] = {tree};
+    Camera camera;
+    const glm::dvec3 centre = forest.treeBounds(tree).centre();
+    camera.position = centre + 25.0 * glm::normalize(glm::dvec3(std::cos(tree), 0.3, std::sin(tree)));
+    camera.orient(centre - camera.position, glm::dvec3(0.0, 1.0, 0.0));
+    camera.aspect = 1.0;
+    camera.near = 1.0;
+    camera.far = 300.0;
+    const double distance = forest.lodDistance(tree, camera.position);
+    auto idsWith = [&](render::ImpostorSwitch s) {
+      trees.setImpostors(&atlas, s);
+      target.bindAndClear();
+      trees.draw(render::DrawView::fromCamera(camera, 0.0, scene.sun), drawn);
+      return target.readIds();
+    };
+    const std::vector<std::uint32_t> mesh = idsWith({1e5, 0.1}), impostor = idsWith({1.0, 0.0});
+    const std::vector<std::uint32_t> fade = idsWith({distance / 1.05, 0.1});  // share 0.5
+    for (size_t p = 0; p < mesh.size(); ++p) {
+      const bool m = mesh[p] != 0, i = impostor[p] != 0, f = fade[p] != 0;
+      both += m && i ? 1 : 0;
+      bothMissed += m && i && !f ? 1 : 0;
+      fadeOutside += f && !m && !i ? 1 : 0;
+      fadeCovered += f ? 1 : 0;
+    }
+  }
+  std::printf("[cross-fade] %lld pixels covered by both representations, %lld of them missed in the cross-fade; %lld written "
+              "outside both\n", both, bothMissed, fadeOutside);
+  EXPECT_GT(both, 10000);
+  EXPECT_GT(fadeCovered, 10000);
+  EXPECT_EQ(bothMissed, 0);
+  EXPECT_EQ(fadeOutside, 0);
 }
 
 }  // namespace
