@@ -53,10 +53,8 @@ CasterSelector::CasterSelector(const dvec3& lightDirection, std::span<const Aabb
 void CasterSelector::reserve(std::size_t receivers) {
   receivers_.reserve(receivers);
   footprints_.reserve(receivers);
-  cellItems_.reserve(receivers);
-  largeItems_.reserve(receivers);
-  const size_t side = static_cast<size_t>(gridSide(receivers));
-  cellStart_.reserve(side * side + 1);
+  deepest_.reserve(receivers);
+  level_.reserve(receivers);
 }
 
 void CasterSelector::rebuild(const dvec3& lightDirection, std::span<const Aabb> receivers) {
@@ -66,16 +64,17 @@ void CasterSelector::rebuild(const dvec3& lightDirection, std::span<const Aabb> 
   light_ = lightDirection / length;
   std::tie(across_[0], across_[1]) = axesAcrossLight(light_);
   gridCells_ = glm::ivec2(0);
-  cellStart_.clear();
-  cellItems_.clear();
+  for (Level& level : levels_) level.cells = glm::ivec2(0);
   if (receivers_.empty()) return;
 
   std::vector<Footprint>& footprints = footprints_;
   footprints.clear();
+  deepest_.clear();
   dvec2 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
   for (const Aabb& r : receivers_) {
     const Footprint f = footprint(r);
     footprints.push_back(f);
+    deepest_.push_back(glm::dot(light_, r.centre()) + 0.5 * glm::dot(glm::abs(light_), r.extent()));
     lo = glm::min(lo, f.min);
     hi = glm::max(hi, f.max);
   }
@@ -83,37 +82,61 @@ void CasterSelector::rebuild(const dvec3& lightDirection, std::span<const Aabb> 
   gridCells_ = glm::ivec2(side);
   gridMin_ = lo;
   cellSize_ = glm::max((hi - lo) / static_cast<double>(side), dvec2(1e-300));
-  // A few large receivers (terrain tiles at a landscape's distance, stretched along a low sun)
-  // would widen every search by their footprint: they are kept apart, in a list each caster
-  // scans, and the grid's search reach is the largest footprint of the rest.
-  largeItems_.clear();
-  largestFootprint_ = dvec2(0.0);
-  const dvec2 largeAbove = kLargeFootprintCells * cellSize_;
-  const auto isLarge = [&](std::uint32_t i) {
-    const dvec2 extent = footprints[i].max - footprints[i].min;
-    return extent.x > largeAbove.x || extent.y > largeAbove.y;
-  };
+  // A hierarchical grid: level k's cells are kLevelRatio^k times level 0's; each receiver goes to
+  // the first level where its footprint spans at most kLargeFootprintCells cells an axis (a few
+  // large ones — terrain tiles at a landscape's distance, stretched along a low sun — to coarse
+  // levels, where they do not crowd the fine cells), and into every cell of it that it overlaps.
+  level_.assign(footprints.size(), 0);
+  int levels = 1;
   for (std::uint32_t i = 0; i < footprints.size(); ++i) {
-    if (isLarge(i)) largeItems_.push_back(i);
-    else largestFootprint_ = glm::max(largestFootprint_, footprints[i].max - footprints[i].min);
+    const dvec2 extent = footprints[i].max - footprints[i].min;
+    double reach = kLargeFootprintCells;
+    int k = 0;
+    while (k + 1 < kLevels && (extent.x > reach * cellSize_.x || extent.y > reach * cellSize_.y)) ++k, reach *= kLevelRatio;
+    level_[i] = static_cast<std::uint8_t>(k);
+    levels = std::max(levels, k + 1);
   }
-  // Counting sort by the low corner's cell: count, prefix sums, fill (each cell keeps increasing
-  // order).
-  const size_t cells = static_cast<size_t>(side) * side;
-  cellStart_.assign(cells + 1, 0);
-  auto cellIndex = [&](std::uint32_t i) {
-    const glm::ivec2 a = cellOf(footprints[i].min);
-    return static_cast<size_t>(a.y) * side + a.x;
+  for (int k = 0; k < kLevels; ++k) {
+    Level& level = levels_[static_cast<size_t>(k)];
+    if (k >= levels) {
+      level.cells = glm::ivec2(0);
+      continue;
+    }
+    const int ratio = static_cast<int>(std::pow(kLevelRatio, k));
+    level.cells = glm::ivec2((side + ratio - 1) / ratio);
+    level.cellSize = cellSize_ * static_cast<double>(ratio);
+    fileLevel(level, static_cast<std::uint8_t>(k));
+  }
+}
+
+glm::ivec2 CasterSelector::cellOf(const Level& level, const dvec2& p) const {
+  const dvec2 cell = glm::floor((p - gridMin_) / level.cellSize);
+  return glm::clamp(glm::ivec2(glm::clamp(cell, dvec2(-1.0), dvec2(level.cells))), glm::ivec2(0), level.cells - 1);
+}
+
+void CasterSelector::fileLevel(Level& level, std::uint8_t k) {
+  // A counting sort of the level's receivers into every cell they overlap: count, prefix sums, fill.
+  const size_t cells = static_cast<size_t>(level.cells.x) * level.cells.y;
+  level.start.assign(cells + 1, 0);
+  const auto forEachCell = [&](std::uint32_t i, auto&& visit) {
+    const glm::ivec2 a = cellOf(level, footprints_[i].min), b = cellOf(level, footprints_[i].max);
+    for (int y = a.y; y <= b.y; ++y)
+      for (int x = a.x; x <= b.x; ++x) visit(static_cast<size_t>(y) * level.cells.x + x);
   };
-  for (std::uint32_t i = 0; i < footprints.size(); ++i)
-    if (!isLarge(i)) ++cellStart_[cellIndex(i) + 1];
-  for (size_t c = 0; c < cells; ++c) cellStart_[c + 1] += cellStart_[c];
-  cellItems_.resize(footprints.size() - largeItems_.size());
-  for (std::uint32_t i = 0; i < footprints.size(); ++i)
-    if (!isLarge(i)) cellItems_[cellStart_[cellIndex(i)]++] = i;
+  for (std::uint32_t i = 0; i < footprints_.size(); ++i)
+    if (level_[i] == k) forEachCell(i, [&](size_t c) { ++level.start[c + 1]; });
+  for (size_t c = 0; c < cells; ++c) level.start[c + 1] += level.start[c];
+  level.items.resize(level.start[cells]);
+  for (std::uint32_t i = 0; i < footprints_.size(); ++i)
+    if (level_[i] == k) forEachCell(i, [&](size_t c) { level.items[level.start[c]++] = i; });
   // Each start was moved to its cell's end, which is the next cell's start: shift back by one.
-  for (size_t c = cells; c > 0; --c) cellStart_[c] = cellStart_[c - 1];
-  cellStart_[0] = 0;
+  for (size_t c = cells; c > 0; --c) level.start[c] = level.start[c - 1];
+  level.start[0] = 0;
+  // Deepest first within each cell (ties by index: the same order every run).
+  for (size_t c = 0; c < cells; ++c)
+    std::sort(level.items.begin() + level.start[c], level.items.begin() + level.start[c + 1], [&](std::uint32_t a, std::uint32_t b) {
+      return deepest_[a] != deepest_[b] ? deepest_[a] > deepest_[b] : a < b;
+    });
 }
 
 CasterSelector::Footprint CasterSelector::footprint(const Aabb& box) const {
@@ -129,31 +152,33 @@ CasterSelector::Footprint CasterSelector::footprint(const Aabb& box) const {
   return f;
 }
 
-glm::ivec2 CasterSelector::cellOf(const dvec2& p) const {
-  const dvec2 cell = glm::floor((p - gridMin_) / cellSize_);
-  return glm::clamp(glm::ivec2(glm::clamp(cell, dvec2(-1.0), dvec2(gridCells_))), glm::ivec2(0), gridCells_ - 1);
-}
-
 bool CasterSelector::needed(const Aabb& caster) const {
   if (receivers_.empty()) return false;
   const Footprint f = footprint(caster);
   // Footprints entirely outside the grid meet no receiver.
   const dvec2 gridMax = gridMin_ + cellSize_ * dvec2(gridCells_);
   if (f.max.x < gridMin_.x || f.max.y < gridMin_.y || f.min.x > gridMax.x || f.min.y > gridMax.y) return false;
-  // A receiver filed in cell (x, y) has its low corner there; it can reach this footprint only if
-  // that corner is within the largest footprint below the footprint's low corner.
-  for (std::uint32_t k : largeItems_) {
-    const Footprint& r = footprints_[k];  // apart in the plane across the light: the sweep cannot meet it
-    if (r.max.x < f.min.x || r.max.y < f.min.y || r.min.x > f.max.x || r.min.y > f.max.y) continue;
-    if (sweptBoxMeetsBox(caster, light_, receivers_[k])) return true;
+  // The sweep's points lie at least as deep along the light as the caster's nearest point.
+  // (Less a rounding margin: a receiver that touches the sweep's first plane stays to the exact test.)
+  double shallowest = glm::dot(light_, caster.centre()) - 0.5 * glm::dot(glm::abs(light_), caster.extent());
+  shallowest -= 1e-9 * (1.0 + std::abs(shallowest));
+  // A receiver that may meet the sweep is filed in every cell of its level that its footprint
+  // overlaps, so in one of the caster's there.
+  for (const Level& level : levels_) {
+    if (level.cells.x == 0) continue;
+    const glm::ivec2 a = cellOf(level, f.min), b = cellOf(level, f.max);
+    for (int y = a.y; y <= b.y; ++y)
+      for (int x = a.x; x <= b.x; ++x) {
+        const size_t c = static_cast<size_t>(y) * level.cells.x + x;
+        for (std::uint32_t k = level.start[c]; k < level.start[c + 1]; ++k) {
+          const std::uint32_t item = level.items[k];
+          if (deepest_[item] < shallowest) break;  // this one and the rest of the cell end before the caster
+          const Footprint& r = footprints_[item];
+          if (r.max.x < f.min.x || r.max.y < f.min.y || r.min.x > f.max.x || r.min.y > f.max.y) continue;
+          if (sweptBoxMeetsBox(caster, light_, receivers_[item])) return true;
+        }
+      }
   }
-  const glm::ivec2 a = cellOf(f.min - largestFootprint_), b = cellOf(f.max);
-  for (int y = a.y; y <= b.y; ++y)
-    for (int x = a.x; x <= b.x; ++x) {
-      const size_t c = static_cast<size_t>(y) * gridCells_.x + x;
-      for (std::uint32_t k = cellStart_[c]; k < cellStart_[c + 1]; ++k)
-        if (sweptBoxMeetsBox(caster, light_, receivers_[cellItems_[k]])) return true;
-    }
   return false;
 }
 

@@ -6,6 +6,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <array>
 #include <span>
 #include <utility>
 #include <vector>
@@ -22,11 +23,15 @@ std::pair<glm::dvec3, glm::dvec3> axesAcrossLight(const glm::dvec3& l);
 // R ⊖ C = [R.min − C.max, R.max − C.min], a ray-box test.
 bool sweptBoxMeetsBox(const Aabb& caster, const glm::dvec3& lightDirection, const Aabb& receiver);
 
-// The receivers' footprints on a 2D grid in the plane across the light, so a caster is tested
-// only against receivers whose footprint may overlap its own. A loose grid: each receiver is
-// filed once, in the cell of its footprint's low corner, and a caster searches the cells from its
-// own low corner less the largest receiver footprint to its high corner — so the grid's storage is
-// bounded by the receiver count and can be reserved once (no allocation per frame).
+// The receivers' footprints on a hierarchical 2D grid in the plane across the light, so a caster is
+// tested only against receivers whose footprint may overlap its own: each receiver is filed at the
+// finest level where its footprint spans at most kLargeFootprintCells cells an axis, in every cell
+// of it that it overlaps, and a caster searches the cells its own footprint overlaps at every level.
+// Storage grows with the receivers and is kept from frame to frame (no allocation once it holds a
+// frame's). Each cell's
+// receivers are ordered by how far along the light they reach, deepest first: the sweep of a caster
+// holds only points at least as deep as the caster's nearest, so a cell's scan stops at the first
+// receiver that ends before it.
 class CasterSelector {
  public:
   // `lightDirection`: the way light travels (need not be unit). Receivers are copied.
@@ -51,22 +56,27 @@ class CasterSelector {
     glm::dvec2 min, max;
   };
   Footprint footprint(const Aabb& box) const;
-  glm::ivec2 cellOf(const glm::dvec2& p) const;
+  // One level of the grid: cells of cellSize from the grid's origin, and its receivers' indices per
+  // cell, row-major, in one list: cell c holds items[start[c], start[c + 1]).
+  struct Level {
+    glm::dvec2 cellSize{1.0};
+    glm::ivec2 cells{0};  // 0: an unused level
+    std::vector<std::uint32_t> start, items;
+  };
+  static constexpr double kLargeFootprintCells = 4.0;
+  static constexpr int kLevels = 6, kLevelRatio = 4;
+  glm::ivec2 cellOf(const Level& level, const glm::dvec2& p) const;
+  void fileLevel(Level& level, std::uint8_t k);
 
   glm::dvec3 light_{0.0, -1.0, 0.0};
   glm::dvec3 across_[2]{};  // unit axes of the plane across the light
   std::vector<Aabb> receivers_;
   std::vector<Footprint> footprints_;
-  glm::dvec2 gridMin_{0.0}, cellSize_{1.0};
-  glm::dvec2 largestFootprint_{0.0};  // per axis, over the receivers
+  std::vector<double> deepest_;  // per receiver: the largest depth along the light of a point of it
+  std::vector<std::uint8_t> level_;  // per receiver: the level it is filed at
+  glm::dvec2 gridMin_{0.0}, cellSize_{1.0};  // level 0's
   glm::ivec2 gridCells_{0};
-  // Receiver indices per cell (by the footprint's low corner), row-major, in one list: cell c
-  // holds cellItems_[cellStart_[c], cellStart_[c + 1]).
-  std::vector<std::uint32_t> cellStart_, cellItems_;
-  // Receivers whose footprint spans more than kLargeFootprintCells cells on an axis: not in the
-  // grid, tested by every caster whose footprint overlaps theirs.
-  static constexpr double kLargeFootprintCells = 4.0;
-  std::vector<std::uint32_t> largeItems_;
+  std::array<Level, kLevels> levels_;
 };
 
 // Conservative overlap of a convex body and a box (separating planes: B's faces and the box's
