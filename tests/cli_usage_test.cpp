@@ -187,7 +187,7 @@ constexpr DocumentedRange kDocumentedRanges[] = {
     {"--check-every", 0, 1e6},   {"--fps", 0.1, 1000},          {"--trees", 1, 1e6},          {"--leaf-size", 1, 64},
     {"--moving", 0, 1},          {"--soft-rays", 0, 1024},      {"--screen", 1, 16384},       {"--random", 0, 1e8},
     {"--target", 1e-6, 0.999999}, {"--lod0", 1000, 20000},   {"--views", 2, 1000},         {"--rounds", 1, 100},
-    {"--frames-before", 0, 100}, {"--far-slice-scale", 0.5, 2}, {"--impostor-distance", 1, 1e6}, {"--repeats", 1, 100},
+    {"--frames-before", 0, 100}, {"--far-slice-scale", 0.5, 2}, {"--repeats", 1, 100},
     {"--dolly-frames", 2, 1000},  {"--dolly-step", 0.01, 100},
 };
 

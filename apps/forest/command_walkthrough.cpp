@@ -65,6 +65,7 @@ nlohmann::ordered_json frameRecord(int index, double time, bool warmup, const Ca
   r["n"] = s.shadow.n;
   r["gamma_deg"] = s.shadow.gammaDeg;
   r["sun_below_horizon"] = s.sunBelowHorizon;
+  r["impostor_distance_m"] = s.impostorDistance;
   r["cascades"] = cascadesJson(s);
   r["gpu_memory_mib"] = static_cast<double>(gl::gpuMemory().bytes) / (1 << 20);
   r["rss_mib"] = residentMegabytes();

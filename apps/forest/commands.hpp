@@ -98,7 +98,7 @@ struct FrameOptions {
   std::string hiddenCasters = "auto";   // trees hidden from the sun: auto, cull or draw (FrameSettings::hiddenCasters)
   std::string cacheSlices = "off";      // cached shadow map layers: off, on or staggered (FrameSettings::cacheSlices, staggerSlices)
   std::string impostors = "off";        // far trees as impostors: off or on (FrameSettings::impostorDistance)
-  double impostorDistance = 600.0;      // metres (over the size class's scale) beyond which a tree is its impostor
+  std::string impostorDistance = "auto";  // metres (over the size class's scale) beyond which a tree is its impostor, or auto
   CasterOptions casters;
   // Z-partitioning; each left unset (the scene's [shadows]) unless its flag is given.
   int cascades = 1;

@@ -161,8 +161,16 @@ void FrameOptions::add(CLI::App& command, bool withCulling) {
       ->capture_default_str();
   command.add_option("--impostor-distance", impostorDistance,
                      "Metres from the eye to a tree's base, over its size class's scale (as the LOD bands),\n"
-                     "beyond which --impostors on draws it as its impostor (1 to 1000000)")
-      ->check(CLI::Range(1.0, 1e6))
+                     "beyond which --impostors on draws it as its impostor: 1 to 1000000, or auto (where an\n"
+                     "impostor's largest error - a bake texel, or the parallax of the bake view up to 9\n"
+                     "degrees off - covers at most one pixel of the frame)")
+      ->check([](const std::string& value) -> std::string {
+        if (value == "auto") return "";
+        double metres = 0.0;
+        if (!CLI::detail::lexical_cast(value, metres) || !(metres >= 1.0 && metres <= 1e6))
+          return "expected auto or metres from 1 to 1000000, got " + value;
+        return "";
+      })
       ->capture_default_str();
   command.add_option("--cache-slices", cacheSlices,
                      "Cached shadow map layers: a slice whose map was kept and whose casters are as they were\n"
@@ -226,7 +234,7 @@ render::FrameSettings FrameOptions::settings(const gl::ContextInfo& context) con
   s.hiddenCasters = render::kHiddenCastersNames.parse(hiddenCasters);
   s.cacheSlices = cacheSlices != "off";
   s.staggerSlices = cacheSlices == "staggered";
-  s.impostorDistance = impostors == "on" ? impostorDistance : 0.0;
+  s.impostorDistance = impostors != "on" ? 0.0 : impostorDistance == "auto" ? render::kImpostorDistanceAuto : std::stod(impostorDistance);
   if (cascadesOption && cascadesOption->count() > 0) s.cascades = cascades;
   if (splitLambdaOption && splitLambdaOption->count() > 0) s.splitLambda = splitLambda;
   if (cascadeBlendOption && cascadeBlendOption->count() > 0) s.cascadeBlend = cascadeBlend;

@@ -52,11 +52,11 @@ void validate(const FrameSettings& settings) {
   if (const int far = sliceMapSize(settings, 1, 2); far < 256 || far > 8192)
     throw InputError(fmt::format("far slice scale {} of {} texels: the far layer's {} texels per side are outside 256 to 8192",
                                  settings.farSliceScale, settings.shadowMapSize, far));
-  if (!(settings.impostorDistance >= 0.0 && settings.impostorDistance <= 1e6))
-    throw InputError(fmt::format("impostor distance {}: expected 0 (meshes only) to 1000000 m", settings.impostorDistance));
+  if (!(settings.impostorDistance == kImpostorDistanceAuto || (settings.impostorDistance >= 0.0 && settings.impostorDistance <= 1e6)))
+    throw InputError(fmt::format("impostor distance {}: expected 0 (meshes only) to 1000000 m, or auto", settings.impostorDistance));
   if (!(settings.impostorBand >= 0.0 && settings.impostorBand <= 1.0))
     throw InputError(fmt::format("impostor band {}: expected 0 to 1 (a share of the impostor distance)", settings.impostorBand));
-  if (settings.impostorDistance > 0.0 && settings.cacheSlices)
+  if (settings.impostorDistance != 0.0 && settings.cacheSlices)
     throw InputError("impostors with cached slices: a layer's cache does not follow a tree's cross-fade (turn one off)");
   if (settings.farSliceScale != 1.0 && settings.casters == CasterSelection::ReceiverMaskGpu)
     throw InputError(fmt::format("far slice scale {} with casters receiver-mask-gpu: the GPU's caster filter needs layers of one "
@@ -323,21 +323,23 @@ Frame::Inputs Frame::resolveInputs(const Camera& camera, double time, const Fram
 }
 
 // The programs this frame's passes use, compiled before any pass is timed; the timer's frame.
-void Frame::useImpostors(const FrameSettings& settings) {
+double Frame::useImpostors(const FrameSettings& settings, const Camera& camera) {
   Passes& p = *passes_;
-  const ImpostorSwitch impostors{settings.impostorDistance, settings.impostorBand};
-  const bool on = impostors.distance > 0.0 && forest_;
+  const bool on = settings.impostorDistance != 0.0 && forest_;
   if (on && !p.impostors) {
     p.impostors = std::make_unique<ImpostorAtlas>(*forest_);
     startup_.push_back({"impostor_bake", 1e3 * p.impostors->bakeSeconds(), residentMegabytes(), heapInUseMegabytes()});
   }
+  ImpostorSwitch impostors{on ? settings.impostorDistance : 0.0, settings.impostorBand};
+  if (impostors.distance == kImpostorDistanceAuto) impostors.distance = p.impostors->switchDistance(camera.fovy, height_);
   p.geometry.setImpostors(on ? p.impostors.get() : nullptr, impostors);
   p.shadow.setImpostors(on ? p.impostors.get() : nullptr, impostors);
+  return impostors.distance;
 }
 
 FrameStats Frame::beginFrame(const Inputs& in) {
   Passes& p = *passes_;
-  useImpostors(in.settings);
+  const double impostorDistance = useImpostors(in.settings, in.camera);
   if (in.blurred) {
     p.shadowTerm.prepare(in.lookupShape, in.termScale);
     p.blur.prepare(in.termScale, in.blurTaps);
@@ -346,6 +348,7 @@ FrameStats Frame::beginFrame(const Inputs& in) {
   if (!timer_ || timer_->mode() != in.settings.timing) timer_ = std::make_unique<gl::PassTimer>(in.settings.timing, 3, framesRendered_);
   FrameStats stats;
   stats.sunBelowHorizon = in.sunBelowHorizon;
+  stats.impostorDistance = impostorDistance;
   stats.frameNumber = framesRendered_++;
   timer_->beginFrame();
   return stats;

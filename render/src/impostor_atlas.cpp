@@ -1,6 +1,8 @@
 #include "forest/render/impostor_atlas.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 
 #include "forest/gl/shader.hpp"
@@ -157,6 +159,19 @@ void ImpostorAtlas::bakeSpecies(const vegetation::SpeciesModel& model, const gl:
   const double toMetres = 2.0 * sphere.radius;
   for (size_t k = 0; k < layer.size(); ++k)
     if ((layer[k].y >> 24) != 0u) layer[k].w = bitsOf(static_cast<float>(back[k] * toMetres));
+}
+
+double ImpostorAtlas::largestError() const {
+  const double parallax = std::sin(grid_.largestAngle());
+  double largest = 0.0;
+  for (const vegetation::ImpostorSphere& sphere : spheres_)
+    largest = std::max({largest, 2.0 * sphere.radius / texels_, sphere.radius * parallax});
+  return largest;
+}
+
+double ImpostorAtlas::switchDistance(double fovy, int heightPixels) const {
+  // A pixel at distance d spans d · 2 tan(fovy / 2) / height.
+  return largestError() * heightPixels / (2.0 * std::tan(fovy / 2.0));
 }
 
 void ImpostorAtlas::bind() const {

@@ -41,6 +41,17 @@ glm::ivec2 ImpostorGrid::cellOf(const glm::dvec3& direction) const {
   return {cell(square.x), cell(square.y)};
 }
 
+double ImpostorGrid::largestAngle() const {
+  double largest = 0.0;
+  for (int i = 0; i < views_; ++i)
+    for (int j = 0; j < views_; ++j)
+      for (int c = 0; c < 4; ++c) {
+        const glm::dvec2 corner(2.0 * (i + (c & 1)) / views_ - 1.0, 2.0 * (j + (c >> 1)) / views_ - 1.0);
+        largest = std::max(largest, std::acos(std::min(1.0, glm::dot(fromHemiOctahedral(corner), frame(i, j).toViewer))));
+      }
+  return largest;
+}
+
 ImpostorSphere impostorSphere(const SpeciesModel& model) {
   Aabb box;
   for (const TreeMesh& lod : model.lods) box.extend(lod.bounds);

@@ -65,6 +65,9 @@ inline constexpr EnumNames<CasterSelection, 5> kCasterSelectionNames{
 // The read-back path's trees hidden from the sun (render/src/caster_occlusion.hpp): culled between
 // two draws of each layer (the layer read back between them), drawn with the rest, or culled where
 // the trees it could leave out outweigh the read-backs (kTrianglesPerTexelReadBack).
+// FrameSettings::impostorDistance: the distance where an impostor errs by at most a pixel.
+inline constexpr double kImpostorDistanceAuto = -1.0;
+
 enum class HiddenCasters { Auto, Cull, Draw };
 inline constexpr EnumNames<HiddenCasters, 3> kHiddenCastersNames{
     "hidden casters", {{{HiddenCasters::Auto, "auto"}, {HiddenCasters::Cull, "cull"}, {HiddenCasters::Draw, "draw"}}}};
@@ -147,7 +150,8 @@ struct FrameSettings {
   // impostorDistance metres from the eye to a tree's base, over its size class's scale (as the LOD
   // bands), the tree is drawn — in the G-buffer and in the shadow map — by its impostor baked from
   // its species' LOD0 (at the first frame that asks), cross-faded from its mesh over impostorBand ×
-  // the distance. 0: meshes only. Not with cached slices.
+  // the distance. 0: meshes only; kImpostorDistanceAuto: where an impostor's largest error covers
+  // at most one pixel of the frame (ImpostorAtlas::switchDistance). Not with cached slices.
   double impostorDistance = 0.0;
   double impostorBand = 0.1;
   // Cached slices (render/src/slice_cache.hpp): a layer that still holds what its slice needs —
@@ -216,6 +220,7 @@ struct FrameStats {
   long long shadowTerrainTriangles = 0;  // of shadowTriangles: terrain (by block, Terrain::blockMayFaceAway)
   double farDepth = 0.0;        // z_f of the visible set
   bool sunBelowHorizon = false;
+  double impostorDistance = 0.0;  // beyond it (m, over the size class's scale) trees were impostors; 0: none
   shadows::ShadowDiagnostics shadow;  // slice 0's
   int cascades = 1;                   // slices used (1: one map)
   double splitLambda = 0.0, cascadeBlend = 0.0;
@@ -344,7 +349,8 @@ class Frame {
 
  private:
   void requireUsedTerm(const char* reader) const;
-  void useImpostors(const FrameSettings& settings);  // bakes them at the first frame that asks
+  // Bakes them at the first frame that asks; the switch distance resolved for the camera.
+  double useImpostors(const FrameSettings& settings, const Camera& camera);
   void objectsMoved();  // after object boxes changed: refit the BVH, recompute the scene bounds
   std::optional<terrain::TerrainLod> terrainLodFor(const Camera& camera) const;  // none without terrain
   struct Passes;  // the passes in order (src/*_pass.hpp) and what a frame tells the next (src/frame_history.hpp)

@@ -43,6 +43,15 @@ class ImpostorAtlas {
   int texelsPerView() const { return texels_; }
   const vegetation::ImpostorSphere& sphere(vegetation::Species species) const { return spheres_[static_cast<size_t>(species)]; }
   double bakeSeconds() const { return bakeSeconds_; }
+  // The largest error an impostor shows in object space (metres), over the species: a bake texel
+  // (the sphere's diameter over a view's texels) or the parallax of a surface point up to R from
+  // the bake plane's centre seen up to the grid's largest angle off its view, R sin θ — whichever is
+  // larger; and the distance beyond which that covers at most a pixel of a frame `heightPixels`
+  // high with a vertical field of view `fovy` (radians): a screen-space bound like the LOD bands',
+  // in the distance over the size class's scale that the switch compares (a tree s times as large
+  // errs s times as much, and switches s times as far).
+  double largestError() const;
+  double switchDistance(double fovy, int heightPixels) const;
 
   // The object-space point of view (i, j)'s bake plane at `texel` (texel units along right and up
   // from the view's lower left corner: (x + 0.5, y + 0.5) is texel (x, y)'s centre), gone `s`

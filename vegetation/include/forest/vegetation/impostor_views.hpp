@@ -33,6 +33,10 @@ class ImpostorGrid {
   ImpostorFrame frame(int i, int j) const;
   // The cell whose square holds the direction (clamped to the grid).
   glm::ivec2 cellOf(const glm::dvec3& direction) const;
+  // The largest angle (radians) between a direction and its cell's view: over the cells' corners
+  // (the map is affine on each octahedron face, and a cone about the view meets a face in a convex
+  // set, so within a cell the angle peaks at a corner; the folds run through the corners).
+  double largestAngle() const;
 
  private:
   int views_;
