@@ -156,6 +156,21 @@ std::optional<double> boxEntry(const Aabb& box, const glm::dvec3& a, const glm::
   return enter;
 }
 
+// 60 trees of the default scene without wind (impostors do not sway: the boxes and slabs as drawn)
+// and their impostors' bake.
+struct StillTrees {
+  Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
+  terrain::Terrain terrain{*scene.terrain};
+  vegetation::Forest forest{stillSettings(scene), terrain};
+  render::ImpostorAtlas atlas{forest};
+  static VegetationSettings stillSettings(const Scene& scene) {
+    VegetationSettings settings = *scene.vegetation;
+    settings.count = 60;
+    settings.wind_strength = 0.0;
+    return settings;
+  }
+};
+
 // An impostor writes only inside the volumes the exact tests take for its tree, never nearer than
 // where the fragment's line enters them: seen by the eye, the pixel's ray meets the tree's query
 // boxes (Forest::treeQueryBoxes, what the culler asks) no farther than the depth written; seen from
@@ -163,13 +178,10 @@ std::optional<double> boxEntry(const Aabb& box, const glm::dvec3& a, const glm::
 // take) no farther than the light depth written. Every species from 36 directions each, between the
 // bake views (where the bake's parallax is largest), at 40 m and from the sun at 3 elevations.
 TEST_F(ImpostorGl, AnImpostorStaysInsideItsQueryBoxesAndCrownSlabs) {
-  const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
-  const terrain::Terrain terrain(*scene.terrain);
-  VegetationSettings settings = *scene.vegetation;
-  settings.count = 60;
-  settings.wind_strength = 0.0;  // the boxes and slabs as drawn (impostors do not sway)
-  const vegetation::Forest forest(settings, terrain);
-  const render::ImpostorAtlas atlas(forest);
+  const StillTrees still;
+  const Scene& scene = still.scene;
+  const vegetation::Forest& forest = still.forest;
+  const render::ImpostorAtlas& atlas = still.atlas;
   render::TreeRenderer trees(forest, render::SurfaceOutput::ObjectId, 1);
   trees.setImpostors(&atlas, {1.0, 0.0});  // every tree 1 m away or more: its impostor
   const int size = 200;
@@ -254,13 +266,10 @@ TEST_F(ImpostorGl, AnImpostorStaysInsideItsQueryBoxesAndCrownSlabs) {
 // impostor covers a light-view texel exactly where the mesh's traced silhouette does, but within a
 // bake texel's half diagonal (scaled to the tree) plus a map texel's of the silhouette's edge.
 TEST_F(ImpostorGl, ALoneImpostorsShadowIsItsMeshsWithinATexelOfTheEdge) {
-  const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
-  const terrain::Terrain terrain(*scene.terrain);
-  VegetationSettings settings = *scene.vegetation;
-  settings.count = 60;
-  settings.wind_strength = 0.0;
-  const vegetation::Forest forest(settings, terrain);
-  const render::ImpostorAtlas atlas(forest);
+  const StillTrees still;
+  const Scene& scene = still.scene;
+  const vegetation::Forest& forest = still.forest;
+  const render::ImpostorAtlas& atlas = still.atlas;
   render::TreeRenderer trees(forest, render::SurfaceOutput::ObjectId, 1);
   trees.setImpostors(&atlas, {1.0, 0.0});
   const int size = 256;
@@ -355,13 +364,10 @@ TEST(ImpostorSwitch, TheImpostorsShareRisesContinuouslyOverTheBand) {
 // mesh alone and the impostor alone both cover is written by exactly one of them (so covered), and
 // nothing outside what either covers is.
 TEST_F(ImpostorGl, TheCrossFadeCoversWhatBothRepresentationsCover) {
-  const Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
-  const terrain::Terrain terrain(*scene.terrain);
-  VegetationSettings settings = *scene.vegetation;
-  settings.count = 60;
-  settings.wind_strength = 0.0;
-  const vegetation::Forest forest(settings, terrain);
-  const render::ImpostorAtlas atlas(forest);
+  const StillTrees still;
+  const Scene& scene = still.scene;
+  const vegetation::Forest& forest = still.forest;
+  const render::ImpostorAtlas& atlas = still.atlas;
   render::TreeRenderer trees(forest, render::SurfaceOutput::ObjectId, 1);
   const int size = 200;
   const IdDepthTarget target(size, size);
