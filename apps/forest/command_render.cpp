@@ -234,7 +234,8 @@ int runRender(const RenderOptions& options) {
   j["geometry"] = {{"visible_objects", stats.visibleObjects},
                    {"triangles", stats.geometryTriangles},
                    {"queries", stats.culling.queriesIssued},
-                   {"objects_drawn", stats.culling.objectsDrawn}};
+                   {"objects_drawn", stats.culling.objectsDrawn},
+                   {"impostor_distance_m", stats.impostorDistance}};
   j["shadow"] = {{"casters", stats.casterObjects},
                  {"triangles", stats.shadowTriangles},
                  {"terrain_triangles", stats.shadowTerrainTriangles},
