@@ -1,9 +1,9 @@
 #include "forest/render/impostor_atlas.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 
 #include "forest/gl/shader.hpp"
 
@@ -39,26 +39,14 @@ struct BakeMesh {
   }
 };
 
-float floatOf(std::uint32_t bits) {
-  float f;
-  std::memcpy(&f, &bits, sizeof f);
-  return f;
-}
-
-std::uint32_t bitsOf(float f) {
-  std::uint32_t bits;
-  std::memcpy(&bits, &f, sizeof bits);
-  return bits;
-}
-
 }  // namespace
 
 ImpostorTexel unpackImpostorTexel(const glm::uvec4& packed) {
   ImpostorTexel t;
   t.covered = (packed.y >> 24) != 0u;
   if (!t.covered) return t;
-  t.front = floatOf(packed.x);
-  t.back = floatOf(packed.w);
+  t.front = std::bit_cast<float>(packed.x);
+  t.back = std::bit_cast<float>(packed.w);
   for (int c = 0; c < 3; ++c) {
     t.albedo[c] = ((packed.y >> (8 * c)) & 0xffu) / 255.0;
     t.normal[c] = ((packed.z >> (10 * c)) & 0x3ffu) / 1023.0 * 2.0 - 1.0;
@@ -158,7 +146,7 @@ void ImpostorAtlas::bakeSpecies(const vegetation::SpeciesModel& model, const gl:
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   const double toMetres = 2.0 * sphere.radius;
   for (size_t k = 0; k < layer.size(); ++k)
-    if ((layer[k].y >> 24) != 0u) layer[k].w = bitsOf(static_cast<float>(back[k] * toMetres));
+    if ((layer[k].y >> 24) != 0u) layer[k].w = std::bit_cast<std::uint32_t>(static_cast<float>(back[k] * toMetres));
 }
 
 double ImpostorAtlas::largestError() const {

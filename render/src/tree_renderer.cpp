@@ -3,6 +3,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 
@@ -20,12 +21,6 @@ using vegetation::kTreeLods;
 struct TreeVertex {
   glm::vec3 position, normal, albedo;
 };
-
-std::uint32_t bitsOf(float f) {
-  std::uint32_t bits;
-  std::memcpy(&bits, &f, sizeof bits);
-  return bits;
-}
 
 }  // namespace
 
@@ -61,9 +56,11 @@ TreeRenderer::TreeRenderer(const vegetation::Forest& forest, Output output, std:
   append(quad, quadRange_);
   vertices_ = gl::Buffer(vertices.size() * sizeof(TreeVertex), vertices.data(), 0);
   indices_ = gl::Buffer(indices.size() * sizeof(std::uint32_t), indices.data(), 0);
-  // A segment holds every tree (the largest draw), so the ring never grows.
+  // A segment holds every tree (the largest draw without impostors); a cross-fade's second
+  // instances may grow the ring once.
   instances_ = std::make_unique<gl::StreamRing>(std::max<size_t>(1, forest.trees().size()) * sizeof(InstanceGpu), sizeof(InstanceGpu));
   groupOf_.reserve(forest.trees().size());
+  fadeOf_.reserve(forest.trees().size());
 
   const GLuint vao = vertexArray_.id();
   glVertexArrayVertexBuffer(vao, 0, vertices_.id(), 0, sizeof(TreeVertex));
@@ -195,7 +192,7 @@ TreeRenderer::Groups TreeRenderer::writeInstances(const DrawView& view, std::spa
                                 static_cast<float>(shear.x), static_cast<float>(shear.y));
     g.tint = glm::vec4(tree.tint, 1.0f);
     g.objectId = ids.empty() ? objectIdBase_ + t : ids[i];
-    g.fadeBits = bitsOf(fadeOf_[i]);
+    g.fadeBits = std::bit_cast<std::uint32_t>(fadeOf_[i]);
     g.species = static_cast<std::uint32_t>(tree.species);
     g.padding = 0;
     const int impostorGroup = static_cast<int>(tree.species) * kRepresentations + kImpostor;
