@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <string>
 #include <numbers>
+#include <optional>
+#include <random>
 
 #include "forest/vegetation/crown_slabs.hpp"
 #include "forest/vegetation/species.hpp"
@@ -138,6 +140,37 @@ TEST(CrownSlabs, HoldEveryPointOfEverySpecies) {
       EXPECT_LT(frustaOutline(caster), 0.8 * cylindersOutline(query));
     }
   }
+}
+
+// grownBounds holds every point lineSpan counts inside: random lines through random slabs (steep,
+// flat, widening, narrowing, thin), the points at both ends of the span and between, against the
+// box — whose sides must also be reached (the bound is not loose by more than the slope's share).
+TEST(CrownSlabs, GrownBoundsHoldEveryPointALineSpanTakes) {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  int spans = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    PlacedCrownSlab slab;
+    slab.base = dvec3(10.0 * unit(random) - 5.0, 3.0 * unit(random), 10.0 * unit(random) - 5.0);
+    slab.bottom = slab.base.y + 8.0 * unit(random);
+    slab.top = slab.bottom + (trial % 5 == 0 ? 0.05 : 6.0) * unit(random);
+    slab.radiusBottom = 3.0 * unit(random);
+    slab.radiusTop = 3.0 * unit(random);
+    const double grow = trial % 3 == 0 ? 0.0 : 0.5 * unit(random);
+    const Aabb box = slab.grownBounds(grow);
+    for (int line = 0; line < 20; ++line) {
+      const dvec3 a = slab.base + dvec3(20.0 * unit(random) - 10.0, 20.0 * unit(random) - 5.0, 20.0 * unit(random) - 10.0);
+      const dvec3 d = dvec3(2.0 * unit(random) - 1.0, 2.0 * unit(random) - 1.0, 2.0 * unit(random) - 1.0);
+      const std::optional<glm::dvec2> span = slab.lineSpan(a, d, grow);
+      if (!span) continue;
+      ++spans;
+      for (const double t : {0.0, 0.25, 0.5, 0.75, 1.0}) {
+        const dvec3 p = a + (span->x + t * (span->y - span->x)) * d;
+        ASSERT_TRUE(box.contains(p, 1e-9)) << "trial " << trial << " point " << p.x << " " << p.y << " " << p.z;
+      }
+    }
+  }
+  EXPECT_GT(spans, 1000);
 }
 
 }  // namespace

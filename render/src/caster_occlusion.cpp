@@ -26,8 +26,9 @@ constexpr long long kLargestTestedTexels = 64 * 64;
 constexpr long long kTexelsPerTriangle = 64;
 }  // namespace
 
-CasterOcclusion::CasterOcclusion(const SceneObjects& objects)
-    : objects_(objects), counted_(objects.treeCount(), 0), marked_(objects.treeCount(), 0) {}
+CasterOcclusion::CasterOcclusion(const SceneObjects& objects, WorkerThreads& workers)
+    : objects_(objects), counted_(objects.treeCount(), 0), marked_(objects.treeCount(), 0), workers_(workers),
+      slabs_(static_cast<size_t>(workers.count())) {}
 
 void CasterOcclusion::beginFrame() {
   counted_.swap(marked_);
@@ -68,30 +69,99 @@ void CasterOcclusion::keepUnhidden(const shadows::ShadowSetup& setup, int mapSiz
                                    const dvec3& eye, std::vector<std::uint32_t>& trees) {
   if (mask.everywhere() || rect.empty()) return;  // a receiver the map cannot place: keep them all
   clipToWorld_ = glm::inverse(setup.worldToShadowClip);
-  long long tested = 0, culled = 0;
-  const auto hidden = [&](std::uint32_t o) {
-    const std::uint32_t tree = objects_.objects()[o].index;
-    const long long t = triangles(tree, eye);
-    tested += t;
-    if (treeMayShow(tree, setup, mapSize, mask, reachTexels, rect, depths)) return false;
-    culled += t;
-    return true;
-  };
-  trees.erase(std::remove_if(trees.begin(), trees.end(), hidden), trees.end());
-  culledShare_ = tested > 0 ? std::max(0.01, static_cast<double>(culled) / static_cast<double>(tested)) : culledShare_;
+  heldDepths_.build(depths, rect.x1 - rect.x0, rect.y1 - rect.y0);
+  // The trees in runs of 64 dealt round the parts (neighbouring trees cost alike).
+  constexpr size_t kRun = 64;
+  const size_t parts = static_cast<size_t>(workers_.count());
+  keep_.assign(trees.size(), 0);
+  std::vector<long long> tested(parts, 0), culled(parts, 0);
+  workers_.run([&](int part) {
+    const size_t p = static_cast<size_t>(part);
+    std::vector<vegetation::PlacedCrownSlab>& slabs = slabs_[p];
+    for (size_t start = p * kRun; start < trees.size(); start += parts * kRun)
+      for (size_t i = start; i < std::min(trees.size(), start + kRun); ++i) {
+        const std::uint32_t tree = objects_.objects()[trees[i]].index;
+        const long long t = triangles(tree, eye);
+        tested[p] += t;
+        slabs.clear();
+        objects_.forest()->placedCasterSlabs(tree, slabs);
+        keep_[i] = !hiddenByHeldDepths(slabs, setup, mapSize, rect) && treeMayShow(slabs, setup, mapSize, mask, reachTexels, rect, depths);
+        if (!keep_[i]) culled[p] += t;
+      }
+  });
+  size_t kept = 0;
+  for (size_t i = 0; i < trees.size(); ++i)
+    if (keep_[i]) trees[kept++] = trees[i];
+  trees.resize(kept);
+  long long testedAll = 0, culledAll = 0;
+  for (size_t p = 0; p < parts; ++p) {
+    testedAll += tested[p];
+    culledAll += culled[p];
+  }
+  culledShare_ = testedAll > 0 ? std::max(0.01, static_cast<double>(culledAll) / static_cast<double>(testedAll)) : culledShare_;
 }
 
-// Whether one of the tree's crown slabs may lower a texel of the layer that a receiver beyond it
-// reads (keepUnhidden).
-bool CasterOcclusion::treeMayShow(std::uint32_t tree, const shadows::ShadowSetup& setup, int mapSize, const shadows::ReceiverMask& mask,
-                                  double reachTexels, const shadows::TexelRect& rect, std::span<const float> depths) {
-  slabs_.clear();
-  objects_.forest()->placedCasterSlabs(tree, slabs_);
+// Whether the tree's slabs lie at or beyond the largest depth the layer holds over the
+// texels they may cover. The box around them, grown by the most treeMayShow grows a slab (a
+// texel's kCentreMargin at one texel per slab, plus 0.01 m: PlacedCrownSlab::grownBounds), bounds every point its line test can
+// take as an entry; a projective map with w > 0 over the box takes its least depth at a corner
+// (z/w is linear-fractional along every line). Where that least depth is not nearer than any depth
+// held over the box's texels, no slab's entry is nearer than the layer at any texel it covers, and
+// treeMayShow would return false: deciding here changes no tree's fate, only the time.
+bool CasterOcclusion::hiddenByHeldDepths(std::span<const vegetation::PlacedCrownSlab> slabs, const shadows::ShadowSetup& setup, int mapSize,
+                                         const shadows::TexelRect& rect) const {
+  Aabb corners;  // the slabs' corners' box: a slab's extent in treeMayShow is within it
+  for (const vegetation::PlacedCrownSlab& slab : slabs) corners.extend(slab.grownBounds(0.0));
+  if (!corners.valid()) return true;  // no slab: nothing the exact test would keep
+  const double grow = kCentreMargin * corners.diagonal() + 0.01;
+  Aabb box;
+  for (const vegetation::PlacedCrownSlab& slab : slabs) box.extend(slab.grownBounds(grow));
+  dvec2 lo(std::numeric_limits<double>::infinity()), hi(-lo);
+  double nearest = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 8; ++i) {
+    const dvec3 c = box.corner(i);
+    const dvec4 h = setup.worldToShadowClip * dvec4(c, 1.0);
+    if (!(h.w > 0.0)) return false;  // behind the light's projection: left to the exact test
+    const dvec2 t = (dvec2(h) / h.w * 0.5 + 0.5) * static_cast<double>(mapSize);
+    if (!std::isfinite(t.x) || !std::isfinite(t.y) || !std::isfinite(h.z / h.w)) return false;
+    lo = glm::min(lo, t);
+    hi = glm::max(hi, t);
+    nearest = std::min(nearest, h.z / h.w);
+  }
+  // The texel centres it may cover inside the rectangle drawn (as treeMayShow's per slab).
+  const int x0 = std::max(rect.x0, static_cast<int>(std::ceil(lo.x - 0.5 - kCentreMargin)));
+  const int x1 = std::min(rect.x1 - 1, static_cast<int>(std::floor(hi.x - 0.5 + kCentreMargin)));
+  const int y0 = std::max(rect.y0, static_cast<int>(std::ceil(lo.y - 0.5 - kCentreMargin)));
+  const int y1 = std::min(rect.y1 - 1, static_cast<int>(std::floor(hi.y - 0.5 + kCentreMargin)));
+  if (x0 > x1 || y0 > y1) return true;  // no texel centre the pass draws
+  const double farthestHeld = 2.0 * static_cast<double>(heldDepths_.maxOver(x0 - rect.x0, y0 - rect.y0, x1 - rect.x0, y1 - rect.y0)) - 1.0;
+  return nearest - kDepthTolerance >= farthestHeld;
+}
+
+// Whether every point of `grown` (the box around a slab grown by its line test's margin) lies at or beyond the largest depth held over texels [x0, x1] × [y0, y1]: then no line
+// through them enters it nearer than the layer (hiddenByHeldDepths' argument, for one slab).
+bool CasterOcclusion::slabBehindHeldDepths(const Aabb& grown, const shadows::ShadowSetup& setup, const shadows::TexelRect& rect, int x0,
+                                           int y0, int x1, int y1) const {
+  double nearest = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 8; ++i) {
+    const dvec4 h = setup.worldToShadowClip * dvec4(grown.corner(i), 1.0);
+    if (!(h.w > 0.0) || !std::isfinite(h.z / h.w)) return false;
+    nearest = std::min(nearest, h.z / h.w);
+  }
+  const double farthestHeld = 2.0 * static_cast<double>(heldDepths_.maxOver(x0 - rect.x0, y0 - rect.y0, x1 - rect.x0, y1 - rect.y0)) - 1.0;
+  return nearest - kDepthTolerance >= farthestHeld;
+}
+
+// Whether one of the tree's crown slabs may lower a texel of the layer that a receiver
+// beyond it reads (keepUnhidden).
+bool CasterOcclusion::treeMayShow(std::span<const vegetation::PlacedCrownSlab> slabs, const shadows::ShadowSetup& setup, int mapSize,
+                                  const shadows::ReceiverMask& mask, double reachTexels, const shadows::TexelRect& rect,
+                                  std::span<const float> depths) const {
   const auto depthOf = [&](const dvec3& p) {
     const dvec4 h = setup.worldToShadowClip * dvec4(p, 1.0);
     return h.z / h.w;
   };
-  for (const vegetation::PlacedCrownSlab& slab : slabs_) {
+  for (const vegetation::PlacedCrownSlab& slab : slabs) {
     // The slab's footprint in texels, and its extent (for the margin in the world).
     dvec2 lo(std::numeric_limits<double>::infinity()), hi(-lo);
     Aabb extent;
@@ -114,6 +184,7 @@ bool CasterOcclusion::treeMayShow(std::uint32_t tree, const shadows::ShadowSetup
     // kCentreMargin of a texel in the world, at the largest world size per texel the slab spans.
     const dvec2 texels = glm::max(hi - lo, dvec2(1.0));
     const double grow = kCentreMargin * extent.diagonal() / std::min(texels.x, texels.y) + 0.01;
+    if (slabBehindHeldDepths(slab.grownBounds(grow), setup, rect, x0, y0, x1, y1)) continue;
     for (int y = y0; y <= y1; ++y)
       for (int x = x0; x <= x1; ++x) {
         const std::optional<double> farthest = mask.farthestReading(x, y, reachTexels);

@@ -12,15 +12,18 @@
 #include <span>
 #include <vector>
 
+#include "forest/core/max_pyramid.hpp"
 #include "forest/render/scene_objects.hpp"
 #include "forest/shadows/receiver_mask.hpp"
 #include "forest/shadows/shadow_setup.hpp"
+#include "worker_threads.hpp"
 
 namespace forest::render {
 
 class CasterOcclusion {
  public:
-  explicit CasterOcclusion(const SceneObjects& objects);
+  // `workers` share out keepUnhidden's trees (the rasteriser waits meanwhile: its layer was read back).
+  CasterOcclusion(const SceneObjects& objects, WorkerThreads& workers);
   // A new frame: the trees marked in the last one count.
   void beginFrame();
   // Whether culling pays on a layer (HiddenCasters::Auto): the triangles it is expected to leave out
@@ -45,14 +48,25 @@ class CasterOcclusion {
 
  private:
   long long triangles(std::uint32_t tree, const glm::dvec3& eye) const;  // at the eye's LOD
-  bool treeMayShow(std::uint32_t tree, const shadows::ShadowSetup& setup, int mapSize, const shadows::ReceiverMask& mask,
-                   double reachTexels, const shadows::TexelRect& rect, std::span<const float> depths);
+  // The tree's crown slabs …
+  // … all at or beyond the largest depth the layer holds over their footprint (heldDepths_): a
+  // conservative test in constant time that decides most hidden trees before treeMayShow.
+  bool hiddenByHeldDepths(std::span<const vegetation::PlacedCrownSlab> slabs, const shadows::ShadowSetup& setup, int mapSize,
+                          const shadows::TexelRect& rect) const;
+  bool slabBehindHeldDepths(const Aabb& grown, const shadows::ShadowSetup& setup, const shadows::TexelRect& rect, int x0, int y0, int x1,
+                            int y1) const;
+  // … may lower a texel of the layer that a receiver beyond them reads (the exact test).
+  bool treeMayShow(std::span<const vegetation::PlacedCrownSlab> slabs, const shadows::ShadowSetup& setup, int mapSize,
+                   const shadows::ReceiverMask& mask, double reachTexels, const shadows::TexelRect& rect, std::span<const float> depths) const;
 
   const SceneObjects& objects_;
   std::vector<std::uint8_t> counted_, marked_;  // per tree: counted in the last frame, marked in this one
   glm::dmat4 clipToWorld_{1.0};                 // the slice's, for keepUnhidden
   double culledShare_ = 1.0;                    // of the tested trees' triangles, left out when last culled
-  std::vector<vegetation::PlacedCrownSlab> slabs_;  // one tree's
+  WorkerThreads& workers_;
+  std::vector<std::vector<vegetation::PlacedCrownSlab>> slabs_;  // per part: one tree's
+  std::vector<std::uint8_t> keep_;                               // per tree tested: it may show
+  MaxPyramid heldDepths_;                           // the layer's depths read back, over the rectangle drawn
 };
 
 }  // namespace forest::render

@@ -111,7 +111,7 @@ void FrameStats::setPassTimes(const gl::FrameTiming& timing) {
 // The passes in the order they run (DESIGN §1), with their GPU resources, and what a frame tells
 // the next (FrameHistory).
 struct Frame::Passes {
-  WorkerThreads cpuWorkers{hardwareParts()};  // the CPU's parallel work: the receiver mask, the record from pixels
+  WorkerThreads cpuWorkers{hardwareParts()};  // the CPU's parallel work: the receiver mask, the record from pixels, hidden casters
   GeometryPass geometry;
   NearestDepthPass nearestDepth;  // for the cascades' splits
   ReceiverPixels receiverPixels;  // for CasterSelection::ReceiverPixels
@@ -130,7 +130,7 @@ struct Frame::Passes {
          const std::vector<PropBox>& props, int width, int height, const CullingSettings& culling)
       : geometry(objects, terrain, forest, props, width, height, culling),
         shadowSetup(cpuWorkers),
-        shadow(objects, terrain, forest, props),
+        shadow(objects, terrain, forest, props, cpuWorkers),
         shadowTerm(width, height),
         lighting(width, height, geometry.gbuffer()),
         history(objects, culling) {}

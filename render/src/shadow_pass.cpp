@@ -49,8 +49,9 @@ glm::dmat4 eyeRelativeToShadowClip(const shadows::ShadowSetup& setup, const dvec
 }
 
 ShadowPass::ShadowPass(const SceneObjects& objects, const terrain::Terrain* terrain, const vegetation::Forest* forest,
-                       const std::vector<PropBox>& props)
-    : objects_(objects), terrainSource_(terrain), forestSource_(forest), propsSource_(props), cache_(objects, terrain, forest) {
+                       const std::vector<PropBox>& props, WorkerThreads& workers)
+    : objects_(objects),
+      workers_(workers), terrainSource_(terrain), forestSource_(forest), propsSource_(props), cache_(objects, terrain, forest) {
   if (terrain) terrain_ = std::make_unique<TerrainRenderer>(*terrain, TerrainRenderer::Output::ObjectId, objects.terrainIdBase());
   if (forest) trees_ = std::make_unique<TreeRenderer>(*forest, SurfaceOutput::ObjectId, objects.treeIdBase());
   props_ = std::make_unique<PropRenderer>(props, SurfaceOutput::ObjectId, objects.propIdBase());
@@ -155,7 +156,7 @@ long long ShadowPass::run(const ShadowPlan& plan, const DrawView& eye, const ter
   const bool profiling = settings.timing == gl::TimingMode::Profiling;
   // The read-back path culls the trees hidden from the sun (its layers drawn whole: not cached).
   const bool occluding = settings.hiddenCasters != HiddenCasters::Draw && !filteredOnGpu_ && !caching && forestSource_ != nullptr;
-  if (occluding && !occlusion_) occlusion_ = std::make_unique<CasterOcclusion>(objects_);
+  if (occluding && !occlusion_) occlusion_ = std::make_unique<CasterOcclusion>(objects_, workers_);
   if (occluding) occlusion_->beginFrame();
   for (std::optional<std::vector<std::uint32_t>>& trees : treesOccluded_) trees.reset();
   for (int i = 0; i < plan.cascades; ++i) {

@@ -21,8 +21,9 @@ glm::dmat4 eyeRelativeToShadowClip(const shadows::ShadowSetup& setup, const glm:
 
 class ShadowPass {
  public:
+  // `workers`: the CPU's threads (the read-back path's hidden-caster test).
   ShadowPass(const SceneObjects& objects, const terrain::Terrain* terrain, const vegetation::Forest* forest,
-             const std::vector<PropBox>& props);
+             const std::vector<PropBox>& props, WorkerThreads& workers);
 
   // Clears each slice's layer (to the far depth) and draws its casters when the plan is shadowed.
   // Returns the triangles drawn; each slice's triangles (and, with Profiling timing, its time) go
@@ -69,6 +70,7 @@ class ShadowPass {
   int countOtherThanTrees(std::span<const std::uint32_t> casters) const;  // the tiles and props among them
 
   const SceneObjects& objects_;
+  WorkerThreads& workers_;
   const terrain::Terrain* terrainSource_;
   const vegetation::Forest* forestSource_;
   const std::vector<PropBox>& propsSource_;  // the scene's, moved by the caller

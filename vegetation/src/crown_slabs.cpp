@@ -21,13 +21,22 @@ double CrownSlab::radiusAt(double y) const {
 
 std::array<dvec3, 16> PlacedCrownSlab::corners() const {
   // An octagon of apothem ρ has its corners at ρ / cos(π/8), at π/8 + k·π/4.
-  constexpr double kCornerRadius = 1.0 / 0.92387953251128674;  // 1 / cos(π/8)
-  std::array<dvec3, 16> c;
-  for (int end = 0; end < 2; ++end) {
-    const double y = end == 0 ? bottom : top, r = (end == 0 ? radiusBottom : radiusTop) * kCornerRadius;
+  // (cos, sin) of π/8 + k·π/4 over cos(π/8): the corners' directions at unit apothem, computed
+  // once (the hidden-caster test takes a million trees' corners a frame).
+  static const std::array<glm::dvec2, 8> kCorners = [] {
+    std::array<glm::dvec2, 8> d;
     for (int k = 0; k < 8; ++k) {
       const double angle = std::numbers::pi / 8.0 + k * std::numbers::pi / 4.0;
-      c[static_cast<size_t>(8 * end + k)] = base + dvec3(r * std::cos(angle), y - base.y, r * std::sin(angle));
+      d[static_cast<size_t>(k)] = glm::dvec2(std::cos(angle), std::sin(angle)) / std::cos(std::numbers::pi / 8.0);
+    }
+    return d;
+  }();
+  std::array<dvec3, 16> c;
+  for (int end = 0; end < 2; ++end) {
+    const double y = end == 0 ? bottom : top, r = end == 0 ? radiusBottom : radiusTop;
+    for (int k = 0; k < 8; ++k) {
+      const glm::dvec2 d = r * kCorners[static_cast<size_t>(k)];
+      c[static_cast<size_t>(8 * end + k)] = base + dvec3(d.x, y - base.y, d.y);
     }
   }
   return c;
@@ -65,6 +74,16 @@ std::optional<dvec2> PlacedCrownSlab::lineSpan(const dvec3& a, const dvec3& d, d
   }
   if (!(sNear <= sFar)) return std::nullopt;
   return dvec2(sNear, sFar);
+}
+
+Aabb PlacedCrownSlab::grownBounds(double grow) const {
+  // lineSpan's body at height y has the apothem ρ(y) + grow (1 + |slope|), ρ extrapolated over
+  // [bottom − grow, top + grow]: at most max(radii) + grow |slope| + grow (1 + |slope|); an
+  // octagon's x and z extents are its apothem.
+  const double height = top - bottom;
+  const double slope = height > 0.0 ? std::abs(radiusTop - radiusBottom) / height : 0.0;
+  const double r = std::max(radiusBottom, radiusTop) + grow * (1.0 + 2.0 * slope);
+  return Aabb{dvec3(base.x - r, bottom - grow, base.z - r), dvec3(base.x + r, top + grow, base.z + r)};
 }
 
 namespace {

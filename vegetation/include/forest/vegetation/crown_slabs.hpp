@@ -38,6 +38,8 @@ struct PlacedCrownSlab {
   // The parameters [s0, s1] of the line a + s·d inside the octagonal frustum grown by `grow` (its
   // faces moved out by at least that), or none where the line misses it (Cyrus–Beck).
   std::optional<glm::dvec2> lineSpan(const glm::dvec3& a, const glm::dvec3& d, double grow) const;
+  // The box that holds the body lineSpan tests with `grow` ≥ 0 (the corners' box at 0).
+  Aabb grownBounds(double grow) const;
 };
 
 // `count` equal slabs of `bounds`' height (the species' box over all LODs), each cut to the triangle
