@@ -1,6 +1,7 @@
 #include "caster_occlusion.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 
@@ -42,13 +43,17 @@ long long CasterOcclusion::triangles(std::uint32_t tree, const dvec3& eye) const
 }
 
 bool CasterOcclusion::worthCulling(std::span<const std::uint32_t> casters, long long texels, const dvec3& eye) {
-  double expected = 0.0;
+  double expected = 0.0, tested = 0.0;
   for (std::uint32_t o : casters) {
     const SceneObjects::Object& object = objects_.objects()[o];
     if (object.kind != SceneObjects::Kind::Tree || counted_[object.index] != 0) continue;
     expected += culledShare_ * static_cast<double>(triangles(object.index, eye));
-    if (expected * kTexelsPerTriangle >= static_cast<double>(texels)) return true;
+    tested += 1.0;
   }
+  // In triangles' time: the read-backs at kTexelsPerTriangle texels a triangle, the test at its
+  // measured price (0 until measured: the read-backs alone decide, as on a first layer).
+  const double testTriangles = msPerTriangle_ > 0.0 ? tested * msPerTestedTree_ / msPerTriangle_ : 0.0;
+  if (expected >= static_cast<double>(texels) / kTexelsPerTriangle + testTriangles) return true;
   culledShare_ = std::min(1.0, culledShare_ * 1.1);
   return false;
 }
@@ -70,6 +75,7 @@ void CasterOcclusion::keepUnhidden(const shadows::ShadowSetup& setup, int mapSiz
   if (mask.everywhere() || rect.empty()) return;  // a receiver the map cannot place: keep them all
   clipToWorld_ = glm::inverse(setup.worldToShadowClip);
   heldDepths_.build(depths, rect.x1 - rect.x0, rect.y1 - rect.y0);
+  const auto testStart = std::chrono::steady_clock::now();
   // The trees in runs of 64 dealt round the parts (neighbouring trees cost alike).
   constexpr size_t kRun = 64;
   const size_t parts = static_cast<size_t>(workers_.count());
@@ -99,6 +105,17 @@ void CasterOcclusion::keepUnhidden(const shadows::ShadowSetup& setup, int mapSiz
     culledAll += culled[p];
   }
   culledShare_ = testedAll > 0 ? std::max(0.01, static_cast<double>(culledAll) / static_cast<double>(testedAll)) : culledShare_;
+  lastTestMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - testStart).count();
+  lastTested_ = keep_.size();
+}
+
+void CasterOcclusion::measuredCosts(double drawMs, std::span<const std::uint32_t> drawn, const dvec3& eye) {
+  long long drawnTriangles = 0;
+  for (std::uint32_t o : drawn)
+    if (objects_.objects()[o].kind == SceneObjects::Kind::Tree) drawnTriangles += triangles(objects_.objects()[o].index, eye);
+  if (drawnTriangles == 0 || lastTested_ == 0) return;  // nothing to price by
+  msPerTriangle_ = drawMs / static_cast<double>(drawnTriangles);
+  msPerTestedTree_ = lastTestMs_ / static_cast<double>(lastTested_);
 }
 
 // Whether the tree's slabs lie at or beyond the largest depth the layer holds over the

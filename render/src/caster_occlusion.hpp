@@ -28,9 +28,15 @@ class CasterOcclusion {
   void beginFrame();
   // Whether culling pays on a layer (HiddenCasters::Auto): the triangles it is expected to leave out
   // — those of the trees that did not count, at the eye's LODs, times the share it left out when it
-  // last culled — against its two read-backs of `texels`. A layer not culled lets that share grow
-  // back by a tenth a frame, so a view that changes is tried again.
+  // last culled — against its two read-backs of `texels` and its test of each tree that did not
+  // count, in the time each took when it last culled (measuredCosts; before that, the test free).
+  // A layer not culled lets that share grow back by a tenth a frame, so a view that changes is
+  // tried again.
   bool worthCulling(std::span<const std::uint32_t> casters, long long texels, const glm::dvec3& eye);
+  // The wall time of the last culled layer's draw of the trees kept (`drawMs`, ending in a
+  // read-back, so the GPU's work is in it) over their triangles at the eye's LODs, and of
+  // keepUnhidden's test per tree (timed there): worthCulling's prices from then on.
+  void measuredCosts(double drawMs, std::span<const std::uint32_t> drawn, const glm::dvec3& eye);
   // Splits `casters` (object indices) into what is drawn first — everything but the trees that did
   // not count in the last frame — and those trees.
   void split(std::span<const std::uint32_t> casters, std::vector<std::uint32_t>& first, std::vector<std::uint32_t>& others) const;
@@ -63,6 +69,9 @@ class CasterOcclusion {
   std::vector<std::uint8_t> counted_, marked_;  // per tree: counted in the last frame, marked in this one
   glm::dmat4 clipToWorld_{1.0};                 // the slice's, for keepUnhidden
   double culledShare_ = 1.0;                    // of the tested trees' triangles, left out when last culled
+  double msPerTestedTree_ = 0.0, msPerTriangle_ = 0.0;  // measured when last culled (0: not yet)
+  double lastTestMs_ = 0.0;
+  std::size_t lastTested_ = 0;
   WorkerThreads& workers_;
   std::vector<std::vector<vegetation::PlacedCrownSlab>> slabs_;  // per part: one tree's
   std::vector<std::uint8_t> keep_;                               // per tree tested: it may show

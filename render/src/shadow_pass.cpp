@@ -257,10 +257,14 @@ long long ShadowPass::drawWithOcclusion(int i, const ShadowSlice& slice, const L
   occlusion_->keepUnhidden(slice.setup, slice.mapSize, *slice.receiverMask, reach, rect, depthsRead_, eye.origin, others_);
   phase.casters = others_;
   phase.blocks = {};  // the terrain went with the first draw
+  const auto secondDraw = std::chrono::steady_clock::now();
   drawn += drawSlice(slice, phase, eye, lod, settings, l, stats.shadowTerrainTriangles);
   idsRead_.resize(texels);
   glGetTextureSubImage(ids_.id(), 0, rect.x0, rect.y0, i, width, height, 1, GL_RED_INTEGER, GL_UNSIGNED_INT,
                        static_cast<GLsizei>(texels * sizeof(std::uint32_t)), idsRead_.data());
+  // The read waited for the draw: its wall time prices the trees worthCulling weighs.
+  occlusion_->measuredCosts(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - secondDraw).count(), others_,
+                            eye.origin);
   occlusion_->markCounted(*slice.receiverMask, reach, rect, idsRead_);
   // What the layer drew: the trees of both draws, for the statistics and the truth.
   std::vector<std::uint32_t>& trees = treesOccluded_[static_cast<size_t>(i)].emplace(others_);
