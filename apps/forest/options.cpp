@@ -149,7 +149,8 @@ void FrameOptions::add(CLI::App& command, bool withCulling) {
                      "the last frame's map drawn first, the layer read back, every other tree drawn only where\n"
                      "it may come nearer the light at a texel a receiver beyond it reads), draw (all that the\n"
                      "receiver mask keeps), or auto (cull where the other trees' triangles outweigh the layer's\n"
-                     "read-backs: a landscape, not a grove). The term is the same")
+                     "read-backs and their test, each priced at what it took when a layer was last culled).\n"
+                     "The term is the same")
       ->check(CLI::IsMember({"auto", "cull", "draw"}))
       ->capture_default_str();
   command.add_option("--impostors", impostors,

@@ -64,7 +64,7 @@ inline constexpr EnumNames<CasterSelection, 5> kCasterSelectionNames{
 
 // The read-back path's trees hidden from the sun (render/src/caster_occlusion.hpp): culled between
 // two draws of each layer (the layer read back between them), drawn with the rest, or culled where
-// the trees it could leave out outweigh the read-backs (kTrianglesPerTexelReadBack).
+// the trees it could leave out outweigh the read-backs and their test (CasterOcclusion::worthCulling).
 // FrameSettings::impostorDistance: the distance where an impostor errs by at most a pixel.
 inline constexpr double kImpostorDistanceAuto = -1.0;
 
