@@ -20,6 +20,10 @@ vec2 crownSlabSpan(Crown c, float grow, vec3 a, vec3 d) {
   // Each plane as n·q ≤ k: the slab's floor and roof, then the eight sides, whose bound is the
   // radius at the point's height, ρ(y) = r.x + slope (y − h.x), grown.
   float slope = c.h.y > c.h.x ? (c.r.y - c.r.x) / (c.h.y - c.h.x) : 0.0;
+  const float kHalfRoot2 = 0.70710678;  // (cos, sin) of k·π/4
+  const vec2 kSides[8] = vec2[8](vec2(1.0, 0.0), vec2(kHalfRoot2, kHalfRoot2), vec2(0.0, 1.0), vec2(-kHalfRoot2, kHalfRoot2),
+                                 vec2(-1.0, 0.0), vec2(-kHalfRoot2, -kHalfRoot2), vec2(0.0, -1.0), vec2(kHalfRoot2, -kHalfRoot2));
+  float sideK = c.r.x - slope * c.h.x + grow * (1.0 + abs(slope));
   for (int i = 0; i < 10; ++i) {
     vec3 n;
     float k;
@@ -30,9 +34,8 @@ vec2 crownSlabSpan(Crown c, float grow, vec3 a, vec3 d) {
       n = vec3(0.0, 1.0, 0.0);
       k = c.h.y + grow;
     } else {
-      float angle = float(i - 2) * 0.78539816;  // π/4
-      n = vec3(cos(angle), -slope, sin(angle));
-      k = c.r.x - slope * c.h.x + grow * (1.0 + abs(slope));
+      n = vec3(kSides[i - 2].x, -slope, kSides[i - 2].y);
+      k = sideK;
     }
     float along = dot(n, ld), at = k - dot(n, la);  // inside: at − s·along ≥ 0
     if (abs(along) < 1e-20) {

@@ -72,6 +72,24 @@ float crownSlabsEntry(vec3 a, vec3 d) {
   return entry;
 }
 
+// Whether p (relative to the view's origin) lies inside one of the tree's crown slabs with their
+// faces moved in by 1 cm — inside those crownSlabsEntry takes (1 mm in), with room for float32.
+bool insideCrownSlabs(vec3 p) {
+  const float kIn = 1e-2;
+  float scale = vBaseScale.w;
+  vec3 q = p - vBaseScale.xyz;
+  float across = max(max(abs(q.x), abs(q.z)), (abs(q.x) + abs(q.z)) * 0.70710678);  // the octagon's support at q
+  bool inside = false;
+  for (int k = 0; k < 8; ++k) {
+    vec4 slab = uImpostor.casterSlabs[vSpecies * 8u + uint(k)];
+    vec2 h = scale * slab.xy, r = scale * slab.zw;
+    float slope = h.y > h.x ? (r.y - r.x) / (h.y - h.x) : 0.0;
+    float apothem = r.x + slope * (q.y - h.x) - kIn * (1.0 + abs(slope));
+    inside = inside || (slab.x <= slab.y && q.y >= h.x + kIn && q.y <= h.y - kIn && across <= apothem);
+  }
+  return inside;
+}
+
 // The pass's depth of a point (relative to the view's origin): the window depth, or the linear
 // light depth (TSM §4, light_depth.frag) — and the farther of two as the pass's depth test sees it.
 float passDepth(vec3 p) {
@@ -83,6 +101,15 @@ float passDepth(vec3 p) {
 #endif
 }
 float fartherDepth(float a, float b) { return uView.viewer.y > 0.0 ? max(a, b) : min(a, b); }
+// The point of the line a + s·d at pass depth `depth` (NaN or ∞ where the line keeps one depth).
+vec3 pointAtDepth(vec3 a, vec3 d, float depth) {
+#if defined(OUTPUT_LIGHT_DEPTH)
+  return a + (depth - passDepth(a)) / (0.5 * dot(uView.lightDepthRow.xyz, d)) * d;
+#else
+  vec4 h0 = uView.viewProjectionRelative * vec4(a, 1.0), hd = uView.viewProjectionRelative * vec4(d, 0.0);
+  return a + (depth * h0.w - h0.z) / (hd.z - depth * hd.w) * d;
+#endif
+}
 
 void main() {
   uvec4 texel = texelFetch(uImpostorAtlas, ivec3(ivec2(floor(vTexel)), int(vSpecies)), 0);
@@ -93,11 +120,18 @@ void main() {
   vec3 surface = vQuad - s * vBaseScale.w * vToViewer;
   // The fragment's line: from the eye (the view's origin) through it, or along the sun's rays.
   vec3 a = fromSun ? vQuad : vec3(0.0), d = fromSun ? -uView.toSunAmbient.xyz : vQuad;
-  float entry = fromSun ? crownSlabsEntry(a, d) : queryBoxesEntry(a, d);
-  if (entry >= 1e30) discard;
-  vec3 entered = a + entry * d;
-  float surfaceDepth = passDepth(surface), depth = fartherDepth(surfaceDepth, passDepth(entered));
-  vec3 written = depth == surfaceDepth ? surface : entered;
+  float surfaceDepth = passDepth(surface), depth = surfaceDepth;
+  vec3 written = surface;
+  // From the sun: where the fragment's line is inside the crown slabs at the baked point's depth, it
+  // entered them nearer — that depth stands, and the line test (the pass's dearest part on llvmpipe,
+  // which skips a branch no fragment of a block takes) is needed only near the slabs' faces.
+  if (!(fromSun && insideCrownSlabs(pointAtDepth(a, d, surfaceDepth)))) {
+    float entry = fromSun ? crownSlabsEntry(a, d) : queryBoxesEntry(a, d);
+    if (entry >= 1e30) discard;
+    vec3 entered = a + entry * d;
+    depth = fartherDepth(surfaceDepth, passDepth(entered));
+    written = depth == surfaceDepth ? surface : entered;
+  }
 #if defined(OUTPUT_QUERY_STAMP)
   writeQueryStamp(vObjectId);  // early fragment tests: the quad's depth, nearer than `depth`
 #else
