@@ -29,7 +29,9 @@ constexpr long long kTexelsPerTriangle = 64;
 
 CasterOcclusion::CasterOcclusion(const SceneObjects& objects, WorkerThreads& workers)
     : objects_(objects), counted_(objects.treeCount(), 0), marked_(objects.treeCount(), 0), workers_(workers),
-      slabs_(static_cast<size_t>(workers.count())) {}
+      slabs_(static_cast<size_t>(workers.count())),
+      tested_(static_cast<size_t>(workers.count())),
+      culled_(static_cast<size_t>(workers.count())) {}
 
 void CasterOcclusion::beginFrame() {
   counted_.swap(marked_);
@@ -80,7 +82,8 @@ void CasterOcclusion::keepUnhidden(const shadows::ShadowSetup& setup, int mapSiz
   constexpr size_t kRun = 64;
   const size_t parts = static_cast<size_t>(workers_.count());
   keep_.assign(trees.size(), 0);
-  std::vector<long long> tested(parts, 0), culled(parts, 0);
+  std::fill(tested_.begin(), tested_.end(), 0);
+  std::fill(culled_.begin(), culled_.end(), 0);
   workers_.run([&](int part) {
     const size_t p = static_cast<size_t>(part);
     std::vector<vegetation::PlacedCrownSlab>& slabs = slabs_[p];
@@ -88,11 +91,11 @@ void CasterOcclusion::keepUnhidden(const shadows::ShadowSetup& setup, int mapSiz
       for (size_t i = start; i < std::min(trees.size(), start + kRun); ++i) {
         const std::uint32_t tree = objects_.objects()[trees[i]].index;
         const long long t = triangles(tree, eye);
-        tested[p] += t;
+        tested_[p] += t;
         slabs.clear();
         objects_.forest()->placedCasterSlabs(tree, slabs);
         keep_[i] = !hiddenByHeldDepths(slabs, setup, mapSize, rect) && treeMayShow(slabs, setup, mapSize, mask, reachTexels, rect, depths);
-        if (!keep_[i]) culled[p] += t;
+        if (!keep_[i]) culled_[p] += t;
       }
   });
   size_t kept = 0;
@@ -101,8 +104,8 @@ void CasterOcclusion::keepUnhidden(const shadows::ShadowSetup& setup, int mapSiz
   trees.resize(kept);
   long long testedAll = 0, culledAll = 0;
   for (size_t p = 0; p < parts; ++p) {
-    testedAll += tested[p];
-    culledAll += culled[p];
+    testedAll += tested_[p];
+    culledAll += culled_[p];
   }
   culledShare_ = testedAll > 0 ? std::max(0.01, static_cast<double>(culledAll) / static_cast<double>(testedAll)) : culledShare_;
   lastTestMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - testStart).count();
@@ -118,10 +121,10 @@ void CasterOcclusion::measuredCosts(double drawMs, std::span<const std::uint32_t
   msPerTestedTree_ = lastTestMs_ / static_cast<double>(lastTested_);
 }
 
-// Whether the tree's slabs lie at or beyond the largest depth the layer holds over the
-// texels they may cover. The box around them, grown by the most treeMayShow grows a slab (a
-// texel's kCentreMargin at one texel per slab, plus 0.01 m: PlacedCrownSlab::grownBounds), bounds every point its line test can
-// take as an entry; a projective map with w > 0 over the box takes its least depth at a corner
+// Whether the tree's slabs lie at or beyond the largest depth the layer holds over the texels
+// they may cover. The box around them, grown by the most treeMayShow grows a slab (a texel's
+// kCentreMargin at one texel per slab, plus 0.01 m: PlacedCrownSlab::grownBounds), bounds every
+// point its line test can take as an entry; a projective map with w > 0 over the box takes its least depth at a corner
 // (z/w is linear-fractional along every line). Where that least depth is not nearer than any depth
 // held over the box's texels, no slab's entry is nearer than the layer at any texel it covers, and
 // treeMayShow would return false: deciding here changes no tree's fate, only the time.
@@ -151,12 +154,19 @@ bool CasterOcclusion::hiddenByHeldDepths(std::span<const vegetation::PlacedCrown
   const int y0 = std::max(rect.y0, static_cast<int>(std::ceil(lo.y - 0.5 - kCentreMargin)));
   const int y1 = std::min(rect.y1 - 1, static_cast<int>(std::floor(hi.y - 0.5 + kCentreMargin)));
   if (x0 > x1 || y0 > y1) return true;  // no texel centre the pass draws
+  return notNearerThanHeld(nearest, rect, x0, y0, x1, y1);
+}
+
+// Whether map depth `nearest` (clip z / w) is at or beyond every depth the layer holds over texels
+// [x0, x1] × [y0, y1] (stored in [0, 1]), less the float32 placement's tolerance.
+bool CasterOcclusion::notNearerThanHeld(double nearest, const shadows::TexelRect& rect, int x0, int y0, int x1, int y1) const {
   const double farthestHeld = 2.0 * static_cast<double>(heldDepths_.maxOver(x0 - rect.x0, y0 - rect.y0, x1 - rect.x0, y1 - rect.y0)) - 1.0;
   return nearest - kDepthTolerance >= farthestHeld;
 }
 
-// Whether every point of `grown` (the box around a slab grown by its line test's margin) lies at or beyond the largest depth held over texels [x0, x1] × [y0, y1]: then no line
-// through them enters it nearer than the layer (hiddenByHeldDepths' argument, for one slab).
+// Whether every point of `grown` (the box around a slab grown by its line test's margin) lies at
+// or beyond the largest depth held over texels [x0, x1] × [y0, y1]: then no line through them
+// enters it nearer than the layer (hiddenByHeldDepths' argument, for one slab).
 bool CasterOcclusion::slabBehindHeldDepths(const Aabb& grown, const shadows::ShadowSetup& setup, const shadows::TexelRect& rect, int x0,
                                            int y0, int x1, int y1) const {
   double nearest = std::numeric_limits<double>::infinity();
@@ -165,8 +175,7 @@ bool CasterOcclusion::slabBehindHeldDepths(const Aabb& grown, const shadows::Sha
     if (!(h.w > 0.0) || !std::isfinite(h.z / h.w)) return false;
     nearest = std::min(nearest, h.z / h.w);
   }
-  const double farthestHeld = 2.0 * static_cast<double>(heldDepths_.maxOver(x0 - rect.x0, y0 - rect.y0, x1 - rect.x0, y1 - rect.y0)) - 1.0;
-  return nearest - kDepthTolerance >= farthestHeld;
+  return notNearerThanHeld(nearest, rect, x0, y0, x1, y1);
 }
 
 // Whether one of the tree's crown slabs may lower a texel of the layer that a receiver

@@ -61,6 +61,7 @@ class CasterOcclusion {
                           const shadows::TexelRect& rect) const;
   bool slabBehindHeldDepths(const Aabb& grown, const shadows::ShadowSetup& setup, const shadows::TexelRect& rect, int x0, int y0, int x1,
                             int y1) const;
+  bool notNearerThanHeld(double nearest, const shadows::TexelRect& rect, int x0, int y0, int x1, int y1) const;
   // … may lower a texel of the layer that a receiver beyond them reads (the exact test).
   bool treeMayShow(std::span<const vegetation::PlacedCrownSlab> slabs, const shadows::ShadowSetup& setup, int mapSize,
                    const shadows::ReceiverMask& mask, double reachTexels, const shadows::TexelRect& rect, std::span<const float> depths) const;
@@ -74,6 +75,7 @@ class CasterOcclusion {
   std::size_t lastTested_ = 0;
   WorkerThreads& workers_;
   std::vector<std::vector<vegetation::PlacedCrownSlab>> slabs_;  // per part: one tree's
+  std::vector<long long> tested_, culled_;                        // per part: triangles tested, culled
   std::vector<std::uint8_t> keep_;                               // per tree tested: it may show
   MaxPyramid heldDepths_;                           // the layer's depths read back, over the rectangle drawn
 };
