@@ -117,26 +117,66 @@ void ShadowSetupPass::selectCastersOfReceivers(ShadowSlice& slice, const SliceCo
 
 // A node whose box, swept along the light, meets no receiver holds no object that does (a box
 // inside a box sweeps inside its sweep): its subtree is skipped. The same casters as testing every
-// object (CasterSelector::select), without a test per tree of a landscape.
+// object (CasterSelector::select), without a test per tree of a landscape. The top levels' needed
+// nodes are dealt to the frame's threads in turn, each walking its nodes' subtrees; the parts'
+// casters, merged and sorted, are the same whatever the dealing.
 void ShadowSetupPass::selectByHierarchy(const culling::Bvh& bvh, std::span<const Aabb> boxes, std::vector<std::uint32_t>& selected) {
   selected.clear();
-  if (bvh.nodes().empty() || selector_.receiverCount() == 0) return;
-  nodeStack_.assign(1, 0);
-  while (!nodeStack_.empty()) {
-    const culling::BvhNode& node = bvh.nodes()[static_cast<size_t>(nodeStack_.back())];
-    nodeStack_.pop_back();
-    if (!selector_.needed(node.bounds)) continue;
+  if (bvh.nodes().empty() || selector_.receiverCount() == 0 || !selector_.needed(bvh.nodes()[0].bounds)) return;
+  // Breadth-first from the root until there are a few nodes per thread (or only leaves).
+  const size_t parts = static_cast<size_t>(workers_.count()), wanted = 8 * parts;
+  frontier_.assign(1, 0);
+  for (bool split = true; split && frontier_.size() < wanted;) {
+    split = false;
+    nextFrontier_.clear();
+    for (std::int32_t n : frontier_) {
+      const culling::BvhNode& node = bvh.nodes()[static_cast<size_t>(n)];
+      if (node.leaf()) {
+        nextFrontier_.push_back(n);
+        continue;
+      }
+      split = true;
+      for (std::int32_t child : {node.left, node.right})
+        if (selector_.needed(bvh.nodes()[static_cast<size_t>(child)].bounds)) nextFrontier_.push_back(child);
+    }
+    frontier_.swap(nextFrontier_);
+  }
+  partStacks_.resize(parts);
+  partCasters_.resize(parts);
+  // Two pointers in the capture: std::function keeps them without a heap allocation (DESIGN §9).
+  const struct {
+    const culling::Bvh& bvh;
+    std::span<const Aabb> boxes;
+  } walk{bvh, boxes};
+  workers_.run([this, &walk](int part) {
+    std::vector<std::int32_t>& stack = partStacks_[static_cast<size_t>(part)];
+    std::vector<std::uint32_t>& out = partCasters_[static_cast<size_t>(part)];
+    out.clear();
+    for (size_t i = static_cast<size_t>(part); i < frontier_.size(); i += partStacks_.size())
+      walkNeededSubtree(walk.bvh, walk.boxes, frontier_[i], stack, out);
+  });
+  for (const std::vector<std::uint32_t>& part : partCasters_) selected.insert(selected.end(), part.begin(), part.end());
+  std::sort(selected.begin(), selected.end());
+}
+
+// The objects under `start` (a node already found needed) whose boxes selector_ needs.
+void ShadowSetupPass::walkNeededSubtree(const culling::Bvh& bvh, std::span<const Aabb> boxes, std::int32_t start,
+                                        std::vector<std::int32_t>& stack, std::vector<std::uint32_t>& out) const {
+  stack.assign(1, start);
+  for (bool first = true; !stack.empty(); first = false) {
+    const culling::BvhNode& node = bvh.nodes()[static_cast<size_t>(stack.back())];
+    stack.pop_back();
+    if (!first && !selector_.needed(node.bounds)) continue;
     if (!node.leaf()) {
-      nodeStack_.push_back(node.right);
-      nodeStack_.push_back(node.left);
+      stack.push_back(node.right);
+      stack.push_back(node.left);
       continue;
     }
     for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
       const std::uint32_t o = bvh.objects()[k];
-      if (node.count == 1 || selector_.needed(boxes[o])) selected.push_back(o);  // a one-object leaf's box is the object's
+      if (node.count == 1 || selector_.needed(boxes[o])) out.push_back(o);  // a one-object leaf's box is the object's
     }
   }
-  std::sort(selected.begin(), selected.end());
 }
 
 // A caster tile is drawn by its blocks at the level the eye's LOD gives it (Terrain::blockBoxes):
@@ -153,12 +193,32 @@ void ShadowSetupPass::refineCasters(ShadowSlice& slice, const FrameSettings& set
   slice.terrainByBlock = terrain != nullptr;
   const double reach = filterReachWithMarginTexels(settings.pcfRadius);
   auto covers = [&](const Aabb& box) { return !mask || mask->mayShadow(box, reach); };
+  // The trees' tests against the mask, dealt to the frame's threads in turn.
+  const size_t count = slice.casters.size();
+  treeKept_.assign(count, 1);
+  if (mask) {
+    const struct {
+      const std::vector<std::uint32_t>& casters;
+      const SceneObjects& objects;
+      const shadows::ReceiverMask& mask;
+      double reach;
+      size_t parts;
+    } test{slice.casters, objects, *mask, reach, static_cast<size_t>(workers_.count())};
+    workers_.run([this, &test](int part) {  // (two pointers: no heap allocation)
+      for (size_t i = static_cast<size_t>(part); i < test.casters.size(); i += test.parts) {
+        const std::uint32_t o = test.casters[i];
+        if (test.objects.objects()[o].kind == SceneObjects::Kind::Tile) continue;
+        const std::span<const Aabb> shapes = test.objects.shapeBoxes(o);
+        treeKept_[i] = std::any_of(shapes.begin(), shapes.end(), [&](const Aabb& box) { return test.mask.mayShadow(box, test.reach); });
+      }
+    });
+  }
   size_t kept = 0;
-  for (std::uint32_t o : slice.casters) {
+  for (size_t i = 0; i < count; ++i) {
+    const std::uint32_t o = slice.casters[i];
     const SceneObjects::Object& object = objects.objects()[o];
     if (object.kind != SceneObjects::Kind::Tile) {
-      const std::span<const Aabb> shapes = objects.shapeBoxes(o);
-      if (std::any_of(shapes.begin(), shapes.end(), covers)) slice.casters[kept++] = o;
+      if (treeKept_[i]) slice.casters[kept++] = o;
       continue;
     }
     if (!terrain) {

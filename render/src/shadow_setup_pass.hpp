@@ -107,6 +107,8 @@ class ShadowSetupPass {
   // refineCasters.
   // The objects whose boxes selector_ needs, in increasing order, found down the BVH.
   void selectByHierarchy(const culling::Bvh& bvh, std::span<const Aabb> boxes, std::vector<std::uint32_t>& selected);
+  void walkNeededSubtree(const culling::Bvh& bvh, std::span<const Aabb> boxes, std::int32_t start, std::vector<std::int32_t>& stack,
+                         std::vector<std::uint32_t>& out) const;
   void selectCastersOfReceivers(ShadowSlice& slice, const SliceContext& context, const shadows::ReceiverMask* mask);
   // Replaces the caster tiles by their blocks that may write into the map and meet a receiver
   // (selector_ must hold the slice's receivers), and with a mask keeps only the casters and blocks
@@ -122,14 +124,17 @@ class ShadowSetupPass {
   shadows::SplitDepths previousSplits_;  // cascades 0: none
   // Kept from frame to frame, so a steady-state frame allocates nothing (DESIGN §9).
   std::vector<Aabb> receivers_, sliceReceivers_, footprints_;
-  std::vector<std::int32_t> nodeStack_;  // selectByHierarchy's, kept between frames
+  std::vector<std::int32_t> frontier_, nextFrontier_;           // selectByHierarchy's top nodes
+  std::vector<std::vector<std::int32_t>> partStacks_;           // per thread: its walk's stack
+  std::vector<std::vector<std::uint32_t>> partCasters_;         // per thread: the casters it found
+  std::vector<std::uint8_t> treeKept_;                          // refineCasters: per caster, its mask test
   std::vector<terrain::CellSpan> cellRuns_;  // one terrain block's (refineCasters)
   std::vector<glm::dvec2> receiverDepths_;  // each receiver's eye-depth range
   shadows::CasterSelector selector_;
   std::array<shadows::ReceiverMask, shadows::kMaxCascades> masks_;  // per slice (ShadowSlice::receiverMask)
   std::vector<shadows::ReceiverMask> bandMasks_;  // [1, bands): the other bands' masks (fillReceiverMask)
   std::vector<std::vector<float>> bandRows_;      // per band: a row's receiver depths (fillReceiverMask)
-  WorkerThreads& workers_;                        // the bands' threads
+  WorkerThreads& workers_;                        // the bands' threads; the caster selection's
 };
 
 }  // namespace forest::render
