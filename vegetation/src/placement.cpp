@@ -89,37 +89,54 @@ struct Candidate {
 };
 
 // The trees placed so far, on square cells no smaller than the largest spacing, each cell's trees
-// in a list threaded through one array: the spacing test looks at the 3 × 3 cells around a dart.
+// side by side in memory: the spacing test looks at the 3 × 3 cells around a dart, the dart's own
+// first (where a tree that refuses it most often stands). A list threaded through one array of all
+// the trees cost a cache miss per tree looked at: 13 M darts reach this test at a million trees.
 class SpacingGrid {
  public:
   SpacingGrid(const dvec2& lo, const dvec2& hi, double cell)
       : lo_(lo), cell_(cell), cellsX_(std::max(1, static_cast<int>(std::ceil((hi.x - lo.x) / cell)))),
-        cellsZ_(std::max(1, static_cast<int>(std::ceil((hi.y - lo.y) / cell)))), head_(static_cast<size_t>(cellsX_) * cellsZ_, -1) {}
+        cellsZ_(std::max(1, static_cast<int>(std::ceil((hi.y - lo.y) / cell)))), cells_(static_cast<size_t>(cellsX_) * cellsZ_) {}
 
   // No placed tree nearer than the larger of the two spacings.
   bool free(const dvec2& p, double spacing) const {
     const glm::ivec2 c = cellOf(p);
+    if (!freeIn(index(c.x, c.y), p, spacing)) return false;
     for (int z = std::max(c.y - 1, 0); z <= std::min(c.y + 1, cellsZ_ - 1); ++z)
       for (int x = std::max(c.x - 1, 0); x <= std::min(c.x + 1, cellsX_ - 1); ++x)
-        for (std::int32_t i = head_[index(x, z)]; i >= 0; i = placed_[static_cast<size_t>(i)].next) {
-          const Placed& o = placed_[static_cast<size_t>(i)];
-          const double dx = o.x - p.x, dz = o.z - p.y;
-          if (std::sqrt(dx * dx + dz * dz) < std::max(spacing, o.spacing)) return false;
-        }
+        if ((x != c.x || z != c.y) && !freeIn(index(x, z), p, spacing)) return false;
     return true;
   }
   void add(const dvec2& p, double spacing) {
     const glm::ivec2 c = cellOf(p);
-    std::int32_t& head = head_[index(c.x, c.y)];
-    placed_.push_back({p.x, p.y, spacing, head});
-    head = static_cast<std::int32_t>(placed_.size() - 1);
+    cells_[index(c.x, c.y)].push_back({p.x, p.y, spacing});
+  }
+  // The darts of a batch are known ahead, so free() on one overlaps the memory fetches for later
+  // ones: first the 3 × 3 cells' headers around p, then (once those are in) their trees.
+  void prefetchCells(const dvec2& p) const {
+    const glm::ivec2 c = cellOf(p);
+    for (int z = std::max(c.y - 1, 0); z <= std::min(c.y + 1, cellsZ_ - 1); ++z) {
+      __builtin_prefetch(&cells_[index(std::max(c.x - 1, 0), z)]);
+      __builtin_prefetch(&cells_[index(std::min(c.x + 1, cellsX_ - 1), z)]);
+    }
+  }
+  void prefetchTrees(const dvec2& p) const {
+    const glm::ivec2 c = cellOf(p);
+    for (int z = std::max(c.y - 1, 0); z <= std::min(c.y + 1, cellsZ_ - 1); ++z)
+      for (int x = std::max(c.x - 1, 0); x <= std::min(c.x + 1, cellsX_ - 1); ++x) __builtin_prefetch(cells_[index(x, z)].data());
   }
 
  private:
   struct Placed {
     double x, z, spacing;
-    std::int32_t next;  // the cell's previous tree, −1 at the end
   };
+  bool freeIn(size_t cell, const dvec2& p, double spacing) const {
+    for (const Placed& o : cells_[cell]) {
+      const double dx = o.x - p.x, dz = o.z - p.y;
+      if (std::sqrt(dx * dx + dz * dz) < std::max(spacing, o.spacing)) return false;
+    }
+    return true;
+  }
   glm::ivec2 cellOf(const dvec2& p) const {
     return {std::clamp(static_cast<int>((p.x - lo_.x) / cell_), 0, cellsX_ - 1), std::clamp(static_cast<int>((p.y - lo_.y) / cell_), 0, cellsZ_ - 1)};
   }
@@ -128,8 +145,7 @@ class SpacingGrid {
   dvec2 lo_;
   double cell_;
   int cellsX_, cellsZ_;
-  std::vector<std::int32_t> head_;
-  std::vector<Placed> placed_;
+  std::vector<std::vector<Placed>> cells_;
 };
 
 }  // namespace
@@ -244,7 +260,12 @@ void Forest::place() {
       for (int i = chunk * kChunk; i < std::min(n, (chunk + 1) * kChunk); ++i) judged[static_cast<size_t>(i)] = judge(draws[static_cast<size_t>(i)]);
     });
     // Poisson-disk condition, in dart order: no tree closer than the larger of the two spacings.
+    constexpr int kCellsAhead = 16, kTreesAhead = 8;  // darts ahead whose cells, trees are fetched
+    const auto site = [&](int i) { return dvec2(judged[static_cast<size_t>(i)].tree.position.x, judged[static_cast<size_t>(i)].tree.position.z); };
+    const auto judgedCandidate = [&](int i) { return i < n && judged[static_cast<size_t>(i)].verdict == Verdict::Candidate; };
     for (int i = 0; i < n && static_cast<int>(trees_.size()) < settings_.count; ++i) {
+      if (judgedCandidate(i + kCellsAhead)) grid.prefetchCells(site(i + kCellsAhead));
+      if (judgedCandidate(i + kTreesAhead)) grid.prefetchTrees(site(i + kTreesAhead));
       const Candidate& c = judged[static_cast<size_t>(i)];
       const dvec2 p(c.tree.position.x, c.tree.position.z);
       if (c.verdict != Verdict::Candidate || !grid.free(p, c.spacing)) {
