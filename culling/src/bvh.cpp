@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "forest/core/error.hpp"
+#include "forest/core/parallel.hpp"
 
 namespace forest::culling {
 
@@ -24,32 +25,63 @@ void Bvh::build(std::span<const Aabb> boxes) {
   nodes_.clear();
   objects_.resize(boxes.size());
   std::iota(objects_.begin(), objects_.end(), 0u);
-  if (!boxes.empty()) buildRange(boxes, 0, static_cast<std::uint32_t>(boxes.size()), -1);
+  if (!boxes.empty()) buildRange(nodes_, boxes, 0, static_cast<std::uint32_t>(boxes.size()), -1, kForkLevels);
   builtCost_ = sahCost();
 }
+
+namespace {
+// Appends `part` (a subtree built on its own, its root at 0) to `nodes`, its root's parent
+// `parent`; returns the root's index. Preorder is kept: the same array as building it in place.
+std::int32_t splice(std::vector<BvhNode>& nodes, const std::vector<BvhNode>& part, std::int32_t parent) {
+  const std::int32_t offset = static_cast<std::int32_t>(nodes.size());
+  for (BvhNode node : part) {
+    node.parent = node.parent < 0 ? parent : node.parent + offset;
+    if (!node.leaf()) {
+      node.left += offset;
+      node.right += offset;
+    }
+    nodes.push_back(node);
+  }
+  return offset;
+}
+}  // namespace
 
 // Top-down SAH (MacDonald & Booth 1990): the split minimising area(left)·n(left) +
 // area(right)·n(right). A range of at most leafSize objects is a leaf: the leaf size is what a
 // query decides for (one tree by default, DESIGN §4), not left to the SAH, which would split every
 // pair of trees apart anyway. Ranges of more than kBinnedSahAbove objects (a landscape's upper
 // levels) are split by binned SAH, the rest by the exact sweep.
-std::int32_t Bvh::buildRange(std::span<const Aabb> boxes, std::uint32_t first, std::uint32_t count, std::int32_t parent) {
-  const std::int32_t index = static_cast<std::int32_t>(nodes_.size());
-  nodes_.emplace_back();
-  nodes_[index].parent = parent;
+// The two halves of a range of more than kBinnedSahAbove objects, `forks` levels down from the
+// root, are built at once on threads of their own (their objects are disjoint ranges of objects_),
+// each into its own node list, then spliced in preorder: the array serial building makes.
+std::int32_t Bvh::buildRange(std::vector<BvhNode>& nodes, std::span<const Aabb> boxes, std::uint32_t first, std::uint32_t count,
+                             std::int32_t parent, int forks) {
+  const std::int32_t index = static_cast<std::int32_t>(nodes.size());
+  nodes.emplace_back();
+  nodes[index].parent = parent;
   Aabb bounds;
   for (std::uint32_t i = first; i < first + count; ++i) bounds.extend(boxes[objects_[i]]);
-  nodes_[index].bounds = bounds;
+  nodes[index].bounds = bounds;
   if (count <= static_cast<std::uint32_t>(leafSize_)) {
-    nodes_[index].first = first;
-    nodes_[index].count = count;
+    nodes[index].first = first;
+    nodes[index].count = count;
     return index;
   }
   const std::uint32_t split = count > kBinnedSahAbove ? binnedSplit(boxes, first, count) : sweepSplit(boxes, first, count);
-  const std::int32_t left = buildRange(boxes, first, split, index);
-  const std::int32_t right = buildRange(boxes, first + split, count - split, index);
-  nodes_[index].left = left;
-  nodes_[index].right = right;
+  if (forks > 0 && count > kBinnedSahAbove) {
+    std::array<std::vector<BvhNode>, 2> halves;
+    parallelFor(2, [&](int half) {
+      buildRange(halves[static_cast<size_t>(half)], boxes, half == 0 ? first : first + split, half == 0 ? split : count - split, -1,
+                 forks - 1);
+    });
+    nodes[index].left = splice(nodes, halves[0], index);
+    nodes[index].right = splice(nodes, halves[1], index);
+    return index;
+  }
+  const std::int32_t left = buildRange(nodes, boxes, first, split, index, forks);
+  const std::int32_t right = buildRange(nodes, boxes, first + split, count - split, index, forks);
+  nodes[index].left = left;
+  nodes[index].right = right;
   return index;
 }
 

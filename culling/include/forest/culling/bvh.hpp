@@ -48,7 +48,10 @@ class Bvh {
 
  private:
   void build(std::span<const Aabb> boxes);
-  std::int32_t buildRange(std::span<const Aabb> boxes, std::uint32_t first, std::uint32_t count, std::int32_t parent);
+  // Builds the range's subtree into `nodes` (preorder); `forks`: levels whose halves build at once.
+  std::int32_t buildRange(std::vector<BvhNode>& nodes, std::span<const Aabb> boxes, std::uint32_t first, std::uint32_t count,
+                          std::int32_t parent, int forks);
+  static constexpr int kForkLevels = 2;  // up to 4 subtrees at once: two cores kept busy
   // The split of a range: the objects in [first, first + split) go left (they are reordered so).
   std::uint32_t sweepSplit(std::span<const Aabb> boxes, std::uint32_t first, std::uint32_t count);
   std::uint32_t binnedSplit(std::span<const Aabb> boxes, std::uint32_t first, std::uint32_t count);
