@@ -60,10 +60,10 @@ TEST(Bvh, EveryObjectInsideItsLeafAfterBuildAndRefit) {
 }
 
 // A landscape's upper levels are split by binned SAH (more than kBinnedSahAbove objects): on a
-// 256 × 256 grid of unit boxes (65 536 trees on flat ground) every object is in one leaf, every
-// child inside its parent, and the SAH cost is within 5% of the balanced tree's that halves the
-// grid's longer side at each level (the test's own reference: on a uniform grid that split is the
-// SAH optimum up to rounding).
+// 256 × 256 grid of unit boxes (65 536 trees on flat ground) every object is in one leaf, the nodes
+// in preorder with their parents right, every child inside its parent, and the SAH cost is within
+// 5% of the balanced tree's that halves the grid's longer side at each level (the test's own
+// reference: on a uniform grid that split is the SAH optimum up to rounding).
 TEST(Bvh, BinnedSplitsOfALargeGridMatchTheBalancedTree) {
   constexpr int kSide = 256;
   static_assert(kSide * kSide > static_cast<int>(culling::kBinnedSahAbove));
@@ -77,10 +77,18 @@ TEST(Bvh, BinnedSplitsOfALargeGridMatchTheBalancedTree) {
   }
   const culling::Bvh bvh(boxes, 1);
   std::vector<int> seen(boxes.size(), 0);
+  // The nodes in preorder, each child's parent its own (the upper levels' halves are built on
+  // threads of their own and spliced in: the array a serial build makes).
+  ASSERT_EQ(bvh.nodes()[0].parent, -1);
   for (const culling::BvhNode& n : bvh.nodes()) {
     if (!n.leaf()) {
-      for (std::int32_t child : {n.left, n.right})
+      const std::int32_t index = static_cast<std::int32_t>(&n - bvh.nodes().data());
+      ASSERT_EQ(n.left, index + 1);
+      ASSERT_GT(n.right, n.left);
+      for (std::int32_t child : {n.left, n.right}) {
+        ASSERT_EQ(bvh.nodes()[child].parent, index);
         ASSERT_TRUE(n.bounds.contains(bvh.nodes()[child].bounds.min) && n.bounds.contains(bvh.nodes()[child].bounds.max));
+      }
       continue;
     }
     ASSERT_EQ(n.count, 1u);
