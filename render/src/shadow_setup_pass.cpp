@@ -159,14 +159,14 @@ void ShadowSetupPass::selectByHierarchy(const culling::Bvh& bvh, std::span<const
   std::sort(selected.begin(), selected.end());
 }
 
-// The objects under `start` (a node already found needed) whose boxes selector_ needs.
+// The objects under `start` whose boxes selector_ needs (`start` is tested again: a few nodes a slice).
 void ShadowSetupPass::walkNeededSubtree(const culling::Bvh& bvh, std::span<const Aabb> boxes, std::int32_t start,
                                         std::vector<std::int32_t>& stack, std::vector<std::uint32_t>& out) const {
   stack.assign(1, start);
-  for (bool first = true; !stack.empty(); first = false) {
+  while (!stack.empty()) {
     const culling::BvhNode& node = bvh.nodes()[static_cast<size_t>(stack.back())];
     stack.pop_back();
-    if (!first && !selector_.needed(node.bounds)) continue;
+    if (!selector_.needed(node.bounds)) continue;
     if (!node.leaf()) {
       stack.push_back(node.right);
       stack.push_back(node.left);

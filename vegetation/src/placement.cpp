@@ -101,11 +101,8 @@ class SpacingGrid {
   // No placed tree nearer than the larger of the two spacings.
   bool free(const dvec2& p, double spacing) const {
     const glm::ivec2 c = cellOf(p);
-    if (!freeIn(index(c.x, c.y), p, spacing)) return false;
-    for (int z = std::max(c.y - 1, 0); z <= std::min(c.y + 1, cellsZ_ - 1); ++z)
-      for (int x = std::max(c.x - 1, 0); x <= std::min(c.x + 1, cellsX_ - 1); ++x)
-        if ((x != c.x || z != c.y) && !freeIn(index(x, z), p, spacing)) return false;
-    return true;
+    const size_t own = index(c.x, c.y);
+    return freeIn(own, p, spacing) && eachCellAround(c, [&](size_t cell) { return cell == own || freeIn(cell, p, spacing); });
   }
   void add(const dvec2& p, double spacing) {
     const glm::ivec2 c = cellOf(p);
@@ -121,15 +118,25 @@ class SpacingGrid {
     }
   }
   void prefetchTrees(const dvec2& p) const {
-    const glm::ivec2 c = cellOf(p);
-    for (int z = std::max(c.y - 1, 0); z <= std::min(c.y + 1, cellsZ_ - 1); ++z)
-      for (int x = std::max(c.x - 1, 0); x <= std::min(c.x + 1, cellsX_ - 1); ++x) __builtin_prefetch(cells_[index(x, z)].data());
+    eachCellAround(cellOf(p), [&](size_t cell) {
+      __builtin_prefetch(cells_[cell].data());
+      return true;
+    });
   }
 
  private:
   struct Placed {
     double x, z, spacing;
   };
+  // visit(cell) for the 3 × 3 cells around cell c (fewer at the grid's edge) while it returns true;
+  // whether it always did.
+  template <typename Visit>
+  bool eachCellAround(const glm::ivec2& c, const Visit& visit) const {
+    for (int z = std::max(c.y - 1, 0); z <= std::min(c.y + 1, cellsZ_ - 1); ++z)
+      for (int x = std::max(c.x - 1, 0); x <= std::min(c.x + 1, cellsX_ - 1); ++x)
+        if (!visit(index(x, z))) return false;
+    return true;
+  }
   bool freeIn(size_t cell, const dvec2& p, double spacing) const {
     for (const Placed& o : cells_[cell]) {
       const double dx = o.x - p.x, dz = o.z - p.y;
@@ -267,7 +274,7 @@ void Forest::place() {
       if (judgedCandidate(i + kCellsAhead)) grid.prefetchCells(site(i + kCellsAhead));
       if (judgedCandidate(i + kTreesAhead)) grid.prefetchTrees(site(i + kTreesAhead));
       const Candidate& c = judged[static_cast<size_t>(i)];
-      const dvec2 p(c.tree.position.x, c.tree.position.z);
+      const dvec2 p = site(i);
       if (c.verdict != Verdict::Candidate || !grid.free(p, c.spacing)) {
         ++refused[static_cast<size_t>(c.verdict)];
         continue;
