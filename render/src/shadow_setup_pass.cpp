@@ -125,6 +125,10 @@ void ShadowSetupPass::selectByHierarchy(const culling::Bvh& bvh, std::span<const
   if (bvh.nodes().empty() || selector_.receiverCount() == 0 || !selector_.needed(bvh.nodes()[0].bounds)) return;
   // Breadth-first from the root until there are a few nodes per thread (or only leaves).
   const size_t parts = static_cast<size_t>(workers_.count()), wanted = 8 * parts;
+  // A split level at most doubles a frontier of fewer than `wanted`; the two lists trade places
+  // each level, so both get that room (a frame then never grows them, DESIGN §9).
+  frontier_.reserve(2 * wanted);
+  nextFrontier_.reserve(2 * wanted);
   frontier_.assign(1, 0);
   for (bool split = true; split && frontier_.size() < wanted;) {
     split = false;
