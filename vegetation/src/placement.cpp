@@ -111,11 +111,10 @@ class SpacingGrid {
   // The darts of a batch are known ahead, so free() on one overlaps the memory fetches for later
   // ones: first the 3 × 3 cells' headers around p, then (once those are in) their trees.
   void prefetchCells(const dvec2& p) const {
-    const glm::ivec2 c = cellOf(p);
-    for (int z = std::max(c.y - 1, 0); z <= std::min(c.y + 1, cellsZ_ - 1); ++z) {
-      __builtin_prefetch(&cells_[index(std::max(c.x - 1, 0), z)]);
-      __builtin_prefetch(&cells_[index(std::min(c.x + 1, cellsX_ - 1), z)]);
-    }
+    eachCellAround(cellOf(p), [&](size_t cell) {
+      __builtin_prefetch(&cells_[cell]);
+      return true;
+    });
   }
   void prefetchTrees(const dvec2& p) const {
     eachCellAround(cellOf(p), [&](size_t cell) {
