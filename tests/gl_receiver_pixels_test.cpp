@@ -5,9 +5,11 @@
 // casters drawn only into the texels the pixels' lookups read — and the mask keeps fewer casters
 // than the receiver boxes. The same for the mask built and tested on the GPU
 // (CasterSelection::ReceiverMaskGpu), PCF 0 to 4, with the trees hidden from the light by those
-// that counted in a frame before at the view culled.
+// that counted in a frame before at the view culled. With BVH leaves of 16, only the objects with
+// pixels select casters.
 #include <cmath>
 #include <cstdio>
+#include <set>
 #include <vector>
 
 #include "forest/core/scene.hpp"
@@ -76,6 +78,44 @@ TEST_F(ReceiverPixelsGl, CastersOfTheSunFacingPixelsGiveTheTermOfAllCasters) {
               boxCasters);
   EXPECT_EQ(views, 30 / kSweepStride);
   EXPECT_GT(fewer, 25 / kSweepStride);
+}
+
+// With BVH leaves of 16 objects ([culling] leaf_size) chc++ draws whole leaves: its visible set
+// holds trees with no pixel. Along a walk of chc++ frames, the objects whose boxes select casters are
+// exactly those with an ID in the frame's G-buffer (counted here from the IDs read back), and the
+// term with the casters they select is the term of all casters.
+TEST_F(ReceiverPixelsGl, OnlyTheObjectsWithPixelsSelectCastersFromBigLeaves) {
+  if (backendUnderTest() != "egl") GTEST_SKIP() << "the engine's own logic: checked on the egl backend";
+  Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/forest.toml");
+  scene.culling.leaf_size = 16;
+  render::Frame frame{scene, kWidth, kHeight};
+  Camera camera = frame.startCamera();
+  camera.aspect = static_cast<double>(kWidth) / kHeight;
+  render::FrameSettings settings;
+  settings.casters = render::CasterSelection::ReceiverPixels;
+  settings.queries = culling::QueryMode::Deterministic;
+  settings.timing = gl::TimingMode::GpuQueries;  // chc++ every frame: no switch to frustum culling by measured times
+  int frames = 0, moreVisible = 0;
+  for (int v = 0; v < 24; ++v) {
+    stepForestView(camera, *frame.terrain(), v);
+    const render::FrameStats stats = frame.render(camera, 0.5 * v, settings);
+    std::set<std::uint32_t> withPixels;
+    for (std::uint32_t id : frame.readObjectIds())
+      if (id != 0) withPixels.insert(id - 1);  // IDs from 1 in object order, 0 the sky
+    EXPECT_EQ(stats.casterReceivers, static_cast<int>(withPixels.size())) << "frame " << v;
+    moreVisible += stats.visibleObjects > stats.casterReceivers ? 1 : 0;
+    ++frames;
+  }
+  EXPECT_EQ(frames, 24);
+  EXPECT_GT(moreVisible, 20) << "the leaves of 16 should bring in trees without pixels";
+  for (int v = 0; v < 3; ++v) {
+    render::FrameSettings exact;
+    exact.pcfRadius = v;
+    exact.cascades = v == 1 ? 3 : 1;
+    const CasterComparison c = compareSelectedWithAllCasters(frame, camera, 12.0 + v, exact, render::CasterSelection::ReceiverPixels);
+    EXPECT_EQ(c.differ, 0) << "view " << v << ": " << c.differ << " pixels";
+    stepForestView(camera, *frame.terrain(), v);
+  }
 }
 
 TEST_F(ReceiverPixelsGl, TreesKeptOnTheGpuGiveTheTermOfAllCasters) {

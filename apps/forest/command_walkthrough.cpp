@@ -55,6 +55,7 @@ nlohmann::ordered_json frameRecord(int index, double time, bool warmup, const Ca
   r["visible_objects"] = s.visibleObjects;
   r["hidden_by_reprojection"] = s.hiddenByReprojection;
   r["casters"] = s.casterObjects;
+  r["caster_receivers"] = s.casterReceivers;
   r["triangles"] = {{"geometry", s.geometryTriangles}, {"shadow", s.shadowTriangles}};
   r["queries"] = s.culling.queriesIssued;
   r["culling_cpu_ms"] = s.culling.cpuMilliseconds;

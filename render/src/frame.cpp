@@ -375,12 +375,14 @@ const culling::CullingResult& Frame::setUpShadows(const Inputs& in, const cullin
   std::optional<double> nearest;
   if (in.cascades.cascades > 1) nearest = p.nearestDepth.run(p.geometry.gbuffer().depth, in.camera);
   const culling::CullingResult* visible = &culled;
+  std::span<const std::uint8_t> shown;  // the objects with pixels: the casters' receivers
   if (in.readsPixels) {
     p.receiverPixels.read(p.geometry.gbuffer(), width_, height_, in.camera);
     visible = &p.history.afterReadback(p.receiverPixels, p.cpuWorkers, p.cullPlan, culled, in.camera);
+    shown = p.history.shownInReadback();
   }
   p.shadowSetup.run(in.camera, *visible, in.settings, in.cascades, nearest, in.l, in.sunBelowHorizon, *objects_, bvh_, in.eyeLod(),
-                    sceneBounds_, in.readsPixels ? &p.receiverPixels : nullptr, p.plan, stats);
+                    sceneBounds_, in.readsPixels ? &p.receiverPixels : nullptr, shown, p.plan, stats);
   stats.casterObjects = 0;
   for (int i = 0; i < p.plan.cascades; ++i) stats.casterObjects += static_cast<int>(p.plan.slices[static_cast<size_t>(i)].casters.size());
   stats.visibleObjects = static_cast<int>(visible->visibleObjects.size());

@@ -47,6 +47,11 @@ class FrameHistory {
   // or for a frame drawn by frustum culling exactly the objects with pixels (and their z_f).
   const culling::CullingResult& afterReadback(const ReceiverPixels& pixels, WorkerThreads& workers, const CullPlan& plan,
                                               const culling::CullingResult& culled, const Camera& camera);
+  // Per object, nonzero where it has a pixel in this frame's read-back (after afterReadback); empty
+  // without the record ([culling] image_visibility off): the shadow setup's caster receivers.
+  std::span<const std::uint8_t> shownInReadback() const {
+    return culling_.image_visibility ? image_.shownObjects() : std::span<const std::uint8_t>{};
+  }
   // Whether the lighting pass records what shows this frame (no read-back to record from).
   bool recordsInLighting(bool readsPixels) const { return culling_.image_visibility && !readsPixels; }
   void beforeLighting(FrameBlock& block, const Camera& camera) { image_.beginRecord(block, camera); }

@@ -298,9 +298,9 @@ shadows::SplitDepths ShadowSetupPass::splitsFor(const Camera& camera, double far
 void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& visible, const FrameSettings& settings,
                           const ShadowSettings& cascades, std::optional<double> nearestDepth, const dvec3& l,
                           bool sunBelowHorizon, const SceneObjects& objects, const culling::Bvh& bvh, const terrain::TerrainLod* lod,
-                          const Aabb& sceneBounds, const ReceiverPixels* receiverPixels, ShadowPlan& plan,
-                          FrameStats& stats) {
-  startPlan(camera, visible, objects, lod, cascades, plan, stats);
+                          const Aabb& sceneBounds, const ReceiverPixels* receiverPixels, std::span<const std::uint8_t> shownObjects,
+                          ShadowPlan& plan, FrameStats& stats) {
+  startPlan(camera, visible, shownObjects, objects, lod, cascades, plan, stats);
   for (int i = 0; i < plan.cascades; ++i) {
     plan.slices[static_cast<size_t>(i)].mapSize = sliceMapSize(settings, i, plan.cascades);
     stats.cascade[static_cast<size_t>(i)].mapSize = plan.slices[static_cast<size_t>(i)].mapSize;
@@ -333,7 +333,7 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
     }
     CascadeStats& out = stats.cascade[s];
     out.keeping = shadows::SliceKeeping{};
-    if (onReceivers && sliceReceivers_.empty()) {
+    if (onReceivers && !sliceHasReceivers_) {
       slice.setup = shadows::ShadowSetup{};  // nothing visible at these depths: the layer stays clear
       slice.setup.diagnostics.fallback = "no receivers in the slice";
     } else if (settings.keepSlices) {
@@ -357,28 +357,41 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
 // terrain tile's are its blocks at the level the eye's LOD draws it that meet the view frustum (their
 // union holds everything drawn of the tile in view, Terrain::blockBoxes): a 125 m tile's box rises
 // far above the ground in view, and B bounded by it reached above the eye (issue "Shadows that hold
-// still", item 1: the near band's loss at a high sun).
-void ShadowSetupPass::startPlan(const Camera& camera, const culling::CullingResult& visible, const SceneObjects& objects,
-                                const terrain::TerrainLod* lod, const ShadowSettings& cascades, ShadowPlan& plan, FrameStats& stats) {
+// still", item 1: the near band's loss at a high sun). With the read-back's record, a box selects
+// casters only where its object has pixels: the culler's set holds whole BVH leaves ([culling]
+// leaf_size) and what its queries could not rule out, a superset of what the image shows; a pixel
+// lies in its own object's box, so the mask's pixels all keep their casters.
+void ShadowSetupPass::startPlan(const Camera& camera, const culling::CullingResult& visible, std::span<const std::uint8_t> shownObjects,
+                                const SceneObjects& objects, const terrain::TerrainLod* lod, const ShadowSettings& cascades,
+                                ShadowPlan& plan, FrameStats& stats) {
   const size_t objectCount = objects.boxes().size();
   const size_t mostBlocks = objects.tileCount() * terrain::Terrain::kMaxBlockBoxes;
   receivers_.reserve(objectCount + mostBlocks);
+  receiverSelects_.reserve(objectCount + mostBlocks);
   sliceReceivers_.reserve(objectCount + mostBlocks);
   receiverDepths_.reserve(objectCount + mostBlocks);
   footprints_.reserve(objectCount + mostBlocks);
   selector_.reserve(objectCount + mostBlocks);
   receivers_.clear();
+  receiverSelects_.clear();
+  stats.casterReceivers = 0;
   const terrain::Terrain* terrain = lod ? objects.terrain() : nullptr;
   const Frustum view(camera);
   for (std::uint32_t o : visible.visibleObjects) {
     const SceneObjects::Object& object = objects.objects()[o];
+    const std::uint8_t selects = shownObjects.empty() || shownObjects[o] != 0 ? 1 : 0;
+    stats.casterReceivers += selects;
     if (!terrain || object.kind != SceneObjects::Kind::Tile) {
       receivers_.push_back(objects.boxes()[o]);
+      receiverSelects_.push_back(selects);
       continue;
     }
     const int tile = static_cast<int>(object.index);
     for (const Aabb& block : terrain->blockBoxes(tile, terrain->tileLevel(tile, *lod)))
-      if (view.mayIntersect(block)) receivers_.push_back(block);
+      if (view.mayIntersect(block)) {
+        receivers_.push_back(block);
+        receiverSelects_.push_back(selects);
+      }
   }
   plan.cascades = cascades.cascades;
   plan.blend = cascades.cascade_blend;
@@ -410,17 +423,19 @@ void ShadowSetupPass::measureReceiverDepths(const Camera& camera) {
   }
 }
 
-// The slice's receivers (sliceReceivers_) and its setup's input: B bounded by them, what the method
-// carried from the last frame, n from the nearest depth for the first of several slices.
+// The slice's receivers (sliceReceivers_: those that select casters) and its setup's input: B
+// bounded by all of them, what the method carried from the last frame, n from the nearest depth for
+// the first of several slices.
 shadows::ShadowInput ShadowSetupPass::sliceInput(const ShadowSlice& slice, int index, std::optional<double> nNear,
                                                  const SliceContext& context) {
   sliceReceivers_.clear();
   Aabb sliceBounds;
   for (size_t r = 0; r < receivers_.size(); ++r)
     if (receiverDepths_[r].y >= slice.camera.near && receiverDepths_[r].x <= slice.camera.far) {
-      sliceReceivers_.push_back(receivers_[r]);
+      if (receiverSelects_[r] != 0) sliceReceivers_.push_back(receivers_[r]);
       sliceBounds.extend(receivers_[r]);
     }
+  sliceHasReceivers_ = sliceBounds.valid();
   const FrameSettings& settings = context.settings;
   shadows::ShadowInput input;
   input.camera = slice.camera;

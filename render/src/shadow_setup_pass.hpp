@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -70,11 +71,13 @@ class ShadowSetupPass {
   // first slice's split scheme starts there).
   // `lod`: the eye's terrain LOD (the shadow pass draws it; null without terrain).
   // `receiverPixels`: this frame's visible sun-facing pixels, read for
-  // CasterSelection::ReceiverPixels; null otherwise.
+  // CasterSelection::ReceiverPixels; null otherwise. `shownObjects`: per object, nonzero where it
+  // has a pixel in that read-back (ImageVisibility::shownObjects); only those visible objects
+  // select casters, while B and z_f stay the visible set's. Empty: every visible object selects.
   void run(const Camera& camera, const culling::CullingResult& visible, const FrameSettings& settings,
            const ShadowSettings& cascades, std::optional<double> nearestDepth, const glm::dvec3& l, bool sunBelowHorizon,
            const SceneObjects& objects, const culling::Bvh& bvh, const terrain::TerrainLod* lod, const Aabb& sceneBounds,
-           const ReceiverPixels* receiverPixels, ShadowPlan& plan, FrameStats& stats);
+           const ReceiverPixels* receiverPixels, std::span<const std::uint8_t> shownObjects, ShadowPlan& plan, FrameStats& stats);
   // Forgets the smoothed n and splits, the stable maps' radii and the kept maps (a camera cut).
   void reset() {
     history_.reset();
@@ -94,8 +97,9 @@ class ShadowSetupPass {
     const ReceiverPixels* receiverPixels;
   };
   // The steps of run(), in order.
-  void startPlan(const Camera& camera, const culling::CullingResult& visible, const SceneObjects& objects, const terrain::TerrainLod* lod,
-                 const ShadowSettings& cascades, ShadowPlan& plan, FrameStats& stats);
+  void startPlan(const Camera& camera, const culling::CullingResult& visible, std::span<const std::uint8_t> shownObjects,
+                 const SceneObjects& objects, const terrain::TerrainLod* lod, const ShadowSettings& cascades, ShadowPlan& plan,
+                 FrameStats& stats);
   void measureReceiverDepths(const Camera& camera);
   shadows::ShadowInput sliceInput(const ShadowSlice& slice, int index, std::optional<double> nNear, const SliceContext& context);
   void selectCasters(ShadowSlice& slice, int index, const SliceContext& context);
@@ -123,7 +127,12 @@ class ShadowSetupPass {
   std::string outsideNote_;  // why a view got no shadows (outside float32's domain): the stats' fallback views it
   shadows::SplitDepths previousSplits_;  // cascades 0: none
   // Kept from frame to frame, so a steady-state frame allocates nothing (DESIGN §9).
+  // receivers_: the visible set's boxes (B, thesis §9.2.1); receiverSelects_: per box, whether its
+  // object showed in the read-back (the caster selection's receivers); sliceReceivers_: the slice's
+  // boxes that select.
   std::vector<Aabb> receivers_, sliceReceivers_, footprints_;
+  std::vector<std::uint8_t> receiverSelects_;
+  bool sliceHasReceivers_ = false;  // some box of receivers_ reaches the slice's depths
   std::vector<std::int32_t> frontier_, nextFrontier_;           // selectByHierarchy's top nodes
   std::vector<std::vector<std::int32_t>> partStacks_;           // per thread: its walk's stack
   std::vector<std::vector<std::uint32_t>> partCasters_;         // per thread: the casters it found

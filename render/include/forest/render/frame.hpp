@@ -215,6 +215,9 @@ struct FrameStats {
   int visibleObjects = 0;
   int hiddenByReprojection = 0;  // trees and props that showed in the last image, guessed hidden now ([culling] image_reprojection)
   int casterObjects = 0;
+  // Visible objects whose boxes selected casters: with the read-back's record, those with pixels
+  // in it (ShadowSetupPass::startPlan); else every visible object.
+  int casterReceivers = 0;
   long long geometryTriangles = 0;
   long long shadowTriangles = 0;
   long long shadowTerrainTriangles = 0;  // of shadowTriangles: terrain (by block, Terrain::blockMayFaceAway)
