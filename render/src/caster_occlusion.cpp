@@ -38,18 +38,21 @@ void CasterOcclusion::beginFrame() {
   std::fill(marked_.begin(), marked_.end(), std::uint8_t{0});
 }
 
-long long CasterOcclusion::triangles(std::uint32_t tree, const dvec3& eye) const {
+long long CasterOcclusion::triangles(std::uint32_t tree, const dvec3& eye, const ImpostorSwitch& impostors) const {
   const vegetation::Forest& forest = *objects_.forest();
+  const double share = impostorShare(impostors, forest.lodDistance(tree, eye));
   const vegetation::Species species = forest.trees()[tree].species;
-  return forest.model(species).lods[static_cast<size_t>(forest.lodFor(tree, eye))].triangleCount();
+  const long long mesh = share < 1.0 ? forest.model(species).lods[static_cast<size_t>(forest.lodFor(tree, eye))].triangleCount() : 0;
+  return mesh + (share > 0.0 ? kImpostorTriangles : 0);
 }
 
-bool CasterOcclusion::worthCulling(std::span<const std::uint32_t> casters, long long texels, const dvec3& eye) {
+bool CasterOcclusion::worthCulling(std::span<const std::uint32_t> casters, long long texels, const dvec3& eye,
+                                   const ImpostorSwitch& impostors) {
   double expected = 0.0, tested = 0.0;
   for (std::uint32_t o : casters) {
     const SceneObjects::Object& object = objects_.objects()[o];
     if (object.kind != SceneObjects::Kind::Tree || counted_[object.index] != 0) continue;
-    expected += culledShare_ * static_cast<double>(triangles(object.index, eye));
+    expected += culledShare_ * static_cast<double>(triangles(object.index, eye, impostors));
     tested += 1.0;
   }
   // In triangles' time: the read-backs at kTexelsPerTriangle texels a triangle, the test at its
@@ -73,7 +76,8 @@ void CasterOcclusion::split(std::span<const std::uint32_t> casters, std::vector<
 
 void CasterOcclusion::keepUnhidden(const shadows::ShadowSetup& setup, int mapSize, const shadows::ReceiverMask& mask,
                                    double reachTexels, const shadows::TexelRect& rect, std::span<const float> depths,
-                                   const dvec3& eye, std::vector<std::uint32_t>& trees) {
+                                   const dvec3& eye, const ImpostorSwitch& impostors,
+                                   std::vector<std::uint32_t>& trees) {
   if (mask.everywhere() || rect.empty()) return;  // a receiver the map cannot place: keep them all
   clipToWorld_ = glm::inverse(setup.worldToShadowClip);
   heldDepths_.build(depths, rect.x1 - rect.x0, rect.y1 - rect.y0);
@@ -90,7 +94,7 @@ void CasterOcclusion::keepUnhidden(const shadows::ShadowSetup& setup, int mapSiz
     for (size_t start = p * kRun; start < trees.size(); start += parts * kRun)
       for (size_t i = start; i < std::min(trees.size(), start + kRun); ++i) {
         const std::uint32_t tree = objects_.objects()[trees[i]].index;
-        const long long t = triangles(tree, eye);
+        const long long t = triangles(tree, eye, impostors);
         tested_[p] += t;
         slabs.clear();
         objects_.forest()->placedCasterSlabs(tree, slabs);
@@ -112,10 +116,11 @@ void CasterOcclusion::keepUnhidden(const shadows::ShadowSetup& setup, int mapSiz
   lastTested_ = keep_.size();
 }
 
-void CasterOcclusion::measuredCosts(double drawMs, std::span<const std::uint32_t> drawn, const dvec3& eye) {
+void CasterOcclusion::measuredCosts(double drawMs, std::span<const std::uint32_t> drawn, const dvec3& eye,
+                                    const ImpostorSwitch& impostors) {
   long long drawnTriangles = 0;
   for (std::uint32_t o : drawn)
-    if (objects_.objects()[o].kind == SceneObjects::Kind::Tree) drawnTriangles += triangles(objects_.objects()[o].index, eye);
+    if (objects_.objects()[o].kind == SceneObjects::Kind::Tree) drawnTriangles += triangles(objects_.objects()[o].index, eye, impostors);
   if (drawnTriangles == 0 || lastTested_ == 0) return;  // nothing to price by
   msPerTriangle_ = drawMs / static_cast<double>(drawnTriangles);
   msPerTestedTree_ = lastTestMs_ / static_cast<double>(lastTested_);

@@ -14,6 +14,7 @@
 
 #include "forest/core/max_pyramid.hpp"
 #include "forest/render/scene_objects.hpp"
+#include "forest/render/tree_renderer.hpp"
 #include "forest/shadows/receiver_mask.hpp"
 #include "forest/shadows/shadow_setup.hpp"
 #include "worker_threads.hpp"
@@ -32,11 +33,12 @@ class CasterOcclusion {
   // count, in the time each took when it last culled (measuredCosts; before that, the test free).
   // A layer not culled lets that share grow back by a tenth a frame, so a view that changes is
   // tried again.
-  bool worthCulling(std::span<const std::uint32_t> casters, long long texels, const glm::dvec3& eye);
+  // `impostors`: the switch the trees are drawn with (a tree beyond it costs its impostor's quad).
+  bool worthCulling(std::span<const std::uint32_t> casters, long long texels, const glm::dvec3& eye, const ImpostorSwitch& impostors);
   // The wall time of the last culled layer's draw of the trees kept (`drawMs`, ending in a
   // read-back, so the GPU's work is in it) over their triangles at the eye's LODs, and of
   // keepUnhidden's test per tree (timed there): worthCulling's prices from then on.
-  void measuredCosts(double drawMs, std::span<const std::uint32_t> drawn, const glm::dvec3& eye);
+  void measuredCosts(double drawMs, std::span<const std::uint32_t> drawn, const glm::dvec3& eye, const ImpostorSwitch& impostors);
   // Splits `casters` (object indices) into what is drawn first — everything but the trees that did
   // not count in the last frame — and those trees.
   void split(std::span<const std::uint32_t> casters, std::vector<std::uint32_t>& first, std::vector<std::uint32_t>& others) const;
@@ -46,14 +48,16 @@ class CasterOcclusion {
   // `eye`: the draws' LOD origin (what the share left out is weighed by).
   void keepUnhidden(const shadows::ShadowSetup& setup, int mapSize, const shadows::ReceiverMask& mask, double reachTexels,
                     const shadows::TexelRect& rect, std::span<const float> depths, const glm::dvec3& eye,
-                    std::vector<std::uint32_t>& trees);
+                    const ImpostorSwitch& impostors, std::vector<std::uint32_t>& trees);
   // Marks the trees whose object IDs (`ids`, row by row over `rect`) lie at texels a receiver of
   // `mask` reads: the next frame draws them first.
   void markCounted(const shadows::ReceiverMask& mask, double reachTexels, const shadows::TexelRect& rect,
                    std::span<const std::uint32_t> ids);
 
  private:
-  long long triangles(std::uint32_t tree, const glm::dvec3& eye) const;  // at the eye's LOD
+  // What the tree's draw submits at the eye: its LOD's triangles, beyond the switch its impostor's
+  // quad instead, in the cross-fade band both (TreeRenderer's choice).
+  long long triangles(std::uint32_t tree, const glm::dvec3& eye, const ImpostorSwitch& impostors) const;
   // The tree's crown slabs …
   // … all at or beyond the largest depth the layer holds over their footprint (heldDepths_): a
   // conservative test in constant time that decides most hidden trees before treeMayShow.

@@ -201,7 +201,7 @@ long long ShadowPass::drawLayer(int i, const ShadowPlan& plan, const ShadowSlice
   // counted), unless the method writes the linear light depth (its programs write no ID).
   const bool occluded = occlusion_ && settings.hiddenCasters != HiddenCasters::Draw && !filteredOnGpu_ && slice.receiverMask &&
                         layer.update == SliceUpdate::Redraw && !settings.cacheSlices && !slice.setup.linearDepth &&
-                        (settings.hiddenCasters == HiddenCasters::Cull || occlusion_->worthCulling(layer.casters, layer.rect.texels(), eye.origin));
+                        (settings.hiddenCasters == HiddenCasters::Cull || occlusion_->worthCulling(layer.casters, layer.rect.texels(), eye.lodEye, drawnImpostors()));
   const bool withIds = (filteredOnGpu_ || occluded) && !slice.setup.linearDepth;
   if (withIds) ensureIdLayers();
   glBindFramebuffer(GL_FRAMEBUFFER, (withIds ? idFramebuffers_ : framebuffers_)[static_cast<size_t>(i)].id());
@@ -254,7 +254,8 @@ long long ShadowPass::drawWithOcclusion(int i, const ShadowSlice& slice, const L
   depthsRead_.resize(texels);
   glGetTextureSubImage(map_.id(), 0, rect.x0, rect.y0, i, width, height, 1, GL_DEPTH_COMPONENT, GL_FLOAT,
                        static_cast<GLsizei>(texels * sizeof(float)), depthsRead_.data());
-  occlusion_->keepUnhidden(slice.setup, slice.mapSize, *slice.receiverMask, reach, rect, depthsRead_, eye.origin, others_);
+  occlusion_->keepUnhidden(slice.setup, slice.mapSize, *slice.receiverMask, reach, rect, depthsRead_, eye.lodEye, drawnImpostors(),
+                           others_);
   phase.casters = others_;
   phase.blocks = {};  // the terrain went with the first draw
   const auto secondDraw = std::chrono::steady_clock::now();
@@ -264,7 +265,7 @@ long long ShadowPass::drawWithOcclusion(int i, const ShadowSlice& slice, const L
                        static_cast<GLsizei>(texels * sizeof(std::uint32_t)), idsRead_.data());
   // The read waited for the draw: its wall time prices the trees worthCulling weighs.
   occlusion_->measuredCosts(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - secondDraw).count(), others_,
-                            eye.origin);
+                            eye.lodEye, drawnImpostors());
   occlusion_->markCounted(*slice.receiverMask, reach, rect, idsRead_);
   // What the layer drew: the trees of both draws, for the statistics and the truth.
   std::vector<std::uint32_t>& trees = treesOccluded_[static_cast<size_t>(i)].emplace(others_);

@@ -78,6 +78,8 @@ class ShadowPass {
   std::unique_ptr<TreeRenderer> trees_, treesLightDepth_;
   const ImpostorAtlas* impostorAtlas_ = nullptr;
   ImpostorSwitch impostors_;
+  // The switch the trees are drawn with (none without an atlas: TreeRenderer draws meshes then).
+  ImpostorSwitch drawnImpostors() const { return impostorAtlas_ ? impostors_ : ImpostorSwitch{}; }
   std::unique_ptr<PropRenderer> props_, propsLightDepth_;
   // Trees and props; the terrain is drawn apart, by tile or by block (ShadowSlice::terrainByBlock).
   std::unique_ptr<SceneDrawer> drawer_, lightDepthDrawer_;  // kept: their lists are reused

@@ -27,6 +27,8 @@ class ImpostorAtlas;    // forest/render/impostor_atlas.hpp
 // from the LOD eye to its base, divided by its size class's scale (as the LOD bands), it fades from
 // its mesh to its impostor over `band` × distance, dithered (shaders/impostor.glsl); beyond that it
 // is its impostor alone. distance 0: every tree is a mesh.
+constexpr long long kImpostorTriangles = 2;  // an impostor is one quad (impostor.vert)
+
 struct ImpostorSwitch {
   double distance = 0.0;
   double band = 0.1;
