@@ -333,7 +333,7 @@ void ShadowSetupPass::run(const Camera& camera, const culling::CullingResult& vi
     }
     CascadeStats& out = stats.cascade[s];
     out.keeping = shadows::SliceKeeping{};
-    if (onReceivers && !sliceHasReceivers_) {
+    if (onReceivers && !input.receivers->valid()) {
       slice.setup = shadows::ShadowSetup{};  // nothing visible at these depths: the layer stays clear
       slice.setup.diagnostics.fallback = "no receivers in the slice";
     } else if (settings.keepSlices) {
@@ -435,7 +435,6 @@ shadows::ShadowInput ShadowSetupPass::sliceInput(const ShadowSlice& slice, int i
       if (receiverSelects_[r] != 0) sliceReceivers_.push_back(receivers_[r]);
       sliceBounds.extend(receivers_[r]);
     }
-  sliceHasReceivers_ = sliceBounds.valid();
   const FrameSettings& settings = context.settings;
   shadows::ShadowInput input;
   input.camera = slice.camera;

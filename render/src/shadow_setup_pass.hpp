@@ -132,7 +132,6 @@ class ShadowSetupPass {
   // boxes that select.
   std::vector<Aabb> receivers_, sliceReceivers_, footprints_;
   std::vector<std::uint8_t> receiverSelects_;
-  bool sliceHasReceivers_ = false;  // some box of receivers_ reaches the slice's depths
   std::vector<std::int32_t> frontier_, nextFrontier_;           // selectByHierarchy's top nodes
   std::vector<std::vector<std::int32_t>> partStacks_;           // per thread: its walk's stack
   std::vector<std::vector<std::uint32_t>> partCasters_;         // per thread: the casters it found
