@@ -12,6 +12,11 @@ uvec4 surfaceGatherAt(ivec2 corner) { return textureGather(uSurface, vec2(corner
 float eyeDepthOf(uvec4 surface) { return uintBitsToFloat(surface.x); }  // 0: the sky
 vec3 albedoOf(uvec4 surface) { return unpackUnorm4x8(surface.y).rgb; }
 bool facesSunOf(uvec4 surface) { return (surface.y >> 24) >= 128u; }
+bool onTerrainOf(uvec4 surface) { return (surface.y & (1u << 30)) != 0u; }
+// Whether the half-resolution term keeps the surface apart from the sun-facing side of its
+// terminator (its depth stored negated: shadow_term.frag, term_upsample.frag): it faces away from
+// the sun and is not the terrain's.
+bool keptApartOf(uvec4 surface) { return !facesSunOf(surface) && !onTerrainOf(surface); }
 vec3 shadingNormalOf(uvec4 surface) {
   return normalize(vec3((uvec3(surface.z) >> uvec3(0, 10, 20)) & 1023u) * (2.0 / 1023.0) - 1.0);
 }

@@ -19,7 +19,7 @@ flat in float vFade;
 layout(binding = 9) uniform usampler2DArray uImpostorAtlas;
 
 #if defined(OUTPUT_GBUFFER)
-void writeGBufferSurface(vec3 albedo, vec3 shadingNormal, float eyeDepth, bool facesSun, uint objectId);
+void writeGBufferSurface(vec3 albedo, vec3 shadingNormal, float eyeDepth, bool facesSun, bool terrain, uint objectId);
 #elif defined(OUTPUT_ID)
 out uint fragId;
 #elif defined(OUTPUT_QUERY_STAMP)
@@ -141,7 +141,7 @@ void main() {
   n = rotateYaw(n, vYaw);
   vec3 albedo = unpackUnorm4x8(texel.y).rgb * vTint;
   float eyeDepth = (uView.viewProjectionRelative * vec4(written, 1.0)).w;
-  writeGBufferSurface(albedo, n, eyeDepth, dot(n, uView.toSunAmbient.xyz) > 0.0, vObjectId);
+  writeGBufferSurface(albedo, n, eyeDepth, dot(n, uView.toSunAmbient.xyz) > 0.0, false, vObjectId);
 #elif defined(OUTPUT_ID)
   fragId = vObjectId;
 #elif !defined(OUTPUT_LIGHT_DEPTH)

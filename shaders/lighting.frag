@@ -26,7 +26,7 @@ layout(location = 1) out vec2 usedTerm;  // the (blurred) term lit with: Frame::
 // llvmpipe, which runs both sides. Likewise HAZE (the frame's haze density > 0) compiles the haze
 // in: behind a uniform branch it cost the thesis walk 0.4 ms a frame without haze (800 × 600).
 #if defined(UPSAMPLED_TERM)
-bool facesSunOf(uvec4 surface);  // gbuffer_read.frag
+bool keptApartOf(uvec4 surface);  // gbuffer_read.frag
 layout(binding = 4) uniform usampler2D uPackedTerm;  // the half-resolution term (term_upsample.frag)
 vec2 upsampledTerm(usampler2D term, ivec2 pixel, float z);
 #elif defined(BLURRED_TERM)
@@ -101,7 +101,7 @@ void main() {
   bool sunUp = uFrame.toSunUp.w != 0.0;
   float ambient = uFrame.sunColorAmbient.w, hazeDensity = uFrame.skyFog.w;
 #if defined(UPSAMPLED_TERM)
-  vec2 term = upsampledTerm(uPackedTerm, pixel, facesSunOf(surface) ? eyeDepthOf(surface) : -eyeDepthOf(surface));
+  vec2 term = upsampledTerm(uPackedTerm, pixel, keptApartOf(surface) ? -eyeDepthOf(surface) : eyeDepthOf(surface));
 #elif defined(BLURRED_TERM)
   vec2 term = blurTaps(uShadowTerm, pixel, ivec2(0, 1));
 #else

@@ -9,7 +9,7 @@ flat in uint vObjectId;
 // The sun: the view block (view_block.glsl).
 
 #if defined(OUTPUT_GBUFFER)
-void writeGBuffer(vec3 albedo, vec3 shadingNormal, vec3 relativePosition, uint objectId);
+void writeGBuffer(vec3 albedo, vec3 shadingNormal, vec3 relativePosition, bool terrain, uint objectId);
 #elif defined(OUTPUT_ID)
 out uint fragId;
 #elif defined(OUTPUT_LIGHT_DEPTH)
@@ -20,7 +20,7 @@ out vec4 fragColor;
 
 void main() {
 #if defined(OUTPUT_GBUFFER)
-  writeGBuffer(vAlbedo, vNormal, vRelativePosition, vObjectId);
+  writeGBuffer(vAlbedo, vNormal, vRelativePosition, false, vObjectId);
 #elif defined(OUTPUT_ID)
   fragId = vObjectId;
 #elif defined(OUTPUT_LIGHT_DEPTH)

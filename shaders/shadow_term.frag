@@ -14,7 +14,7 @@ out vec2 shadowTerm;
 uvec4 surfaceAt(ivec2 pixel);  // gbuffer_read.frag
 ivec2 lastPixel();
 uvec4 surfaceGatherAt(ivec2 corner);
-bool facesSunOf(uvec4 surface);
+bool keptApartOf(uvec4 surface);  // gbuffer_read.frag
 float eyeDepthOf(uvec4 surface);
 struct SliceRays {
   vec4 shadow[SHADOW_SLICES];
@@ -50,8 +50,10 @@ void main() {
   // A surface facing away from the sun has the term 0 by fiat (shadow_lookup.frag), so its texels
   // must not stand for the sun-facing side of the same surface across the terminator: their depth
   // is stored negated, and the blur and the upsample, which take texels of equal depth only, keep
-  // the two sides apart.
-  if (!facesSunOf(surface)) shadowTerm.y = -shadowTerm.y;
+  // the two sides apart — except on the terrain, whose sun-facing side beside its terminator takes
+  // the averted side's 0 into its blur as at full resolution (keeping them apart there lit pixels
+  // the ray-traced truth shadows: docs/experiments.md).
+  if (keptApartOf(surface)) shadowTerm.y = -shadowTerm.y;
   // The block's nearest window depth (reversed-Z, a/z + b) into the term's depth buffer, which the
   // blur's half-resolution passes test against (render/src/shadow_term_pass.hpp); the sky's 0.
   gl_FragDepth = best > 1.0e38 ? 0.0 : uFrame.halfTerm.z / best + uFrame.halfTerm.w;

@@ -9,8 +9,8 @@
 // Texel j of the term stands for pixels 2j and 2j + 1 (each axis): pixel p's centre lies at
 // (p + 0.5) / 2 in the term's texel units, between texels floor(q) and floor(q) + 1, q = (p + 0.5) / 2 − 0.5.
 
-// `z`: the pixel's eye depth, negated where its surface faces away from the sun (as the term's
-// texels store theirs: shadow_term.frag), so that it takes texels of its own side of a terminator.
+// `z`: the pixel's eye depth, negated where keptApartOf (gbuffer_read.frag), as the term's texels
+// store theirs (shadow_term.frag), so that it takes texels of its own side of a terminator.
 vec2 upsampledTerm(usampler2D term, ivec2 pixel, float z) {
   if (z == 0.0) return vec2(1.0, 0.0);  // the sky
   vec2 q = (vec2(pixel) + 0.5) * 0.5 - 0.5;

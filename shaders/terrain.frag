@@ -24,7 +24,7 @@ layout(binding = 2) uniform sampler2D uGroundCover;  // D in [0, 1], filtered li
 #endif
 
 #if defined(OUTPUT_GBUFFER)
-void writeGBuffer(vec3 albedo, vec3 shadingNormal, vec3 relativePosition, uint objectId);
+void writeGBuffer(vec3 albedo, vec3 shadingNormal, vec3 relativePosition, bool terrain, uint objectId);
 #elif defined(OUTPUT_ID)
 out uint fragId;
 #elif defined(OUTPUT_LIGHT_DEPTH)
@@ -72,7 +72,7 @@ vec3 terrainAlbedo(vec3 n, vec3 world) {
 void main() {
   vec3 n = normalize(vNormal);
 #if defined(OUTPUT_GBUFFER)
-  writeGBuffer(terrainAlbedo(n, vWorldPosition), n, vRelativePosition, vObjectId);
+  writeGBuffer(terrainAlbedo(n, vWorldPosition), n, vRelativePosition, true, vObjectId);
 #elif defined(OUTPUT_ID)
   fragId = vObjectId;
 #elif defined(OUTPUT_LIGHT_DEPTH)

@@ -13,7 +13,7 @@ flat in float vFade;  // the impostor's share: the mesh keeps the pixels the imp
 // The sun: the view block (view_block.glsl).
 
 #if defined(OUTPUT_GBUFFER)
-void writeGBuffer(vec3 albedo, vec3 shadingNormal, vec3 relativePosition, uint objectId);
+void writeGBuffer(vec3 albedo, vec3 shadingNormal, vec3 relativePosition, bool terrain, uint objectId);
 #elif defined(OUTPUT_ID)
 out uint fragId;
 #elif defined(OUTPUT_LIGHT_DEPTH)
@@ -29,7 +29,7 @@ void main() {
   if (crossFadeDither(gl_FragCoord.xy) < vFade) discard;
 #endif
 #if defined(OUTPUT_GBUFFER)
-  writeGBuffer(vAlbedo, vNormal, vRelativePosition, vObjectId);
+  writeGBuffer(vAlbedo, vNormal, vRelativePosition, false, vObjectId);
 #elif defined(OUTPUT_ID)
   fragId = vObjectId;
 #elif defined(OUTPUT_LIGHT_DEPTH)

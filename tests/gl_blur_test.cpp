@@ -1,5 +1,7 @@
 // The eye-space blur of the shadow term (thesis §6.3, §9.4.2; render/src/blur_pass): off it is the
-// term itself, its width shrinks with depth, and it does not leak across depth discontinuities.
+// term itself, its width shrinks with depth, and it does not leak across depth discontinuities; at
+// half resolution it equals the full one away from edges, and keeps an object's terminator apart
+// but not the terrain's.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -8,7 +10,9 @@
 #include "forest/core/error.hpp"
 #include "forest/core/scene.hpp"
 #include "forest/render/frame.hpp"
+#include "forest/terrain/terrain.hpp"
 #include "gl_test_support.hpp"
+#include "test_paths.hpp"
 
 namespace forest::test {
 namespace {
@@ -269,6 +273,164 @@ TEST_F(BlurGl, BeyondTheHalfTermDepthLightingLooksTheTermUp) {
   EXPECT_EQ(beyondDiffer, 0);
   ASSERT_GT(nearer, 1000);
   EXPECT_GT(nearerDiffer, 0);  // the upsample's blurred edges (and its shadowed pixels are the box's)
+  EXPECT_EQ(gl::debugErrorCount(), 0u);
+}
+
+// A terminator at half resolution (shaders/shadow_term.frag, term_upsample.frag). Per pixel, the
+// CPU says which side of a terminator it lies on: `Side::Lit` faces the sun, `Side::Averted` faces
+// away (the term is 0 there by fiat), `Side::Unknown` is neither or undecided.
+enum class Side { Unknown, Lit, Averted };
+
+// Pixel p's upsample texels (term_upsample.frag): the 2 × 2 term texels whose centres surround it,
+// q = (p + 0.5) / 2 − 0.5, texels floor(q) + {0, 1}²; texel t stands for pixels 2t + {0, 1}².
+std::vector<glm::ivec2> upsampleTexels(int x, int y) {
+  const glm::ivec2 base(static_cast<int>(std::floor((x + 0.5) * 0.5 - 0.5)), static_cast<int>(std::floor((y + 0.5) * 0.5 - 0.5)));
+  return {base, base + glm::ivec2(1, 0), base + glm::ivec2(0, 1), base + glm::ivec2(1, 1)};
+}
+
+struct TerminatorPixels {
+  int besideAverted = 0;  // lit pixels with an all-averted texel among their upsample texels
+  int fullDarkened = 0;   // … whose full-resolution blurred term is below 1
+  int halfDarkened = 0;   // … whose half-resolution one is
+  int clear = 0;          // … with no shadow from the map near: unblurred 1 at every pixel within 5 px but the averted ones
+  int clearHalfDarkened = 0;
+};
+
+// Over the lit pixels (`side`) with an upsample texel whose block is all averted and within 4% of
+// the pixel's depth (the blur's and the upsample's tolerance is 5%): how many the full and the half
+// resolution terms darken. The full blur (3 taps each way) reaches the block (within 2 px) and
+// mixes its 0 in with a positive weight: below 1. The half one takes the block's texel — whose own
+// term is 0, so below 1 after its blur — with a positive weight, unless its depth is stored negated
+// to keep the sides apart: then, where the map casts no shadow near, its lit texels' 1.
+TerminatorPixels termBesideTerminators(const std::vector<Side>& side, const std::vector<double>& z, const std::vector<float>& unblurred,
+                                       const std::vector<float>& full, const std::vector<float>& half) {
+  auto at = [](int x, int y) { return static_cast<size_t>(y) * kWidth + x; };
+  auto blockAverted = [&](glm::ivec2 t, double zPixel) {
+    for (int dy = 0; dy <= 1; ++dy)
+      for (int dx = 0; dx <= 1; ++dx) {
+        const size_t j = at(2 * t.x + dx, 2 * t.y + dy);
+        if (side[j] != Side::Averted || std::abs(z[j] - zPixel) > 0.04 * zPixel) return false;
+      }
+    return true;
+  };
+  TerminatorPixels r;
+  for (int y = 8; y < kHeight - 8; ++y)
+    for (int x = 8; x < kWidth - 8; ++x) {
+      const size_t i = at(x, y);
+      if (side[i] != Side::Lit) continue;
+      bool besideAverted = false, shadowNear = false;
+      for (const glm::ivec2 t : upsampleTexels(x, y)) besideAverted = besideAverted || blockAverted(t, z[i]);
+      if (!besideAverted) continue;
+      for (int dy = -5; dy <= 5; ++dy)
+        for (int dx = -5; dx <= 5; ++dx) shadowNear = shadowNear || (side[at(x + dx, y + dy)] != Side::Averted && unblurred[at(x + dx, y + dy)] < 1.0f);
+      ++r.besideAverted;
+      r.fullDarkened += full[i] < 1.0f ? 1 : 0;
+      r.halfDarkened += half[i] < 1.0f ? 1 : 0;
+      r.clear += shadowNear ? 0 : 1;
+      r.clearHalfDarkened += !shadowNear && half[i] < 1.0f ? 1 : 0;
+    }
+  return r;
+}
+
+// The unblurred term and the full and half resolution blurred terms of one view, blur 3 px up to
+// `referenceDepth`, and each pixel's eye depth.
+struct ThreeTerms {
+  std::vector<float> unblurred, full, half;
+  std::vector<double> z;
+};
+ThreeTerms threeTerms(render::Frame& frame, const Camera& camera, double referenceDepth) {
+  render::FrameSettings settings;
+  settings.culling = culling::CullingStrategy::Frustum;
+  settings.blurRadius = 3.0;
+  settings.blurReferenceDepth = referenceDepth;
+  ThreeTerms t;
+  frame.render(camera, 0.0, settings);
+  t.unblurred = frame.readShadowTerm();
+  t.full = frame.readBlurredShadowTerm();
+  const std::vector<float> depth = frame.readDepth();
+  for (const float d : depth) t.z.push_back(d == 0.0f ? 0.0 : eyeDepthAt(camera, d));
+  settings.shadowTermScale = 2;
+  frame.render(camera, 0.0, settings);
+  t.half = frame.readBlurredShadowTerm();
+  return t;
+}
+
+// On an object (a prop, a crown's leaves) the half-resolution term keeps a terminator's two sides
+// apart: a lit face beside an averted one keeps its light, where the full-resolution blur mixes the
+// averted face's 0 in. A box lit from (1, 0.6, 0.4): its averted −x face and lit +z face, which
+// face a pixel shows decided on the CPU from its position.
+TEST_F(BlurGl, HalfResolutionKeepsAnObjectsTerminatorApart) {
+  Scene scene;
+  scene.sun.direction = glm::normalize(dvec3(-1.0, -0.6, -0.4));
+  scene.props.push_back({dvec3(-40, -1, -40), dvec3(40, 0, 40), dvec3(0.6)});
+  scene.props.push_back({dvec3(-2, 0, -2), dvec3(2, 4, 2), dvec3(0.8)});
+  render::Frame frame(scene, kWidth, kHeight);
+  const Camera camera = cameraAt({-6, 3, 6}, glm::degrees(std::atan2(-6.0, 6.0)), glm::degrees(std::atan2(-1.0, std::hypot(6.0, 6.0))), 200.0);
+  const ThreeTerms t = threeTerms(frame, camera, 40.0);  // the box within 60 m: upsampled
+  const std::vector<float> depth = frame.readDepth();
+  std::vector<Side> side(depth.size(), Side::Unknown);
+  for (int y = 0; y < kHeight; ++y)
+    for (int x = 0; x < kWidth; ++x) {
+      const size_t i = static_cast<size_t>(y) * kWidth + x;
+      if (depth[i] == 0.0f) continue;
+      const dvec3 p = pixelPosition(camera, x, y, depth[i], kWidth, kHeight);
+      if (p.y < 0.05 || p.y > 3.95) continue;
+      if (std::abs(p.x + 2.0) < 0.01 && std::abs(p.z) < 1.99) side[i] = Side::Averted;
+      if (std::abs(p.z - 2.0) < 0.01 && std::abs(p.x) < 1.99) side[i] = Side::Lit;
+    }
+  const TerminatorPixels r = termBesideTerminators(side, t.z, t.unblurred, t.full, t.half);
+  std::printf("[terminator] box: %d lit pixels beside the averted face, darkened at full resolution %d; %d with no shadow near, darkened at half %d\n",
+              r.besideAverted, r.fullDarkened, r.clear, r.clearHalfDarkened);
+  EXPECT_GT(r.clear, 20);
+  EXPECT_EQ(r.fullDarkened, r.besideAverted);
+  EXPECT_EQ(r.clearHalfDarkened, 0);
+  EXPECT_EQ(gl::debugErrorCount(), 0u);
+}
+
+// On the terrain the half-resolution term takes the averted side's 0 into the lit side beside a
+// terminator as the full-resolution blur does (keeping the sides apart there lit pixels the
+// ray-traced truth shadows: docs/experiments.md). The default terrain at full resolution (the CPU
+// heightfield is the drawn one) under a sun 8° up; which way a pixel's drawn triangle faces is
+// decided on the CPU from the heightfield's slopes at its position (undecided within 5 cm of a
+// triangle's edge, where one-sided slopes differ, or within 0.02 of grazing).
+TEST_F(BlurGl, HalfResolutionBlursTheTerrainsTerminatorAsFullResolutionDoes) {
+  Scene scene = loadScene(std::string(FOREST_REPO_DATA) + "/scenes/terrain.toml");
+  scene.terrain->lod_error_pixels = 0.01;
+  const double elevation = glm::radians(8.0);
+  scene.sun.direction = {-std::cos(elevation) * 0.6, -std::sin(elevation), -std::cos(elevation) * 0.8};
+  render::Frame frame(scene, kWidth, kHeight);
+  const terrain::Terrain& terrain = *frame.terrain();
+  const dvec3 toSun = -scene.sun.direction;
+  auto sideAt = [&](const dvec3& p) {
+    const double e = 0.05, h = terrain.heightAt(p.x, p.z);
+    const double xPlus = terrain.heightAt(p.x + e, p.z) - h, xMinus = h - terrain.heightAt(p.x - e, p.z);
+    const double zPlus = terrain.heightAt(p.x, p.z + e) - h, zMinus = h - terrain.heightAt(p.x, p.z - e);
+    if (std::abs(xPlus - xMinus) > 1e-6 || std::abs(zPlus - zMinus) > 1e-6) return Side::Unknown;
+    const double facing = glm::dot(glm::normalize(dvec3(-xPlus / e, 1.0, -zPlus / e)), toSun);
+    return facing > 0.02 ? Side::Lit : facing < -0.02 ? Side::Averted : Side::Unknown;
+  };
+  TerminatorPixels total;
+  for (int view = 0; view < 6; ++view) {
+    Camera camera = cameraAt({-300.0 + 120.0 * view, 0, 200.0 - 80.0 * view}, 60.0 * view, -25.0, 3000.0);
+    camera.position.y = terrain.heightAt(camera.position.x, camera.position.z) + 25.0;
+    const ThreeTerms t = threeTerms(frame, camera, 200.0);  // within 300 m upsampled
+    const std::vector<float> depth = frame.readDepth();
+    std::vector<Side> side(depth.size(), Side::Unknown);
+    for (int y = 0; y < kHeight; ++y)
+      for (int x = 0; x < kWidth; ++x) {
+        const size_t i = static_cast<size_t>(y) * kWidth + x;
+        if (depth[i] != 0.0f && t.z[i] < 280.0) side[i] = sideAt(pixelPosition(camera, x, y, depth[i], kWidth, kHeight));
+      }
+    const TerminatorPixels r = termBesideTerminators(side, t.z, t.unblurred, t.full, t.half);
+    total.besideAverted += r.besideAverted;
+    total.fullDarkened += r.fullDarkened;
+    total.halfDarkened += r.halfDarkened;
+  }
+  std::printf("[terminator] terrain: %d lit pixels beside averted ones; darkened at full resolution %d, at half %d\n", total.besideAverted,
+              total.fullDarkened, total.halfDarkened);
+  EXPECT_GT(total.besideAverted, 50);
+  EXPECT_EQ(total.fullDarkened, total.besideAverted);
+  EXPECT_EQ(total.halfDarkened, total.besideAverted);
   EXPECT_EQ(gl::debugErrorCount(), 0u);
 }
 

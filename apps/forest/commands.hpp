@@ -93,7 +93,7 @@ struct FrameOptions {
   int pcf = 0;
   double blur = 3.0;         // eye-space blur radius, pixels (0: off)
   double blurDepth = 10.0;   // metres up to which the full radius applies
-  std::string termResolution = "full";  // of the blurred shadow term: full or half (FrameSettings::shadowTermScale)
+  std::string termResolution = "half";  // of the blurred shadow term: full or half (FrameSettings::shadowTermScale)
   std::string keepSlices = "on";        // kept shadow maps: off or on (FrameSettings::keepSlices)
   std::string hiddenCasters = "auto";   // trees hidden from the sun: auto, cull or draw (FrameSettings::hiddenCasters)
   std::string cacheSlices = "off";      // cached shadow map layers: off, on or staggered (FrameSettings::cacheSlices, staggerSlices)

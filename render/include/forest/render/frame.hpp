@@ -99,8 +99,8 @@ struct FrameSettings {
   // With the blur on, the shadow term's resolution: pixels per term texel side. 1: a term at every
   // pixel, the blur's vertical half inside the lighting pass; 2: a term at the nearest surface of
   // each 2 × 2 block, both blur halves on a quarter of the pixels, and a depth-aware upsample in the
-  // lighting pass (render/src/shadow_term_pass.hpp). The blur off, lighting looks the term up at
-  // every pixel either way.
+  // lighting pass (render/src/shadow_term_pass.hpp; the CLI's default, --term-resolution half).
+  // The blur off, lighting looks the term up at every pixel either way.
   int shadowTermScale = 1;
   std::optional<double> fogDensity;  // distance haze per metre, [0, 1] (0: none); unset: the scene's [render] haze
   // Error injection for validating the error figures (ground truth tests): the shadow-term lookup
