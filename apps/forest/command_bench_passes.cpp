@@ -70,12 +70,27 @@ std::pair<int, int> parseSize(const std::string& size) {
   return {w, h};
 }
 
+// The floors as bench passes reports them: render::PassFloorTimes' and half-resolution lighting's.
+constexpr int kFloorCount = 8;
+constexpr const char* kFloorNames[kFloorCount] = {"empty", "G-buffer", "G-buffer + half-res term", "G-buffer blocks (half res)",
+                                                  "3 term texels (half res)", "G-buffer blocks + map lookup (half res)",
+                                                  "G-buffer + map lookup", "half-res lighting's reads"};
+
+// The share of an image's pixels with a surface nearer than eye depth `z` (reversed-Z depths,
+// core/camera.cpp: window depth n (f − z) / (z (f − n))).
+double shareNearerThan(const std::vector<float>& depth, const Camera& camera, double z) {
+  const double window = camera.near * (camera.far - z) / (z * (camera.far - camera.near));
+  long nearer = 0;
+  for (const float d : depth) nearer += d > window ? 1 : 0;
+  return depth.empty() ? 0.0 : static_cast<double>(nearer) / static_cast<double>(depth.size());
+}
+
 // One image size: every view rendered by each variant in turn (the order rotating per round), the
 // floors timed on each view's G-buffer.
 struct SizeRun {
   int width = 0, height = 0;
   VariantRun variants[kVariantCount];
-  std::vector<double> floors[5];  // render::PassFloorTimes' in order
+  std::vector<double> floors[kFloorCount];  // render::PassFloorTimes' in order, then half-resolution lighting's
 };
 
 SizeRun runSize(const PassesOptions& options, const Scene& scene, const CameraPath& path, const gl::Context& context, int width,
@@ -119,8 +134,15 @@ SizeRun runSize(const PassesOptions& options, const Scene& scene, const CameraPa
         }
         if (i == 0) {
           const render::PassFloorTimes f = frame.timePassFloors(3);
+          // Half resolution's lighting reads the G-buffer and the term's gather nearer than the
+          // half term's depth, the G-buffer and the map beyond (and on the sky): its floor is the
+          // two floors weighed by the view's pixels on each side.
+          const double near = shareNearerThan(frame.readDepth(), camera, 0.5 * kVariants[1].blur * settings.blurReferenceDepth);
+          const double halfLighting = near * f.gbufferAndTermMs + (1.0 - near) * f.gbufferAndMapMs;
           int j = 0;
-          for (const double ms : {f.emptyMs, f.gbufferMs, f.gbufferAndTermMs, f.gbufferBlocksMs, f.termTapsMs}) run.floors[j++].push_back(ms);
+          for (const double ms : {f.emptyMs, f.gbufferMs, f.gbufferAndTermMs, f.gbufferBlocksMs, f.termTapsMs, f.gbufferBlocksAndMapMs,
+                                  f.gbufferAndMapMs, halfLighting})
+            run.floors[j++].push_back(ms);
         }
       }
       tick();
@@ -133,8 +155,6 @@ double mean(const std::vector<double>& v) { return Statistic{true}.of(v); }
 double largest(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
 double smallest(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::min_element(v.begin(), v.end()); }
 
-constexpr const char* kFloorNames[5] = {"empty", "G-buffer", "G-buffer + half-res term", "G-buffer blocks (half res)",
-                                        "3 term texels (half res)"};
 
 // The size's table (Markdown) and JSON: per variant the passes' p50, the images' difference from
 // "full"; the floors; the ratios the targets are stated in.
@@ -162,14 +182,14 @@ std::string reportSize(const SizeRun& run, const PassesOptions& options, ordered
                                            {"ssim_min", ssimMin}};
   }
   md += "\nFloors (p50 ms): ";
-  for (int j = 0; j < 5; ++j) {
+  for (int j = 0; j < kFloorCount; ++j) {
     md += fmt::format("{}{} {:.2f}", j ? ", " : "", kFloorNames[j], p50(run.floors[j]));
     size["floors_ms_p50"][kFloorNames[j]] = p50(run.floors[j]);
   }
   const VariantRun &full = run.variants[0], &half = run.variants[1], &off = run.variants[2];
   const double ratios[] = {p50(half.fullScreen) / p50(full.fullScreen), p50(half.frame) / p50(full.frame),
-                           p50(half.term) / p50(run.floors[3]), p50(half.blur) / (2.0 * p50(run.floors[4])),
-                           p50(half.lighting) / p50(run.floors[2]), p50(off.lighting) / p50(run.floors[1])};
+                           p50(half.term) / p50(run.floors[5]), p50(half.blur) / (2.0 * p50(run.floors[4])),
+                           p50(half.lighting) / p50(run.floors[7]), p50(off.lighting) / p50(run.floors[6])};
   md += fmt::format(".\n\nhalf / full: term + blur + lighting **{:.3f}**, frame {:.3f}. Over the floor of its reads: half's term {:.2f}, "
                     "half's blur (two passes) {:.2f}, half's lighting {:.2f}; blur off, lighting {:.2f}.\n",
                     ratios[0], ratios[1], ratios[2], ratios[3], ratios[4], ratios[5]);

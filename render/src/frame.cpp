@@ -443,7 +443,7 @@ void Frame::presentTo(GLuint framebuffer, int width, int height) const {
 
 PassFloorTimes Frame::timePassFloors(int repeats) {
   if (!floors_) floors_ = std::make_unique<PassFloors>(width_, height_);
-  return floors_->time(passes_->geometry.gbuffer(), std::max(1, repeats));
+  return floors_->time(passes_->geometry.gbuffer(), passes_->shadow.map(), std::max(1, repeats));
 }
 
 Image8 Frame::readColor() const {

@@ -14,8 +14,9 @@ namespace forest::render {
 class PassFloors {
  public:
   PassFloors(int width, int height);
-  // Each floor's median over `repeats` runs (glFinish before and after each), on `gbuffer`.
-  PassFloorTimes time(const GBuffer& gbuffer, int repeats);
+  // Each floor's median over `repeats` runs (glFinish before and after each), on `gbuffer` and the
+  // frame's `shadowMap`.
+  PassFloorTimes time(const GBuffer& gbuffer, const gl::Texture& shadowMap, int repeats);
 
  private:
   double timeOne(const gl::Program& program, const PassImage& target, int repeats) const;
@@ -23,7 +24,7 @@ class PassFloors {
   // Read as the half-resolution term, packed (R32UI) and as the blur reads it (RG16F); what they
   // hold does not matter.
   gl::Texture packedTerm_, term_;
-  gl::Program programs_[5];
+  gl::Program programs_[7];
   FullScreenTriangle triangle_;
 };
 

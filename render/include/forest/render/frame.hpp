@@ -252,6 +252,8 @@ struct PassFloorTimes {
   double gbufferAndTermMs = 0.0;  // that and a gather of the half-resolution term (the lighting's with the upsample)
   double gbufferBlocksMs = 0.0;   // at half resolution, a 2 × 2 block's depths and one texel (the half-resolution term's)
   double termTapsMs = 0.0;        // at half resolution, three texels of the term (one half of the blur's, one tap each side)
+  double gbufferBlocksAndMapMs = 0.0;  // the blocks' reads and one PCF lookup of the shadow map (the half-resolution term's)
+  double gbufferAndMapMs = 0.0;        // the surface texel and one PCF lookup (the lighting's where it looks the term up)
 };
 
 class PassFloors;  // src/pass_floors.hpp
