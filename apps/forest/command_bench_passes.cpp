@@ -137,7 +137,8 @@ SizeRun runSize(const PassesOptions& options, const Scene& scene, const CameraPa
           // Half resolution's lighting reads the G-buffer and the term's gather nearer than the
           // half term's depth, the G-buffer and the map beyond (and on the sky): its floor is the
           // two floors weighed by the view's pixels on each side.
-          const double near = shareNearerThan(frame.readDepth(), camera, 0.5 * kVariants[1].blur * settings.blurReferenceDepth);
+          settings.blurRadius = kVariants[1].blur;
+          const double near = shareNearerThan(frame.readDepth(), camera, render::halfTermSplitDepth(settings));
           const double halfLighting = near * f.gbufferAndTermMs + (1.0 - near) * f.gbufferAndMapMs;
           int j = 0;
           for (const double ms : {f.emptyMs, f.gbufferMs, f.gbufferAndTermMs, f.gbufferBlocksMs, f.termTapsMs, f.gbufferBlocksAndMapMs,
@@ -154,7 +155,6 @@ double p50(const std::vector<double>& v) { return percentile(v, 0.5); }
 double mean(const std::vector<double>& v) { return Statistic{true}.of(v); }
 double largest(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end()); }
 double smallest(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::min_element(v.begin(), v.end()); }
-
 
 // The size's table (Markdown) and JSON: per variant the passes' p50, the images' difference from
 // "full"; the floors; the ratios the targets are stated in.

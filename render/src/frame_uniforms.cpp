@@ -30,6 +30,8 @@ glm::dmat4 layerSquare(int size, int side) {
 
 }  // namespace
 
+double halfTermSplitDepth(const FrameSettings& settings) { return 0.5 * settings.blurRadius * settings.blurReferenceDepth; }
+
 FrameBlock frameBlock(const Camera& camera, const ShadowPlan& plan, const FrameSettings& settings, int termScale,
                       const Scene& scene, const glm::dvec3& l, bool sunUp) {
   FrameBlock b;
@@ -49,13 +51,14 @@ FrameBlock frameBlock(const Camera& camera, const ShadowPlan& plan, const FrameS
   b.blur = glm::vec4(static_cast<float>(settings.blurRadius), static_cast<float>(settings.blurReferenceDepth),
                      static_cast<float>(kBlurDepthTolerance), static_cast<float>(termScale));
   if (termScale > 1) {
-    // Where the blur's radius r(z) = R · z_ref / z falls to 2 pixels: nearer, the term is smooth
-    // over a 2 × 2 block and the half-resolution one serves; beyond, a half-resolution term would
-    // lose the map's detail, and the lighting looks the term up at every pixel (blur_taps.frag).
+    // The split (halfTermSplitDepth), where the blur's radius r(z) = R · z_ref / z falls to 2
+    // pixels: nearer, the term is smooth over a 2 × 2 block and the half-resolution one serves;
+    // beyond, a half-resolution term would lose the map's detail, and the lighting looks the term
+    // up at every pixel (blur_taps.frag).
     // The texels lighting reads for a pixel nearer than that lie within the blur's depth tolerance
     // (5%) of it, and their blur taps within 5% of theirs, and those taps' taps likewise: the term
     // and blur passes need nothing beyond 1.05³ of it (kHalfTermReach) and skip those blocks.
-    const double split = 0.5 * settings.blurRadius * settings.blurReferenceDepth, reach = kHalfTermReach * split;
+    const double split = halfTermSplitDepth(settings), reach = kHalfTermReach * split;
     // Reversed-Z (core/camera.cpp): eye depth z → window depth n (f − z) / (z (f − n)) = a / z + b.
     const double a = camera.near * camera.far / (camera.far - camera.near), bOffset = -camera.near / (camera.far - camera.near);
     const auto windowDepth = [&](double z) {

@@ -163,6 +163,11 @@ struct FrameSettings {
   bool staggerSlices = false;
 };
 
+// With the term at half resolution (shadowTermScale 2), the eye depth (m) nearer than which
+// lighting upsamples it: where the blur's radius R · z_ref / z falls to 2 pixels. Beyond, lighting
+// looks the term up at every pixel.
+double halfTermSplitDepth(const FrameSettings& settings);
+
 // Deterministic queries on a software renderer, async on a hardware one (the default of --queries).
 culling::QueryMode defaultQueryMode(const gl::ContextInfo& info);
 
