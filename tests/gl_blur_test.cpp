@@ -335,7 +335,7 @@ TerminatorPixels termBesideTerminators(const std::vector<Side>& side, const std:
 // The unblurred term and the full and half resolution blurred terms of one view, blur 3 px up to
 // `referenceDepth`, and each pixel's eye depth.
 struct ThreeTerms {
-  std::vector<float> unblurred, full, half;
+  std::vector<float> unblurred, full, half, depth;  // depth: reversed-Z, 0 for the sky
   std::vector<double> z;
 };
 ThreeTerms threeTerms(render::Frame& frame, const Camera& camera, double referenceDepth) {
@@ -347,8 +347,8 @@ ThreeTerms threeTerms(render::Frame& frame, const Camera& camera, double referen
   frame.render(camera, 0.0, settings);
   t.unblurred = frame.readShadowTerm();
   t.full = frame.readBlurredShadowTerm();
-  const std::vector<float> depth = frame.readDepth();
-  for (const float d : depth) t.z.push_back(d == 0.0f ? 0.0 : eyeDepthAt(camera, d));
+  t.depth = frame.readDepth();
+  for (const float d : t.depth) t.z.push_back(d == 0.0f ? 0.0 : eyeDepthAt(camera, d));
   settings.shadowTermScale = 2;
   frame.render(camera, 0.0, settings);
   t.half = frame.readBlurredShadowTerm();
@@ -367,7 +367,7 @@ TEST_F(BlurGl, HalfResolutionKeepsAnObjectsTerminatorApart) {
   render::Frame frame(scene, kWidth, kHeight);
   const Camera camera = cameraAt({-6, 3, 6}, glm::degrees(std::atan2(-6.0, 6.0)), glm::degrees(std::atan2(-1.0, std::hypot(6.0, 6.0))), 200.0);
   const ThreeTerms t = threeTerms(frame, camera, 40.0);  // the box within 60 m: upsampled
-  const std::vector<float> depth = frame.readDepth();
+  const std::vector<float>& depth = t.depth;
   std::vector<Side> side(depth.size(), Side::Unknown);
   for (int y = 0; y < kHeight; ++y)
     for (int x = 0; x < kWidth; ++x) {
@@ -414,7 +414,7 @@ TEST_F(BlurGl, HalfResolutionBlursTheTerrainsTerminatorAsFullResolutionDoes) {
     Camera camera = cameraAt({-300.0 + 120.0 * view, 0, 200.0 - 80.0 * view}, 60.0 * view, -25.0, 3000.0);
     camera.position.y = terrain.heightAt(camera.position.x, camera.position.z) + 25.0;
     const ThreeTerms t = threeTerms(frame, camera, 200.0);  // within 300 m upsampled
-    const std::vector<float> depth = frame.readDepth();
+    const std::vector<float>& depth = t.depth;
     std::vector<Side> side(depth.size(), Side::Unknown);
     for (int y = 0; y < kHeight; ++y)
       for (int x = 0; x < kWidth; ++x) {

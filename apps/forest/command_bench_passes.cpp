@@ -76,12 +76,11 @@ constexpr const char* kFloorNames[kFloorCount] = {"empty", "G-buffer", "G-buffer
                                                   "3 term texels (half res)", "G-buffer blocks + map lookup (half res)",
                                                   "G-buffer + map lookup", "half-res lighting's reads"};
 
-// The share of an image's pixels with a surface nearer than eye depth `z` (reversed-Z depths,
-// core/camera.cpp: window depth n (f − z) / (z (f − n))).
+// The share of an image's pixels with a surface nearer than eye depth `z` (reversed-Z depths; 0:
+// the sky).
 double shareNearerThan(const std::vector<float>& depth, const Camera& camera, double z) {
-  const double window = camera.near * (camera.far - z) / (z * (camera.far - camera.near));
   long nearer = 0;
-  for (const float d : depth) nearer += d > window ? 1 : 0;
+  for (const float d : depth) nearer += d > 0.0f && camera.eyeDepthOfReversedZ(d) < z ? 1 : 0;
   return depth.empty() ? 0.0 : static_cast<double>(nearer) / static_cast<double>(depth.size());
 }
 
